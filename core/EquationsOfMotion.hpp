@@ -1,0 +1,69 @@
+#pragma once
+// Equations of motion in independent coordinates (paper Eq. 13) and, with q = V eta, the reduced
+// ones (Eq. 19): the same code with F_q V in place of F_q (V = identity for the full model).
+//   Mbar etadd = (F_q V)^T (f - h - M g - D_x^T sigma),  Mbar = (F_q V)^T M (F_q V),
+// where g = (F_qq qd) qd + rheonomic terms is xdd at etadd = 0 (one extra kinematic solve) and
+// D_x^T sigma = E_q^T sigma through the kinematic Jacobian. Nothing is allocated per call.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <optional>
+
+#include "core/GeometricTransferFunctions.hpp"
+#include "core/Inertia.hpp"
+#include "core/Model.hpp"
+#include "core/Stresses.hpp"
+
+namespace flexmb::core {
+
+// Everything SPACAR reports at an output time.
+struct StateOutputs {
+  Eigen::VectorXd x, xd, xdd, e, ed, edd, sig;
+};
+
+class EquationsOfMotion {
+ public:
+  // basis: nq x m (q = V eta); empty optional = the full model (V = I).
+  EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis = std::nullopt);
+
+  int size() const { return m_; }  // dimension of eta
+  const Model& model() const { return model_; }
+  const Eigen::MatrixXd* basis() const { return basis_ ? &*basis_ : nullptr; }
+  GeometricTransferFunctions& kinematics() { return gtf_; }
+  const Inertia& inertia() const { return inertia_; }
+  const Stresses& stresses() const { return stresses_; }
+
+  // Initial state y0 = [eta0; etad0] from the model's initial values (least squares onto V).
+  Eigen::VectorXd initialState();
+  // q = V eta (or eta).
+  void dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const;
+
+  // dy/dt for y = [eta; etad]. Throws KinematicsError (with t) when the kinematics fail.
+  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt);
+  // Full output quantities at (t, y): one extra evaluation, for output times only.
+  void outputs(double t, const Eigen::VectorXd& y, StateOutputs& out);
+
+  long evaluations() const { return evaluations_; }
+  // Reduced mass matrix at the last evaluation (for tests and linearisation).
+  const Eigen::MatrixXd& reducedMass() const { return Mbar_; }
+  const Eigen::MatrixXd& transfer() const { return FqV_; }  // F_q V at the last evaluation
+
+ private:
+  // Positions, F_q V, velocities, g; returns false when nothing moves (xd = 0).
+  void kinematicState(double t, const Eigen::VectorXd& y);
+  void generalisedForces(double t, Eigen::VectorXd& rhsEta);
+
+  const Model& model_;
+  std::optional<Eigen::MatrixXd> basis_;
+  int m_;
+  GeometricTransferFunctions gtf_;
+  Inertia inertia_;
+  Stresses stresses_;
+  bool rheonomic_;
+  long evaluations_ = 0;
+  // Workspace (allocated once).
+  Eigen::VectorXd q_, qd_, xd_, g_, ed_, sigma_, fn_, Mg_, rhsEta_, etadd_;
+  Eigen::MatrixXd FqV_, MF_, Mbar_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+};
+
+}  // namespace flexmb::core

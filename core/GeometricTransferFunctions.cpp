@@ -1,0 +1,337 @@
+#include "core/GeometricTransferFunctions.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <tuple>
+
+namespace flexmb::core {
+
+namespace {
+std::string describe(double t, int iterations, double residual, const std::string& reason) {
+  std::ostringstream s;
+  s << "kinematics failed at t = " << t << ": " << reason << " (iterations " << iterations
+    << ", residual " << residual << ")";
+  return s.str();
+}
+}  // namespace
+
+KinematicsError::KinematicsError(double t, int iterations, double residual, const std::string& reason)
+    : std::runtime_error(describe(t, iterations, residual, reason)),
+      t_(t), iterations_(iterations), residual_(residual) {}
+
+GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : model_(model) {
+  const int nx = model.nx, ne = model.ne;
+  colOfCoord_.assign(nx, -1);
+  for (int i = 0; i < nx; ++i)
+    if (model.xRole[i] == Role::Calculable) {
+      colOfCoord_[i] = static_cast<int>(calcCoords_.size());
+      calcCoords_.push_back(i);
+    }
+  rowOfDef_.assign(ne, -1);
+  for (int k = 0; k < ne; ++k)
+    if (model.eRole[k] != Role::Calculable) {
+      rowOfDef_[k] = static_cast<int>(constrainedDefs_.size());
+      constrainedDefs_.push_back(k);
+    }
+  for (const auto& d : model.dofs) {
+    dofRow_.push_back(d.isDeformation ? rowOfDef_[d.index] : -1);
+    dofCoord_.push_back(d.isDeformation ? -1 : d.index);
+    hasDynamicCoords_ |= !d.isDeformation;
+  }
+
+  // Pattern of J = dD_C/dx_calc, built once; every element entry gets its value slot.
+  std::vector<std::tuple<int, int, int, int>> entries;  // col, row, element, local slot
+  slot_.resize(model.elements.size());
+  for (size_t el = 0; el < model.elements.size(); ++el) {
+    const auto& E = model.elements[el];
+    const int nd = E.impl->numDeformations(), nc = E.impl->numCoords();
+    slot_[el].assign(nd * nc, -1);
+    for (int i = 0; i < nd; ++i) {
+      const int row = rowOfDef_[E.firstDef + i];
+      if (row < 0) continue;
+      for (int j = 0; j < nc; ++j) {
+        const int col = colOfCoord_[E.coords[j]];
+        if (col >= 0) entries.emplace_back(col, row, static_cast<int>(el), i * nc + j);
+      }
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  const int n = numCalculable();
+  colPtr_.assign(n + 1, 0);
+  rowIdx_.clear();
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const auto [col, row, el, s] = entries[k];
+    if (k > 0 && std::get<0>(entries[k - 1]) == col && std::get<1>(entries[k - 1]) == row) {
+      // Two elements cannot share a deformation row, so duplicates do not occur.
+      continue;
+    }
+    slot_[el][s] = static_cast<int>(rowIdx_.size());
+    rowIdx_.push_back(row);
+    ++colPtr_[col + 1];
+  }
+  for (int c = 0; c < n; ++c) colPtr_[c + 1] += colPtr_[c];
+  values_.assign(rowIdx_.size(), 0.0);
+  if (isSquare() && n > 0) lu_.analyze(n, colPtr_.data(), rowIdx_.data());
+
+  // Length scale for the Newton tolerance: the model's extent (at least the longest element).
+  double scale = 0.0;
+  for (int i = 0; i < nx; ++i)
+    if (model.nodes[model.xOwnerNode[i]].kind == NodeKind::Position)
+      scale = std::max(scale, std::abs(model.x0[i]));
+  lengthScale_ = scale > 0.0 ? scale : 1.0;
+  // Never ask for less than round-off of the coordinates can deliver.
+  tolerance_ = std::max(model.settings.kinematicTol, 16 * std::numeric_limits<double>::epsilon()) * lengthScale_;
+
+  x_ = model.x0;
+  e_ = Eigen::VectorXd::Zero(ne);
+  target_ = Eigen::VectorXd::Zero(numConstraints());
+  rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
+  work_ = Eigen::VectorXd::Zero(nx);
+  workE_ = Eigen::VectorXd::Zero(ne);
+  elemJac_.resize(model.elements.size());
+}
+
+Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
+  Eigen::VectorXd q(nq());
+  for (int j = 0; j < nq(); ++j) {
+    const auto& d = model_.dofs[j];
+    if (d.isDeformation) {
+      const double v = model_.e0.size() ? model_.e0[d.index] : 0.0;
+      q[j] = std::isnan(v) ? 0.0 : v;
+    } else {
+      q[j] = model_.x0[d.index];
+    }
+  }
+  return q;
+}
+
+void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) { x_ = x; }
+
+void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek,
+                                            int order) const {
+  // Prescribed coordinates and deformations: value (order 0), rate (1) or acceleration (2).
+  for (const auto& r : model_.inputX) {
+    double v[3];
+    r.evaluate(t, v[0], v[1], v[2]);
+    xk[r.index] = v[order];
+  }
+  for (const auto& r : model_.inputE) {
+    double v[3];
+    r.evaluate(t, v[0], v[1], v[2]);
+    ek[r.index] = v[order];
+  }
+}
+
+void GeometricTransferFunctions::constraintTargets(double t, const Eigen::VectorXd& q) {
+  workE_.setZero();
+  inputRates(t, x_, workE_, 0);  // input coordinates straight into x, input deformations into workE_
+  for (int r = 0; r < numConstraints(); ++r) target_[r] = workE_[constrainedDefs_[r]];
+  for (int j = 0; j < nq(); ++j) {
+    if (dofRow_[j] >= 0) target_[dofRow_[j]] = q[j];
+    else x_[dofCoord_[j]] = q[j];
+  }
+}
+
+void GeometricTransferFunctions::evaluateElements() {
+  ElemVec xe;
+  DefVec de;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const int nc = static_cast<int>(E.coords.size());
+    xe.resize(nc);
+    for (int j = 0; j < nc; ++j) xe[j] = x_[E.coords[j]];
+    E.impl->deformations(xe, de);
+    DefJac& De = elemJac_[el];
+    E.impl->jacobian(xe, De);
+    const auto& slots = slot_[el];
+    for (int i = 0; i < de.size(); ++i) {
+      e_[E.firstDef + i] = de[i];
+      for (int j = 0; j < nc; ++j)
+        if (slots[i * nc + j] >= 0) values_[slots[i * nc + j]] = De(i, j);
+    }
+  }
+}
+
+void GeometricTransferFunctions::solvePositions(double t, const Eigen::VectorXd& q) {
+  if (!isSquare())
+    throw KinematicsError(t, 0, std::numeric_limits<double>::quiet_NaN(),
+                          "the kinematic equations are not square (" + std::to_string(numCalculable()) +
+                              " calculable coordinates, " + std::to_string(numConstraints()) +
+                              " constraints); run `flexmb check`");
+  // Fixed coordinates keep x0; inputs and DYNX are set by constraintTargets.
+  constraintTargets(t, q);
+  const int maxIt = std::max(1, model_.settings.maxIterations);
+  double res = 0.0;
+  for (int it = 0; it <= maxIt; ++it) {
+    evaluateElements();
+    res = 0.0;
+    for (int r = 0; r < numConstraints(); ++r) {
+      rhs_[r] = target_[r] - e_[constrainedDefs_[r]];
+      res = std::max(res, std::abs(rhs_[r]));
+    }
+    if (!std::isfinite(res)) throw KinematicsError(t, it, res, "non-finite residual");
+    if (!lu_.factorize(values_.data()))
+      throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");
+    if (res <= tolerance_) {
+      lastIterations_ = it;
+      totalIterations_ += it;
+      return;
+    }
+    if (it == maxIt) break;
+    if (res > 1e3 * lengthScale_) throw KinematicsError(t, it, res, "Newton iteration diverged");
+    lu_.solve(rhs_.data(), 1);
+    for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
+  }
+  throw KinematicsError(t, maxIt, res, "Newton iteration did not converge");
+}
+
+void GeometricTransferFunctions::knownCoupling(const Eigen::VectorXd& v, double* rhs) const {
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const DefJac& De = elemJac_[el];
+    const int nc = static_cast<int>(E.coords.size());
+    for (int i = 0; i < De.rows(); ++i) {
+      const int row = rowOfDef_[E.firstDef + i];
+      if (row < 0) continue;
+      double s = 0.0;
+      for (int j = 0; j < nc; ++j) s += De(i, j) * v[E.coords[j]];
+      rhs[row] -= s;
+    }
+  }
+}
+
+void GeometricTransferFunctions::firstOrder(const Eigen::MatrixXd* V, Eigen::MatrixXd& FqV) {
+  // Columns of F_q V: J x_c = b - J_k x_k per basis vector, all solved in one multi-RHS call.
+  const int m = V ? static_cast<int>(V->cols()) : nq();
+  const int n = numCalculable();
+  FqV.setZero(nx(), m);
+  rhsMat_.setZero(n, m);
+  for (int c = 0; c < m; ++c) {
+    for (int j = 0; j < nq(); ++j) {
+      const double vj = V ? (*V)(j, c) : (j == c ? 1.0 : 0.0);
+      if (vj == 0.0) continue;
+      if (dofRow_[j] >= 0) rhsMat_(dofRow_[j], c) += vj;
+      else FqV(dofCoord_[j], c) = vj;
+    }
+    if (hasDynamicCoords_) {
+      work_ = FqV.col(c);
+      knownCoupling(work_, rhsMat_.col(c).data());
+    }
+  }
+  lu_.solve(rhsMat_.data(), m);
+  for (int c = 0; c < m; ++c)
+    for (int k = 0; k < n; ++k) FqV(calcCoords_[k], c) = rhsMat_(k, c);
+}
+
+void GeometricTransferFunctions::velocities(double t, const Eigen::VectorXd& qd, Eigen::VectorXd& xd) {
+  xd.setZero(nx());
+  workE_.setZero();
+  inputRates(t, xd, workE_, 1);
+  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
+  for (int j = 0; j < nq(); ++j) {
+    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = qd[j];
+    else xd[dofCoord_[j]] = qd[j];
+  }
+  for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = 0.0;
+  knownCoupling(xd, rhs_.data());
+  lu_.solve(rhs_.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = rhs_[c];
+}
+
+void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::VectorXd& xd,
+                                                    Eigen::VectorXd& g) {
+  g.setZero(nx());
+  workE_.setZero();
+  inputRates(t, g, workE_, 2);
+  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = 0.0;
+  for (int j = 0; j < nq(); ++j)
+    if (dofCoord_[j] >= 0) g[dofCoord_[j]] = 0.0;
+  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
+  for (int j = 0; j < nq(); ++j)
+    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = 0.0;
+  knownCoupling(g, rhs_.data());
+  // Convective part: - D2_C[xd, xd] (Eq. 8b with qdd = 0; F_qq is never formed).
+  ElemVec xe, ve;
+  DefVec d2;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const int nc = static_cast<int>(E.coords.size());
+    xe.resize(nc);
+    ve.resize(nc);
+    bool moving = false;
+    for (int j = 0; j < nc; ++j) {
+      xe[j] = x_[E.coords[j]];
+      ve[j] = xd[E.coords[j]];
+      moving |= ve[j] != 0.0;
+    }
+    if (!moving) continue;
+    E.impl->secondDerivative(xe, ve, d2);
+    for (int i = 0; i < d2.size(); ++i) {
+      const int row = rowOfDef_[E.firstDef + i];
+      if (row >= 0) rhs_[row] -= d2[i];
+    }
+  }
+  lu_.solve(rhs_.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = rhs_[c];
+}
+
+void GeometricTransferFunctions::deformationRates(const Eigen::VectorXd& xd, Eigen::VectorXd& ed) const {
+  ed.setZero(ne());
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const DefJac& De = elemJac_[el];
+    for (int i = 0; i < De.rows(); ++i) {
+      double s = 0.0;
+      for (int j = 0; j < De.cols(); ++j) s += De(i, j) * xd[E.coords[j]];
+      ed[E.firstDef + i] = s;
+    }
+  }
+}
+
+void GeometricTransferFunctions::deformationAccelerations(const Eigen::VectorXd& xd,
+                                                          const Eigen::VectorXd& xdd,
+                                                          Eigen::VectorXd& edd) const {
+  deformationRates(xdd, edd);
+  ElemVec xe, ve;
+  DefVec d2;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const int nc = static_cast<int>(E.coords.size());
+    xe.resize(nc);
+    ve.resize(nc);
+    for (int j = 0; j < nc; ++j) {
+      xe[j] = x_[E.coords[j]];
+      ve[j] = xd[E.coords[j]];
+    }
+    E.impl->secondDerivative(xe, ve, d2);
+    for (int i = 0; i < d2.size(); ++i) edd[E.firstDef + i] += d2[i];
+  }
+}
+
+void GeometricTransferFunctions::addTransposedJacobianProduct(const Eigen::VectorXd& s,
+                                                              Eigen::VectorXd& y, double scale) const {
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const DefJac& De = elemJac_[el];
+    for (int i = 0; i < De.rows(); ++i) {
+      const double si = scale * s[E.firstDef + i];
+      if (si == 0.0) continue;
+      for (int j = 0; j < De.cols(); ++j) y[E.coords[j]] += De(i, j) * si;
+    }
+  }
+}
+
+void GeometricTransferFunctions::deformationFirstOrder(const Eigen::MatrixXd& FqV,
+                                                       Eigen::MatrixXd& EqV) const {
+  EqV.setZero(ne(), FqV.cols());
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const DefJac& De = elemJac_[el];
+    for (int i = 0; i < De.rows(); ++i)
+      for (int j = 0; j < De.cols(); ++j) EqV.row(E.firstDef + i) += De(i, j) * FqV.row(E.coords[j]);
+  }
+}
+
+}  // namespace flexmb::core

@@ -1,0 +1,105 @@
+#pragma once
+// Geometric transfer functions x = F(q, t), e = E(q, t) and their derivatives (paper Eq. 7-8),
+// solved by Newton on the kinematic equations D_C(x) = target (fixed, input and dynamic
+// deformations) for the calculable nodal coordinates. The sparse pattern is analysed once.
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+#include "core/SparseLU.hpp"
+
+namespace flexmb::core {
+
+// A kinematic solve that failed: keeps the time and the reason (design: report, don't ignore).
+class KinematicsError : public std::runtime_error {
+ public:
+  KinematicsError(double t, int iterations, double residual, const std::string& reason);
+  double time() const { return t_; }
+  int iterations() const { return iterations_; }
+  double residual() const { return residual_; }
+ private:
+  double t_;
+  int iterations_;
+  double residual_;
+};
+
+class GeometricTransferFunctions {
+ public:
+  explicit GeometricTransferFunctions(const Model& model);
+
+  const Model& model() const { return model_; }
+  int nx() const { return model_.nx; }
+  int ne() const { return model_.ne; }
+  int nq() const { return model_.numDofs(); }
+  int numCalculable() const { return static_cast<int>(calcCoords_.size()); }
+  int numConstraints() const { return static_cast<int>(constrainedDefs_.size()); }
+  // True when the kinematic equations are square (a prerequisite for solving).
+  bool isSquare() const { return numCalculable() == numConstraints(); }
+
+  // q of the initial configuration: DYNX values of x0, DYNE values e0 (0 where not given).
+  Eigen::VectorXd initialDofs() const;
+
+  // Solves the positions for (t, q): x and e. Warm-starts from the last solution.
+  // Throws KinematicsError when Newton does not converge or the Jacobian is singular.
+  void solvePositions(double t, const Eigen::VectorXd& q);
+
+  // Sets a new warm start (e.g. to restart from the initial configuration).
+  void setConfiguration(const Eigen::VectorXd& x);
+
+  // After solvePositions: F_q V (nx x m) for a basis V (nq x m); V = nullptr means identity.
+  void firstOrder(const Eigen::MatrixXd* V, Eigen::MatrixXd& FqV);
+  // xd = F_q qd + F_t: one solve (rheonomic rates included).
+  void velocities(double t, const Eigen::VectorXd& qd, Eigen::VectorXd& xd);
+  // g = xdd at qdd = 0: (F_qq qd) qd plus the rheonomic acceleration terms. One solve.
+  void accelerationOffset(double t, const Eigen::VectorXd& xd, Eigen::VectorXd& g);
+  // ed = D_x xd (all deformations).
+  void deformationRates(const Eigen::VectorXd& xd, Eigen::VectorXd& ed) const;
+  // edd = D_x xdd + D2[xd, xd] (all deformations).
+  void deformationAccelerations(const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
+                                Eigen::VectorXd& edd) const;
+  // y += scale * D_x^T s (nodal forces dual to stresses s).
+  void addTransposedJacobianProduct(const Eigen::VectorXd& s, Eigen::VectorXd& y, double scale = 1.0) const;
+  // E_q V = D_x F_q V (ne x m) from a computed F_q V.
+  void deformationFirstOrder(const Eigen::MatrixXd& FqV, Eigen::MatrixXd& EqV) const;
+
+  const Eigen::VectorXd& x() const { return x_; }
+  const Eigen::VectorXd& e() const { return e_; }
+  // Element Jacobian at the current configuration (cached by solvePositions).
+  const DefJac& elementJacobian(int element) const { return elemJac_[element]; }
+  int lastIterations() const { return lastIterations_; }
+  long totalIterations() const { return totalIterations_; }
+
+  // Index maps (for diagnostics and the kinematic check).
+  const std::vector<int>& calculableCoords() const { return calcCoords_; }
+  const std::vector<int>& constrainedDeformations() const { return constrainedDefs_; }
+
+ private:
+  void evaluateElements();  // e, element Jacobians, J values at x_
+  void constraintTargets(double t, const Eigen::VectorXd& q);
+  void inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek, int order) const;
+  // rhs_r = b_r - (D_x v)_r for constrained rows; v holds known-coordinate values.
+  void knownCoupling(const Eigen::VectorXd& v, double* rhs) const;
+
+  const Model& model_;
+  std::vector<int> calcCoords_, constrainedDefs_;
+  std::vector<int> colOfCoord_, rowOfDef_;
+  std::vector<int> dofRow_, dofCoord_;  // per dof: J row (DYNE) or x index (DYNX), else -1
+  // Jacobian pattern (compressed column) and the map element entry -> value slot.
+  std::vector<int> colPtr_, rowIdx_;
+  std::vector<double> values_;
+  std::vector<std::vector<int>> slot_;  // per element: ndef*ncoord slots (row-major), -1 if unused
+  SparseLU lu_;
+  double tolerance_ = 1e-10;
+  double lengthScale_ = 1.0;
+
+  bool hasDynamicCoords_ = false;
+  Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_;
+  Eigen::MatrixXd rhsMat_;
+  std::vector<DefJac> elemJac_;
+  int lastIterations_ = 0;
+  long totalIterations_ = 0;
+};
+
+}  // namespace flexmb::core

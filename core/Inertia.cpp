@@ -1,0 +1,102 @@
+#include "core/Inertia.hpp"
+
+namespace flexmb::core {
+
+namespace {
+void gather(const ElementEntry& E, const Eigen::VectorXd& v, ElemVec& ve) {
+  ve.resize(static_cast<int>(E.coords.size()));
+  for (size_t j = 0; j < E.coords.size(); ++j) ve[j] = v[E.coords[j]];
+}
+}  // namespace
+
+Inertia::Inertia(const Model& model) : model_(model) {
+  for (size_t el = 0; el < model.elements.size(); ++el)
+    if (model.elements[el].inertia.any()) massive_.push_back(static_cast<int>(el));
+  blocks_.resize(massive_.size());
+  lumped_ = Eigen::VectorXd::Zero(model.nx);
+  for (const auto& m : model.lumpedMasses) lumped_[m.coord] += m.value;
+}
+
+void Inertia::update(const Eigen::VectorXd& x) {
+  ElemVec xe;
+  for (size_t k = 0; k < massive_.size(); ++k) {
+    const auto& E = model_.elements[massive_[k]];
+    gather(E, x, xe);
+    E.impl->mass(xe, E.inertia, blocks_[k]);
+  }
+}
+
+void Inertia::multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const {
+  y = lumped_.cwiseProduct(v);
+  for (size_t k = 0; k < massive_.size(); ++k) {
+    const auto& E = model_.elements[massive_[k]];
+    const ElemMat& Me = blocks_[k];
+    const int n = static_cast<int>(E.coords.size());
+    for (int i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (int j = 0; j < n; ++j) s += Me(i, j) * v[E.coords[j]];
+      y[E.coords[i]] += s;
+    }
+  }
+}
+
+void Inertia::multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const {
+  Y.resize(F.rows(), F.cols());
+  Y.noalias() = lumped_.asDiagonal() * F;
+  for (size_t k = 0; k < massive_.size(); ++k) {
+    const auto& E = model_.elements[massive_[k]];
+    const ElemMat& Me = blocks_[k];
+    const int n = static_cast<int>(E.coords.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        if (Me(i, j) != 0.0) Y.row(E.coords[i]) += Me(i, j) * F.row(E.coords[j]);
+  }
+}
+
+void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
+                                Eigen::VectorXd& y) const {
+  ElemVec xe, ve, he;
+  for (int el : massive_) {
+    const auto& E = model_.elements[el];
+    gather(E, xd, ve);
+    if (ve.isZero(0.0)) continue;
+    gather(E, x, xe);
+    E.impl->velocityForces(xe, ve, E.inertia, he);
+    for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += he[j];
+  }
+}
+
+void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  if (!model_.hasGravity) return;
+  const double gx = model_.gravity[0], gy = model_.gravity[1];
+  for (const auto& n : model_.nodes) {
+    if (n.kind != NodeKind::Position) continue;
+    y[n.firstCoord] += lumped_[n.firstCoord] * gx;
+    y[n.firstCoord + 1] += lumped_[n.firstCoord + 1] * gy;
+  }
+  ElemVec xe, fe;
+  for (int el : massive_) {
+    const auto& E = model_.elements[el];
+    gather(E, x, xe);
+    E.impl->gravityForces(xe, E.inertia, gx, gy, fe);
+    for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += fe[j];
+  }
+}
+
+Eigen::MatrixXd Inertia::dense() const {
+  Eigen::MatrixXd M = lumped_.asDiagonal();
+  for (size_t k = 0; k < massive_.size(); ++k) {
+    const auto& E = model_.elements[massive_[k]];
+    for (size_t i = 0; i < E.coords.size(); ++i)
+      for (size_t j = 0; j < E.coords.size(); ++j) M(E.coords[i], E.coords[j]) += blocks_[k](i, j);
+  }
+  return M;
+}
+
+double Inertia::kineticEnergy(const Eigen::VectorXd& xd) const {
+  Eigen::VectorXd Mv;
+  multiply(xd, Mv);
+  return 0.5 * xd.dot(Mv);
+}
+
+}  // namespace flexmb::core

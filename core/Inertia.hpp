@@ -1,0 +1,37 @@
+#pragma once
+// The global, configuration dependent mass matrix M(x) (lumped + consistent element masses) kept
+// as element blocks, with the products the equations of motion need, and the velocity dependent
+// inertia forces h(x, xd) and gravity loads. Blocks are recomputed per configuration, never
+// assembled into a sparse matrix on the hot path.
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/Model.hpp"
+
+namespace flexmb::core {
+
+class Inertia {
+ public:
+  explicit Inertia(const Model& model);
+  bool hasMass() const { return !massive_.empty() || !model_.lumpedMasses.empty(); }
+  // Element mass blocks at configuration x.
+  void update(const Eigen::VectorXd& x);
+  // y = M v (nx), y = M F (nx x m).
+  void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const;
+  void multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const;
+  // y += h(x, xd) (velocity dependent inertia forces; the inertia force is M xdd + h).
+  void addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y) const;
+  // y += gravity loads (lumped and distributed masses).
+  void addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // Dense M (tests, linearisation of small models).
+  Eigen::MatrixXd dense() const;
+  double kineticEnergy(const Eigen::VectorXd& xd) const;
+
+ private:
+  const Model& model_;
+  std::vector<int> massive_;      // elements with distributed inertia
+  std::vector<ElemMat> blocks_;   // per massive element
+  Eigen::VectorXd lumped_;        // diagonal lumped masses (nx)
+};
+
+}  // namespace flexmb::core

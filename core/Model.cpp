@@ -1,0 +1,43 @@
+#include "core/Model.hpp"
+
+#include <string>
+
+namespace flexmb::core {
+
+const char* roleName(Role r) {
+  switch (r) {
+    case Role::Fixed: return "fixed";
+    case Role::Input: return "input";
+    case Role::Dynamic: return "dynamic";
+    case Role::Calculable: return "calculable";
+  }
+  return "?";
+}
+
+void Rheonomic::evaluate(double t, double& x, double& xd, double& xdd) const {
+  if (fx) {
+    x = fx->value(t);
+    xd = fv ? fv->value(t) : 0.0;
+    xdd = fa ? fa->value(t) : 0.0;
+    return;
+  }
+  x = x0 + v * t + 0.5 * a * t * t;
+  xd = v + a * t;
+  xdd = a;
+}
+
+std::string Model::coordName(int xIndex) const {
+  const Node& n = nodes[xOwnerNode[xIndex]];
+  const int comp = xIndex - n.firstCoord + 1;
+  if (n.kind == NodeKind::Orientation) return "x(node " + std::to_string(n.label) + ", angle)";
+  return "x(node " + std::to_string(n.label) + ", " + (comp == 1 ? "x" : "y") + ")";
+}
+
+std::string Model::deformationName(int eIndex) const {
+  const ElementEntry& el = elements[eOwnerElement[eIndex]];
+  const int comp = eIndex - el.firstDef;
+  return "e(" + el.type->keyword + " " + std::to_string(el.label) + ", " + std::to_string(comp + 1) +
+         " " + el.type->deformationNames[comp] + ")";
+}
+
+}  // namespace flexmb::core

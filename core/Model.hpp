@@ -1,0 +1,124 @@
+#pragma once
+// The immutable model (Pinocchio-style): topology, parameters, coordinate roles, loads and
+// analysis settings. Built once by ModelBuilder; all state lives in workspaces of the algorithms.
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/TimeFunction.hpp"
+#include "core/elements/Element.hpp"
+
+namespace flexmb::core {
+
+enum class Dialect { Spacar95, Spacar2013 };
+
+// Role of a nodal coordinate or a deformation in the kinematic equations (design.md).
+// Nodal coordinates default to Calculable, deformations default to Fixed.
+enum class Role { Fixed, Input, Dynamic, Calculable };
+const char* roleName(Role r);
+
+struct Node {
+  int label = 0;
+  NodeKind kind = NodeKind::Position;
+  int firstCoord = 0;  // index into x
+  int dim() const { return kind == NodeKind::Position ? 2 : 1; }
+  int line = 0;        // where it was first used
+};
+
+struct ElementEntry {
+  int label = 0;
+  const ElementTypeInfo* type = nullptr;
+  std::shared_ptr<const Element> impl;
+  std::vector<int> nodes;   // node indices (into Model::nodes), keyword order
+  std::vector<int> coords;  // global x indices of the element's nodal coordinates, in order
+  int firstDef = 0;         // index of the element's first deformation in e
+  int line = 0;
+  ElementInertia inertia;
+  bool hasStiffness = false, hasDamping = false;
+  DefMat S, Sd;             // constitutive stiffness and damping (ndef x ndef)
+};
+
+// A prescribed value in time: polynomial x0 + v t + a t^2/2, or three expressions.
+struct Rheonomic {
+  int index = 0;  // x index (input coordinate) or e index (input deformation)
+  double x0 = 0.0, v = 0.0, a = 0.0;
+  TimeFunctionPtr fx, fv, fa;  // when set, replace the polynomial
+  double delta = 0.0;          // DELINPX: increment over the static load steps
+  void evaluate(double t, double& x, double& xd, double& xdd) const;
+};
+
+struct TimeLoad {
+  int index = 0;  // x index (XFT) or e index (ESIGT, EREF)
+  TimeFunctionPtr f;
+};
+
+struct LumpedMass {
+  int coord = 0;  // x index
+  double value = 0.0;
+};
+
+struct AnalysisSettings {
+  double t0 = 0.0;
+  double tEnd = 1.0;
+  int outputIntervals = 100;
+  double relTol = 1e-3;
+  double absTol = 1e-6;
+  double hmax = 0.0;         // 0: ode45 default 0.1*|tf - t0|
+  double kinematicTol = 1e-10;  // Newton tolerance on the kinematic equations (relative)
+  int maxIterations = 50;
+  int loadSteps = 1;
+  bool timestepGiven = false;
+};
+
+struct Model {
+  std::string sourceFile;
+  Dialect dialect = Dialect::Spacar2013;
+
+  std::vector<Node> nodes;
+  std::map<int, int> nodeByLabel;
+  std::vector<ElementEntry> elements;
+  std::map<int, int> elementByLabel;
+
+  int nx = 0;  // number of nodal coordinates
+  int ne = 0;  // number of deformations
+  Eigen::VectorXd x0;         // initial nodal coordinates (reference configuration)
+  std::vector<Role> xRole;    // size nx
+  std::vector<Role> eRole;    // size ne
+  std::vector<int> xOwnerNode;          // x index -> node index
+  std::vector<int> eOwnerElement;       // e index -> element index
+
+  // Independent coordinates q, in file order: DYNX coordinates then DYNE deformations
+  // (each list in the order the file names them).
+  struct Dof {
+    bool isDeformation = false;
+    int index = 0;  // x or e index
+  };
+  std::vector<Dof> dofs;
+
+  // Initial values of dynamic deformations / coordinates (E, ED, STARTDE); NaN where not given.
+  Eigen::VectorXd e0, ed0, edd0;
+
+  // Loads and stresses.
+  Eigen::VectorXd f0;      // constant nodal forces (XF/FORCE), size nx
+  Eigen::VectorXd delf;    // DELXF, size nx
+  std::vector<TimeLoad> timeForces;  // XFT
+  double gravity[2] = {0.0, 0.0};
+  bool hasGravity = false;
+  Eigen::VectorXd sigma0;  // ESIG prestress, size ne
+  std::vector<TimeLoad> timeStresses;  // ESIGT
+  std::vector<TimeLoad> references;    // EREF: sigma = S (e - eref(t))
+  std::vector<Rheonomic> inputX;       // prescribed nodal coordinates
+  std::vector<Rheonomic> inputE;       // prescribed deformations
+
+  std::vector<LumpedMass> lumpedMasses;
+  AnalysisSettings settings;
+
+  int numDofs() const { return static_cast<int>(dofs.size()); }
+  // Human-readable names for messages: "x(node 3, 2)" and "e(element 5, 3)".
+  std::string coordName(int xIndex) const;
+  std::string deformationName(int eIndex) const;
+};
+
+}  // namespace flexmb::core

@@ -1,0 +1,588 @@
+#include "core/ModelBuilder.hpp"
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace flexmb::core {
+
+// Every statement is recorded with its line and resolved in finalize(), so statements may come in
+// any order (coordinates before the elements that define the nodes, for instance).
+//
+// Resolution rules (documented for the reader and its users):
+//   * nodes get their kind from the first element slot that uses them; x indices in order of first
+//     use; deformation indices in element order;
+//   * coordinates (X/XY/BETA), stiffness, damping, inertia, lumped masses, prestress: a later
+//     statement for the same item replaces an earlier one; forces (XF/FORCE, DELXF) add up;
+//   * a role given twice for the same coordinate/deformation must agree (else error);
+//   * q = DYNX coordinates then DYNE deformations, each in file order;
+//   * every input coordinate/deformation gets a Rheonomic (inputX/inputE, in the order the roles
+//     were declared) with x0 = the initial coordinate (0 for a deformation), v = a = 0 unless given;
+//   * initial deformation values (E/ED/EDD/STARTDE) on an input deformation set its Rheonomic
+//     x0/v/a; on a dynamic one they go to e0/ed0/edd0; on a fixed or released deformation only
+//     zeros are accepted (they are then ignored).
+struct ModelBuilder::Impl {
+  std::string file;
+  Dialect dialect = Dialect::Spacar2013;
+  AnalysisSettings settings;
+
+  struct ElemStmt {
+    const ElementTypeInfo* type;
+    int label;
+    std::vector<int> nodes;
+    int line;
+  };
+  struct CoordStmt {
+    int node;
+    std::vector<double> values;
+    int line;
+  };
+  struct RoleStmt {
+    int id;
+    std::vector<int> comps;
+    Role role;
+    int line;
+  };
+  struct ScalarStmt {
+    int id;
+    double value;
+    int line;
+  };
+  struct InertiaStmt {
+    int element;
+    double rhoA, rhoI;
+    int line;
+  };
+  struct VectorStmt {
+    int id;
+    std::vector<double> values;
+    int line;
+  };
+  struct CompFn {
+    int id, comp;
+    TimeFunctionPtr f;
+    int line;
+  };
+  struct CompValues {
+    int id, comp;
+    std::optional<double> x, v, a;
+    int line;
+  };
+  struct CompFns {
+    int id, comp;
+    TimeFunctionPtr x, v, a;
+    int line;
+  };
+  struct CompScalar {
+    int id, comp;
+    double value;
+    int line;
+  };
+
+  std::vector<ElemStmt> elements;
+  std::vector<CoordStmt> coords;
+  std::vector<RoleStmt> xRoles, eRoles;
+  std::vector<ScalarStmt> masses;
+  std::vector<InertiaStmt> inertias;
+  std::vector<VectorStmt> stiffness, damping, forces, forceIncrements;
+  std::vector<CompFn> timeForces, timeStresses, references;
+  std::optional<std::pair<double, double>> gravity;
+  std::vector<CompValues> inputXValues, inputEValues, initialDeformations;
+  std::vector<CompFns> inputXFunctions, inputEFunctions;
+  std::vector<CompScalar> inputIncrements, prestress;
+};
+
+ModelBuilder::ModelBuilder(std::string sourceFile) : impl_(std::make_unique<Impl>()) {
+  impl_->file = std::move(sourceFile);
+}
+ModelBuilder::~ModelBuilder() = default;
+
+void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
+                              int line) {
+  impl_->elements.push_back({&type, label, {nodeLabels.begin(), nodeLabels.end()}, line});
+}
+void ModelBuilder::setCoordinates(int node, std::span<const double> values, int line) {
+  impl_->coords.push_back({node, {values.begin(), values.end()}, line});
+}
+void ModelBuilder::setCoordinateRole(int node, std::span<const int> comps, Role role, int line) {
+  impl_->xRoles.push_back({node, {comps.begin(), comps.end()}, role, line});
+}
+void ModelBuilder::setDeformationRole(int element, std::span<const int> comps, Role role, int line) {
+  impl_->eRoles.push_back({element, {comps.begin(), comps.end()}, role, line});
+}
+void ModelBuilder::setLumpedMass(int node, double value, int line) {
+  impl_->masses.push_back({node, value, line});
+}
+void ModelBuilder::setElementInertia(int element, double rhoA, double rhoI, int line) {
+  impl_->inertias.push_back({element, rhoA, rhoI, line});
+}
+void ModelBuilder::setStiffness(int element, std::span<const double> params, int line) {
+  impl_->stiffness.push_back({element, {params.begin(), params.end()}, line});
+}
+void ModelBuilder::setDamping(int element, std::span<const double> params, int line) {
+  impl_->damping.push_back({element, {params.begin(), params.end()}, line});
+}
+void ModelBuilder::addForce(int node, std::span<const double> comps, int line) {
+  impl_->forces.push_back({node, {comps.begin(), comps.end()}, line});
+}
+void ModelBuilder::addForceIncrement(int node, std::span<const double> comps, int line) {
+  impl_->forceIncrements.push_back({node, {comps.begin(), comps.end()}, line});
+}
+void ModelBuilder::addTimeForce(int node, int comp, TimeFunctionPtr f, int line) {
+  impl_->timeForces.push_back({node, comp, std::move(f), line});
+}
+void ModelBuilder::setGravity(double gx, double gy, int /*line*/) { impl_->gravity = {gx, gy}; }
+void ModelBuilder::setInputCoordinate(int node, int comp, std::optional<double> x,
+                                      std::optional<double> v, std::optional<double> a, int line) {
+  impl_->inputXValues.push_back({node, comp, x, v, a, line});
+}
+void ModelBuilder::setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x,
+                                               TimeFunctionPtr v, TimeFunctionPtr a, int line) {
+  impl_->inputXFunctions.push_back({node, comp, std::move(x), std::move(v), std::move(a), line});
+}
+void ModelBuilder::setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x,
+                                                TimeFunctionPtr v, TimeFunctionPtr a, int line) {
+  impl_->inputEFunctions.push_back({element, comp, std::move(x), std::move(v), std::move(a), line});
+}
+void ModelBuilder::setInputDeformation(int element, int comp, std::optional<double> x,
+                                       std::optional<double> v, std::optional<double> a, int line) {
+  impl_->inputEValues.push_back({element, comp, x, v, a, line});
+}
+void ModelBuilder::setInputIncrement(int node, int comp, double delta, int line) {
+  impl_->inputIncrements.push_back({node, comp, delta, line});
+}
+void ModelBuilder::setInitialDeformation(int element, int comp, std::optional<double> e,
+                                         std::optional<double> ed, std::optional<double> edd,
+                                         int line) {
+  impl_->initialDeformations.push_back({element, comp, e, ed, edd, line});
+}
+void ModelBuilder::setPrestress(int element, int comp, double sigma, int line) {
+  impl_->prestress.push_back({element, comp, sigma, line});
+}
+void ModelBuilder::addTimeStress(int element, int comp, TimeFunctionPtr f, int line) {
+  impl_->timeStresses.push_back({element, comp, std::move(f), line});
+}
+void ModelBuilder::setReference(int element, int comp, TimeFunctionPtr f, int line) {
+  impl_->references.push_back({element, comp, std::move(f), line});
+}
+AnalysisSettings& ModelBuilder::settings() { return impl_->settings; }
+void ModelBuilder::setDialect(Dialect d) { impl_->dialect = d; }
+
+namespace {
+
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(12);
+  o << v;
+  return o.str();
+}
+
+// Name of an element slot, as in the reader's messages: "node p", "orientation q".
+std::string slotName(const ElementTypeInfo& type, size_t slot) {
+  int idx = 0;
+  for (size_t s = 0; s < slot; ++s)
+    if (type.slots[s] == type.slots[slot]) ++idx;
+  return std::string(type.slots[slot] == NodeKind::Position ? "node " : "orientation ") +
+         static_cast<char>('p' + std::min(idx, 9));
+}
+
+int slotsCoords(const ElementTypeInfo& type) {
+  int n = 0;
+  for (NodeKind k : type.slots) n += k == NodeKind::Position ? 2 : 1;
+  return n;
+}
+
+struct Resolver {
+  Model& m;
+  // Where each node was first used: element index and slot.
+  std::vector<std::pair<int, int>> firstUse;
+  std::vector<int> xRoleLine, eRoleLine;
+
+  [[noreturn]] static void fail(int line, const std::string& msg) { throw ModelError(line, msg); }
+
+  std::string elemName(int ei) const {
+    return m.elements[ei].type->keyword + " " + std::to_string(m.elements[ei].label);
+  }
+
+  int node(int label, int line) const {
+    auto it = m.nodeByLabel.find(label);
+    if (it == m.nodeByLabel.end())
+      fail(line, "node " + std::to_string(label) + " is not used by any element");
+    return it->second;
+  }
+  int element(int label, int line) const {
+    auto it = m.elementByLabel.find(label);
+    if (it == m.elementByLabel.end())
+      fail(line, "element " + std::to_string(label) + " is not defined");
+    return it->second;
+  }
+  std::string nodeDescription(int ni) const {
+    const Node& n = m.nodes[ni];
+    return "node " + std::to_string(n.label) + " is " +
+           (n.kind == NodeKind::Position ? "a position node (components 1..2: x, y)"
+                                         : "an orientation node (component 1: angle)");
+  }
+  int x(int nodeLabel, int comp, int line) const {
+    const int ni = node(nodeLabel, line);
+    const Node& n = m.nodes[ni];
+    if (comp < 1 || comp > n.dim())
+      fail(line, "component " + std::to_string(comp) + " out of range: " + nodeDescription(ni));
+    return n.firstCoord + comp - 1;
+  }
+  std::string elementDescription(int ei) const {
+    const ElementEntry& el = m.elements[ei];
+    std::string s = elemName(ei) + " has " + std::to_string(el.type->numDeformations()) +
+                    " deformation" + (el.type->numDeformations() == 1 ? "" : "s") + " (";
+    for (int i = 0; i < el.type->numDeformations(); ++i)
+      s += (i ? ", " : "") + std::to_string(i + 1) + " " + el.type->deformationNames[i];
+    return s + ")";
+  }
+  int e(int elemLabel, int comp, int line) const {
+    const int ei = element(elemLabel, line);
+    const ElementEntry& el = m.elements[ei];
+    if (comp < 1 || comp > el.type->numDeformations())
+      fail(line, "component " + std::to_string(comp) + " out of range: " + elementDescription(ei));
+    return el.firstDef + comp - 1;
+  }
+};
+
+}  // namespace
+
+Model ModelBuilder::finalize(const ElementOptions& options) {
+  Impl& in = *impl_;
+  Model m;
+  m.sourceFile = in.file;
+  m.dialect = in.dialect;
+  m.settings = in.settings;
+  Resolver r{m, {}, {}, {}};
+  using R = Resolver;
+
+  if (in.elements.empty()) R::fail(0, "the model defines no elements");
+
+  // Elements, nodes (kind and x indices in order of first use), deformation indices.
+  for (const auto& st : in.elements) {
+    if (!st.type) R::fail(st.line, "element without a type");
+    const ElementTypeInfo& type = *st.type;
+    if (st.label <= 0)
+      R::fail(st.line, "element label must be a positive integer, found " + std::to_string(st.label));
+    if (auto it = m.elementByLabel.find(st.label); it != m.elementByLabel.end())
+      R::fail(st.line, "element " + std::to_string(st.label) + " is already defined (" +
+                           r.elemName(it->second) + " at line " +
+                           std::to_string(m.elements[it->second].line) + ")");
+    if (st.nodes.size() != type.slots.size())
+      R::fail(st.line, type.keyword + " needs " + std::to_string(type.slots.size()) + " nodes, found " +
+                           std::to_string(st.nodes.size()));
+    const int ei = static_cast<int>(m.elements.size());
+    ElementEntry el;
+    el.label = st.label;
+    el.type = &type;
+    el.line = st.line;
+    for (size_t s = 0; s < st.nodes.size(); ++s) {
+      const int label = st.nodes[s];
+      if (label <= 0)
+        R::fail(st.line, "node label must be a positive integer, found " + std::to_string(label));
+      for (size_t s2 = 0; s2 < s; ++s2)
+        if (st.nodes[s2] == label)
+          R::fail(st.line, "node " + std::to_string(label) + " appears twice in " + type.keyword + " " +
+                               std::to_string(st.label) + " (" + slotName(type, s2) + " and " +
+                               slotName(type, s) + ")");
+      const NodeKind kind = type.slots[s];
+      auto it = m.nodeByLabel.find(label);
+      int ni;
+      if (it == m.nodeByLabel.end()) {
+        ni = static_cast<int>(m.nodes.size());
+        Node n;
+        n.label = label;
+        n.kind = kind;
+        n.firstCoord = m.nx;
+        n.line = st.line;
+        m.nodes.push_back(n);
+        m.nodeByLabel[label] = ni;
+        r.firstUse.push_back({ei, static_cast<int>(s)});
+        m.nx += n.dim();
+        for (int c = 0; c < n.dim(); ++c) m.xOwnerNode.push_back(ni);
+      } else {
+        ni = it->second;
+        const Node& n = m.nodes[ni];
+        if (n.kind != kind) {
+          const auto [fe, fs] = r.firstUse[ni];
+          const ElementEntry& first = fe == ei ? el : m.elements[fe];
+          R::fail(st.line, "node " + std::to_string(label) + " is used as " +
+                               (kind == NodeKind::Position ? "a position" : "an orientation") +
+                               " node here (" + type.keyword + " " + std::to_string(st.label) + ", " +
+                               slotName(type, s) + ") but as " +
+                               (n.kind == NodeKind::Position ? "a position" : "an orientation") +
+                               " node by " + first.type->keyword + " " + std::to_string(first.label) +
+                               " (" + slotName(*first.type, fs) + ") at line " +
+                               std::to_string(first.line));
+        }
+      }
+      el.nodes.push_back(ni);
+      for (int c = 0; c < m.nodes[ni].dim(); ++c) el.coords.push_back(m.nodes[ni].firstCoord + c);
+    }
+    el.firstDef = m.ne;
+    m.ne += type.numDeformations();
+    for (int d = 0; d < type.numDeformations(); ++d) m.eOwnerElement.push_back(ei);
+    m.elementByLabel[st.label] = ei;
+    m.elements.push_back(std::move(el));
+  }
+
+  // Initial coordinates.
+  m.x0 = Eigen::VectorXd::Zero(m.nx);
+  for (const auto& st : in.coords) {
+    const int ni = r.node(st.node, st.line);
+    const Node& n = m.nodes[ni];
+    if (static_cast<int>(st.values.size()) != n.dim())
+      R::fail(st.line, "node " + std::to_string(n.label) + " is " +
+                           (n.kind == NodeKind::Position
+                                ? "a position node: expected 2 coordinates (x, y)"
+                                : "an orientation node: expected 1 coordinate (angle)") +
+                           ", found " + std::to_string(st.values.size()));
+    for (int c = 0; c < n.dim(); ++c) {
+      if (!std::isfinite(st.values[c])) R::fail(st.line, "coordinate is not finite");
+      m.x0[n.firstCoord + c] = st.values[c];
+    }
+  }
+
+  // Roles.
+  m.xRole.assign(m.nx, Role::Calculable);
+  m.eRole.assign(m.ne, Role::Fixed);
+  r.xRoleLine.assign(m.nx, 0);
+  r.eRoleLine.assign(m.ne, 0);
+  std::vector<int> inputXOrder, inputEOrder;
+  for (const auto& st : in.xRoles) {
+    const int ni = r.node(st.id, st.line);
+    const Node& n = m.nodes[ni];
+    std::vector<int> comps = st.comps;
+    if (comps.empty())
+      for (int c = 1; c <= n.dim(); ++c) comps.push_back(c);
+    for (int c : comps) {
+      const int xi = r.x(st.id, c, st.line);
+      if (r.xRoleLine[xi] != 0 && m.xRole[xi] != st.role)
+        R::fail(st.line, "cannot make " + m.coordName(xi) + " " + roleName(st.role) +
+                             ": it was made " + roleName(m.xRole[xi]) + " at line " +
+                             std::to_string(r.xRoleLine[xi]));
+      if (r.xRoleLine[xi] == 0) {
+        r.xRoleLine[xi] = st.line;
+        m.xRole[xi] = st.role;
+        if (st.role == Role::Dynamic) m.dofs.push_back({false, xi});
+        if (st.role == Role::Input) inputXOrder.push_back(xi);
+      }
+    }
+  }
+  for (const auto& st : in.eRoles) {
+    const int ei = r.element(st.id, st.line);
+    std::vector<int> comps = st.comps;
+    if (comps.empty())
+      for (int c = 1; c <= m.elements[ei].type->numDeformations(); ++c) comps.push_back(c);
+    for (int c : comps) {
+      const int di = r.e(st.id, c, st.line);
+      if (r.eRoleLine[di] != 0 && m.eRole[di] != st.role)
+        R::fail(st.line, "cannot make " + m.deformationName(di) + " " + roleName(st.role) +
+                             ": it was made " + roleName(m.eRole[di]) + " at line " +
+                             std::to_string(r.eRoleLine[di]));
+      if (r.eRoleLine[di] == 0) {
+        r.eRoleLine[di] = st.line;
+        m.eRole[di] = st.role;
+        if (st.role == Role::Dynamic) m.dofs.push_back({true, di});
+        if (st.role == Role::Input) inputEOrder.push_back(di);
+      }
+    }
+  }
+
+  // Element objects (reference geometry from the initial coordinates).
+  for (size_t ei = 0; ei < m.elements.size(); ++ei) {
+    ElementEntry& el = m.elements[ei];
+    const int nc = slotsCoords(*el.type);
+    if (nc > kMaxElemCoords || el.type->numDeformations() > kMaxElemDefs)
+      R::fail(el.line, el.type->keyword + ": element type exceeds the fixed element capacity");
+    ElemVec x0e(nc);
+    for (int c = 0; c < nc; ++c) x0e[c] = m.x0[el.coords[c]];
+    if (!el.type->create) R::fail(el.line, el.type->keyword + ": element type cannot be created");
+    try {
+      std::unique_ptr<Element> impl = el.type->create(x0e, options);
+      if (!impl) R::fail(el.line, el.type->keyword + ": element could not be created");
+      el.impl = std::move(impl);
+    } catch (const ModelError&) {
+      throw;
+    } catch (const std::exception& ex) {
+      R::fail(el.line, r.elemName(static_cast<int>(ei)) + ": " + ex.what());
+    }
+    el.S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
+    el.Sd = el.S;
+  }
+
+  // Constitutive data.
+  auto constitutive = [&](const std::vector<Impl::VectorStmt>& stmts, bool damping) {
+    for (const auto& st : stmts) {
+      const int ei = r.element(st.id, st.line);
+      ElementEntry& el = m.elements[ei];
+      const auto& layout = el.type->stiffness;
+      if (st.values.size() != layout.size()) {
+        std::string names;
+        for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
+        R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
+                             (damping ? "damping" : "stiffness") + " parameter" +
+                             (layout.size() == 1 ? "" : "s") + " (" + names + "), found " +
+                             std::to_string(st.values.size()));
+      }
+      for (double v : st.values)
+        if (!std::isfinite(v)) R::fail(st.line, "parameter is not finite");
+      DefMat S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
+      el.impl->constitutive(st.values, S);
+      if (damping) {
+        el.Sd = S;
+        el.hasDamping = true;
+      } else {
+        el.S = S;
+        el.hasStiffness = true;
+      }
+    }
+  };
+  constitutive(in.stiffness, false);
+  constitutive(in.damping, true);
+
+  // Inertia.
+  for (const auto& st : in.inertias) {
+    const int ei = r.element(st.element, st.line);
+    if (!(st.rhoA >= 0.0) || !std::isfinite(st.rhoA))
+      R::fail(st.line, "negative mass per unit length " + num(st.rhoA) + " for " + r.elemName(ei));
+    if (!(st.rhoI >= 0.0) || !std::isfinite(st.rhoI))
+      R::fail(st.line, "negative rotary inertia per unit length " + num(st.rhoI) + " for " +
+                           r.elemName(ei));
+    m.elements[ei].inertia = {st.rhoA, st.rhoI};
+  }
+  std::map<int, double> massByCoord;
+  for (const auto& st : in.masses) {
+    const int ni = r.node(st.id, st.line);
+    const Node& n = m.nodes[ni];
+    if (!(st.value >= 0.0) || !std::isfinite(st.value))
+      R::fail(st.line, std::string("negative ") +
+                           (n.kind == NodeKind::Position ? "mass " : "rotary inertia ") +
+                           num(st.value) + " at node " + std::to_string(n.label));
+    for (int c = 0; c < n.dim(); ++c) massByCoord[n.firstCoord + c] = st.value;
+  }
+  for (const auto& [coord, value] : massByCoord)
+    if (value != 0.0) m.lumpedMasses.push_back({coord, value});
+
+  // Loads.
+  m.f0 = Eigen::VectorXd::Zero(m.nx);
+  m.delf = Eigen::VectorXd::Zero(m.nx);
+  auto nodalLoads = [&](const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f) {
+    for (const auto& st : stmts) {
+      const int ni = r.node(st.id, st.line);
+      const Node& n = m.nodes[ni];
+      if (static_cast<int>(st.values.size()) > n.dim())
+        R::fail(st.line, "node " + std::to_string(n.label) +
+                             " is an orientation node: expected 1 component (moment), found " +
+                             std::to_string(st.values.size()));
+      for (size_t c = 0; c < st.values.size(); ++c) {
+        if (!std::isfinite(st.values[c])) R::fail(st.line, "load is not finite");
+        f[n.firstCoord + static_cast<int>(c)] += st.values[c];
+      }
+    }
+  };
+  nodalLoads(in.forces, m.f0);
+  nodalLoads(in.forceIncrements, m.delf);
+  for (const auto& st : in.timeForces) m.timeForces.push_back({r.x(st.id, st.comp, st.line), st.f});
+  if (in.gravity) {
+    m.gravity[0] = in.gravity->first;
+    m.gravity[1] = in.gravity->second;
+    m.hasGravity = true;
+  }
+
+  // Stresses.
+  m.sigma0 = Eigen::VectorXd::Zero(m.ne);
+  for (const auto& st : in.prestress) m.sigma0[r.e(st.id, st.comp, st.line)] = st.value;
+  for (const auto& st : in.timeStresses)
+    m.timeStresses.push_back({r.e(st.id, st.comp, st.line), st.f});
+  std::map<int, int> referenceLine;
+  for (const auto& st : in.references) {
+    const int di = r.e(st.id, st.comp, st.line);
+    const ElementEntry& el = m.elements[m.eOwnerElement[di]];
+    if (!el.hasStiffness)
+      R::fail(st.line, m.deformationName(di) + " has no stiffness (ESTIFF): a reference needs one");
+    if (m.eRole[di] != Role::Dynamic && m.eRole[di] != Role::Calculable)
+      R::fail(st.line, m.deformationName(di) + " is " + roleName(m.eRole[di]) +
+                           ": a reference applies to a dynamic (DYNE) or released (RLSE) deformation");
+    if (auto it = referenceLine.find(di); it != referenceLine.end())
+      R::fail(st.line, "a reference for " + m.deformationName(di) + " was already given at line " +
+                           std::to_string(it->second));
+    referenceLine[di] = st.line;
+    m.references.push_back({di, st.f});
+  }
+
+  // Rheonomic inputs.
+  std::map<int, size_t> inputXAt, inputEAt;
+  for (int xi : inputXOrder) {
+    inputXAt[xi] = m.inputX.size();
+    Rheonomic rh;
+    rh.index = xi;
+    rh.x0 = m.x0[xi];
+    m.inputX.push_back(rh);
+  }
+  for (int di : inputEOrder) {
+    inputEAt[di] = m.inputE.size();
+    Rheonomic rh;
+    rh.index = di;
+    m.inputE.push_back(rh);
+  }
+  auto inputX = [&](int node, int comp, int line) -> Rheonomic& {
+    const int xi = r.x(node, comp, line);
+    auto it = inputXAt.find(xi);
+    if (it == inputXAt.end())
+      R::fail(line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
+                        "); declare it with INPUTX in the kinematic block");
+    return m.inputX[it->second];
+  };
+  auto inputE = [&](int element, int comp, int line) -> Rheonomic& {
+    const int di = r.e(element, comp, line);
+    auto it = inputEAt.find(di);
+    if (it == inputEAt.end())
+      R::fail(line, m.deformationName(di) + " is not an input deformation (it is " +
+                        roleName(m.eRole[di]) + "); declare it with INPUTE in the kinematic block");
+    return m.inputE[it->second];
+  };
+  auto setValues = [](Rheonomic& rh, const Impl::CompValues& st) {
+    if (st.x) rh.x0 = *st.x;
+    if (st.v) rh.v = *st.v;
+    if (st.a) rh.a = *st.a;
+  };
+  for (const auto& st : in.inputXValues) setValues(inputX(st.id, st.comp, st.line), st);
+  for (const auto& st : in.inputEValues) setValues(inputE(st.id, st.comp, st.line), st);
+  for (const auto& st : in.inputXFunctions) {
+    Rheonomic& rh = inputX(st.id, st.comp, st.line);
+    rh.fx = st.x, rh.fv = st.v, rh.fa = st.a;
+  }
+  for (const auto& st : in.inputEFunctions) {
+    Rheonomic& rh = inputE(st.id, st.comp, st.line);
+    rh.fx = st.x, rh.fv = st.v, rh.fa = st.a;
+  }
+  for (const auto& st : in.inputIncrements) inputX(st.id, st.comp, st.line).delta = st.value;
+
+  // Initial deformations.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  m.e0 = Eigen::VectorXd::Constant(m.ne, nan);
+  m.ed0 = Eigen::VectorXd::Constant(m.ne, nan);
+  m.edd0 = Eigen::VectorXd::Constant(m.ne, nan);
+  for (const auto& st : in.initialDeformations) {
+    const int di = r.e(st.id, st.comp, st.line);
+    if (m.eRole[di] == Role::Input) {
+      setValues(inputE(st.id, st.comp, st.line), st);
+    } else if (m.eRole[di] == Role::Dynamic) {
+      if (st.x) m.e0[di] = *st.x;
+      if (st.v) m.ed0[di] = *st.v;
+      if (st.a) m.edd0[di] = *st.a;
+    } else {
+      const bool nonzero = (st.x && *st.x != 0.0) || (st.v && *st.v != 0.0) || (st.a && *st.a != 0.0);
+      if (nonzero)
+        R::fail(st.line, m.deformationName(di) + " is " + roleName(m.eRole[di]) +
+                             ": initial values apply to dynamic (DYNE) and input (INPUTE) "
+                             "deformations");
+    }
+  }
+  return m;
+}
+
+}  // namespace flexmb::core

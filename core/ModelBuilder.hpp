@@ -1,0 +1,72 @@
+#pragma once
+// Builds an immutable Model from statements in any order (the .dat reader's target).
+// Every call carries the source line; errors are ModelError(line, message).
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+
+namespace flexmb::core {
+
+class ModelError : public std::runtime_error {
+ public:
+  ModelError(int line, const std::string& message) : std::runtime_error(message), line_(line) {}
+  int line() const { return line_; }
+ private:
+  int line_;
+};
+
+class ModelBuilder {
+ public:
+  explicit ModelBuilder(std::string sourceFile);
+  ~ModelBuilder();
+
+  // Kinematic block. Node kinds are fixed by the first element slot that uses a node.
+  void addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels, int line);
+  void setCoordinates(int node, std::span<const double> values, int line);          // X, XY, BETA
+  void setCoordinateRole(int node, std::span<const int> comps, Role role, int line);  // 1-based; empty = all
+  void setDeformationRole(int element, std::span<const int> comps, Role role, int line);
+
+  // Dynamic / static block.
+  void setLumpedMass(int node, double value, int line);                    // MASS / XM
+  void setElementInertia(int element, double rhoA, double rhoI, int line);  // EMASS / EM
+  void setStiffness(int element, std::span<const double> params, int line);
+  void setDamping(int element, std::span<const double> params, int line);
+  void addForce(int node, std::span<const double> comps, int line);         // FORCE / XF
+  void addForceIncrement(int node, std::span<const double> comps, int line);  // DELXF
+  void addTimeForce(int node, int comp, TimeFunctionPtr f, int line);       // XFT
+  void setGravity(double gx, double gy, int line);
+  // Input coordinate values: 2013+ INPUTX n i x [v [a]]; SPACAR95 XD / XDD set one field each.
+  void setInputCoordinate(int node, int comp, std::optional<double> x, std::optional<double> v,
+                          std::optional<double> a, int line);
+  void setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
+                                   TimeFunctionPtr a, int line);  // INPUTXT
+  void setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
+                                    TimeFunctionPtr a, int line);  // INPUTET
+  // Input deformation values e(t) = x + v t + a t^2/2 (dynamic-block INPUTE e i x [v [a]], by
+  // analogy with INPUTX; SPACAR95's E/ED/EDD on an input deformation do the same through
+  // setInitialDeformation). Default x = 0 (the reference configuration).
+  void setInputDeformation(int element, int comp, std::optional<double> x, std::optional<double> v,
+                           std::optional<double> a, int line);
+  void setInputIncrement(int node, int comp, double delta, int line);  // DELINPX
+  void setInitialDeformation(int element, int comp, std::optional<double> e, std::optional<double> ed,
+                             std::optional<double> edd, int line);  // E/ED/EDD, STARTDE
+  void setPrestress(int element, int comp, double sigma, int line);   // ESIG
+  void addTimeStress(int element, int comp, TimeFunctionPtr f, int line);  // ESIGT
+  void setReference(int element, int comp, TimeFunctionPtr f, int line);  // EREF
+
+  AnalysisSettings& settings();
+  void setDialect(Dialect d);
+
+  // Validates (every referenced node and element defined, parameters consistent) and freezes.
+  Model finalize(const ElementOptions& options);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace flexmb::core

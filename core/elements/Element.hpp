@@ -1,0 +1,97 @@
+#pragma once
+// Narrow element interface (paper Eq. 1-5): deformations e = D(x) of one element, their
+// derivatives, constitutive matrices and inertia. One class per element type implements it.
+#include <Eigen/Core>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace flexmb::core {
+
+constexpr int kMaxElemCoords = 6;
+constexpr int kMaxElemDefs = 3;
+// Fixed-capacity Eigen types: no heap allocation in element kernels (hot path).
+using ElemVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemCoords, 1>;
+using DefVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemDefs, 1>;
+using DefJac = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemDefs, kMaxElemCoords>;
+using ElemMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemCoords, kMaxElemCoords>;
+using DefMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemDefs, kMaxElemDefs>;
+
+enum class NodeKind { Position, Orientation };
+
+// How the PLBEAM elongation is defined: SPACAR95's l - l0, or Eq. 3a with the bending correction.
+enum class ElongationDefinition { Plain, BendingCorrected };
+
+struct ElementOptions {
+  ElongationDefinition elongation = ElongationDefinition::BendingCorrected;
+};
+
+// Distributed inertia of an element (EMASS / EM): mass and rotary inertia per unit length.
+struct ElementInertia {
+  double rhoA = 0.0;
+  double rhoI = 0.0;
+  bool any() const { return rhoA != 0.0 || rhoI != 0.0; }
+};
+
+class Element {
+ public:
+  virtual ~Element() = default;
+  virtual int numCoords() const = 0;
+  virtual int numDeformations() const = 0;
+
+  // e = D(x), Eq. 1.
+  virtual void deformations(const ElemVec& x, DefVec& e) const = 0;
+  // De = dD/dx (numDeformations x numCoords).
+  virtual void jacobian(const ElemVec& x, DefJac& De) const = 0;
+  // d2_i = v^T (d^2 D_i / dx^2) v: the convective contraction D2e[v,v].
+  virtual void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const = 0;
+  // H = sum_i sigma_i d^2 D_i / dx^2 (geometric stiffness, Eq. 16c).
+  virtual void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const = 0;
+
+  // Constitutive matrix from ESTIFF/EDAMP parameters (same layout for stiffness and damping).
+  virtual void constitutive(std::span<const double> params, DefMat& S) const = 0;
+
+  // Consistent, configuration dependent mass matrix M_e(x); zero when the element carries none.
+  virtual void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const {
+    (void)inertia;
+    M.setZero(x.size(), x.size());
+  }
+  // Velocity dependent inertia forces h_e(x, xd): M_e xdd + h_e is the inertia force.
+  virtual void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
+                              ElemVec& h) const {
+    (void)xd, (void)inertia;
+    h.setZero(x.size());
+  }
+  // Nodal forces of gravity g = (gx, gy) acting on the distributed mass.
+  virtual void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
+                             ElemVec& f) const {
+    (void)inertia, (void)gx, (void)gy;
+    f.setZero(x.size());
+  }
+};
+
+// One entry of the element keyword table: drives the .dat reader, `flexmb keywords` and docs.
+struct ParameterSpec {
+  std::string name;
+  std::string unit;
+  std::string meaning;
+};
+
+struct ElementTypeInfo {
+  std::string keyword;                  // e.g. "PLBEAM"
+  std::string description;
+  std::vector<NodeKind> slots;          // node kinds in keyword order
+  std::vector<std::string> deformationNames;
+  std::vector<ParameterSpec> stiffness;  // ESTIFF / EDAMP layout
+  // Creates the element from its initial nodal coordinates (reference geometry l0, beta0).
+  std::unique_ptr<Element> (*create)(const ElemVec& x0, const ElementOptions& options);
+  int numCoords() const;
+  int numDeformations() const { return static_cast<int>(deformationNames.size()); }
+};
+
+// The registry (one list, in ElementRegistry.cpp). Keyword lookup is case-insensitive.
+const std::vector<ElementTypeInfo>& elementTypes();
+const ElementTypeInfo* findElementType(std::string_view keyword);
+
+}  // namespace flexmb::core

@@ -1,0 +1,65 @@
+#pragma once
+// PLBEAM / PLBEAMNL: the planar flexible beam of Boer et al. 2013, Eq. 2-3, with SPACAR's
+// consistent, configuration dependent mass (cubic lateral field in the current chord frame).
+//
+// Coordinates x = [xp, yp, phip, xq, yq, phiq]. The orientation coordinates are absolute angles
+// (the .dat BETA values); the element keeps their initial values phi0p, phi0q and the initial chord
+// angle beta0, so that with a_p = phip - phi0p + beta0 (likewise a_q) and the current chord angle
+// alpha:
+//   theta_p = a_p - alpha, theta_q = a_q - alpha   (node rotations relative to the chord),
+//   e1 = l - l0                                   (Plain), or
+//   e1 = l - l0 + (2 e2^2 + e2 e3 + 2 e3^2)/(30 l0) (BendingCorrected, Eq. 3a),
+//   e2 = l0 sin(theta_p)  = (l0/l)((xq-xp) sin a_p - (yq-yp) cos a_p)        (Eq. 3b),
+//   e3 = -l0 sin(theta_q) = -(l0/l)((xq-xp) sin a_q - (yq-yp) cos a_q)       (Eq. 3c).
+// Every deformation is zero in the initial configuration.
+//
+// Inertia (exact closed-form integrals over xi in [0, 1]): r(xi) = (1-xi) rp + xi rq + n(alpha) w(xi), w = H2 e2 + H3 e3 with
+// H2 = xi (1-xi)^2, H3 = xi^2 (1-xi) (e2 ~ l0 theta_p, e3 ~ -l0 theta_q, so w'(0)/l0 = theta_p and
+// w'(1)/l0 = theta_q), n = (-sin alpha, cos alpha); cross-section angle psi = alpha + w'(xi)/l0.
+#include "core/elements/Element.hpp"
+
+namespace flexmb::core {
+
+class PlanarBeam final : public Element {
+ public:
+  // x0: initial nodal coordinates (6). Throws std::invalid_argument for coincident end nodes.
+  PlanarBeam(const ElemVec& x0, ElongationDefinition elongation);
+
+  static std::unique_ptr<Element> create(const ElemVec& x0, const ElementOptions& options);
+  // PLBEAMNL: always the bending-corrected elongation.
+  static std::unique_ptr<Element> createNonlinear(const ElemVec& x0, const ElementOptions& options);
+
+  int numCoords() const override { return 6; }
+  int numDeformations() const override { return 3; }
+
+  void deformations(const ElemVec& x, DefVec& e) const override;
+  void jacobian(const ElemVec& x, DefJac& De) const override;
+  void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
+  void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
+  // params = [EA, EI]: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]]). Missing entries count as 0.
+  void constitutive(std::span<const double> params, DefMat& S) const override;
+
+  void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
+  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
+                      ElemVec& h) const override;
+  void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
+                     ElemVec& f) const override;
+
+  double l0() const { return l0_; }
+  double beta0() const { return beta0_; }
+  double phi0p() const { return phi0p_; }
+  double phi0q() const { return phi0q_; }
+  ElongationDefinition elongation() const { return elongation_; }
+
+ private:
+  struct Geometry;
+  void geometry(const ElemVec& x, Geometry& g) const;
+
+  double l0_ = 0.0;
+  double beta0_ = 0.0;
+  double phi0p_ = 0.0;
+  double phi0q_ = 0.0;
+  ElongationDefinition elongation_ = ElongationDefinition::BendingCorrected;
+};
+
+}  // namespace flexmb::core

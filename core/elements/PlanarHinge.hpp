@@ -1,0 +1,29 @@
+#pragma once
+// PLHINGE: planar hinge between two orientation nodes, x = [phip, phiq],
+// e1 = (phiq - phip) - (phiq0 - phip0), so that e1 = 0 initially (Eq. 5). S = k. No mass.
+#include "core/elements/Element.hpp"
+
+namespace flexmb::core {
+
+class PlanarHinge final : public Element {
+ public:
+  explicit PlanarHinge(const ElemVec& x0);
+  static std::unique_ptr<Element> create(const ElemVec& x0, const ElementOptions& options);
+
+  int numCoords() const override { return 2; }
+  int numDeformations() const override { return 1; }
+
+  void deformations(const ElemVec& x, DefVec& e) const override;
+  void jacobian(const ElemVec& x, DefJac& De) const override;
+  void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
+  void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
+  // params = [k] (N m/rad): S = k.
+  void constitutive(std::span<const double> params, DefMat& S) const override;
+
+  double initialAngle() const { return delta0_; }
+
+ private:
+  double delta0_ = 0.0;  // phiq0 - phip0
+};
+
+}  // namespace flexmb::core

@@ -1,0 +1,445 @@
+#include "io/KeywordTable.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <functional>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace flexmb::io {
+
+namespace {
+
+using Kind = ArgSpec::Kind;
+
+ArgSpec node(std::string name = "node", std::string symbol = "n", Kind kind = Kind::Any) {
+  return {ArgType::Node, std::move(name), std::move(symbol), Cardinality::One, kind};
+}
+ArgSpec element() { return {ArgType::Element, "element", "e", Cardinality::One, Kind::Any}; }
+ArgSpec component() { return {ArgType::Component, "component", "i", Cardinality::One, Kind::Any}; }
+ArgSpec components() { return {ArgType::Component, "component", "i", Cardinality::Many, Kind::Any}; }
+ArgSpec real(std::string name, std::string symbol = "", Cardinality card = Cardinality::One) {
+  if (symbol.empty()) symbol = name;
+  return {ArgType::Real, std::move(name), std::move(symbol), card, Kind::Any};
+}
+ArgSpec optReal(std::string name, std::string symbol = "") {
+  return real(std::move(name), std::move(symbol), Cardinality::Optional);
+}
+ArgSpec count(std::string name, std::string symbol) {
+  return {ArgType::Count, std::move(name), std::move(symbol), Cardinality::One, Kind::Any};
+}
+ArgSpec expr(std::string name, Cardinality card = Cardinality::One) {
+  std::string sym = "\"" + name + "\"";
+  return {ArgType::Expression, std::move(name), std::move(sym), card, Kind::Any};
+}
+
+std::string upper(std::string_view s) {
+  std::string r(s);
+  for (char& c : r) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return r;
+}
+
+KeywordInfo kw(std::string name, unsigned dialects, BlockKind block, Action action,
+               std::vector<ArgSpec> args, std::string meaning) {
+  KeywordInfo k;
+  k.name = std::move(name);
+  k.dialects = dialects;
+  k.block = block;
+  k.action = action;
+  k.args = std::move(args);
+  k.meaning = std::move(meaning);
+  return k;
+}
+
+KeywordInfo unsupported(std::string name, BlockKind block, std::string meaning, std::string note) {
+  KeywordInfo k = kw(std::move(name), kBothDialects, block, Action::Unsupported, {}, std::move(meaning));
+  k.unsupportedNote = std::move(note);
+  return k;
+}
+
+KeywordInfo elementKeyword(const core::ElementTypeInfo& type) {
+  std::vector<ArgSpec> args{element()};
+  int nPos = 0, nOri = 0;
+  for (core::NodeKind k : type.slots) {
+    const bool pos = k == core::NodeKind::Position;
+    const int idx = pos ? nPos++ : nOri++;
+    const char letter = static_cast<char>('p' + std::min(idx, 9));
+    args.push_back(node(std::string(pos ? "node " : "orientation ") + letter,
+                        std::string(pos ? "p" : "o") + std::to_string(idx + 1),
+                        pos ? Kind::Position : Kind::Orientation));
+  }
+  std::string meaning = type.description;
+  if (!type.deformationNames.empty()) {
+    meaning += ". Deformations:";
+    for (size_t i = 0; i < type.deformationNames.size(); ++i)
+      meaning += (i ? ", " : " ") + std::to_string(i + 1) + " " + type.deformationNames[i];
+    meaning += ".";
+  }
+  KeywordInfo k = kw(upper(type.keyword), kBothDialects, BlockKind::Kinematic, Action::Element,
+                     std::move(args), std::move(meaning));
+  k.elementType = &type;
+  return k;
+}
+
+std::string stiffnessLayouts() {
+  std::string s;
+  for (const auto& t : core::elementTypes()) {
+    if (!s.empty()) s += "; ";
+    s += upper(t.keyword);
+    for (const auto& p : t.stiffness) s += " " + p.name;
+  }
+  return s;
+}
+
+std::vector<KeywordInfo> buildTable() {
+  using B = BlockKind;
+  using A = Action;
+  std::vector<KeywordInfo> t;
+
+  // Kinematic block: elements (from the registry), coordinates, roles.
+  for (const auto& type : core::elementTypes()) t.push_back(elementKeyword(type));
+  t.push_back(kw("X", kBothDialects, B::Kinematic, A::Coordinates,
+                 {node(), real("c1"), optReal("c2")},
+                 "initial coordinates of a node: x y of a position node, the angle (rad) of an "
+                 "orientation node (default 0)"));
+  t.push_back(kw("XY", kBothDialects, B::Kinematic, A::CoordinatesXY,
+                 {node("node", "n", Kind::Position), real("x"), real("y")},
+                 "initial coordinates x y of a position node"));
+  t.push_back(kw("BETA", kBothDialects, B::Kinematic, A::CoordinatesBeta,
+                 {node("node", "o", Kind::Orientation), real("angle", "b")},
+                 "initial angle (rad) of an orientation node"));
+  t.push_back(kw("FIX", kBothDialects, B::Kinematic, A::Fix, {node(), components()},
+                 "node coordinates fixed (all of the node without components)"));
+  t.push_back(kw("INPUTX", kBothDialects, B::Kinematic, A::InputXRole, {node(), components()},
+                 "node coordinates prescribed in time (rheonomic input)"));
+  t.push_back(kw("DYNX", kBothDialects, B::Kinematic, A::DynX, {node(), components()},
+                 "node coordinates that are degrees of freedom"));
+  t.push_back(kw("DYNE", kBothDialects, B::Kinematic, A::DynE, {element(), components()},
+                 "element deformations that are degrees of freedom (elastic, independent)"));
+  t.push_back(kw("RLSE", kBothDialects, B::Kinematic, A::Rlse, {element(), components()},
+                 "element deformations released: free and calculable (dependent)"));
+  t.push_back(kw("INPUTE", kBothDialects, B::Kinematic, A::InputERole, {element(), components()},
+                 "element deformations prescribed in time (actuated joint or length)"));
+
+  // Dynamic / static block.
+  t.push_back(kw("MASS", kSpacar95, B::Dynamic, A::LumpedMass, {node(), real("mass", "m")},
+                 "lumped mass on a position node (x and y); rotary inertia on an orientation node"));
+  t.push_back(kw("XM", kSpacar2013, B::Dynamic, A::LumpedMass, {node(), real("mass", "m")},
+                 "lumped mass on a position node (x and y); rotary inertia on an orientation node"));
+  t.push_back(kw("EMASS", kSpacar95, B::Dynamic, A::ElementInertia,
+                 {element(), real("mass per length", "rhoA")}, "mass per unit length of an element"));
+  t.push_back(kw("EM", kSpacar2013, B::Dynamic, A::ElementInertia,
+                 {element(), real("mass per length", "rhoA"), optReal("rotary inertia per length", "rhoI")},
+                 "mass (and rotary inertia) per unit length of an element"));
+  const std::string layouts = stiffnessLayouts();
+  t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
+                 {element(), real("parameter", "p", Cardinality::Many)},
+                 "stiffness parameters (" + layouts + "); 0 may stand for an unused deformation"));
+  t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping,
+                 {element(), real("parameter", "p", Cardinality::Many)},
+                 "damping coefficients, same layout as ESTIFF"));
+  t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping,
+                 {element(), real("parameter", "p", Cardinality::Many)},
+                 "damping coefficients, same layout as ESTIFF"));
+  t.push_back(kw("FORCE", kSpacar95, B::Dynamic, A::Force, {node(), real("f1"), optReal("f2")},
+                 "constant nodal force Fx Fy (position node) or moment (orientation node)"));
+  t.push_back(kw("XF", kSpacar2013, B::Dynamic, A::Force, {node(), real("f1"), optReal("f2")},
+                 "constant nodal force Fx Fy (position node) or moment (orientation node)"));
+  t.push_back(kw("DELXF", kSpacar2013, B::Dynamic, A::ForceIncrement,
+                 {node(), real("f1"), optReal("f2")},
+                 "load increment applied over the load steps of a static analysis"));
+  t.push_back(kw("GRAVITY", kSpacar2013, B::Dynamic, A::Gravity,
+                 {real("gx"), real("gy"), optReal("gz")},
+                 "gravitational acceleration (gz, out of the plane, has no effect)"));
+  t.push_back(kw("XD", kSpacar95, B::Dynamic, A::XD, {node(), component(), real("rate", "v")},
+                 "rate of an input coordinate: x(t) = x0 + v t + a t^2/2"));
+  t.push_back(kw("XDD", kSpacar95, B::Dynamic, A::XDD,
+                 {node(), component(), real("acceleration", "a")},
+                 "acceleration of an input coordinate: x(t) = x0 + v t + a t^2/2"));
+  t.push_back(kw("INPUTX", kBothDialects, B::Dynamic, A::InputXValues,
+                 {node(), component(), real("x"), optReal("v"), optReal("a")},
+                 "value, rate, acceleration of an input coordinate: x(t) = x + v t + a t^2/2 "
+                 "(x defaults to the initial coordinate)"));
+  t.push_back(kw("INPUTE", kBothDialects, B::Dynamic, A::InputEValues,
+                 {element(), component(), real("value", "x"), optReal("v"), optReal("a")},
+                 "value, rate, acceleration of an input deformation: e(t) = e + v t + a t^2/2 "
+                 "(flexmb: by analogy with INPUTX)"));
+  t.push_back(kw("E", kSpacar95, B::Dynamic, A::E, {element(), component(), real("value", "v")},
+                 "initial value of a deformation (the value at t = 0 of an input deformation)"));
+  t.push_back(kw("ED", kSpacar95, B::Dynamic, A::ED, {element(), component(), real("rate", "v")},
+                 "initial rate of a deformation (the rate of an input deformation)"));
+  t.push_back(kw("EDD", kSpacar95, B::Dynamic, A::EDD,
+                 {element(), component(), real("acceleration", "v")},
+                 "initial acceleration of a deformation (the acceleration of an input deformation)"));
+  t.push_back(kw("STARTDE", kSpacar2013, B::Dynamic, A::StartDE,
+                 {element(), component(), real("e0"), optReal("ed0")},
+                 "initial value and rate of a deformation"));
+  t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement,
+                 {node(), component(), real("increment", "dx")},
+                 "increment of an input coordinate over the load steps of a static analysis"));
+  t.push_back(kw("ESIG", kSpacar2013, B::Dynamic, A::Prestress,
+                 {element(), component(), real("stress", "s")}, "prestress of a deformation"));
+  {
+    KeywordInfo ts = kw("TIMESTEP", kBothDialects, B::Dynamic, A::TimeStep,
+                        {real("end time", "T"), count("number of output intervals", "n")},
+                        "end time T and number of output intervals n (SPACAR95 writes n T)");
+    ts.args95 = {count("number of output intervals", "n"), real("end time", "T")};
+    t.push_back(std::move(ts));
+  }
+  t.push_back(kw("EPSINT", kSpacar95, B::Dynamic, A::EpsInt, {real("tolerance", "eps")},
+                 "integrator tolerance: flexmb uses it as both relative and absolute tolerance"));
+  t.push_back(kw("ERROR", kSpacar2013, B::Dynamic, A::ErrorTol,
+                 {real("absolute tolerance", "atol"), real("relative tolerance", "rtol")},
+                 "integrator tolerances (defaults 1e-6 and 1e-3, as ode45)"));
+  t.push_back(kw("HMAX", kSpacar95, B::Dynamic, A::HMax, {real("maximum step", "h")},
+                 "maximum integrator step size"));
+  t.push_back(kw("EPSKIN", kSpacar95, B::Dynamic, A::EpsKin, {real("tolerance", "eps")},
+                 "tolerance of the kinematic Newton iteration"));
+  t.push_back(kw("MAXITERAT", kSpacar95, B::Dynamic, A::MaxIterat,
+                 {count("maximum iterations", "n")}, "iteration limit of the kinematic Newton iteration"));
+  t.push_back(kw("ITERSTEP", kSpacar2013, B::Dynamic, A::IterStep,
+                 {count("maximum iterations", "maxit"), count("number of load steps", "nsteps"),
+                  optReal("tolerance", "tol")},
+                 "Newton iteration limit, number of load steps of a static analysis, and "
+                 "(optional) Newton tolerance"));
+  t.push_back(kw("TIME", kSpacar95, B::Dynamic, A::Time, {real("start time", "t0")}, "start time"));
+
+  // flexmb extensions (section 6).
+  auto ext = [](KeywordInfo k) {
+    k.extension = true;
+    return k;
+  };
+  t.push_back(ext(kw("XFT", kBothDialects, B::Dynamic, A::TimeForce,
+                     {node(), component(), expr("f(t)")},
+                     "time-dependent nodal force component, added to XF/FORCE")));
+  t.push_back(ext(kw("ESIGT", kBothDialects, B::Dynamic, A::TimeStress,
+                     {element(), component(), expr("sigma(t)")},
+                     "time-dependent generalized stress (actuator force or torque) added to sigma")));
+  t.push_back(ext(kw("EREF", kBothDialects, B::Dynamic, A::Reference,
+                     {element(), component(), expr("eref(t)")},
+                     "time-dependent rest value of a deformation: sigma = S (e - eref(t))")));
+  t.push_back(ext(kw("INPUTXT", kBothDialects, B::Dynamic, A::InputXFunctions,
+                     {node(), component(), expr("x(t)"), expr("v(t)"), expr("a(t)")},
+                     "prescribed input coordinate with its rate and acceleration")));
+  t.push_back(ext(kw("INPUTET", kBothDialects, B::Dynamic, A::InputEFunctions,
+                     {element(), component(), expr("e(t)"), expr("v(t)"), expr("a(t)")},
+                     "prescribed input deformation with its rate and acceleration")));
+
+  // Block structure.
+  t.push_back(kw("END", kBothDialects, B::Structure, A::End, {},
+                 "closes a block; END directly after END (an empty block) ends the input"));
+  t.push_back(kw("HALT", kBothDialects, B::Structure, A::Halt, {},
+                 "after the kinematic block's END: separator (SPACAR 2013+ END HALT); after a later "
+                 "block's END: ends the input"));
+  t.push_back(kw("EOF", kBothDialects, B::Structure, A::Eof, {},
+                 "after a block's END: ends the input; the rest of the file is ignored"));
+  t.push_back(kw("VISUALIZATION", kBothDialects, B::Structure, A::Visualization, {},
+                 "after a block's END: the visualization section; it and the rest of the file are "
+                 "skipped"));
+
+  // SPACAR keywords flexmb does not support (yet).
+  const std::string planarList = [] {
+    std::string s;
+    for (const auto& ty : core::elementTypes()) s += (s.empty() ? "" : ", ") + upper(ty.keyword);
+    return s;
+  }();
+  const std::string spatial = "flexmb handles planar models only (elements: " + planarList + ")";
+  t.push_back(unsupported("BEAM", B::Kinematic, "spatial beam element", spatial));
+  t.push_back(unsupported("TRUSS", B::Kinematic, "spatial truss element", spatial));
+  t.push_back(unsupported("HINGE", B::Kinematic, "spatial hinge element", spatial));
+  t.push_back(unsupported("PINBAR", B::Kinematic, "spatial pinned bar element", spatial));
+  t.push_back(unsupported("PLBELT", B::Kinematic, "planar belt element", "planar elements: " + planarList));
+  t.push_back(unsupported("PLBEAR", B::Kinematic, "planar bearing element", "planar elements: " + planarList));
+  t.push_back(unsupported("PLWHEEL", B::Kinematic, "planar wheel element", "planar elements: " + planarList));
+  t.push_back(unsupported("USERINP", B::Dynamic, "MATLAB user function for inputs",
+                          "MATLAB user functions cannot run in flexmb; give time-dependent inputs "
+                          "with INPUTXT / INPUTET (flexmb time-function extensions, dat-format.md "
+                          "section 6)"));
+  t.push_back(unsupported("USERSIG", B::Dynamic, "MATLAB user function for stresses",
+                          "MATLAB user functions cannot run in flexmb; give time-dependent stresses "
+                          "with ESIGT / EREF (flexmb time-function extensions, dat-format.md "
+                          "section 6)"));
+  return t;
+}
+
+const char* dialectText(unsigned d) {
+  switch (d) {
+    case kSpacar95: return "95";
+    case kSpacar2013: return "13";
+    default: return "95 13";
+  }
+}
+
+bool allOf(const std::vector<ArgSpec>& layout, ArgType a, ArgType b = ArgType::Expression,
+           ArgType c = ArgType::Expression, ArgType d = ArgType::Expression) {
+  return std::all_of(layout.begin(), layout.end(), [&](const ArgSpec& s) {
+    return s.type == a || s.type == b || s.type == c || s.type == d;
+  });
+}
+
+}  // namespace
+
+const std::vector<ArgSpec>& KeywordInfo::layout(bool spacar95) const {
+  return spacar95 && !args95.empty() ? args95 : args;
+}
+
+int KeywordInfo::minArgs(const std::vector<ArgSpec>& layout) {
+  return static_cast<int>(std::count_if(layout.begin(), layout.end(),
+                                        [](const ArgSpec& s) { return s.card == Cardinality::One; }));
+}
+
+int KeywordInfo::maxArgs(const std::vector<ArgSpec>& layout) {
+  for (const auto& s : layout)
+    if (s.card == Cardinality::Many) return -1;
+  return static_cast<int>(layout.size());
+}
+
+std::string KeywordInfo::expectation(const std::vector<ArgSpec>& layout) {
+  const int lo = minArgs(layout), hi = maxArgs(layout);
+  if (layout.empty()) return "expected no arguments";
+  std::string noun;
+  if (allOf(layout, ArgType::Node, ArgType::Element, ArgType::Component, ArgType::Count))
+    noun = "integer";
+  else if (std::any_of(layout.begin(), layout.end(),
+                       [](const ArgSpec& s) { return s.type == ArgType::Expression; }))
+    noun = "argument";
+  else
+    noun = "number";
+  std::ostringstream o;
+  o << "expected ";
+  if (hi < 0)
+    o << "at least " << lo << " " << noun << (lo == 1 ? "" : "s");
+  else if (hi == lo)
+    o << lo << " " << noun << (lo == 1 ? "" : "s");
+  else
+    o << lo << " to " << hi << " " << noun << "s";
+  o << " (";
+  for (size_t i = 0; i < layout.size(); ++i) {
+    const ArgSpec& s = layout[i];
+    if (i) o << ", ";
+    const std::string nm = s.type == ArgType::Expression ? "\"" + s.name + "\"" : s.name;
+    if (s.card == Cardinality::One) o << nm;
+    else if (s.card == Cardinality::Optional) o << "[" << nm << "]";
+    else o << "[" << nm << " ...]";
+  }
+  o << ")";
+  return o.str();
+}
+
+std::string KeywordInfo::synopsis(const std::string& name, const std::vector<ArgSpec>& layout) {
+  std::string s = name;
+  int openOptional = 0;
+  for (const auto& a : layout) {
+    if (a.card == Cardinality::One) {
+      s += " " + a.symbol;
+    } else if (a.card == Cardinality::Optional) {
+      s += " [" + a.symbol;
+      ++openOptional;
+    } else {
+      s += " [" + a.symbol + " ...]";
+    }
+  }
+  s += std::string(openOptional, ']');
+  return s;
+}
+
+const std::vector<KeywordInfo>& keywordTable() {
+  static const std::vector<KeywordInfo> table = buildTable();
+  return table;
+}
+
+std::vector<const KeywordInfo*> findKeywords(std::string_view name) {
+  const std::string u = upper(name);
+  std::vector<const KeywordInfo*> r;
+  for (const auto& k : keywordTable())
+    if (k.name == u) r.push_back(&k);
+  return r;
+}
+
+const KeywordInfo* findKeyword(std::string_view name, BlockKind block) {
+  for (const KeywordInfo* k : findKeywords(name))
+    if (k->block == block) return k;
+  return nullptr;
+}
+
+int editDistance(std::string_view a, std::string_view b) {
+  const size_t n = a.size(), m = b.size();
+  std::vector<int> prev(m + 1), cur(m + 1);
+  for (size_t j = 0; j <= m; ++j) prev[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= n; ++i) {
+    cur[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= m; ++j) {
+      const bool same = std::toupper(static_cast<unsigned char>(a[i - 1])) ==
+                        std::toupper(static_cast<unsigned char>(b[j - 1]));
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[m];
+}
+
+std::string suggestKeyword(std::string_view unknown) {
+  if (unknown.empty() || unknown.size() > 64) return "";
+  std::string best;
+  int bestD = 1 << 30;
+  for (const auto& k : keywordTable()) {
+    const int d = editDistance(unknown, k.name);
+    if (d < bestD) {
+      bestD = d;
+      best = k.name;
+    }
+  }
+  // Close enough to be a plausible typo: at most a third of the longer word (and at least 1).
+  const int limit = std::max<int>(1, static_cast<int>(std::max(unknown.size(), best.size())) / 3);
+  return bestD <= limit ? best : "";
+}
+
+void printKeywords(std::ostream& out) {
+  const auto& table = keywordTable();
+  out << "Keywords of the .dat language read by flexmb (see dat-format.md).\n"
+         "Dialects: 95 = SPACAR95 only, 13 = SPACAR 2013+ only, '95 13' = both; 'ext' = flexmb "
+         "extension.\n"
+         "Keywords are case-insensitive. Comments: '*' in column 1, or '%', '#', ';' to the end "
+         "of the line.\n";
+  struct Group {
+    const char* title;
+    std::function<bool(const KeywordInfo&)> pick;
+  };
+  auto line = [&](const std::string& syn, const std::string& dia, const std::string& meaning) {
+    out << "  " << std::left << std::setw(34) << syn << " " << std::setw(6) << dia << " " << meaning
+        << "\n";
+  };
+  const Group groups[] = {
+      {"Kinematic block (ends with END, in SPACAR 2013+ followed by HALT)",
+       [](const KeywordInfo& k) { return k.block == BlockKind::Kinematic && k.action != Action::Unsupported; }},
+      {"Dynamic / static block (ends with END; END END ends the input)",
+       [](const KeywordInfo& k) {
+         return k.block == BlockKind::Dynamic && k.action != Action::Unsupported && !k.extension;
+       }},
+      {"flexmb extensions: time functions (muParser expressions in t, in double quotes)",
+       [](const KeywordInfo& k) { return k.extension; }},
+      {"Block structure", [](const KeywordInfo& k) { return k.block == BlockKind::Structure; }},
+      {"SPACAR keywords recognised but not supported by flexmb yet",
+       [](const KeywordInfo& k) { return k.action == Action::Unsupported; }},
+  };
+  for (const auto& g : groups) {
+    out << "\n" << g.title << "\n";
+    for (const auto& k : table) {
+      if (!g.pick(k)) continue;
+      if (k.action == Action::Unsupported) {
+        line(k.name, "", k.meaning + ": " + k.unsupportedNote);
+        continue;
+      }
+      const std::string dia = k.extension ? "ext" : dialectText(k.dialects);
+      if (!k.args95.empty()) {
+        line(KeywordInfo::synopsis(k.name, k.args), "13", k.meaning);
+        line(KeywordInfo::synopsis(k.name, k.args95), "95", "(SPACAR95 field order)");
+      } else {
+        line(KeywordInfo::synopsis(k.name, k.args), dia, k.meaning);
+      }
+    }
+  }
+}
+
+}  // namespace flexmb::io

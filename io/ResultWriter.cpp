@@ -1,0 +1,348 @@
+#include "io/ResultWriter.hpp"
+
+#include <matio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+namespace flexmb::io {
+namespace {
+
+using core::Model;
+using core::StateOutputs;
+using core::Trajectory;
+
+// ---------------------------------------------------------------------------------------------
+// Number formatting (locale-independent).
+
+// Shortest-safe round-trip form: 17 significant digits, like printf's %.17g.
+void appendG17(std::string& out, double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
+  out.append(buf, r.ptr);
+}
+
+// printf's "%.15E": d.ddddddddddddddd E+xx.
+std::string formatE15(double v) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, 15);
+  std::string s(buf, r.ptr);
+  for (char& c : s)
+    if (c == 'e') c = 'E';
+  return s;
+}
+
+std::string formatG17(double v) {
+  std::string s;
+  appendG17(s, v);
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files.
+
+class OutFile {
+ public:
+  explicit OutFile(std::string path) : path_(std::move(path)) {
+    errno = 0;
+    f_ = std::fopen(path_.c_str(), "wb");
+    if (!f_)
+      throw std::runtime_error("cannot open '" + path_ + "' for writing: " +
+                               (errno ? std::strerror(errno) : "unknown error"));
+  }
+  OutFile(const OutFile&) = delete;
+  OutFile& operator=(const OutFile&) = delete;
+  ~OutFile() {
+    if (f_) std::fclose(f_);
+  }
+  void write(std::string_view s) {
+    if (s.empty()) return;
+    errno = 0;
+    if (std::fwrite(s.data(), 1, s.size(), f_) != s.size())
+      throw std::runtime_error("error writing '" + path_ + "': " +
+                               (errno ? std::strerror(errno) : "short write"));
+  }
+  void close() {
+    errno = 0;
+    const bool bad = std::ferror(f_) != 0;
+    const int rc = std::fclose(f_);
+    f_ = nullptr;
+    if (bad || rc != 0)
+      throw std::runtime_error("error writing '" + path_ + "': " +
+                               (errno ? std::strerror(errno) : "write failed"));
+  }
+
+ private:
+  std::string path_;
+  std::FILE* f_ = nullptr;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Input checks.
+
+struct Quantity {
+  const char* name;
+  Eigen::VectorXd StateOutputs::*member;
+  bool nodal;  // size nx (true) or ne (false)
+};
+
+constexpr Quantity kQuantities[] = {
+    {"x", &StateOutputs::x, true},    {"xd", &StateOutputs::xd, true},
+    {"xdd", &StateOutputs::xdd, true}, {"e", &StateOutputs::e, false},
+    {"ed", &StateOutputs::ed, false},  {"edd", &StateOutputs::edd, false},
+    {"sig", &StateOutputs::sig, false},
+};
+
+void checkTime(double t, const std::string& where) {
+  if (!std::isfinite(t))
+    throw std::runtime_error(where + ": non-finite output time " + formatG17(t));
+}
+
+// Sizes and finiteness of one state; `where` names the writer and the path for messages.
+void checkState(const StateOutputs& s, double t, const Model& model,
+                const std::vector<std::string>& xNames, const std::vector<std::string>& eNames,
+                const std::string& where) {
+  for (const Quantity& q : kQuantities) {
+    const Eigen::VectorXd& v = s.*q.member;
+    const int n = q.nodal ? model.nx : model.ne;
+    if (v.size() != n)
+      throw std::runtime_error(where + ": " + q.name + " at t = " + formatG17(t) + " has " +
+                               std::to_string(v.size()) + " entries, the model has " +
+                               std::to_string(n));
+    const std::vector<std::string>& names = q.nodal ? xNames : eNames;
+    for (int j = 0; j < n; ++j)
+      if (!std::isfinite(v[j]))
+        throw std::runtime_error(where + ": non-finite value " + formatG17(v[j]) + " in " +
+                                 q.name + " at t = " + formatG17(t) + ", column " +
+                                 std::to_string(j + 1) + " (" + names[j] + ")");
+  }
+}
+
+void checkTrajectory(const Trajectory& traj, const Model& model,
+                     const std::vector<std::string>& xNames, const std::vector<std::string>& eNames,
+                     const std::string& where) {
+  if (traj.time.size() != traj.states.size())
+    throw std::runtime_error(where + ": trajectory has " + std::to_string(traj.time.size()) +
+                             " output times but " + std::to_string(traj.states.size()) +
+                             " states");
+  for (std::size_t i = 0; i < traj.time.size(); ++i) {
+    checkTime(traj.time[i], where);
+    checkState(traj.states[i], traj.time[i], model, xNames, eNames, where);
+  }
+}
+
+std::string sanitize(const std::string& s) {
+  std::string r = s;
+  for (char& c : r)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+  return r;
+}
+
+// e index -> (element index, 0-based component); -1 when no element owns it.
+std::vector<std::pair<int, int>> deformationOwners(const Model& model) {
+  std::vector<std::pair<int, int>> owner(static_cast<std::size_t>(std::max(model.ne, 0)), {-1, 0});
+  for (std::size_t k = 0; k < model.elements.size(); ++k) {
+    const core::ElementEntry& el = model.elements[k];
+    if (!el.type) continue;
+    const int nd = el.type->numDeformations();
+    for (int c = 0; c < nd; ++c) {
+      const int j = el.firstDef + c;
+      if (j >= 0 && j < model.ne) owner[j] = {static_cast<int>(k), c};
+    }
+  }
+  return owner;
+}
+
+// ---------------------------------------------------------------------------------------------
+// matio.
+
+struct MatFile {
+  mat_t* mat = nullptr;
+  ~MatFile() {
+    if (mat) Mat_Close(mat);
+  }
+};
+
+// Writes an nrows x ncols double matrix; data column-major (size nrows*ncols).
+void writeMatVar(mat_t* mat, const std::string& path, const char* name, std::size_t nrows,
+                 std::size_t ncols, std::vector<double>& data) {
+  size_t dims[2] = {nrows, ncols};
+  static double dummy = 0.0;  // matio wants a non-null pointer even for empty matrices
+  double* ptr = data.empty() ? &dummy : data.data();
+  matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, ptr,
+                                MAT_F_DONT_COPY_DATA);
+  if (!var)
+    throw std::runtime_error("cannot write '" + path + "': matio could not create variable '" +
+                             name + "'");
+  const int rc = Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
+  Mat_VarFree(var);
+  if (rc != 0)
+    throw std::runtime_error("cannot write '" + path + "': matio failed to write variable '" +
+                             name + "'");
+}
+
+}  // namespace
+
+// -------------------------------------------------------------------------------------------------
+
+std::vector<std::string> coordinateColumnNames(const Model& model) {
+  std::vector<std::string> names(static_cast<std::size_t>(std::max(model.nx, 0)));
+  for (const core::Node& n : model.nodes) {
+    std::string base = "node";
+    base += std::to_string(n.label);
+    if (n.kind == core::NodeKind::Orientation) {
+      if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".angle";
+    } else {
+      if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".x";
+      if (n.firstCoord + 1 >= 0 && n.firstCoord + 1 < model.nx)
+        names[n.firstCoord + 1] = base + ".y";
+    }
+  }
+  for (std::size_t j = 0; j < names.size(); ++j)
+    if (names[j].empty()) names[j] = std::string("x").append(std::to_string(j + 1));
+  return names;
+}
+
+std::vector<std::string> deformationColumnNames(const Model& model) {
+  const auto owner = deformationOwners(model);
+  std::vector<std::string> names(owner.size());
+  for (std::size_t j = 0; j < owner.size(); ++j) {
+    const auto [k, c] = owner[j];
+    if (k < 0) {
+      names[j] = std::string("e").append(std::to_string(j + 1));
+      continue;
+    }
+    const core::ElementEntry& el = model.elements[k];
+    names[j] = el.type->keyword + std::to_string(el.label) + ".e" + std::to_string(c + 1) + "_" +
+               sanitize(el.type->deformationNames[c]);
+  }
+  return names;
+}
+
+std::vector<std::string> writeCsv(const std::string& prefix, const Model& model,
+                                  const Trajectory& traj) {
+  const auto xNames = coordinateColumnNames(model);
+  const auto eNames = deformationColumnNames(model);
+  checkTrajectory(traj, model, xNames, eNames, "CSV output '" + prefix + "_*.csv'");
+
+  std::vector<std::string> written;
+  for (const Quantity& q : kQuantities) {
+    const std::string path = prefix + "_" + q.name + ".csv";
+    const std::vector<std::string>& names = q.nodal ? xNames : eNames;
+    OutFile f(path);
+    std::string line = "time";
+    for (const std::string& n : names) {
+      line += ',';
+      line += n;
+    }
+    line += '\n';
+    f.write(line);
+    for (std::size_t i = 0; i < traj.time.size(); ++i) {
+      line.clear();
+      appendG17(line, traj.time[i]);
+      const Eigen::VectorXd& v = traj.states[i].*q.member;
+      for (Eigen::Index j = 0; j < v.size(); ++j) {
+        line += ',';
+        appendG17(line, v[j]);
+      }
+      line += '\n';
+      f.write(line);
+    }
+    f.close();
+    written.push_back(path);
+  }
+  return written;
+}
+
+void writeMat(const std::string& path, const Model& model, const Trajectory& traj) {
+  const auto xNames = coordinateColumnNames(model);
+  const auto eNames = deformationColumnNames(model);
+  checkTrajectory(traj, model, xNames, eNames, "MAT output '" + path + "'");
+
+  // Probe the path with stdio first: matio reports failures without a reason.
+  { OutFile probe(path); probe.close(); }
+
+  MatFile mf;
+  mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  if (!mf.mat)
+    throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
+
+  const std::size_t nt = traj.time.size();
+  std::vector<double> data(traj.time.begin(), traj.time.end());
+  writeMatVar(mf.mat, path, "time", nt, 1, data);
+
+  for (const Quantity& q : kQuantities) {
+    const std::size_t n = static_cast<std::size_t>(q.nodal ? model.nx : model.ne);
+    data.assign(nt * n, 0.0);
+    for (std::size_t i = 0; i < nt; ++i) {
+      const Eigen::VectorXd& v = traj.states[i].*q.member;
+      for (std::size_t j = 0; j < n; ++j) data[j * nt + i] = v[static_cast<Eigen::Index>(j)];
+    }
+    writeMatVar(mf.mat, path, q.name, nt, n, data);
+  }
+
+  const std::pair<const char*, long> stats[] = {
+      {"nsteps", traj.nsteps}, {"nfailed", traj.nfailed}, {"nfevals", traj.nfevals}};
+  for (const auto& [name, value] : stats) {
+    data.assign(1, static_cast<double>(value));
+    writeMatVar(mf.mat, path, name, 1, 1, data);
+  }
+
+  const int rc = Mat_Close(mf.mat);
+  mf.mat = nullptr;
+  if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to close it");
+}
+
+void writeEcho(const std::string& path, const std::string& modelText, const Model& model,
+               double t, const StateOutputs& finalState) {
+  const auto xNames = coordinateColumnNames(model);
+  const auto eNames = deformationColumnNames(model);
+  const std::string where = "echo output '" + path + "'";
+  checkTime(t, where);
+  checkState(finalState, t, model, xNames, eNames, where);
+
+  std::string out = modelText;
+  if (!out.empty() && out.back() != '\n') out += '\n';
+  out += "* final state at t = " + formatE15(t) + "\n";
+
+  const Eigen::VectorXd& x = finalState.x;
+  for (const core::Node& n : model.nodes) {
+    if (n.kind == core::NodeKind::Orientation) {
+      out += "BETA ";
+      out += std::to_string(n.label) + " " + formatE15(x[n.firstCoord]) + "\n";
+    } else {
+      out += "XY ";
+      out += std::to_string(n.label) + " " + formatE15(x[n.firstCoord]) + " " +
+             formatE15(x[n.firstCoord + 1]) + "\n";
+    }
+  }
+  out += "TIME " + formatE15(t) + "\n";
+
+  const auto owner = deformationOwners(model);
+  for (int j = 0; j < model.ne; ++j) {
+    if (j >= static_cast<int>(model.eRole.size()) || model.eRole[j] != core::Role::Dynamic) continue;
+    const auto [k, c] = owner[j];
+    if (k < 0)
+      throw std::runtime_error(where + ": dynamic deformation " + std::to_string(j + 1) +
+                               " belongs to no element");
+    const std::string id =
+        std::to_string(model.elements[k].label) + " " + std::to_string(c + 1) + " ";
+    out += "E " + id + formatE15(finalState.e[j]) + "\n";
+    out += "ED " + id + formatE15(finalState.ed[j]) + "\n";
+    out += "EDD " + id + formatE15(finalState.edd[j]) + "\n";
+  }
+
+  OutFile f(path);
+  f.write(out);
+  f.close();
+}
+
+}  // namespace flexmb::io

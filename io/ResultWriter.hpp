@@ -1,0 +1,50 @@
+#pragma once
+// Result writers: what a time simulation produced (core::Trajectory), in three forms.
+//   * writeCsv: one wide CSV table per quantity, columns named by node / element and component.
+//   * writeMat: a MATLAB v5 .mat file with SPACAR's variable names (dat-format.md section 5).
+//   * writeEcho: SPACAR95-style echo of the model text plus the final state as .dat statements.
+//
+// Every writer checks its input before writing anything: vector sizes must match the model
+// (nx / ne), and every value must be finite (a NaN or Inf throws, naming the quantity, the time and
+// the column). Write failures (cannot open the file, short write, matio failure) throw
+// std::runtime_error naming the path and the reason. Numbers are formatted locale-independently.
+#include <string>
+#include <vector>
+
+#include "core/EquationsOfMotion.hpp"
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+
+namespace flexmb::io {
+
+// Column names of the nodal coordinates (size nx): "node3.x", "node3.y", "node103.angle".
+std::vector<std::string> coordinateColumnNames(const core::Model& model);
+// Column names of the deformations (size ne): "PLBEAM5.e1_elongation", "PLBEAM5.e2_bending_p", ...
+// (element keyword and label, 1-based deformation index, the deformation's name with every
+// character other than a letter, digit or '_' replaced by '_').
+std::vector<std::string> deformationColumnNames(const core::Model& model);
+
+// One wide CSV table per quantity: <prefix>_x.csv, _xd, _xdd (nodal coordinates) and _e, _ed, _edd,
+// _sig (deformations). One row per output time; the first column is "time". Numbers are written
+// with 17 significant digits (like %.17g), so they read back exactly. Returns the paths written,
+// in the order x, xd, xdd, e, ed, edd, sig.
+std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& model,
+                                  const core::Trajectory& traj);
+
+// MATLAB v5 .mat file (matio, MAT_FT_MAT5, uncompressed) with SPACAR's variable names:
+// time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1).
+// All double. Rows are output times (SPACAR layout).
+void writeMat(const std::string& path, const core::Model& model, const core::Trajectory& traj);
+
+// SPACAR95-style echo after an analysis, as a restartable .dat text:
+//   1. modelText copied verbatim (a newline is added when it does not end with one);
+//   2. a comment line "* final state at t = <t>";
+//   3. for every node in model order: "XY n x y" (position node) or "BETA n b" (orientation node);
+//   4. "TIME t";
+//   5. for every DYNE deformation (eRole Dynamic, ascending deformation index): "E e i v", then
+//      "ED e i v", then "EDD e i v" (e the element label, i the 1-based deformation index).
+// Numbers are written in E-format with 16 significant digits ("%.15E").
+void writeEcho(const std::string& path, const std::string& modelText, const core::Model& model,
+               double t, const core::StateOutputs& finalState);
+
+}  // namespace flexmb::io

@@ -1,0 +1,331 @@
+// Tests of solvers::Ode45 against ../shared/spec/ode45.md (reference counts) and closed-form solutions.
+#include "solvers/Ode45.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using namespace flexmb::solvers;
+using Eigen::VectorXd;
+
+namespace {
+
+struct Trace {
+  OdeResult res;
+  std::vector<double> t;
+  std::vector<VectorXd> y;
+};
+
+Trace run(const OdeRhs& f, const std::vector<double>& tspan, const VectorXd& y0, Ode45Options o = {}) {
+  Trace r;
+  r.res = Ode45(o).integrate(f, tspan, y0, [&](double t, const VectorXd& y) {
+    r.t.push_back(t);
+    r.y.push_back(y);
+    return true;
+  });
+  return r;
+}
+
+// y' = -2y + t, y(0) = 0: y = t/2 - 1/4 + exp(-2t)/4.
+void linearRhs(double t, const VectorXd& y, VectorXd& dy) { dy[0] = -2.0 * y[0] + t; }
+double linearExact(double t) { return t / 2 - 0.25 + std::exp(-2 * t) / 4; }
+
+void vdp(double, const VectorXd& y, VectorXd& dy) {  // Van der Pol, mu = 1
+  dy[0] = y[1];
+  dy[1] = (1 - y[0] * y[0]) * y[1] - y[0];
+}
+void oscillator(double, const VectorXd& y, VectorXd& dy) {  // x'' = -x
+  dy[0] = y[1];
+  dy[1] = -y[0];
+}
+
+VectorXd vec(std::initializer_list<double> v) {
+  VectorXd x(static_cast<Eigen::Index>(v.size()));
+  Eigen::Index i = 0;
+  for (double d : v) x[i++] = d;
+  return x;
+}
+
+void expectCounts(const Trace& r, long nsteps, long nfailed, long nfevals, std::size_t rows) {
+  EXPECT_EQ(r.res.status, OdeStatus::Success) << r.res.message;
+  EXPECT_EQ(r.res.stats.nsteps, nsteps);
+  EXPECT_EQ(r.res.stats.nfailed, nfailed);
+  EXPECT_EQ(r.res.stats.nfevals, nfevals);
+  EXPECT_EQ(r.t.size(), rows);
+  EXPECT_EQ(r.res.stats.nfevals, 1 + 6 * (r.res.stats.nsteps + r.res.stats.nfailed));
+}
+
+}  // namespace
+
+// 1. Reference rows of ode45.md.
+TEST(Ode45, ReferenceLinearScalar) {
+  const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}));
+  expectCounts(r, 14, 2, 97, 57);
+  EXPECT_EQ(Ode45::formatStats(r.res.stats), "14 successful steps\n2 failed attempts\n97 function evaluations\n");
+  EXPECT_EQ(r.t.front(), 0.0);
+  EXPECT_EQ(r.t.back(), 10.0);  // last step stretched exactly onto tf
+  EXPECT_EQ(r.res.tLast, 10.0);
+}
+
+TEST(Ode45, ReferenceLinearFirstStepHistory) {
+  // ode45.md: h = 1 rejected, h = 0.37478 rejected, accepted at h = 0.18739. So 1 + 3*6 = 19 rhs calls
+  // happen before the first output after t0, and that step ends at 0.18739 (row 4 with Refine = 4).
+  long calls = 0;
+  std::vector<long> callsAtRow;
+  std::vector<double> ts;
+  auto f = [&](double t, const VectorXd& y, VectorXd& dy) { ++calls, linearRhs(t, y, dy); };
+  Ode45().integrate(f, {0.0, 10.0}, vec({0.0}), [&](double t, const VectorXd&) {
+    ts.push_back(t);
+    callsAtRow.push_back(calls);
+    return true;
+  });
+  ASSERT_GE(ts.size(), 5u);
+  EXPECT_EQ(callsAtRow[0], 1);
+  EXPECT_EQ(callsAtRow[1], 19);
+  EXPECT_NEAR(ts[4], 0.18739, 5e-6);
+  for (int j = 1; j < 4; ++j) EXPECT_NEAR(ts[j], j * ts[4] / 4, 1e-15);
+  EXPECT_EQ(callsAtRow[5], 25);  // the second step is accepted at once
+}
+
+TEST(Ode45, ReferenceVanDerPolDefaults) {
+  const Trace r = run(vdp, {0.0, 20.0}, vec({2.0, 0.0}));
+  expectCounts(r, 59, 10, 415, 237);
+}
+
+TEST(Ode45, ReferenceVanDerPolTight) {
+  Ode45Options o;
+  o.relTol = 1e-6;
+  o.absTol = vec({1e-9});
+  const Trace r = run(vdp, {0.0, 20.0}, vec({2.0, 0.0}), o);
+  expectCounts(r, 204, 32, 1417, 817);
+  // Per-component absTol of the same value must give the same steps.
+  o.absTol = vec({1e-9, 1e-9});
+  const Trace r2 = run(vdp, {0.0, 20.0}, vec({2.0, 0.0}), o);
+  expectCounts(r2, 204, 32, 1417, 817);
+}
+
+// 2. Accuracy against closed forms.
+TEST(Ode45, AccuracyLinearTight) {
+  Ode45Options o;
+  o.relTol = 1e-10;
+  o.absTol = vec({1e-12});
+  const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}), o);
+  ASSERT_EQ(r.res.status, OdeStatus::Success);
+  EXPECT_EQ(r.t.back(), 10.0);
+  EXPECT_LT(std::abs(r.y.back()[0] - linearExact(10.0)), 1e-8);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.t.size(); ++i) worst = std::max(worst, std::abs(r.y[i][0] - linearExact(r.t[i])));
+  EXPECT_LT(worst, 1e-8);
+  // Default tolerances are visibly less accurate (the test can tell them apart).
+  const Trace d = run(linearRhs, {0.0, 10.0}, vec({0.0}));
+  double worstDefault = 0.0;
+  for (std::size_t i = 0; i < d.t.size(); ++i)
+    worstDefault = std::max(worstDefault, std::abs(d.y[i][0] - linearExact(d.t[i])));
+  EXPECT_GT(worstDefault, 1e-6);
+}
+
+TEST(Ode45, AccuracyHarmonicOscillator) {
+  Ode45Options o;
+  o.relTol = 1e-12;
+  o.absTol = vec({1e-14});
+  const Trace r = run(oscillator, {0.0, 10.0}, vec({1.0, 0.0}), o);
+  ASSERT_EQ(r.res.status, OdeStatus::Success);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.t.size(); i += 4)  // step ends (5th-order values)
+    worst = std::max({worst, std::abs(r.y[i][0] - std::cos(r.t[i])), std::abs(r.y[i][1] + std::sin(r.t[i]))});
+  EXPECT_LT(worst, 1e-8);
+  double worstInterp = 0.0;  // refine points through the 4th-order interpolant
+  for (std::size_t i = 0; i < r.t.size(); ++i)
+    worstInterp = std::max(worstInterp, std::abs(r.y[i][0] - std::cos(r.t[i])));
+  EXPECT_LT(worstInterp, 1e-8);
+}
+
+// 3. Output at requested times.
+TEST(Ode45, RequestedOutputTimes) {
+  std::vector<double> ts;
+  for (int i = 0; i <= 10; ++i) ts.push_back(i);
+  const Trace r = run(linearRhs, ts, vec({0.0}));
+  ASSERT_EQ(r.res.status, OdeStatus::Success);
+  ASSERT_EQ(r.t.size(), 11u);
+  for (int i = 0; i <= 10; ++i) {
+    EXPECT_EQ(r.t[i], ts[i]);
+    EXPECT_NEAR(r.y[i][0], linearExact(ts[i]), 1e-3 * std::abs(linearExact(ts[i])) + 1e-4) << "t=" << ts[i];
+  }
+  // The steps are those of the [0, 10] run.
+  EXPECT_EQ(r.res.stats.nsteps, 14);
+  EXPECT_EQ(r.res.stats.nfailed, 2);
+  EXPECT_EQ(r.res.stats.nfevals, 97);
+}
+
+TEST(Ode45, RequestedTimesMatchRefineInterpolant) {
+  // Refine points of a step beyond t = 1, asked for explicitly, are reproduced (tspan(2) >= 1 keeps the
+  // initial step of the [0, 10] run, so the steps are the same).
+  const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}));
+  std::size_t m = 0;
+  while (r.t[4 * m] < 1.0) ++m;
+  const Trace q = run(linearRhs, {0.0, r.t[4 * m + 1], r.t[4 * m + 2], r.t[4 * m + 3], 10.0}, vec({0.0}));
+  ASSERT_EQ(q.t.size(), 5u);
+  for (int j = 1; j <= 3; ++j) EXPECT_EQ(q.y[j][0], r.y[4 * m + j][0]);
+  EXPECT_EQ(q.y.back()[0], r.y.back()[0]);
+  EXPECT_EQ(q.res.stats.nfevals, 97);
+}
+
+TEST(Ode45, RefineOneGivesStepEnds) {
+  Ode45Options o;
+  o.refine = 1;
+  const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}), o);
+  expectCounts(r, 14, 2, 97, 15);
+  const Trace r4 = run(linearRhs, {0.0, 10.0}, vec({0.0}));
+  for (std::size_t i = 0; i < r.t.size(); ++i) EXPECT_EQ(r.t[i], r4.t[4 * i]);
+}
+
+// 4. Counting rule.
+TEST(Ode45, FevalCountingRule) {
+  for (double rtol : {1e-2, 1e-3, 1e-5, 1e-8, 1e-11}) {
+    Ode45Options o;
+    o.relTol = rtol;
+    o.absTol = vec({rtol * 1e-3});
+    for (auto* f : {&vdp, &oscillator}) {
+      const Trace r = run(*f, {0.0, 7.0}, vec({2.0, 0.0}), o);
+      ASSERT_EQ(r.res.status, OdeStatus::Success);
+      EXPECT_EQ(r.res.stats.nfevals, 1 + 6 * (r.res.stats.nsteps + r.res.stats.nfailed)) << rtol;
+      EXPECT_EQ(r.t.size(), 1u + 4u * r.res.stats.nsteps);
+    }
+  }
+}
+
+// 5. Failing right-hand sides.
+TEST(Ode45, RhsErrorStopsCleanly) {
+  auto f = [](double t, const VectorXd& y, VectorXd& dy) {
+    if (t > 0.5) throw RhsError("Newton did not converge");
+    vdp(t, y, dy);
+  };
+  const Trace r = run(f, {0.0, 2.0}, vec({2.0, 0.0}));
+  EXPECT_EQ(r.res.status, OdeStatus::RhsFailed);
+  EXPECT_NE(r.res.message.find("Newton did not converge"), std::string::npos) << r.res.message;
+  EXPECT_NE(r.res.message.find("t = 0.5"), std::string::npos) << r.res.message;
+  ASSERT_FALSE(r.t.empty());
+  EXPECT_LE(r.t.back(), 0.5);
+  EXPECT_GT(r.t.back(), 0.3);
+  EXPECT_EQ(r.t.back(), r.res.tLast);
+  EXPECT_EQ(r.t.size(), 1u + 4u * r.res.stats.nsteps);
+}
+
+TEST(Ode45, NonFiniteRhsStopsCleanly) {
+  auto f = [](double t, const VectorXd& y, VectorXd& dy) {
+    vdp(t, y, dy);
+    if (t > 0.5) dy[1] = std::numeric_limits<double>::quiet_NaN();
+  };
+  const Trace r = run(f, {0.0, 2.0}, vec({2.0, 0.0}));
+  EXPECT_EQ(r.res.status, OdeStatus::RhsFailed);
+  EXPECT_NE(r.res.message.find("t = 0.5"), std::string::npos) << r.res.message;
+  EXPECT_NE(r.res.message.find("non-finite"), std::string::npos) << r.res.message;
+  ASSERT_FALSE(r.t.empty());
+  EXPECT_LE(r.t.back(), 0.5);
+  for (const auto& y : r.y) EXPECT_TRUE(y.allFinite());
+}
+
+TEST(Ode45, FailureAtInitialPoint) {
+  int calls = 0;
+  auto f = [&](double, const VectorXd&, VectorXd&) {
+    ++calls;
+    throw RhsError("bad start");
+  };
+  const Trace r = run(f, {0.0, 1.0}, vec({1.0}));
+  EXPECT_EQ(r.res.status, OdeStatus::RhsFailed);
+  EXPECT_TRUE(r.t.empty());
+  EXPECT_EQ(calls, 1);
+}
+
+// 6. Blow-up: y' = y^2, y(0) = 1, y = 1/(1-t).
+TEST(Ode45, BlowUpTerminates) {
+  auto f = [](double, const VectorXd& y, VectorXd& dy) { dy[0] = y[0] * y[0]; };
+  const Trace r = run(f, {0.0, 2.0}, vec({1.0}));
+  EXPECT_NE(r.res.status, OdeStatus::Success);
+  EXPECT_LT(r.res.tLast, 1.0);
+  EXPECT_GT(r.res.tLast, 0.99);
+  EXPECT_FALSE(r.res.message.empty());
+  EXPECT_NE(r.res.message.find("t = "), std::string::npos) << r.res.message;
+  for (const auto& y : r.y) EXPECT_TRUE(y.allFinite());
+  if (r.res.status == OdeStatus::StepSizeUnderflow) {
+    EXPECT_NE(r.res.message.find("h = "), std::string::npos) << r.res.message;
+  }
+}
+
+TEST(Ode45, UnderflowWithSingularRhs) {
+  // y' = 1/(1-t)^2 with tight tolerance: y = 1/(1-t) as well, but through t only.
+  auto f = [](double t, const VectorXd&, VectorXd& dy) { dy[0] = 1.0 / ((1 - t) * (1 - t)); };
+  Ode45Options o;
+  o.relTol = 1e-10;
+  o.absTol = vec({1e-12});
+  const Trace r = run(f, {0.0, 2.0}, vec({1.0}), o);
+  EXPECT_NE(r.res.status, OdeStatus::Success);
+  EXPECT_LT(r.res.tLast, 1.0);
+  EXPECT_GT(r.res.tLast, 0.99);
+  EXPECT_NE(r.res.message.find("t = 0.99"), std::string::npos) << r.res.message;
+}
+
+// 7. MaxStep.
+TEST(Ode45, MaxStepHonoured) {
+  Ode45Options o;
+  o.maxStep = 0.01;
+  const Trace r = run(oscillator, {0.0, 2.0}, vec({1.0, 0.0}), o);
+  ASSERT_EQ(r.res.status, OdeStatus::Success);
+  EXPECT_GE(r.res.stats.nsteps, 200);
+  double hbig = 0.0;
+  for (std::size_t i = 4; i < r.t.size(); i += 4) hbig = std::max(hbig, r.t[i] - r.t[i - 4]);
+  EXPECT_LE(hbig, 0.01 * (1 + 1e-12));
+  EXPECT_GT(hbig, 0.009);
+  // Without the option the same problem takes far larger steps.
+  const Trace d = run(oscillator, {0.0, 2.0}, vec({1.0, 0.0}));
+  EXPECT_LT(5 * d.res.stats.nsteps, r.res.stats.nsteps);
+}
+
+// Extras: backward integration, observer stop, initial step, argument checks.
+TEST(Ode45, BackwardIntegration) {
+  Ode45Options o;
+  o.relTol = 1e-10;
+  o.absTol = vec({1e-12});
+  // y' = -2y + t backwards from t = 3 to 0 (the solution grows backwards like exp(-2t)).
+  const Trace r = run(linearRhs, {3.0, 0.0}, vec({linearExact(3.0)}), o);
+  ASSERT_EQ(r.res.status, OdeStatus::Success) << r.res.message;
+  EXPECT_EQ(r.t.back(), 0.0);
+  for (std::size_t i = 1; i < r.t.size(); ++i) EXPECT_LT(r.t[i], r.t[i - 1]);
+  EXPECT_NEAR(r.y.back()[0], 0.0, 1e-8);
+  EXPECT_EQ(r.res.stats.nfevals, 1 + 6 * (r.res.stats.nsteps + r.res.stats.nfailed));
+}
+
+TEST(Ode45, ObserverCanStop) {
+  int rows = 0;
+  const OdeResult res = Ode45().integrate(linearRhs, {0.0, 10.0}, vec({0.0}), [&](double, const VectorXd&) {
+    return ++rows < 10;
+  });
+  EXPECT_EQ(res.status, OdeStatus::Stopped);
+  EXPECT_EQ(rows, 10);
+  EXPECT_EQ(res.stats.nsteps, 3);  // row 10 is the 2nd refine point of step 3
+}
+
+TEST(Ode45, UserInitialStep) {
+  Ode45Options o;
+  o.initialStep = 0.01;
+  const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}), o);
+  ASSERT_EQ(r.res.status, OdeStatus::Success);
+  EXPECT_DOUBLE_EQ(r.t[4], 0.01);  // first step accepted as given (smooth start, small step)
+}
+
+TEST(Ode45, RejectsBadArguments) {
+  EXPECT_THROW(Ode45().integrate(linearRhs, {0.0}, vec({0.0}), [](double, const VectorXd&) { return true; }),
+               std::invalid_argument);
+  EXPECT_THROW(Ode45().integrate(linearRhs, {0.0, 2.0, 1.0, 3.0}, vec({0.0}),
+                                 [](double, const VectorXd&) { return true; }),
+               std::invalid_argument);
+  Ode45Options o;
+  o.absTol = vec({1e-6, 1e-6, 1e-6});
+  EXPECT_THROW(Ode45(o).integrate(vdp, {0.0, 1.0}, vec({1.0, 0.0}), [](double, const VectorXd&) { return true; }),
+               std::invalid_argument);
+  o = {};
+  o.relTol = 0.0;
+  EXPECT_THROW(Ode45{o}, std::invalid_argument);
+}

@@ -1,0 +1,22 @@
+#pragma once
+// Mode 1: forward dynamics of a model (full or reduced) with the ode45-equivalent integrator.
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+
+namespace flexmb::analysis {
+
+struct SimulationOptions {
+  std::optional<double> tEnd, relTol, absTol, maxStep;
+  std::optional<int> intervals;     // output intervals; 0 = ode45's Refine output at every step
+  std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
+  bool progress = false;            // progress line on stderr for runs longer than a second
+  bool keepStates = true;           // false: only statistics (benchmarks)
+};
+
+core::Trajectory simulate(const core::Model& model, const SimulationOptions& options);
+
+}  // namespace flexmb::analysis

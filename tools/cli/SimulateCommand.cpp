@@ -1,0 +1,92 @@
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "io/DatReader.hpp"
+#include "io/ResultWriter.hpp"
+#include "solvers/Ode45.hpp"
+#include "tools/analysis/Simulation.hpp"
+#include "tools/cli/Commands.hpp"
+
+namespace po = boost::program_options;
+
+namespace flexmb::cli {
+
+po::options_description commonModelOptions(ModelOptions& m);
+bool parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
+                  const char* usage);
+
+int runSimulate(const std::vector<std::string>& args) {
+  ModelOptions m;
+  po::options_description d = commonModelOptions(m);
+  double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
+  int intervals = -1;
+  std::string out, format = "both", echo;
+  bool quiet = false;
+  d.add_options()("t-end", po::value(&tEnd), "end time (overrides TIMESTEP)")(
+      "reltol", po::value(&relTol), "relative tolerance (default from the file or 1e-3)")(
+      "abstol", po::value(&absTol), "absolute tolerance (default from the file or 1e-6)")(
+      "max-step", po::value(&maxStep), "maximum step size")(
+      "intervals", po::value(&intervals), "output intervals (0: every step, Refine 4)")(
+      "out", po::value(&out), "output prefix (default: the model's name in the current folder)")(
+      "format", po::value(&format), "csv, mat, both or none")(
+      "echo", po::value(&echo), "write the final state as a restartable SPACAR95-style .dat")(
+      "quiet,q", po::bool_switch(&quiet), "no progress line");
+  if (!parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return 2;
+  if (format != "csv" && format != "mat" && format != "both" && format != "none") {
+    std::cerr << "flexmb: --format must be csv, mat, both or none\n";
+    return 2;
+  }
+  core::Model model;
+  if (!loadModel(m, model)) return 2;
+
+  analysis::SimulationOptions opt;
+  if (tEnd > 0) opt.tEnd = tEnd;
+  if (relTol > 0) opt.relTol = relTol;
+  if (absTol > 0) opt.absTol = absTol;
+  if (maxStep > 0) opt.maxStep = maxStep;
+  if (intervals >= 0) opt.intervals = intervals;
+  opt.progress = !quiet;
+
+  const auto start = std::chrono::steady_clock::now();
+  core::Trajectory traj;
+  try {
+    traj = analysis::simulate(model, opt);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: simulation could not start: " << e.what() << "\n";
+    return 3;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  solvers::OdeStats st{traj.nsteps, traj.nfailed, traj.nfevals};
+  std::cout << solvers::Ode45::formatStats(st);
+  std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
+  if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
+
+  if (out.empty()) out = std::filesystem::path(m.file).stem().string();
+  try {
+    if (!traj.time.empty()) {
+      if (format == "csv" || format == "both")
+        for (const auto& f : io::writeCsv(out, model, traj)) std::cout << "wrote " << f << "\n";
+      if (format == "mat" || format == "both") {
+        io::writeMat(out + ".mat", model, traj);
+        std::cout << "wrote " << out << ".mat\n";
+      }
+      if (!echo.empty()) {
+        std::ifstream in(m.file);
+        std::stringstream text;
+        text << in.rdbuf();
+        io::writeEcho(echo, text.str(), model, traj.time.back(), traj.states.back());
+        std::cout << "wrote " << echo << "\n";
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return 2;
+  }
+  return traj.completed ? 0 : 3;
+}
+
+}  // namespace flexmb::cli

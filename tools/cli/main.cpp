@@ -1,0 +1,63 @@
+// flexmb: command-line front end. `flexmb <command> [options] model.dat` or SPACAR style
+// `flexmb --mode N model.dat`. Input errors print file:line messages and exit 2; numerical
+// failures print the time and reason and exit 3 (results computed so far are still written).
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tools/cli/Commands.hpp"
+
+using namespace flexmb::cli;
+
+namespace {
+void usage(std::ostream& o) {
+  o << "usage: flexmb <command> [options] model.dat\n"
+       "       flexmb --mode N model.dat [options]     (SPACAR's modes: 0 check, 1 simulate)\n\n"
+       "commands:\n"
+       "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
+       "  simulate   mode 1: forward dynamics with the ode45-equivalent integrator\n"
+       "  keywords   list every .dat keyword flexmb reads\n"
+       "Run `flexmb <command> --help` for a command's options.\n";
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "-h" || args[0] == "--help") {
+    usage(args.empty() ? std::cerr : std::cout);
+    return args.empty() ? 2 : 0;
+  }
+  std::string command = args[0];
+  args.erase(args.begin());
+  if (command == "--mode" || command.rfind("--mode=", 0) == 0) {
+    std::string n;
+    if (command == "--mode") {
+      if (args.empty()) {
+        std::cerr << "flexmb: --mode needs a number\n";
+        return 2;
+      }
+      n = args[0];
+      args.erase(args.begin());
+    } else {
+      n = command.substr(7);
+    }
+    static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}};
+    auto it = modes.find(n);
+    if (it == modes.end()) {
+      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1)\n";
+      return 2;
+    }
+    command = it->second;
+  }
+  static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
+      {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords}};
+  auto it = commands.find(command);
+  if (it == commands.end()) {
+    std::cerr << "flexmb: unknown command '" << command << "'\n";
+    usage(std::cerr);
+    return 2;
+  }
+  return it->second(args);
+}

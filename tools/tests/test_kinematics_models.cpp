@@ -1,0 +1,167 @@
+// Kinematics on real .dat models: mode-0 counts, culprits, and the geometric transfer functions
+// of a rigid four-bar against the closed-form position analysis and finite differences.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/GeometricTransferFunctions.hpp"
+#include "core/KinematicCheck.hpp"
+#include "io/DatReader.hpp"
+
+using namespace flexmb;
+
+namespace {
+std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
+
+bool mentions(const std::vector<std::string>& list, const std::string& s) {
+  return std::any_of(list.begin(), list.end(), [&](const std::string& x) { return x.find(s) != std::string::npos; });
+}
+}  // namespace
+
+TEST(KinematicCheck, PaperModelsDegreesOfFreedom) {
+  struct Case { const char* file; int dof; };
+  for (const Case c : {Case{"straight_guidance.dat", 17}, Case{"manipulator.dat", 18},
+                       Case{"slider_crank_s95.dat", 4}, Case{"tests/fourbar.dat", 1}}) {
+    const core::Model m = io::readDatFile(dat(c.file));
+    const core::KinematicReport r = core::checkKinematics(m);
+    EXPECT_EQ(r.dof, c.dof) << c.file;
+    EXPECT_TRUE(r.wellPosed()) << c.file << "\n" << core::formatReport(r);
+    EXPECT_EQ(r.rank, r.xCalculable) << c.file;
+  }
+}
+
+TEST(KinematicCheck, NamesUnderdeterminedCoordinate) {
+  const core::Model m = io::readDatFile(dat("tests/underconstrained.dat"));
+  const core::KinematicReport r = core::checkKinematics(m);
+  ASSERT_FALSE(r.wellPosed());
+  ASSERT_FALSE(r.underdetermined.empty());
+  // The orientation node 32 at C is free: nothing constrains it (see the file's header).
+  EXPECT_NE(r.underdetermined.front().find("node 32"), std::string::npos) << core::formatReport(r);
+  EXPECT_EQ(r.underdetermined.size(), 1u) << core::formatReport(r);
+}
+
+TEST(KinematicCheck, NamesOverdeterminedLoop) {
+  const core::Model m = io::readDatFile(dat("tests/overconstrained.dat"));
+  const core::KinematicReport r = core::checkKinematics(m);
+  ASSERT_FALSE(r.wellPosed());
+  EXPECT_TRUE(r.underdetermined.empty()) << core::formatReport(r);
+  // One self-stress of the closed loop: the fixed hinge at C (element 6) is among the dependent
+  // constraints, and so are the loop's other bending/hinge constraints.
+  EXPECT_TRUE(mentions(r.overdetermined, "PLHINGE 6,")) << core::formatReport(r);
+  EXPECT_TRUE(mentions(r.overdetermined, "PLHINGE 4,")) << core::formatReport(r);
+}
+
+namespace {
+struct FourBar {
+  double L1 = 0.1, L2 = 0.3, L3 = 0.25, L4 = 0.3;
+  // Position of C for crank angle theta, open (upper) assembly.
+  Eigen::Vector2d pointC(double theta) const {
+    const Eigen::Vector2d B(L1 * std::cos(theta), L1 * std::sin(theta)), D(L4, 0.0);
+    const Eigen::Vector2d d = D - B;
+    const double dist = d.norm();
+    const double a = (L2 * L2 - L3 * L3 + dist * dist) / (2 * dist);
+    const double h = std::sqrt(L2 * L2 - a * a);
+    const Eigen::Vector2d perp(-d.y() / dist, d.x() / dist);
+    return B + a * d / dist + h * perp;
+  }
+};
+
+int coordOf(const core::Model& m, int node, int comp) { return m.nodes[m.nodeByLabel.at(node)].firstCoord + comp; }
+}  // namespace
+
+TEST(GeometricTransferFunctions, FourBarMatchesClosedFormOverFullTurn) {
+  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  m.settings.kinematicTol = 1e-14;
+  core::GeometricTransferFunctions gtf(m);
+  FourBar fb;
+  const int cx = coordOf(m, 3, 0), cy = coordOf(m, 3, 1), bx = coordOf(m, 2, 0);
+  const int coupler = coordOf(m, 21, 0), rocker = coordOf(m, 31, 0);
+  double worst = 0.0;
+  for (int k = 0; k <= 720; ++k) {
+    const double q = 2 * M_PI * k / 720.0, theta = M_PI / 2 + q;
+    gtf.solvePositions(0.0, Eigen::VectorXd::Constant(1, q));
+    const Eigen::Vector2d C = fb.pointC(theta), B(fb.L1 * std::cos(theta), fb.L1 * std::sin(theta));
+    const Eigen::VectorXd& x = gtf.x();
+    worst = std::max({worst, std::abs(x[cx] - C.x()), std::abs(x[cy] - C.y()), std::abs(x[bx] - B.x())});
+    // Link orientations: the coupler node turns with B->C, the rocker node with D->C.
+    const double aCoupler = std::atan2(C.y() - B.y(), C.x() - B.x());
+    const double aRocker = std::atan2(C.y(), C.x() - fb.L4);
+    worst = std::max(worst, std::abs(std::remainder(x[coupler] - aCoupler, 2 * M_PI)));
+    worst = std::max(worst, std::abs(std::remainder(x[rocker] - aRocker, 2 * M_PI)));
+  }
+  EXPECT_LT(worst, 1e-10);
+}
+
+TEST(GeometricTransferFunctions, FirstOrderAndConvectiveTermsMatchFiniteDifferences) {
+  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  m.settings.kinematicTol = 1e-15;
+  core::GeometricTransferFunctions gtf(m);
+  const double h = 1e-5;
+  for (double q : {0.0, 0.7, 2.0, 3.5, 5.1}) {
+    auto positions = [&](double qq) {
+      gtf.solvePositions(0.0, Eigen::VectorXd::Constant(1, qq));
+      return Eigen::VectorXd(gtf.x());
+    };
+    auto transfer = [&](double qq) {
+      gtf.solvePositions(0.0, Eigen::VectorXd::Constant(1, qq));
+      Eigen::MatrixXd F;
+      gtf.firstOrder(nullptr, F);
+      return F;
+    };
+    const Eigen::VectorXd fdFq = (positions(q + h) - positions(q - h)) / (2 * h);
+    const Eigen::VectorXd fdFqq = (transfer(q + h) - transfer(q - h)).col(0) / (2 * h);
+    const Eigen::MatrixXd Fq = transfer(q);
+    EXPECT_LT((Fq.col(0) - fdFq).norm(), 1e-7 * fdFq.norm()) << "q = " << q;
+    // xd = F_q qd and g = (F_qq qd) qd for qd = 1.7.
+    const double qd = 1.7;
+    Eigen::VectorXd xd, g;
+    gtf.velocities(0.0, Eigen::VectorXd::Constant(1, qd), xd);
+    EXPECT_LT((xd - Fq.col(0) * qd).norm(), 1e-12 * xd.norm());
+    gtf.accelerationOffset(0.0, xd, g);
+    EXPECT_LT((g - fdFqq * qd * qd).norm(), 1e-6 * g.norm()) << "q = " << q;
+  }
+}
+
+TEST(GeometricTransferFunctions, StraightGuidanceFirstOrderMatchesFiniteDifferences) {
+  core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  m.settings.kinematicTol = 1e-15;
+  core::GeometricTransferFunctions gtf(m);
+  const int nq = gtf.nq();
+  Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(nq, -1e-3, 2e-3);  // bent, a few mm deflection
+  gtf.solvePositions(0.0, q);
+  Eigen::MatrixXd Fq;
+  gtf.firstOrder(nullptr, Fq);
+  const double h = 1e-7;
+  double worst = 0.0;
+  for (int j = 0; j < nq; ++j) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[j] += h;
+    qm[j] -= h;
+    gtf.solvePositions(0.0, qp);
+    const Eigen::VectorXd xp = gtf.x();
+    gtf.solvePositions(0.0, qm);
+    const Eigen::VectorXd fd = (xp - gtf.x()) / (2 * h);
+    worst = std::max(worst, (Fq.col(j) - fd).norm() / std::max(1e-12, fd.norm()));
+  }
+  EXPECT_LT(worst, 1e-6);
+  // With a basis, F_q V equals F_q times V.
+  gtf.solvePositions(0.0, q);
+  const Eigen::MatrixXd V = Eigen::MatrixXd::Random(nq, 3);
+  Eigen::MatrixXd FqV;
+  gtf.firstOrder(&V, FqV);
+  EXPECT_LT((FqV - Fq * V).norm(), 1e-12 * (Fq * V).norm());
+}
+
+TEST(GeometricTransferFunctions, SingularOrUnsquareKinematicsAreReportedNotIgnored) {
+  const core::Model m = io::readDatFile(dat("tests/underconstrained.dat"));
+  core::GeometricTransferFunctions gtf(m);
+  try {
+    gtf.solvePositions(0.25, gtf.initialDofs());
+    FAIL() << "expected a KinematicsError";
+  } catch (const core::KinematicsError& e) {
+    EXPECT_DOUBLE_EQ(e.time(), 0.25);
+    EXPECT_NE(std::string(e.what()).find("t = 0.25"), std::string::npos) << e.what();
+  }
+}
