@@ -115,6 +115,7 @@ void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen
   for (const auto& r : model_.inputX) {
     double v[3];
     r.evaluate(t, v[0], v[1], v[2]);
+    v[0] += inputLoadFactor_ * r.delta;
     xk[r.index] = v[order];
   }
   for (const auto& r : model_.inputE) {
@@ -332,6 +333,16 @@ void GeometricTransferFunctions::deformationFirstOrder(const Eigen::MatrixXd& Fq
     for (int i = 0; i < De.rows(); ++i)
       for (int j = 0; j < De.cols(); ++j) EqV.row(E.firstDef + i) += De(i, j) * FqV.row(E.coords[j]);
   }
+}
+
+}  // namespace flexmb::core
+
+namespace flexmb::core {
+
+void GeometricTransferFunctions::addConstraintStresses(const Eigen::VectorXd& r, Eigen::VectorXd& sigma) {
+  for (int c = 0; c < numCalculable(); ++c) rhs_[c] = r[calcCoords_[c]];
+  lu_.solveTransposed(rhs_.data(), 1);
+  for (int k = 0; k < numConstraints(); ++k) sigma[constrainedDefs_[k]] += rhs_[k];
 }
 
 }  // namespace flexmb::core

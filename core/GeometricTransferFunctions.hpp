@@ -61,6 +61,11 @@ class GeometricTransferFunctions {
                                 Eigen::VectorXd& edd) const;
   // y += scale * D_x^T s (nodal forces dual to stresses s).
   void addTransposedJacobianProduct(const Eigen::VectorXd& s, Eigen::VectorXd& y, double scale = 1.0) const;
+  // Reaction stresses of the constrained rows: solves J^T lambda = r_c (r: nodal vector, its
+  // calculable part) and adds lambda into sigma (size ne) at the constrained deformations.
+  void addConstraintStresses(const Eigen::VectorXd& r, Eigen::VectorXd& sigma);
+  // Static load stepping: input coordinates get x + s * DELINPX.
+  void setInputLoadFactor(double s) { inputLoadFactor_ = s; }
   // E_q V = D_x F_q V (ne x m) from a computed F_q V.
   void deformationFirstOrder(const Eigen::MatrixXd& FqV, Eigen::MatrixXd& EqV) const;
 
@@ -98,6 +103,7 @@ class GeometricTransferFunctions {
   Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_;
   Eigen::MatrixXd rhsMat_;
   std::vector<DefJac> elemJac_;
+  double inputLoadFactor_ = 0.0;
   int lastIterations_ = 0;
   long totalIterations_ = 0;
 };

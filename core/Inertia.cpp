@@ -41,15 +41,21 @@ void Inertia::multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const {
 }
 
 void Inertia::multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const {
+  // Per element: gather its rows of F (n x m), one small fixed-size product, scatter-add.
   Y.resize(F.rows(), F.cols());
   Y.noalias() = lumped_.asDiagonal() * F;
   for (size_t k = 0; k < massive_.size(); ++k) {
     const auto& E = model_.elements[massive_[k]];
     const ElemMat& Me = blocks_[k];
-    const int n = static_cast<int>(E.coords.size());
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        if (Me(i, j) != 0.0) Y.row(E.coords[i]) += Me(i, j) * F.row(E.coords[j]);
+    if (E.coords.size() == 6) {
+      Fe_ = F(E.coords, Eigen::all);
+      Ye_.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(Me.data()) * Fe_;
+      Y(E.coords, Eigen::all) += Ye_;
+    } else {
+      FeD_ = F(E.coords, Eigen::all);
+      YeD_.noalias() = Me * FeD_;
+      Y(E.coords, Eigen::all) += YeD_;
+    }
   }
 }
 

@@ -66,7 +66,7 @@ struct AnalysisSettings {
   double relTol = 1e-3;
   double absTol = 1e-6;
   double hmax = 0.0;         // 0: ode45 default 0.1*|tf - t0|
-  double kinematicTol = 1e-10;  // Newton tolerance on the kinematic equations (relative)
+  double kinematicTol = 1e-12;  // Newton tolerance, relative to the model size (below ode tolerances)
   int maxIterations = 50;
   int loadSteps = 1;
   bool timestepGiven = false;

@@ -1,0 +1,105 @@
+#include "tools/analysis/Statics.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <sstream>
+
+#include "solvers/EigenSolver.hpp"
+
+namespace flexmb::analysis {
+
+solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
+                                  const solvers::NewtonOptions& options) {
+  lin.kinematics().setInputLoadFactor(loadFactor);
+  Eigen::VectorXd f;
+  core::LinearizedSystem sys;
+  auto problem = [&](const Eigen::VectorXd& e, Eigen::VectorXd& Q, Eigen::MatrixXd* T) {
+    lin.appliedForces(t, loadFactor, f);
+    if (T) {
+      lin.atRest(t, e, f, sys, false);
+      Q = sys.Q;
+      *T = sys.K + sys.G;
+    } else {
+      lin.staticForces(t, e, f, Q);
+    }
+  };
+  // Force scale: the generalised applied load, or the elastic forces when nothing is applied.
+  lin.appliedForces(t, loadFactor, f);
+  lin.atRest(t, eta, f, sys, false);
+  Eigen::VectorXd fOnly;
+  {
+    Eigen::VectorXd zero = Eigen::VectorXd::Zero(f.size());
+    Eigen::VectorXd Qf;
+    lin.staticForces(t, eta, f, Qf);
+    Eigen::VectorXd Q0;
+    lin.staticForces(t, eta, zero, Q0);
+    fOnly = Qf - Q0;
+  }
+  double scale = fOnly.lpNorm<Eigen::Infinity>();
+  if (scale == 0.0) scale = std::max(sys.Q.lpNorm<Eigen::Infinity>(), 1e-12 * (sys.K.diagonal().cwiseAbs().maxCoeff() + 1.0));
+  return solvers::solveEquilibrium(problem, eta, scale, options);
+}
+
+Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
+  solvers::EigenOptions o;
+  o.nev = std::min<int>(nev, static_cast<int>(sys.M.rows()));
+  const solvers::EigenResult r = o.nev >= sys.M.rows() ? solvers::solveDense(sys.K + sys.G, sys.M, o)
+                                                       : solvers::solveLowest(sys.K + sys.G, sys.M, o);
+  Frequencies out;
+  out.lambda = r.lambda;
+  out.omega.resize(r.lambda.size());
+  for (Eigen::Index i = 0; i < r.lambda.size(); ++i)
+    out.omega[i] = r.lambda[i] >= 0 ? std::sqrt(r.lambda[i]) : -std::sqrt(-r.lambda[i]);
+  out.modes = r.vectors;
+  return out;
+}
+
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
+  StaticRun run;
+  core::Linearization lin(model);
+  const int n = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
+  Eigen::VectorXd eta = lin.kinematics().initialDofs();
+  const double t = model.settings.t0;
+  double reached = 0.0;
+  for (int i = 1; i <= n; ++i) {
+    const double target = i;
+    // Sub-steps: halve the increment when Newton fails, up to 2^-6 of a load step.
+    double ds = target - reached;
+    solvers::StaticResult res;
+    while (reached < target - 1e-12) {
+      Eigen::VectorXd trial = eta;
+      const double s = std::min(target, reached + ds);
+      res = equilibrium(lin, t, s, trial);
+      if (res.status == solvers::StaticStatus::Converged) {
+        eta = trial;
+        reached = s;
+        ds = std::min(2 * ds, target - reached);
+        continue;
+      }
+      ds *= 0.5;
+      if (ds < std::ldexp(1.0, -6)) {
+        std::ostringstream msg;
+        msg << "no equilibrium beyond load factor " << reached << " (step " << i << " of " << n << "): " << res.message;
+        run.completed = false;
+        run.stopReason = msg.str();
+        return run;
+      }
+    }
+    StaticStep st;
+    st.loadFactor = reached;
+    st.eta = eta;
+    st.newton = res;
+    Eigen::VectorXd f;
+    core::LinearizedSystem sys;
+    lin.appliedForces(t, reached, f);
+    lin.atRest(t, eta, f, sys, true);
+    st.x = lin.kinematics().x();
+    st.e = lin.kinematics().e();
+    st.sigma = sys.sigma;
+    if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
+    run.steps.push_back(std::move(st));
+  }
+  return run;
+}
+
+}  // namespace flexmb::analysis
