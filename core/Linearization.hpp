@@ -36,6 +36,8 @@ class Linearization {
   // Everything at rest in configuration eta under nodal loads f (Eq. 16). Throws KinematicsError.
   void atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, LinearizedSystem& out,
               bool withMass = true);
+  // F_q V at the last evaluation (nx x m).
+  const Eigen::MatrixXd& transfer() const { return FqV_; }
   // Only Q (cheap: no second derivatives), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 

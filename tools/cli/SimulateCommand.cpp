@@ -24,7 +24,7 @@ int runSimulate(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
-  std::string out, format = "both", echo;
+  std::string out, format = "both", echo, basisFile;
   bool quiet = false;
   d.add_options()("t-end", po::value(&tEnd), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol), "relative tolerance (default from the file or 1e-3)")(
@@ -34,6 +34,7 @@ int runSimulate(const std::vector<std::string>& args) {
       "out", po::value(&out), "output prefix (default: the model's name in the current folder)")(
       "format", po::value(&format), "csv, mat, both or none")(
       "echo", po::value(&echo), "write the final state as a restartable SPACAR95-style .dat")(
+      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
       "quiet,q", po::bool_switch(&quiet), "no progress line");
   if (!parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return 2;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -50,6 +51,12 @@ int runSimulate(const std::vector<std::string>& args) {
   if (maxStep > 0) opt.maxStep = maxStep;
   if (intervals >= 0) opt.intervals = intervals;
   opt.progress = !quiet;
+  try {
+    opt.basis = readBasisFor(basisFile, model);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return 2;
+  }
 
   const auto start = std::chrono::steady_clock::now();
   core::Trajectory traj;

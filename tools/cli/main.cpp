@@ -18,6 +18,10 @@ void usage(std::ostream& o) {
        "commands:\n"
        "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
        "  simulate   mode 1: forward dynamics with the ode45-equivalent integrator\n"
+       "  modes      eigenfrequencies in the initial configuration\n"
+       "  static     mode 10: equilibrium over the load steps, eigenfrequencies in each\n"
+       "  sweep      eigenfrequencies over a range of motion (one nodal coordinate prescribed)\n"
+       "  reduce     build a modal or SVD-modal reduction basis (q = V eta)\n"
        "  keywords   list every .dat keyword flexmb reads\n"
        "Run `flexmb <command> --help` for a command's options.\n";
 }
@@ -43,16 +47,17 @@ int main(int argc, char** argv) {
     } else {
       n = command.substr(7);
     }
-    static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}};
+    static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}, {"10", "static"}};
     auto it = modes.find(n);
     if (it == modes.end()) {
-      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1)\n";
+      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1, 10)\n";
       return 2;
     }
     command = it->second;
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
-      {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords}};
+      {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords},
+      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";

@@ -1,0 +1,130 @@
+#include "tools/analysis/Sweep.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+
+#include "core/Linearization.hpp"
+#include "solvers/EigenSolver.hpp"
+#include "tools/analysis/Statics.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+// Bordered Newton on [eta; P]: Q(eta) + P b(eta) = 0, x_k(eta) = value, with b = (F_q V)^T e_k.
+std::string prescribedEquilibrium(core::Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta,
+                                  double& P) {
+  const int m = lin.size();
+  Eigen::VectorXd f, R(m + 1), dz;
+  Eigen::MatrixXd A(m + 1, m + 1);
+  core::LinearizedSystem sys;
+  // Scales: the model size for lengths, the holding load (or a stiffness times a small motion) for forces.
+  double L = 0.0;
+  for (int i = 0; i < lin.model().nx; ++i)
+    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(lin.model().x0[i]));
+  if (L == 0.0) L = 1.0;
+  for (int it = 0; it < 60; ++it) {
+    lin.kinematics().solvePositions(t, lin.basis() ? Eigen::VectorXd(*lin.basis() * eta) : eta);
+    lin.appliedForces(t, 0.0, f);
+    f[k] += P;
+    lin.atRest(t, eta, f, sys, false);
+    const Eigen::VectorXd b = lin.transfer().row(k).transpose();
+    R.head(m) = sys.Q;
+    R[m] = lin.kinematics().x()[k] - value;
+    const double forceScale = std::max({std::abs(P) * b.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>(),
+                                        1e-6 * L * sys.K.diagonal().cwiseAbs().maxCoeff()});
+    if (R.head(m).lpNorm<Eigen::Infinity>() <= 1e-10 * forceScale && std::abs(R[m]) <= 1e-13 * L) return "";
+    A.topLeftCorner(m, m) = -(sys.K + sys.G);
+    A.topRightCorner(m, 1) = b;
+    A.bottomLeftCorner(1, m) = b.transpose();
+    A(m, m) = 0.0;
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
+    dz = lu.solve(-R);
+    if (!dz.allFinite()) return "singular bordered system (the prescribed coordinate cannot move the mechanism)";
+    // Damp steps larger than a tenth of the model size (Newton far from the solution).
+    const double stepNorm = dz.head(m).lpNorm<Eigen::Infinity>();
+    const double alpha = stepNorm > 0.1 * L ? 0.1 * L / stepNorm : 1.0;
+    eta += alpha * dz.head(m);
+    P += alpha * dz[m];
+  }
+  std::ostringstream s;
+  s << "no equilibrium found with the coordinate at " << value << " (60 iterations)";
+  return s.str();
+}
+}  // namespace
+
+SweepResult sweep(const core::Model& model, const SweepOptions& o) {
+  SweepResult res;
+  auto it = model.nodeByLabel.find(o.node);
+  if (it == model.nodeByLabel.end()) throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " does not exist");
+  const core::Node& node = model.nodes[it->second];
+  if (o.component < 1 || o.component > node.dim())
+    throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " has no component " + std::to_string(o.component));
+  const int k = node.firstCoord + o.component - 1;
+  if (model.xRole[k] == core::Role::Fixed || model.xRole[k] == core::Role::Input)
+    throw std::invalid_argument("sweep: " + model.coordName(k) + " is " + core::roleName(model.xRole[k]) + ", it cannot be prescribed");
+  if (o.steps < 1) throw std::invalid_argument("sweep: steps must be at least 1");
+
+  core::Linearization lin(model, o.basis);
+  Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
+  double P = 0.0;
+  const double start = model.x0[k];
+  std::vector<double> values;
+  for (int i = 0; i < o.steps; ++i) values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
+  // Continuation from the initial configuration to the first value in increments of the sweep spacing.
+  const double spacing = o.steps > 1 ? std::abs(o.to - o.from) / (o.steps - 1) : std::abs(o.from - start);
+  const int approach = spacing > 0 ? static_cast<int>(std::ceil(std::abs(values[0] - start) / spacing)) : 0;
+  for (int j = 1; j <= approach; ++j) {
+    const std::string err = prescribedEquilibrium(lin, o.t, k, start + (values[0] - start) * j / approach, eta, P);
+    if (!err.empty()) {
+      res.completed = false;
+      res.stopReason = "approaching the sweep start: " + err;
+      return res;
+    }
+  }
+  Eigen::MatrixXd previousModes;
+  core::LinearizedSystem sys;
+  Eigen::VectorXd f;
+  for (double v : values) {
+    const std::string err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
+    if (!err.empty()) {
+      res.completed = false;
+      res.stopReason = err;
+      return res;
+    }
+    lin.appliedForces(o.t, 0.0, f);
+    f[k] += P;
+    lin.atRest(o.t, eta, f, sys, true);
+    const Frequencies fr = naturalFrequencies(sys, o.nev);
+    SweepPoint pt;
+    pt.value = v;
+    pt.load = P;
+    pt.eta = eta;
+    lin.dofs(eta, pt.q);
+    Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
+    for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
+    pt.omega = fr.omega;
+    pt.omegaSorted = fr.omega;
+    if (previousModes.size() && previousModes.cols() == modesQ.cols()) {
+      const std::vector<int> perm = solvers::trackModes(previousModes, modesQ);
+      Eigen::MatrixXd sorted(modesQ.rows(), modesQ.cols());
+      Eigen::VectorXd w(pt.omega.size());
+      for (size_t j = 0; j < perm.size(); ++j) {  // current mode j continues previous mode perm[j]
+        sorted.col(perm[j]) = modesQ.col(j);
+        w[perm[j]] = pt.omega[j];
+      }
+      modesQ = sorted;
+      pt.omega = w;
+    }
+    pt.modes = modesQ;
+    if (o.keepMatrices) {
+      pt.stiffness = sys.K + sys.G;
+      pt.mass = sys.M;
+    }
+    previousModes = modesQ;
+    res.points.push_back(std::move(pt));
+  }
+  return res;
+}
+
+}  // namespace flexmb::analysis

@@ -1,0 +1,43 @@
+#pragma once
+// Eigenfrequencies over a range of motion (paper Fig. 5): static equilibria with one nodal
+// coordinate prescribed at equidistant values, held by a dead load along that coordinate (the
+// load is the Lagrange multiplier of a bordered Newton system), and the natural frequencies of the
+// free system in each, with modes tracked between neighbours by MAC.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+
+namespace flexmb::analysis {
+
+struct SweepOptions {
+  int node = 0;       // node label
+  int component = 1;  // 1-based
+  double from = 0.0, to = 0.0;
+  int steps = 10;     // number of configurations (equidistant, both ends included)
+  int nev = 4;
+  std::optional<Eigen::MatrixXd> basis;  // q = V eta; empty = full model
+  double t = 0.0;     // time at which the loads of the file are taken (XF, XFT)
+  bool keepMatrices = false;  // keep K + G and M of every configuration (for SVD-modal bases)
+};
+
+struct SweepPoint {
+  double value = 0.0;       // the prescribed coordinate
+  double load = 0.0;        // the dead load that holds it
+  Eigen::VectorXd eta, q;   // configuration
+  Eigen::VectorXd omega;    // rad/s, tracked order (column j continues column j of the previous point)
+  Eigen::VectorXd omegaSorted;  // rad/s, ascending (the i-th eigenfrequency, as the paper plots it)
+  Eigen::MatrixXd modes;    // in q coordinates (nq x nev), tracked order, unit Euclidean length
+  Eigen::MatrixXd stiffness, mass;  // K + G and M in eta coordinates, when keepMatrices
+};
+
+struct SweepResult {
+  std::vector<SweepPoint> points;
+  bool completed = true;
+  std::string stopReason;
+};
+
+SweepResult sweep(const core::Model& model, const SweepOptions& options);
+}  // namespace flexmb::analysis
