@@ -66,7 +66,7 @@ struct EigenResult {
   double maxResidual = 0.0;      // max_i relative residual (see above)
   double maxOrthogonalityError = 0.0;  // max |V^T B V - I|
   int converged = 0;             // ARPACK iparam[4]; dense: number returned
-  int iterations = 0;            // ARPACK iparam[2] on return (implicit restarts); dense: 0
+  int iterations = 0;            // ARPACK iparam[2] on return (restarts; maxIterations+1 when it ran out)
   double shift = 0.0;            // shift actually used (ARPACK); dense: 0
   double scale = 0.0;            // spectrum scale used for the rigid / unstable flags
   std::string method;            // "arpack-shift-invert" or "dense"
@@ -106,7 +106,8 @@ class DenseShiftInvert final : public ShiftInvertOperator {
 };
 
 // Sparse A, B (copied, full storage of both triangles); UMFPACK LU of A - sigma B via Eigen's UmfPackLU
-// (kept out of this header). Singular when UMFPACK reports a singular matrix or a non-finite rcond.
+// (kept out of this header). Singular when UMFPACK reports a singular matrix or a probe solve
+// (right-hand side of ones) is not finite.
 class SparseShiftInvert final : public ShiftInvertOperator {
  public:
   SparseShiftInvert(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& B);

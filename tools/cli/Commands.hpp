@@ -16,6 +16,7 @@ int runModes(const std::vector<std::string>& args);
 int runStatic(const std::vector<std::string>& args);
 int runSweep(const std::vector<std::string>& args);
 int runReduce(const std::vector<std::string>& args);
+int runValidate(const std::vector<std::string>& args);
 std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model);
 
 // Reads a model with the common options (--dialect, --elongation); prints errors, returns false.

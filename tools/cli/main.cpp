@@ -22,6 +22,7 @@ void usage(std::ostream& o) {
        "  static     mode 10: equilibrium over the load steps, eigenfrequencies in each\n"
        "  sweep      eigenfrequencies over a range of motion (one nodal coordinate prescribed)\n"
        "  reduce     build a modal or SVD-modal reduction basis (q = V eta)\n"
+       "  validate   reproduce the paper's Section 4 into validation/report/\n"
        "  keywords   list every .dat keyword flexmb reads\n"
        "Run `flexmb <command> --help` for a command's options.\n";
 }
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
       {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords},
-      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}};
+      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}, {"validate", runValidate}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";
