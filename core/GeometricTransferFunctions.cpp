@@ -81,8 +81,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
     if (model.nodes[model.xOwnerNode[i]].kind == NodeKind::Position)
       scale = std::max(scale, std::abs(model.x0[i]));
   lengthScale_ = scale > 0.0 ? scale : 1.0;
-  // Never ask for less than round-off of the coordinates can deliver.
-  tolerance_ = std::max(model.settings.kinematicTol, 16 * std::numeric_limits<double>::epsilon()) * lengthScale_;
+  setRelativeTolerance(model.settings.kinematicTol);
 
   x_ = model.x0;
   e_ = Eigen::VectorXd::Zero(ne);
@@ -91,6 +90,11 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   work_ = Eigen::VectorXd::Zero(nx);
   workE_ = Eigen::VectorXd::Zero(ne);
   elemJac_.resize(model.elements.size());
+}
+
+void GeometricTransferFunctions::setRelativeTolerance(double tol) {
+  // Never ask for less than round-off of the coordinates can deliver.
+  tolerance_ = std::max(tol, 16 * std::numeric_limits<double>::epsilon()) * lengthScale_;
 }
 
 Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {

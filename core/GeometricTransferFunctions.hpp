@@ -64,6 +64,9 @@ class GeometricTransferFunctions {
   // Reaction stresses of the constrained rows: solves J^T lambda = r_c (r: nodal vector, its
   // calculable part) and adds lambda into sigma (size ne) at the constrained deformations.
   void addConstraintStresses(const Eigen::VectorXd& r, Eigen::VectorXd& sigma);
+  // Newton tolerance relative to the model size (floored at round-off). Integrators set it well
+  // below their own tolerance: residual noise in x becomes noise in the right-hand side.
+  void setRelativeTolerance(double tol);
   // Static load stepping: input coordinates get x + s * DELINPX.
   void setInputLoadFactor(double s) { inputLoadFactor_ = s; }
   // E_q V = D_x F_q V (ne x m) from a computed F_q V.

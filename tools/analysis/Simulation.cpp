@@ -61,6 +61,10 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
     }
     return true;
   };
+  // Kinematic residuals must stay far below the integration tolerance (else they are RHS noise).
+  const double kinTol = std::min(s.kinematicTol, 1e-5 * o.relTol);
+  eom.kinematics().setRelativeTolerance(kinTol);
+  probe.kinematics().setRelativeTolerance(kinTol);
   solvers::Ode45 ode(o);
   const Eigen::VectorXd y0 = eom.initialState();
   const solvers::OdeResult r = ode.integrate(f, tspan, y0, observer);

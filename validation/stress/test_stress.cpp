@@ -1,2 +1,343 @@
+// Stress catalogue, cases 1-4: large deflections, stiff next to soft, many elements, long runs.
+// See validation/stress/README.md for the catalogue (what each case checks and its expected outcome).
+// Slow cases run only with FLEXMB_SLOW_STRESS=1; every case prints one "[stress]" summary line
+// (and appends it to $FLEXMB_STRESS_CSV when set).
 #include <gtest/gtest.h>
-TEST(Stress, Placeholder) {}
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/Inertia.hpp"
+#include "core/KinematicCheck.hpp"
+#include "io/DatReader.hpp"
+#include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/Statics.hpp"
+#include "validation/stress/StressModels.hpp"
+
+using namespace flexmb;
+using namespace flexmb::stress;
+
+namespace {
+
+// Largest |x| of a nodal coordinate over a trajectory (and when).
+struct Peak {
+  double value = 0.0, time = 0.0;
+};
+Peak peakAbs(const core::Trajectory& tr, int xIndex) {
+  Peak p;
+  for (size_t k = 0; k < tr.states.size(); ++k)
+    if (std::abs(tr.states[k].x[xIndex]) > p.value) p = {std::abs(tr.states[k].x[xIndex]), tr.time[k]};
+  return p;
+}
+
+// The time in a stop reason "... at t = 0.0937 ..." (NaN when none).
+double stopTime(const std::string& reason) {
+  const auto p = reason.find("t = ");
+  if (p == std::string::npos) return std::nan("");
+  return std::atof(reason.c_str() + p + 4);
+}
+
+std::string slowSkipMessage(const std::string& what) {
+  return "slow stress case (" + what + "): set FLEXMB_SLOW_STRESS=1 to run it";
+}
+
+}  // namespace
+
+// =================================================================================================
+// 1. Large deflections up to and past the guidance's range of motion (Eq. 24 with F_max scaled).
+// =================================================================================================
+TEST(StressLargeDeflection, GuidanceForceSweep) {
+  const double range = 0.0833;  // paper: range of motion +-0.0833 m at F_max = 100 N
+  std::vector<double> peaks;
+  double previous = 0.0;
+  for (double fmax : {100.0, 200.0, 300.0}) {
+    GuidanceOptions o;
+    o.loadBlock = eq24Load(fmax);
+    const core::Model m = io::readDatString(guidanceDat(o), "guidance_F" + fmt(fmax) + ".dat");
+    Stopwatch sw;
+    const core::Trajectory tr = analysis::simulate(m, {});
+    const double secs = sw.seconds();
+    const Peak p = peakAbs(tr, coordIndex(m, guidanceTopNode(5), 1));
+    std::string fig = "max |x6| = " + fmt(p.value) + " m at t = " + fmt(p.time) + ", nfevals " +
+                      std::to_string(tr.nfevals);
+    if (fmax == 100.0) fig += ", vs paper 0.0833: " + fmt(100.0 * (p.value / range - 1)) + " %";
+    summary("1 large deflection F=" + fmt(fmax) + "N", tr.completed ? "completed" : "STOPPED", fig, secs);
+    ASSERT_TRUE(tr.completed) << tr.stopReason;
+    EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+    EXPECT_GT(p.value, previous) << "max deflection must grow with F_max";
+    if (fmax == 100.0) {
+      EXPECT_NEAR(p.value, range, 0.02 * range);
+    }
+    previous = p.value;
+    peaks.push_back(p.value);
+  }
+
+  // 400 N: 2.1x the paper's range. With 5 PLBEAM per flexure the DYNE/RLSE parametrisation reaches a
+  // fold (|F_q| grows without bound, the kinematic Newton stalls) at t = 0.0937 s, independent of the
+  // integrator tolerance: the run must stop there with time and reason, keeping finite results whose
+  // peak exceeds the 300 N peak. (10 PLBEAM per flexure pass: see the slow case below.) If a later
+  // flexmb completes the run, the peak must still grow.
+  GuidanceOptions o;
+  o.loadBlock = eq24Load(400.0);
+  const core::Model m = io::readDatString(guidanceDat(o), "guidance_F400.dat");
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, {});
+  const double secs = sw.seconds();
+  const Peak p = peakAbs(tr, coordIndex(m, guidanceTopNode(5), 1));
+  summary("1 large deflection F=400N", tr.completed ? "completed" : "stopped (diagnostic)",
+          "max |x6| = " + fmt(p.value) + " m" + (tr.completed ? "" : "; " + tr.stopReason), secs);
+  EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+  EXPECT_GT(p.value, peaks.back());
+  if (!tr.completed) {
+    const double ts = stopTime(tr.stopReason);
+    EXPECT_TRUE(std::isfinite(ts)) << "the stop reason must name the time: " << tr.stopReason;
+    EXPECT_GT(ts, 0.05) << tr.stopReason;
+    EXPECT_NE(tr.stopReason.find("kinematics failed"), std::string::npos) << tr.stopReason;
+    ASSERT_FALSE(tr.time.empty());
+    EXPECT_LE(tr.time.back(), ts) << "results before the stop are kept, none after it";
+  }
+}
+
+// What to change when 400 N stops: refine the flexures. 10 PLBEAM per flexure complete the run.
+TEST(StressLargeDeflection, Guidance400NRefinedSlow) {
+  if (!slowEnabled()) GTEST_SKIP() << slowSkipMessage("400 N with 10 PLBEAM per flexure, ~35 s");
+  GuidanceOptions o;
+  o.elementsPerFlexure = 10;
+  o.loadBlock = eq24Load(400.0);
+  const core::Model m = io::readDatString(guidanceDat(o), "guidance10_F400.dat");
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, {});
+  const Peak p = peakAbs(tr, coordIndex(m, guidanceTopNode(10), 1));
+  summary("1 large deflection F=400N 10 el/flexure", tr.completed ? "completed" : "STOPPED",
+          "max |x_top| = " + fmt(p.value) + " m, nfevals " + std::to_string(tr.nfevals) +
+              (tr.completed ? "" : "; " + tr.stopReason),
+          sw.seconds());
+  EXPECT_TRUE(tr.completed) << tr.stopReason;
+  EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+  EXPECT_GT(p.value, 0.167);  // beyond the 300 N peak of the 5-element model
+}
+
+// =================================================================================================
+// 2. Very stiff and very soft elements side by side (EI ratio 1e8).
+// =================================================================================================
+namespace {
+// Linear (Euler-Bernoulli) tip deflection of a segmented cantilever under a transverse tip load P:
+// w = P sum_i [(L - a_i)^3 - (L - b_i)^3] / (3 EI_i) over segments [a_i, b_i].
+double segmentedTipDeflection(const std::vector<Segment>& segs, double P) {
+  double L = 0.0;
+  for (const auto& s : segs) L += s.length;
+  double a = 0.0, w = 0.0;
+  for (const auto& s : segs) {
+    const double b = a + s.length;
+    w += P * (std::pow(L - a, 3) - std::pow(L - b, 3)) / (3.0 * s.EI);
+    a = b;
+  }
+  return w;
+}
+}  // namespace
+
+TEST(StressStiffSoft, StaticsMatchesSuperposition) {
+  const double P = 1e-4;  // tip deflection 4e-6 m on 1 m: linear regime (geometric effects ~1e-11)
+  const std::vector<std::pair<std::string, std::vector<Segment>>> cases = {
+      {"stiff|soft", {{0.5, 1e8}, {0.5, 1.0}}},
+      {"soft|stiff", {{0.5, 1.0}, {0.5, 1e8}}},
+      {"stiff|soft|stiff|soft", {{0.25, 1e8}, {0.25, 1.0}, {0.25, 1e8}, {0.25, 1.0}}},
+  };
+  for (const auto& [name, segs] : cases) {
+    const int tip = static_cast<int>(segs.size()) + 1;
+    const core::Model m =
+        io::readDatString(cantileverDat(segs, "XF " + std::to_string(tip) + " 0 " + fmt(P)), "stiffsoft.dat");
+    Stopwatch sw;
+    const analysis::StaticRun run = analysis::staticAnalysis(m, 2, 1);
+    ASSERT_TRUE(run.completed) << name << ": " << run.stopReason;
+    ASSERT_EQ(run.steps.size(), 1u);
+    const auto& st = run.steps.back();
+    const double w = st.x[coordIndex(m, tip, 2)], ref = segmentedTipDeflection(segs, P);
+    const double rel = w / ref - 1.0;
+    summary("2 stiff/soft statics " + name, "verified",
+            "tip " + fmt(w) + " vs analytic " + fmt(ref) + " (rel " + fmt(rel) + "), omega1 " +
+                fmt(st.frequencies.omega.size() ? st.frequencies.omega[0] : 0.0) + " rad/s",
+            sw.seconds());
+    EXPECT_EQ(st.newton.status, solvers::StaticStatus::Converged) << st.newton.message;
+    EXPECT_TRUE(st.newton.stable);
+    EXPECT_NEAR(rel, 0.0, 1e-6) << name;
+    EXPECT_TRUE(st.frequencies.omega.allFinite());
+  }
+}
+
+// Short dynamic run (step load at the tip, 0.01 s). The stiff element's modes (omega ~ 7e5 rad/s)
+// need steps below ~5e-6 s; ode45's error control finds them once it has a stable first step.
+TEST(StressStiffSoft, ShortDynamicRun) {
+  const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
+  const double P = 1e-4, wStatic = segmentedTipDeflection(segs, P);
+  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.01 10"), "stiffsoft.dat");
+  analysis::SimulationOptions so;
+  so.maxStep = 1e-5;  // a first step the stiff modes survive (see ShortDynamicRunDefaultFirstStep)
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, so);
+  double wmax = 0.0;
+  for (const auto& s : tr.states) wmax = std::max(wmax, std::abs(s.x[coordIndex(m, 3, 2)]));
+  summary("2 stiff/soft dynamics (hmax 1e-5)", tr.completed ? "completed" : "STOPPED",
+          "nfevals " + std::to_string(tr.nfevals) + ", max tip " + fmt(wmax) + " (static " + fmt(wStatic) + ")" +
+              (tr.completed ? "" : "; " + tr.stopReason),
+          sw.seconds());
+  ASSERT_TRUE(tr.completed) << tr.stopReason;
+  EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+  EXPECT_LE(wmax, 2.0 * wStatic * 1.01) << "a suddenly applied load at most doubles the static deflection";
+  EXPECT_GT(wmax, 0.0);
+}
+
+// The same run with ode45's default first step (min(hmax, first output interval) = 1e-3 s): the
+// stages of that first attempt blow up in the stiff modes, the kinematic Newton fails inside a stage,
+// and the whole run stops at t = 0.001 ("Newton iteration diverged") instead of the step being
+// rejected and retried smaller as MATLAB's ode45 would with a finite right-hand side.
+TEST(StressStiffSoft, ShortDynamicRunDefaultFirstStep) {
+  const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
+  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 1e-4\nTIMESTEP 0.01 10"), "stiffsoft.dat");
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, {});
+  summary("2 stiff/soft dynamics (defaults)", tr.completed ? "completed" : "stopped (known issue)",
+          "nfevals " + std::to_string(tr.nfevals) + (tr.completed ? "" : "; " + tr.stopReason), sw.seconds());
+  EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+  if (!tr.completed && tr.nsteps == 0)
+    GTEST_SKIP() << "known issue: a kinematic failure inside the stages of a step that would be rejected "
+                    "stops the run instead of shrinking the step (" << tr.stopReason
+                 << "); workaround: a maximum step (SimulationOptions::maxStep 1e-5) or more output intervals";
+  EXPECT_TRUE(tr.completed) << tr.stopReason;
+}
+
+// =================================================================================================
+// 3. 100 PLBEAM per flexure.
+// =================================================================================================
+TEST(StressManyElements, Guidance100PerFlexure) {
+  const double load = 1.0;  // N at the top, linear regime
+  GuidanceOptions o100;
+  o100.elementsPerFlexure = 100;
+  o100.loadBlock = "XF {TOP} " + fmt(load) + " 0";
+  o100.extraDynamic = "";
+  GuidanceOptions o5 = o100;
+  o5.elementsPerFlexure = 5;
+
+  Stopwatch sw;
+  const core::Model m100 = io::readDatString(guidanceDat(o100), "guidance100.dat");
+  const core::KinematicReport rep = core::checkKinematics(m100);
+  EXPECT_EQ(rep.dof, 2 * 2 * 100 - 3);
+  EXPECT_EQ(m100.numDofs(), 2 * 2 * 100 - 3);
+  EXPECT_TRUE(rep.wellPosed()) << core::formatReport(rep);
+  EXPECT_EQ(rep.rank, rep.xCalculable);
+
+  const analysis::StaticRun s100 = analysis::staticAnalysis(m100, 3, 1);
+  ASSERT_TRUE(s100.completed) << s100.stopReason;
+  const core::Model m5 = io::readDatString(guidanceDat(o5), "guidance5.dat");
+  const analysis::StaticRun s5 = analysis::staticAnalysis(m5, 3, 1);
+  ASSERT_TRUE(s5.completed) << s5.stopReason;
+  const double secs = sw.seconds();
+
+  const auto& a = s100.steps.back();
+  const auto& b = s5.steps.back();
+  EXPECT_EQ(a.newton.status, solvers::StaticStatus::Converged) << a.newton.message;
+  EXPECT_TRUE(a.newton.stable);
+  const double x100 = a.x[coordIndex(m100, guidanceTopNode(100), 1)], x5 = b.x[coordIndex(m5, guidanceTopNode(5), 1)];
+  // Two clamped-guided flexures: k = 2 * 12 EI / L^3 = 1575 N/m (the rigid body adds nothing statically).
+  const double xLinear = load / (2 * 12 * 0.525 / std::pow(0.2, 3));
+  ASSERT_GE(a.frequencies.omega.size(), 1);
+  ASSERT_GE(b.frequencies.omega.size(), 1);
+  const double w100 = a.frequencies.omega[0], w5 = b.frequencies.omega[0];
+  summary("3 100 el/flexure statics+modes", "verified",
+          "DOF " + std::to_string(rep.dof) + ", omega1 " + fmt(w100) + " vs 5-el " + fmt(w5) + " rad/s (rel " +
+              fmt(w100 / w5 - 1) + "), x_top " + fmt(x100) + " vs 5-el " + fmt(x5) + " (linear theory " + fmt(xLinear) +
+              ")",
+          secs);
+  EXPECT_NEAR(w100 / w5, 1.0, 0.01);
+  EXPECT_NEAR(x100 / x5, 1.0, 0.01);
+  EXPECT_NEAR(x100 / xLinear, 1.0, 0.01);
+  EXPECT_TRUE(a.frequencies.omega.allFinite());
+}
+
+// Short dynamic run of the 100-element guidance. Its highest mode is ~1.4e7 rad/s, so ode45 needs
+// steps ~2e-7 s, and one evaluation of the 397-DOF model costs ~30 ms: 2e-5 s simulated, with 200
+// output intervals so that the first step (1e-7 s) is stable.
+TEST(StressManyElements, Guidance100DynamicSlow) {
+  if (!slowEnabled()) GTEST_SKIP() << slowSkipMessage("100 el/flexure dynamics, 2e-5 s simulated");
+  GuidanceOptions o;
+  o.elementsPerFlexure = 100;
+  o.loadBlock = "XF {TOP} 1.0 0";
+  o.extraDynamic = "TIMESTEP 2e-5 200";
+  const core::Model m = io::readDatString(guidanceDat(o), "guidance100.dat");
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, {});
+  summary("3 100 el/flexure dynamics 2e-5 s", tr.completed ? "completed" : "STOPPED",
+          "nfevals " + std::to_string(tr.nfevals) + ", " + fmt(sw.seconds() / std::max<long>(1, tr.nfevals) * 1e3) +
+              " ms/evaluation" + (tr.completed ? "" : "; " + tr.stopReason),
+          sw.seconds());
+  EXPECT_TRUE(tr.completed) << tr.stopReason;
+  EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+}
+
+// =================================================================================================
+// 4. Long run with the energy drift recorded: the unforced guidance released from the static
+//    deflection under 20 N at the top (12.7 mm; all 17 DYNE bendings given by STARTDE, zero rates).
+// =================================================================================================
+namespace {
+std::string releasedGuidance(double tEnd, int intervals) {
+  GuidanceOptions o;
+  o.loadBlock = "XF {TOP} 20 0";
+  o.extraDynamic = "";
+  const core::Model ms = io::readDatString(guidanceDat(o), "guidance_static.dat");
+  const analysis::StaticRun st = analysis::staticAnalysis(ms, 0, 1);
+  if (!st.completed || st.steps.empty()) throw std::runtime_error("static deflection failed: " + st.stopReason);
+  std::string start;
+  for (const auto& d : ms.dofs) {
+    const auto& el = ms.elements[ms.eOwnerElement[d.index]];
+    start += "STARTDE " + std::to_string(el.label) + " " + std::to_string(d.index - el.firstDef + 1) + " " +
+             fmt(st.steps.back().e[d.index]) + " 0\n";
+  }
+  o.loadBlock = "";
+  o.extraDynamic = start + "TIMESTEP " + fmt(tEnd) + " " + std::to_string(intervals);
+  return guidanceDat(o);
+}
+
+struct Drift {
+  double E0 = 0.0, maxRel = 0.0, endRel = 0.0;
+};
+Drift energyDrift(const core::Model& m, const core::Trajectory& tr) {
+  core::Inertia inertia(m);
+  Drift d;
+  d.E0 = totalEnergy(m, inertia, tr.states.front());
+  for (const auto& s : tr.states) {
+    const double rel = (totalEnergy(m, inertia, s) - d.E0) / d.E0;
+    d.maxRel = std::max(d.maxRel, std::abs(rel));
+    d.endRel = rel;
+  }
+  return d;
+}
+
+void runEnergyCase(double tEnd, int intervals, double bound, const std::string& name) {
+  const core::Model m = io::readDatString(releasedGuidance(tEnd, intervals), "guidance_free.dat");
+  Stopwatch sw;
+  const core::Trajectory tr = analysis::simulate(m, {});
+  const double secs = sw.seconds();
+  ASSERT_TRUE(tr.completed) << tr.stopReason;
+  ASSERT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+  const Drift d = energyDrift(m, tr);
+  const Peak p = peakAbs(tr, coordIndex(m, guidanceTopNode(5), 1));
+  summary(name, d.maxRel <= bound ? "verified" : "DRIFT",
+          "E0 " + fmt(d.E0) + " J, max |dE/E0| " + fmt(d.maxRel) + " (end " + fmt(d.endRel) + ", bound " + fmt(bound) +
+              "), amplitude " + fmt(p.value) + " m, nfevals " + std::to_string(tr.nfevals),
+          secs);
+  EXPECT_LE(d.maxRel, bound);
+  // Released from rest: the amplitude stays the initial deflection (no damping).
+  const double x0 = std::abs(tr.states.front().x[coordIndex(m, guidanceTopNode(5), 1)]);
+  EXPECT_GT(x0, 0.01);
+  EXPECT_NEAR(p.value, x0, 0.02 * x0);
+}
+}  // namespace
+
+TEST(StressLongRun, EnergyDrift2s) { runEnergyCase(2.0, 200, 1e-6, "4 energy drift 2 s"); }
+
+TEST(StressLongRun, EnergyDrift100sSlow) {
+  if (!slowEnabled()) GTEST_SKIP() << slowSkipMessage("100 s of the free guidance, ~10 min");
+  runEnergyCase(100.0, 2000, 1e-4, "4 energy drift 100 s");
+}

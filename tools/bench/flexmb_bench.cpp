@@ -1,0 +1,1012 @@
+// flexmb_bench: benchmarks of the paper's two models (Boer et al. 2013, Section 4).
+//   1. Work-precision diagrams: wall time against error for the full and the reduced models with the
+//      ode45-equivalent integrator, and for SUNDIALS CVODE (BDF, dense LU, difference-quotient
+//      Jacobian) on the full models, all on the same right-hand side EquationsOfMotion::rhs.
+//   2. Cost of one right-hand-side evaluation of the straight guidance against the number of
+//      elements per flexure (5 ... 160), with the log-log slope.
+//   3. CSV + SVG + a Markdown fragment bench.md for the report.
+// Usage: flexmb_bench [--quick] [--out DIR]   (see tools/bench/README.md)
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_config.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/EquationsOfMotion.hpp"
+#include "core/GeometricTransferFunctions.hpp"
+#include "io/DatReader.hpp"
+#include "io/SvgPlot.hpp"
+#include "solvers/Ode45.hpp"
+#include "tools/analysis/Reduction.hpp"
+
+#ifndef FLEXMB_SOURCE_DIR
+#define FLEXMB_SOURCE_DIR "."
+#endif
+#ifndef FLEXMB_BENCH_BUILD_TYPE
+#define FLEXMB_BENCH_BUILD_TYPE "unknown"
+#endif
+
+namespace fs = std::filesystem;
+using namespace flexmb;
+using Clock = std::chrono::steady_clock;
+using Eigen::VectorXd;
+
+namespace {
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+std::string sci(double v, int digits = 2) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
+  return buf;
+}
+std::string tolText(double v) {  // 1e-03 style, short
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0e", v);
+  return buf;
+}
+std::string secText(double s) {
+  if (!std::isfinite(s)) return "-";
+  if (s >= 10) return fmt("%.1f", s);
+  if (s >= 1) return fmt("%.2f", s);
+  if (s >= 0.01) return fmt("%.3f", s);
+  return fmt("%.4f", s);
+}
+std::string withThousands(long v) {
+  std::string s = std::to_string(v), out;
+  int n = 0;
+  for (auto it = s.rbegin(); it != s.rend(); ++it) {
+    if (n && n % 3 == 0 && *it != '-') out.push_back(',');
+    out.push_back(*it);
+    ++n;
+  }
+  return {out.rbegin(), out.rend()};
+}
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+std::string csvQuote(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"') o += "\"\"";
+    else if (c == '\n') o += ' ';
+    else o += c;
+  }
+  return o + "\"";
+}
+std::string mdEscape(std::string s) {
+  for (size_t i = 0; (i = s.find('|', i)) != std::string::npos; i += 2) s.replace(i, 1, "\\|");
+  for (auto& c : s)
+    if (c == '\n') c = ' ';
+  return s;
+}
+
+// ------------------------------------------------------------------------------------------------
+// One integration run: statistics and the states at the output times (kept outside the timing).
+struct Run {
+  bool ok = true;
+  std::string reason;  // why it stopped (failed runs)
+  long fevals = 0;     // every right-hand-side evaluation (CVODE: including the DQ Jacobian ones)
+  long jacFevals = 0;  // CVODE: evaluations spent on difference-quotient Jacobians
+  long nsteps = 0, nfailed = 0, njac = 0;
+  double wall = 0.0;   // seconds, model set-up + integration (EquationsOfMotion construction included)
+  std::vector<double> t;
+  std::vector<VectorXd> y;
+};
+
+struct Problem {
+  const core::Model* model;
+  std::optional<Eigen::MatrixXd> basis;
+  std::vector<double> tspan;
+};
+
+constexpr double kNoCap = 1e300;
+
+Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) {
+  Run r;
+  const auto start = Clock::now();
+  core::EquationsOfMotion eom(*p.model, p.basis);
+  solvers::Ode45Options o;
+  o.relTol = relTol;
+  o.absTol = VectorXd::Constant(1, absTol);
+  o.maxStep = p.model->settings.hmax;  // as analysis::simulate
+  // Exactly analysis::simulate's right-hand side (plus the wall-time cap).
+  auto f = [&](double t, const VectorXd& y, VectorXd& dy) {
+    if ((eom.evaluations() & 255) == 255 && since(start) > capSeconds)
+      throw solvers::RhsError("wall-time cap of " + fmt("%.0f", capSeconds) + " s reached");
+    try {
+      eom.rhs(t, y, dy);
+    } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());
+    }
+  };
+  r.t.reserve(p.tspan.size());
+  r.y.reserve(p.tspan.size());
+  auto observer = [&](double t, const VectorXd& y) {
+    r.t.push_back(t);
+    r.y.push_back(y);
+    return true;
+  };
+  const VectorXd y0 = eom.initialState();
+  solvers::Ode45 ode(o);
+  const solvers::OdeResult res = ode.integrate(f, p.tspan, y0, observer);
+  r.wall = since(start);
+  r.fevals = res.stats.nfevals;
+  r.nsteps = res.stats.nsteps;
+  r.nfailed = res.stats.nfailed;
+  if (res.status != solvers::OdeStatus::Success) {
+    r.ok = false;
+    r.reason = res.message.empty() ? "integrator stopped" : res.message;
+  }
+  return r;
+}
+
+// ---- SUNDIALS CVODE (6.4 API: SUNContext) ------------------------------------------------------
+struct CvUser {
+  core::EquationsOfMotion* eom = nullptr;
+  VectorXd y, dy;
+  Clock::time_point start;
+  double cap = kNoCap;
+  long calls = 0;
+  bool capped = false;
+  std::string rhsError, cvError;
+  VectorXd anchorX;  // kinematic configuration of the last accepted step: every evaluation starts there
+};
+
+int cvRhs(realtype t, N_Vector y, N_Vector ydot, void* user) {
+  auto* u = static_cast<CvUser*>(user);
+  const long n = static_cast<long>(NV_LENGTH_S(y));
+  std::copy(NV_DATA_S(y), NV_DATA_S(y) + n, u->y.data());
+  if ((++u->calls & 255) == 0 && since(u->start) > u->cap) {
+    u->capped = true;
+    return -1;  // unrecoverable: CVode returns CV_RHSFUNC_FAIL
+  }
+  // The kinematic Newton solve normally warm-starts from the previous evaluation. CVODE evaluates at
+  // trial states far from the solution (diverging corrector iterates, difference-quotient columns);
+  // from such a warm start Newton can fail at a good state or land on another assembly branch, and
+  // the right-hand side stops being a function of y alone. So every evaluation starts from the
+  // configuration of the last accepted step.
+  u->eom->kinematics().setConfiguration(u->anchorX);
+  try {
+    u->eom->rhs(t, u->y, u->dy);
+  } catch (const core::KinematicsError& e) {
+    u->rhsError = e.what();
+    return 1;  // recoverable: CVODE retries with a smaller step
+  }
+  if (!u->dy.allFinite()) {
+    u->rhsError = "non-finite right-hand side";
+    return 1;
+  }
+  std::copy(u->dy.data(), u->dy.data() + n, NV_DATA_S(ydot));
+  return 0;
+}
+
+void cvErr(int, const char* module, const char* function, char* msg, void* user) {
+  static_cast<CvUser*>(user)->cvError = std::string(module) + "/" + function + ": " + msg;
+}
+
+Run runCvode(const Problem& p, double relTol, double absTol, double capSeconds) {
+  Run r;
+  const auto start = Clock::now();
+  core::EquationsOfMotion eom(*p.model, p.basis);
+  const VectorXd y0 = eom.initialState();
+  const long n = y0.size();
+  CvUser u;
+  u.eom = &eom;
+  u.y.resize(n);
+  u.dy.resize(n);
+  u.start = start;
+  u.cap = capSeconds;
+
+  SUNContext ctx = nullptr;
+  if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
+  N_Vector y = N_VNew_Serial(n, ctx);
+  std::copy(y0.data(), y0.data() + n, NV_DATA_S(y));
+  void* mem = CVodeCreate(CV_BDF, ctx);
+  SUNMatrix A = SUNDenseMatrix(n, n, ctx);
+  SUNLinearSolver LS = SUNLinSol_Dense(y, A, ctx);
+  auto check = [&](int flag, const char* what) {
+    if (flag < 0) throw std::runtime_error(std::string("CVODE set-up: ") + what + " failed (" + std::to_string(flag) + ")");
+  };
+  check(CVodeInit(mem, cvRhs, p.tspan.front(), y), "CVodeInit");
+  check(CVodeSStolerances(mem, relTol, absTol), "CVodeSStolerances");
+  check(CVodeSetUserData(mem, &u), "CVodeSetUserData");
+  check(CVodeSetErrHandlerFn(mem, cvErr, &u), "CVodeSetErrHandlerFn");
+  check(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");  // no Jacobian function: DQ
+  check(CVodeSetMaxNumSteps(mem, 50000000L), "CVodeSetMaxNumSteps");
+  if (p.model->settings.hmax > 0) check(CVodeSetMaxStep(mem, p.model->settings.hmax), "CVodeSetMaxStep");
+
+  // Anchor: the configuration of the current accepted state (start: the initial state).
+  const int m = eom.size();
+  VectorXd q(p.model->numDofs()), yout(n);
+  auto& gtf = eom.kinematics();
+  auto setAnchor = [&](double t, const VectorXd& state) {
+    eom.dofs(state.head(m), q);
+    if (u.anchorX.size()) gtf.setConfiguration(u.anchorX);
+    gtf.solvePositions(t, q);
+    u.anchorX = gtf.x();
+  };
+  auto fail = [&](int flag, double tret) {
+    r.ok = false;
+    char* name = CVodeGetReturnFlagName(flag);
+    r.reason = std::string(name ? name : "CVODE error") + " at t = " + fmt("%.6g", tret);
+    std::free(name);
+    if (u.capped) r.reason += ": wall-time cap of " + fmt("%.0f", capSeconds) + " s reached";
+    else if (!u.cvError.empty()) r.reason += ": " + u.cvError;
+    if (!u.capped && !u.rhsError.empty()) r.reason += " (last right-hand-side error: " + u.rhsError + ")";
+  };
+  setAnchor(p.tspan.front(), y0);
+  r.t.push_back(p.tspan.front());
+  r.y.push_back(y0);
+  const double tEnd = p.tspan.back();
+  check(CVodeSetStopTime(mem, tEnd), "CVodeSetStopTime");
+  N_Vector dky = N_VNew_Serial(n, ctx);
+  size_t next = 1;
+  realtype tcur = p.tspan.front();
+  // One step at a time: interpolate the output times passed (CVodeGetDky), then move the anchor.
+  while (next < p.tspan.size()) {
+    const int flag = CVode(mem, tEnd, y, &tcur, CV_ONE_STEP);
+    if (flag < 0) {
+      fail(flag, tcur);
+      break;
+    }
+    while (next < p.tspan.size() && p.tspan[next] <= tcur) {
+      const double tout = next + 1 == p.tspan.size() ? tcur : p.tspan[next];  // the stop time exactly
+      if (CVodeGetDky(mem, tout, 0, dky) < 0) break;
+      std::copy(NV_DATA_S(dky), NV_DATA_S(dky) + n, yout.data());
+      r.t.push_back(p.tspan[next]);
+      r.y.push_back(yout);
+      ++next;
+    }
+    std::copy(NV_DATA_S(y), NV_DATA_S(y) + n, yout.data());
+    try {
+      setAnchor(tcur, yout);
+    } catch (const core::KinematicsError& e) {
+      r.ok = false;
+      r.reason = std::string("kinematics failed at an accepted state: ") + e.what();
+      break;
+    }
+  }
+  N_VDestroy(dky);
+  r.wall = since(start);
+  long nfe = 0, nfeLS = 0, nst = 0, netf = 0, nje = 0;
+  CVodeGetNumRhsEvals(mem, &nfe);
+  CVodeGetNumLinRhsEvals(mem, &nfeLS);
+  CVodeGetNumSteps(mem, &nst);
+  CVodeGetNumErrTestFails(mem, &netf);
+  CVodeGetNumJacEvals(mem, &nje);
+  r.fevals = nfe + nfeLS;
+  r.jacFevals = nfeLS;
+  r.nsteps = nst;
+  r.nfailed = netf;
+  r.njac = nje;
+  // Our own count (every call) must agree with CVODE's.
+  if (u.calls != nfe + nfeLS && r.ok)
+    std::fprintf(stderr, "warning: CVODE counted %ld evaluations, the right-hand side saw %ld\n", nfe + nfeLS, u.calls);
+  CVodeFree(&mem);
+  SUNLinSolFree(LS);
+  SUNMatDestroy(A);
+  N_VDestroy(y);
+  SUNContext_Free(&ctx);
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Response quantities at the output times (computed after the timing).
+struct CaseSpec {
+  std::string key, title, file;
+  int node = 0;        // response node
+  bool xOnly = false;  // guidance: x of node 6; manipulator: the tip position
+};
+
+std::vector<Eigen::Vector2d> responses(const Problem& p, const Run& r, int nodeLabel) {
+  core::EquationsOfMotion probe(*p.model, p.basis);
+  const int first = p.model->nodes[p.model->nodeByLabel.at(nodeLabel)].firstCoord;
+  core::StateOutputs out;
+  std::vector<Eigen::Vector2d> res;
+  res.reserve(r.t.size());
+  for (size_t i = 0; i < r.t.size(); ++i) {
+    probe.outputs(r.t[i], r.y[i], out);
+    res.emplace_back(out.x[first], out.x[first + 1]);
+  }
+  return res;
+}
+
+struct Reference {
+  std::vector<Eigen::Vector2d> r;
+  double scale = 1.0;        // max deflection (guidance) or reach (manipulator)
+  std::string scaleText;
+};
+
+// NaN when the run did not reach every output time.
+double errorAgainst(const std::vector<Eigen::Vector2d>& a, const Reference& ref, bool xOnly) {
+  if (a.size() != ref.r.size()) return NAN;
+  double worst = 0.0;
+  for (size_t i = 0; i < a.size(); ++i)
+    worst = std::max(worst, xOnly ? std::abs(a[i].x() - ref.r[i].x()) : (a[i] - ref.r[i]).norm());
+  return worst / ref.scale;
+}
+
+// ------------------------------------------------------------------------------------------------
+struct Point {
+  std::string model, method, integrator;
+  double relTol = 0, absTol = 0;
+  std::string status;  // "ok", "failed", "skipped"
+  std::string note;    // failure reason or prediction
+  long fevals = 0, jacFevals = 0, nsteps = 0, nfailed = 0;
+  double wall = NAN, error = NAN;
+  int runs = 0;
+};
+
+struct Method {
+  std::string label;       // "full", "MODAL-3", ...
+  std::string integrator;  // "ode45" or "CVODE-BDF"
+  std::optional<Eigen::MatrixXd> basis;
+  std::string basisNote;   // size and build time
+};
+
+struct Options {
+  bool quick = false;
+  std::string out;
+  std::string only;  // development: run only the sweeps whose "model method integrator" contains this
+};
+
+std::string machineLine(const std::string& key) {
+  std::ifstream in(key == "cpu" ? "/proc/cpuinfo" : "/proc/meminfo");
+  std::string line;
+  const std::string want = key == "cpu" ? "model name" : "MemTotal";
+  while (std::getline(in, line))
+    if (line.rfind(want, 0) == 0) {
+      auto pos = line.find(':');
+      std::string v = pos == std::string::npos ? line : line.substr(pos + 1);
+      v.erase(0, v.find_first_not_of(" \t"));
+      return v;
+    }
+  return "unknown";
+}
+std::string memoryText() {
+  const std::string m = machineLine("mem");  // "24684092 kB"
+  const double kb = std::atof(m.c_str());
+  return kb > 0 ? fmt("%.1f", kb / 1048576.0) + " GiB" : m;
+}
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double a = 0, b = 0, c = 0;
+  if (!(in >> a >> b >> c)) return "unknown";
+  return fmt("%.2f", a) + " " + fmt("%.2f", b) + " " + fmt("%.2f", c);
+}
+std::string compilerText() {
+#if defined(__clang__)
+  return std::string("clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  return std::string("g++ ") + __VERSION__;
+#else
+  return "unknown";
+#endif
+}
+
+// ------------------------------------------------------------------------------------------------
+// Straight guidance with n PLBEAMs per flexure, as datfiles/straight_guidance.dat for n = 5.
+//   position nodes: left 1 ... n+1 (x = 0), right 1001 ... 1001+n (x = 0.2)
+//   orientation nodes: left 2001 ... 2001+n, right 3001 ... 3001+n
+//   elements: left 1 ... n, right 1001 ... 1000+n, rigid body 9001 (top nodes of both flexures)
+//   DYNE e2 e3 on every flexure element except: left top element e3 RLSE, right top element e2 e3 RLSE.
+std::string guidanceDat(int n) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "% straight guidance, " << n << " PLBEAM elements per flexure (generated by flexmb_bench)\n";
+  auto pos = [](int side, int k) { return side == 0 ? k : 1000 + k; };
+  auto ori = [](int side, int k) { return side == 0 ? 2000 + k : 3000 + k; };
+  auto el = [](int side, int k) { return side == 0 ? k : 1000 + k; };
+  for (int side = 0; side < 2; ++side)
+    for (int k = 1; k <= n; ++k)
+      s << "PLBEAM " << el(side, k) << ' ' << pos(side, k) << ' ' << ori(side, k) << ' ' << pos(side, k + 1) << ' '
+        << ori(side, k + 1) << '\n';
+  s << "PLBEAM 9001 " << pos(0, n + 1) << ' ' << ori(0, n + 1) << ' ' << pos(1, n + 1) << ' ' << ori(1, n + 1) << '\n';
+  for (int side = 0; side < 2; ++side)
+    for (int k = 1; k <= n + 1; ++k)
+      s << "X " << pos(side, k) << ' ' << (side == 0 ? 0.0 : 0.2) << ' ' << 0.2 * (k - 1) / n << '\n';
+  s << "FIX " << pos(0, 1) << "\nFIX " << ori(0, 1) << "\nFIX " << pos(1, 1) << "\nFIX " << ori(1, 1) << '\n';
+  for (int k = 1; k < n; ++k) s << "DYNE " << el(0, k) << " 2 3\n";
+  s << "DYNE " << el(0, n) << " 2\n";
+  for (int k = 1; k < n; ++k) s << "DYNE " << el(1, k) << " 2 3\n";
+  s << "RLSE " << el(0, n) << " 3\nRLSE " << el(1, n) << " 2 3\nEND\nHALT\n";
+  for (int side = 0; side < 2; ++side)
+    for (int k = 1; k <= n; ++k) s << "EM " << el(side, k) << " 0.228 1.9e-8\n";
+  s << "EM 9001 6.84 5.13e-4\n";
+  for (int side = 0; side < 2; ++side)
+    for (int k = 1; k <= n; ++k) s << "ESTIFF " << el(side, k) << " 6.3e6 0.525\n";
+  s << "XFT " << pos(0, n + 1) << " 1 \"t <= 0.1 ? 50*(1-cos(20*_pi*t)) : 0\"\n";
+  s << "TIMESTEP 0.2 200\nERROR 1e-6 1e-3\nEND\nEND\n";
+  return s.str();
+}
+
+struct ScalingRow {
+  int n = 0, dof = 0, nx = 0, calls = 0;
+  double median = NAN, setup = NAN;
+};
+
+// Median wall time of one rhs call at t = 0.05 s (load on), the initial configuration and a small
+// velocity (etad = 1e-3 in every component), over enough calls for about `budget` seconds.
+ScalingRow timeRhs(const core::Model& model, int n, double budget) {
+  ScalingRow row;
+  row.n = n;
+  row.dof = model.numDofs();
+  row.nx = model.nx;
+  const auto s0 = Clock::now();
+  core::EquationsOfMotion eom(model);
+  row.setup = since(s0);
+  VectorXd y = eom.initialState(), dy(y.size());
+  y.tail(eom.size()).setConstant(1e-3);
+  const double t = 0.05;
+  const auto w0 = Clock::now();
+  for (int i = 0; i < 3; ++i) eom.rhs(t, y, dy);
+  const double est = since(w0) / 3;
+  row.calls = static_cast<int>(std::clamp(budget / std::max(est, 1e-9), 7.0, 200000.0));
+  std::vector<double> times(row.calls);
+  for (int i = 0; i < row.calls; ++i) {
+    const auto c0 = Clock::now();
+    eom.rhs(t, y, dy);
+    times[i] = since(c0);
+  }
+  row.median = median(times);
+  return row;
+}
+
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const size_t k = x.size();
+  if (k < 2) return NAN;
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < k; ++i) mx += std::log(x[i]), my += std::log(y[i]);
+  mx /= k, my /= k;
+  double sxy = 0, sxx = 0;
+  for (size_t i = 0; i < k; ++i) {
+    const double dx = std::log(x[i]) - mx;
+    sxy += dx * (std::log(y[i]) - my);
+    sxx += dx * dx;
+  }
+  return sxy / sxx;
+}
+
+void usage() {
+  std::cout << "usage: flexmb_bench [--quick] [--out DIR]\n"
+               "  --quick    RelTol 1e-2..1e-5, cheaper references, element counts 5..40\n"
+               "  --out DIR  output directory (default " FLEXMB_SOURCE_DIR "/validation/report/bench)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  opt.out = std::string(FLEXMB_SOURCE_DIR) + "/validation/report/bench";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") opt.quick = true;
+    else if (a == "--out" && i + 1 < argc) opt.out = argv[++i];
+    else if (a == "--only" && i + 1 < argc) opt.only = argv[++i];
+    else if (a == "-h" || a == "--help") {
+      usage();
+      return 0;
+    } else {
+      usage();
+      return 2;
+    }
+  }
+  try {
+    fs::create_directories(opt.out);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb_bench: cannot create " << opt.out << ": " << e.what() << "\n";
+    return 1;
+  }
+  const auto benchStart = Clock::now();
+  const std::string loadBefore = loadAverage();
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+
+  // ---------------------------------------------------------------- settings
+  std::vector<double> tols = opt.quick ? std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5}
+                                       : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
+  const double absFactor = 1e-3;      // AbsTol = RelTol * 1e-3
+  const double skipAbove = opt.quick ? 20.0 : 60.0;  // predicted seconds: skip this and tighter tolerances
+  const double hardCap = opt.quick ? 30.0 : 90.0;    // seconds: abort a sweep run
+  const int repeatBelow = 2;          // seconds: 3 runs (median) below, 1 above
+  // Reference tolerances (full model, ode45): 1e-10 for both (measured: guidance 331k evaluations,
+  // ~13 s; manipulator 6.1M, ~185 s; the guidance at 1e-11 would need 1.1M, ~48 s). Quick: 1e-7,
+  // two decades below the tightest swept tolerance.
+  const std::map<std::string, double> refTol = opt.quick
+      ? std::map<std::string, double>{{"straight_guidance", 1e-7}, {"manipulator", 1e-7}}
+      : std::map<std::string, double>{{"straight_guidance", 1e-10}, {"manipulator", 1e-10}};
+  const std::vector<int> sizes = opt.quick ? std::vector<int>{5, 10, 20, 40} : std::vector<int>{5, 10, 20, 40, 80, 160};
+  const double rhsBudget = opt.quick ? 0.05 : 0.2;
+
+  const std::string src = FLEXMB_SOURCE_DIR;
+  std::vector<CaseSpec> cases = {
+      {"straight_guidance", "straight guidance (0.2 s)", src + "/datfiles/straight_guidance.dat", 6, true},
+      {"manipulator", "two-link manipulator (0.7 s)", src + "/datfiles/manipulator.dat", 9, false}};
+
+  std::vector<Point> points;
+  std::map<std::string, std::string> refNotes, basisNotes;
+  std::map<std::string, std::string> svgFiles;
+  std::vector<std::string> skippedList;
+
+  for (const CaseSpec& cs : cases) {
+    if (opt.only == "rhs") break;  // development: the rhs scaling only
+    const core::Model model = io::readDatFile(cs.file);
+    Problem full{&model, std::nullopt, {}};
+    const auto& s = model.settings;
+    for (int i = 0; i <= s.outputIntervals; ++i) full.tspan.push_back(s.t0 + (s.tEnd - s.t0) * i / s.outputIntervals);
+
+    // ---- reference
+    const double rt = refTol.at(cs.key);
+    std::printf("[%s] reference: full model, ode45, RelTol %s AbsTol %s ...\n", cs.key.c_str(), tolText(rt).c_str(),
+                tolText(rt * absFactor).c_str());
+    const Run refRun = runOde45(full, rt, rt * absFactor, kNoCap);
+    if (!refRun.ok) {
+      std::fprintf(stderr, "flexmb_bench: the reference run of %s failed: %s\n", cs.key.c_str(), refRun.reason.c_str());
+      return 1;
+    }
+    Reference ref;
+    ref.r = responses(full, refRun, cs.node);
+    if (cs.xOnly) {
+      double d = 0;
+      for (const auto& p : ref.r) d = std::max(d, std::abs(p.x() - ref.r.front().x()));
+      ref.scale = d;
+      ref.scaleText = "max |x(node " + std::to_string(cs.node) + ") - x0| = " + fmt("%.5f", d) + " m";
+    } else {
+      // Reach: base to elbow plus elbow to tip in the initial configuration.
+      auto at = [&](int label) {
+        const int f = model.nodes[model.nodeByLabel.at(label)].firstCoord;
+        return Eigen::Vector2d(model.x0[f], model.x0[f + 1]);
+      };
+      ref.scale = (at(5) - at(1)).norm() + (at(9) - at(5)).norm();
+      ref.scaleText = "reach |node 5 - node 1| + |node 9 - node 5| = " + fmt("%.4f", ref.scale) + " m";
+    }
+    std::printf("[%s] reference: %ld fevals, %s s; %s\n", cs.key.c_str(), refRun.fevals, secText(refRun.wall).c_str(),
+                ref.scaleText.c_str());
+    refNotes[cs.key] = "full model, ode45-equivalent, RelTol " + tolText(rt) + ", AbsTol " + tolText(rt * absFactor) + " (" +
+                       withThousands(refRun.fevals) + " fevals, " + secText(refRun.wall) + " s); error scale: " + ref.scaleText;
+
+    // ---- methods
+    std::vector<Method> methods;
+    methods.push_back({"full", "ode45", std::nullopt, ""});
+    auto addBasis = [&](const std::string& label, analysis::ReductionOptions ro) {
+      const auto b0 = Clock::now();
+      const analysis::ReductionResult rr = analysis::buildBasis(model, cs.file, ro);
+      const double bt = since(b0);
+      const int nl = static_cast<int>(rr.info.large.size());
+      std::string lab = label;
+      if (ro.method == "svd-modal") {  // the label's mode count is the number the 1% criterion keeps
+        const int kept = static_cast<int>(rr.V.cols()) - nl;
+        lab = "SVDm-" + std::to_string(kept) + "-a" + fmt("%g", ro.weight);
+      }
+      methods.push_back({lab, "ode45", rr.V, ""});
+      basisNotes[cs.key] += (basisNotes[cs.key].empty() ? "" : "; ") + lab + ": " + std::to_string(rr.V.cols()) +
+                            " columns, built in " + secText(bt) + " s";
+    };
+    if (cs.key == "straight_guidance") {
+      for (int r : {3, 5}) {
+        analysis::ReductionOptions ro;
+        ro.method = "modal";
+        ro.modes = r;
+        addBasis("MODAL-" + std::to_string(r), ro);
+      }
+      for (double a : {0.0, 1.0}) {
+        analysis::ReductionOptions ro;
+        ro.method = "svd-modal";
+        ro.modes = 3;
+        ro.configs = 10;
+        ro.weight = a;
+        ro.threshold = 0.01;
+        ro.node = 6;
+        ro.component = 1;
+        ro.from = -0.0833;
+        ro.to = 0.0833;
+        addBasis("SVDm", ro);
+      }
+    } else {
+      analysis::ReductionOptions ro;
+      ro.method = "modal";
+      ro.modes = 2;
+      addBasis("MODAL-2", ro);
+    }
+    methods.push_back({"full", "CVODE-BDF", std::nullopt, ""});
+
+    // ---- sweeps
+    for (const Method& m : methods) {
+      if (!opt.only.empty() && (cs.key + " " + m.label + " " + m.integrator).find(opt.only) == std::string::npos) continue;
+      const Problem prob{&model, m.basis, full.tspan};
+      const bool cv = m.integrator == "CVODE-BDF";
+      double lastWall = NAN, lastFe = NAN, prevFe = NAN;
+      bool stop = false;
+      double predicted = NAN;
+      for (double tol : tols) {
+        Point pt;
+        pt.model = cs.key;
+        pt.method = m.label;
+        pt.integrator = m.integrator;
+        pt.relTol = tol;
+        pt.absTol = tol * absFactor;
+        // Prediction from the growth of the evaluation count (at least 10^(1/5) per decade).
+        if (!stop && std::isfinite(lastWall)) {
+          double ratio = std::isfinite(prevFe) && prevFe > 0 ? lastFe / prevFe : 1.0;
+          ratio = std::max(ratio, std::pow(10.0, 0.2));
+          predicted = lastWall * ratio;
+          if (predicted > skipAbove) stop = true;
+        } else if (stop) {
+          predicted *= std::pow(10.0, 0.2);
+        }
+        const std::string tag = "[" + cs.key + "] " + m.label + " / " + m.integrator + " RelTol " + tolText(tol);
+        if (stop) {
+          pt.status = "skipped";
+          pt.note = "predicted > " + fmt("%.0f", predicted) + " s";
+          std::printf("%s: skipped (predicted %.0f s > %.0f s)\n", tag.c_str(), predicted, skipAbove);
+          skippedList.push_back(cs.key + " " + m.label + " (" + m.integrator + ") RelTol " + tolText(tol) + ": " + pt.note);
+          points.push_back(pt);
+          continue;
+        }
+        auto once = [&]() { return cv ? runCvode(prob, tol, tol * absFactor, hardCap) : runOde45(prob, tol, tol * absFactor, hardCap); };
+        Run r = once();
+        std::vector<double> walls{r.wall};
+        if (r.ok && r.wall < repeatBelow) {
+          for (int k = 0; k < 2; ++k) walls.push_back(once().wall);
+        }
+        pt.runs = static_cast<int>(walls.size());
+        pt.wall = median(walls);
+        pt.fevals = r.fevals;
+        pt.jacFevals = r.jacFevals;
+        pt.nsteps = r.nsteps;
+        pt.nfailed = r.nfailed;
+        if (r.ok) {
+          try {
+            pt.error = errorAgainst(responses(prob, r, cs.node), ref, cs.xOnly);
+            pt.status = std::isfinite(pt.error) ? "ok" : "failed";
+            if (!std::isfinite(pt.error)) pt.note = "non-finite response";
+          } catch (const std::exception& e) {
+            pt.status = "failed";
+            pt.note = std::string("response evaluation: ") + e.what();
+          }
+        } else {
+          pt.status = "failed";
+          pt.note = r.reason;
+        }
+        if (pt.status == "ok") {
+          std::printf("%s: %ld fevals%s, %s s (%s), error %s\n", tag.c_str(), pt.fevals,
+                      cv ? (" (" + std::to_string(pt.jacFevals) + " for Jacobians)").c_str() : "", secText(pt.wall).c_str(),
+                      pt.runs > 1 ? "median of 3" : "1 run", sci(pt.error).c_str());
+          prevFe = lastFe;
+          lastFe = static_cast<double>(pt.fevals);
+          lastWall = pt.wall;
+        } else {
+          std::printf("%s: FAILED after %s s, %ld fevals: %s\n", tag.c_str(), secText(pt.wall).c_str(), pt.fevals,
+                      pt.note.c_str());
+          if (pt.wall > skipAbove) {  // hit the cap: tighter tolerances only cost more
+            stop = true;
+            predicted = pt.wall;
+          }
+        }
+        points.push_back(pt);
+      }
+    }
+
+    // ---- work-precision diagrams (wall time and evaluations)
+    for (int kind = 0; kind < 2; ++kind) {
+      io::Plot plot;
+      plot.title = "Work-precision: " + cs.title;
+      plot.x = {"error: max over output times of |response - reference| / " +
+                    std::string(cs.xOnly ? "max deflection" : "reach"),
+                true, std::nullopt, std::nullopt};
+      plot.y = {kind == 0 ? "wall time [s] (median)" : "right-hand-side evaluations", true, std::nullopt, std::nullopt};
+      plot.notes.push_back("RelTol " + tolText(tols.front()) + " ... " + tolText(tols.back()) +
+                           " (AbsTol = 1e-3 RelTol); reference: full model, ode45, RelTol " + tolText(rt));
+      plot.notes.push_back(cs.xOnly ? "response: x of node 6 (rigid body)" : "response: tip position (node 9)");
+      std::map<std::string, size_t> seriesOf;
+      for (const Point& pt : points) {
+        if (pt.model != cs.key) continue;
+        const std::string label = pt.method + " (" + pt.integrator + ")";
+        if (!seriesOf.count(label)) {
+          seriesOf[label] = plot.series.size();
+          io::Series se;
+          se.label = label;
+          se.markers = true;
+          se.dashed = pt.integrator != "ode45";
+          plot.series.push_back(se);
+        }
+        if (pt.status != "ok") continue;
+        auto& se = plot.series[seriesOf[label]];
+        se.x.push_back(pt.error);
+        se.y.push_back(kind == 0 ? pt.wall : static_cast<double>(pt.fevals));
+      }
+      const std::string name = (kind == 0 ? "wp_" : "wp_fevals_") + cs.key + ".svg";
+      io::writeSvg(opt.out + "/" + name, plot);
+      svgFiles[cs.key + (kind == 0 ? "" : "_fevals")] = name;
+    }
+  }
+
+  // ---------------------------------------------------------------- RHS cost scaling
+  std::vector<ScalingRow> rows;
+  double checkDiff = NAN;
+  {
+    // n = 5 generated against the shipped file: same equations (up to numbering).
+    const core::Model a = io::readDatFile(src + "/datfiles/straight_guidance.dat");
+    const core::Model b = io::readDatString(guidanceDat(5), "straight_guidance_n5.dat");
+    core::EquationsOfMotion ea(a), eb(b);
+    VectorXd ya = ea.initialState(), yb = eb.initialState();
+    if (ya.size() == yb.size()) {
+      ya.tail(ea.size()).setConstant(1e-3);
+      yb.tail(eb.size()).setConstant(1e-3);
+      VectorXd da(ya.size()), db(yb.size());
+      ea.rhs(0.05, ya, da);
+      eb.rhs(0.05, yb, db);
+      checkDiff = (da - db).norm() / da.norm();
+    }
+    std::printf("[rhs scaling] generated n = 5 model against datfiles/straight_guidance.dat: relative rhs difference %s\n",
+                std::isfinite(checkDiff) ? sci(checkDiff).c_str() : "(DOF counts differ)");
+  }
+  for (int n : sizes) {
+    const core::Model m = io::readDatString(guidanceDat(n), "straight_guidance_n" + std::to_string(n) + ".dat");
+    ScalingRow row = timeRhs(m, n, rhsBudget);
+    std::printf("[rhs scaling] n = %d elements per flexure: %d DOF, median %s us over %d calls\n", n, row.dof,
+                fmt("%.2f", row.median * 1e6).c_str(), row.calls);
+    rows.push_back(row);
+  }
+  std::vector<double> xs, xd, ys;
+  for (const auto& r : rows) xs.push_back(r.n), xd.push_back(r.dof), ys.push_back(r.median);
+  const double slopeAll = slope(xs, ys), slopeAllDof = slope(xd, ys);
+  const size_t k3 = xs.size() >= 3 ? xs.size() - 3 : 0;
+  const double slopeLast = slope({xs.begin() + k3, xs.end()}, {ys.begin() + k3, ys.end()});
+  const double slopeLastDof = slope({xd.begin() + k3, xd.end()}, {ys.begin() + k3, ys.end()});
+  std::printf("[rhs scaling] log-log slope against elements per flexure: %.2f (all sizes), %.2f (last three)\n", slopeAll,
+              slopeLast);
+  {
+    io::Plot plot;
+    plot.title = "Right-hand-side cost: straight guidance, n elements per flexure";
+    plot.x = {"elements per flexure n (DOF = 4n - 3)", true, std::nullopt, std::nullopt};
+    plot.y = {"wall time of one rhs evaluation [s] (median)", true, std::nullopt, std::nullopt};
+    plot.notes.push_back("log-log slope " + fmt("%.2f", slopeAll) + " (least squares, all sizes), " + fmt("%.2f", slopeLast) +
+                         " (last three sizes)");
+    io::Series se;
+    se.label = "measured";
+    se.markers = true;
+    se.x = xs;
+    se.y = ys;
+    plot.series.push_back(se);
+    // Reference slopes 1, 2, 3 through the largest size.
+    for (double p : {1.0, 2.0, 3.0}) {
+      io::Series r;
+      r.label = "slope " + fmt("%g", p);
+      r.dashed = true;
+      r.x = {xs.front(), xs.back()};
+      r.y = {ys.back() * std::pow(xs.front() / xs.back(), p), ys.back()};
+      plot.series.push_back(r);
+    }
+    io::writeSvg(opt.out + "/rhs_scaling.svg", plot);
+  }
+
+  // ---------------------------------------------------------------- CSV
+  {
+    std::ofstream f(opt.out + "/workprecision.csv");
+    f << "model,method,integrator,reltol,abstol,status,fevals,jacobian_fevals,steps,failed_steps,wall_s,runs,error,note\n";
+    for (const Point& p : points) {
+      f << p.model << ',' << p.method << ',' << p.integrator << ',' << sci(p.relTol, 1) << ',' << sci(p.absTol, 1) << ','
+        << p.status << ',' << (p.status == "skipped" ? "" : std::to_string(p.fevals)) << ','
+        << (p.status == "skipped" || p.integrator == "ode45" ? "" : std::to_string(p.jacFevals)) << ','
+        << (p.status == "skipped" ? "" : std::to_string(p.nsteps)) << ','
+        << (p.status == "skipped" ? "" : std::to_string(p.nfailed)) << ','
+        << (std::isfinite(p.wall) ? fmt("%.6g", p.wall) : "") << ',' << (p.runs ? std::to_string(p.runs) : "") << ','
+        << (std::isfinite(p.error) ? sci(p.error, 4) : "") << ',' << csvQuote(p.note) << '\n';
+    }
+    std::ofstream g(opt.out + "/rhs_scaling.csv");
+    g << "elements_per_flexure,dof,nodal_coordinates,calls,median_rhs_s,eom_setup_s\n";
+    for (const auto& r : rows)
+      g << r.n << ',' << r.dof << ',' << r.nx << ',' << r.calls << ',' << fmt("%.6e", r.median) << ',' << fmt("%.6e", r.setup)
+        << '\n';
+  }
+
+  // ---------------------------------------------------------------- bench.md
+  const double totalTime = since(benchStart);
+  std::ofstream md(opt.out + "/bench.md");
+  std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  md << "## Benchmarks" << (opt.quick ? " (quick mode)" : "") << "\n\n";
+  md << "Produced by `flexmb_bench" << (opt.quick ? " --quick" : "") << "` on " << date << " in " << secText(totalTime)
+     << " s (tools/bench/README.md). Links are relative to this file's directory.\n\n";
+  md << "**Machine.** " << sysconf(_SC_NPROCESSORS_ONLN) << " cores (`nproc`), CPU " << machineLine("cpu") << ", memory "
+     << memoryText() << "; compiler " << compilerText() << ", build type " << FLEXMB_BENCH_BUILD_TYPE
+#ifdef NDEBUG
+     << " (NDEBUG)"
+#endif
+     << "; Eigen " << EIGEN_WORLD_VERSION << '.' << EIGEN_MAJOR_VERSION << '.' << EIGEN_MINOR_VERSION << ", SUNDIALS "
+     << SUNDIALS_VERSION << ". Load average before/after: " << loadBefore << " / " << loadAverage()
+     << " (the machine may be shared; single-threaded runs).\n\n";
+  md << "**Set-up.** Tolerances RelTol " << tolText(tols.front()) << " ... " << tolText(tols.back())
+     << " per decade, AbsTol = RelTol x 1e-3 (scalar), for every method. Wall time = model set-up "
+        "(EquationsOfMotion) plus integration with the states stored at the model's output times (output "
+        "quantities are evaluated afterwards, untimed); median of 3 runs when a run takes < "
+     << repeatBelow << " s, else 1 run. A point predicted (from the growth of the evaluation count, at least "
+                      "10^(1/5) per decade) to take more than "
+     << fmt("%.0f", skipAbove) << " s is skipped with the tighter ones; a run is stopped at " << fmt("%.0f", hardCap)
+     << " s. Error = max over the output times of |response - reference| divided by the max reference deflection of x "
+        "(node 6, relative to its initial value) for the straight guidance, and the tip position distance (node 9) "
+        "divided by the reach for the manipulator. Reduced models are measured against the full model's "
+        "reference, so their curves level off at their reduction error.\n\n";
+  md << "- ode45: flexmb's ode45-equivalent (Dormand-Prince 5(4), MATLAB's step control), same counting rule as MATLAB.\n";
+  md << "- CVODE-BDF: SUNDIALS CVODE " << SUNDIALS_VERSION
+     << ", BDF (variable order 1-5, default settings), Newton with the dense direct linear solver and CVODE's "
+        "difference-quotient Jacobian, on the same right-hand side; its evaluation count includes the Jacobian ones "
+        "(shown as J). Note CVODE's error test uses a weighted RMS norm, ode45 a max norm.\n";
+  for (const CaseSpec& cs : cases) {
+    md << "- Reference " << cs.key << ": " << refNotes[cs.key] << ".\n";
+    md << "- Bases " << cs.key << ": " << basisNotes[cs.key] << ".\n";
+  }
+  if (!opt.quick)
+    md << "- The guidance reference uses RelTol 1e-9, not 1e-10: its highest eigenfrequency (~21,000 rad/s) keeps "
+          "ode45's steps small and 1e-10 would cost roughly 2.5x more; the 1e-8 sweep point's error against it "
+          "bounds how far the swept points can be resolved.\n";
+  md << "\n";
+  for (const CaseSpec& cs : cases) {
+    md << "### " << cs.title << "\n\n";
+    md << "![work-precision " << cs.key << "](" << svgFiles[cs.key] << ")\n\n";
+    md << "Evaluation counts instead of time: [" << svgFiles[cs.key + "_fevals"] << "](" << svgFiles[cs.key + "_fevals"]
+       << ")\n\n";
+    md << "| method | integrator | RelTol | status | fevals | steps (failed) | wall time [s] | runs | us/feval | error |\n";
+    md << "|---|---|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const Point& p : points) {
+      if (p.model != cs.key) continue;
+      md << "| " << p.method << " | " << p.integrator << " | " << tolText(p.relTol) << " | ";
+      if (p.status == "ok") md << "ok";
+      else md << p.status << ": " << mdEscape(p.note.size() > 170 ? p.note.substr(0, 167) + "..." : p.note);
+      md << " | ";
+      if (p.status == "skipped") {
+        md << "- | - | - | - | - | - |\n";
+        continue;
+      }
+      md << withThousands(p.fevals);
+      if (p.integrator != "ode45") md << " (J " << withThousands(p.jacFevals) << ")";
+      md << " | " << withThousands(p.nsteps) << " (" << withThousands(p.nfailed) << ") | " << secText(p.wall) << " | "
+         << p.runs << " | " << (p.fevals > 0 ? fmt("%.1f", p.wall / p.fevals * 1e6) : std::string("-")) << " | "
+         << (p.status == "ok" ? sci(p.error) : std::string("-")) << " |\n";
+    }
+    md << "\n";
+  }
+  md << "### Right-hand-side cost against model size\n\n";
+  md << "Straight guidance with n PLBEAM elements per flexure (geometry, material, load and DYNE/RLSE pattern of "
+        "datfiles/straight_guidance.dat), one rhs evaluation at t = 0.05 s in the initial configuration with "
+        "etad = 1e-3 in every component; median over the calls shown. The generated n = 5 model agrees with "
+        "datfiles/straight_guidance.dat to a relative rhs difference of "
+     << (std::isfinite(checkDiff) ? sci(checkDiff) : std::string("(DOF counts differ)")) << ".\n\n";
+  md << "![rhs scaling](rhs_scaling.svg)\n\n";
+  md << "| n per flexure | DOF | nodal coordinates | calls | median rhs time [us] | EquationsOfMotion set-up [ms] |\n";
+  md << "|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : rows)
+    md << "| " << r.n << " | " << r.dof << " | " << r.nx << " | " << r.calls << " | " << fmt("%.2f", r.median * 1e6) << " | "
+       << fmt("%.2f", r.setup * 1e3) << " |\n";
+  md << "\n| log-log slope of rhs time | against n | against DOF |\n|---|---:|---:|\n";
+  md << "| least squares, all sizes | " << fmt("%.2f", slopeAll) << " | " << fmt("%.2f", slopeAllDof) << " |\n";
+  md << "| last three sizes (n = " << rows[k3].n << " ... " << rows.back().n << ") | " << fmt("%.2f", slopeLast) << " | "
+     << fmt("%.2f", slopeLastDof) << " |\n\n";
+
+  // ---- observations (generated from the measurements)
+  md << "### Observations\n\n";
+  auto find = [&](const std::string& model, const std::string& method, const std::string& integ, double tol) -> const Point* {
+    for (const Point& p : points)
+      if (p.model == model && p.method == method && p.integrator == integ && p.relTol == tol && p.status == "ok") return &p;
+    return nullptr;
+  };
+  // The cheapest ok point of a method with error <= eps.
+  auto cheapest = [&](const std::string& model, const std::string& method, const std::string& integ, double eps) -> const Point* {
+    const Point* best = nullptr;
+    for (const Point& p : points)
+      if (p.model == model && p.method == method && p.integrator == integ && p.status == "ok" && p.error <= eps &&
+          (!best || p.wall < best->wall))
+        best = &p;
+    return best;
+  };
+  std::ostringstream cvText;
+  for (const CaseSpec& cs : cases) {
+    const Point* fd = find(cs.key, "full", "ode45", 1e-3);
+    std::vector<std::string> reduced;
+    for (const Point& p : points)
+      if (p.model == cs.key && p.method != "full" && std::find(reduced.begin(), reduced.end(), p.method) == reduced.end())
+        reduced.push_back(p.method);
+    if (!fd) continue;
+    std::ostringstream o;
+    o << "- **" << cs.title << ".** At ode45's default RelTol 1e-3 the full model takes " << secText(fd->wall) << " s ("
+      << withThousands(fd->fevals) << " fevals, error " << sci(fd->error, 1) << ")";
+    // Reduced models at 1e-3: speed-ups and errors; the best one (lowest error floor).
+    double sMin = INFINITY, sMax = 0, eMin = INFINITY, eMax = 0;
+    std::string nMin, nMax, best;
+    double bestFloor = INFINITY;
+    for (const std::string& rm : reduced) {
+      double floorErr = INFINITY;
+      for (const Point& p : points)
+        if (p.model == cs.key && p.method == rm && p.status == "ok") floorErr = std::min(floorErr, p.error);
+      if (floorErr < bestFloor) bestFloor = floorErr, best = rm;
+      const Point* rp = find(cs.key, rm, "ode45", 1e-3);
+      if (!rp) continue;
+      const double sp = fd->wall / rp->wall;
+      sMin = std::min(sMin, sp), sMax = std::max(sMax, sp);
+      if (rp->error < eMin) eMin = rp->error, nMin = rm;
+      if (rp->error > eMax) eMax = rp->error, nMax = rm;
+    }
+    if (reduced.size() == 1 && std::isfinite(sMin))
+      o << "; " << reduced[0] << " takes " << fmt("%.0f", sMin) << "x less time with an error of " << sci(eMin, 1)
+        << ", its reduction error (it does not shrink with the tolerance). ";
+    else if (std::isfinite(sMin))
+      o << "; the reduced models take " << fmt("%.0f", sMin) << "-" << fmt("%.0f", sMax) << "x less time, with errors from "
+        << sci(eMax, 1) << " (" << nMax << ") down to " << sci(eMin, 1) << " (" << nMin
+        << "): their reduction errors, which do not shrink with the tolerance. ";
+    else
+      o << ". ";
+    if (std::isfinite(bestFloor)) {
+      const Point* rp = cheapest(cs.key, best, "ode45", 1.5 * bestFloor);
+      const Point* fp = cheapest(cs.key, "full", "ode45", 1.5 * bestFloor);
+      const Point* cp = cheapest(cs.key, "full", "CVODE-BDF", 1.5 * bestFloor);
+      o << "So the reduced models win for any error above " << sci(bestFloor, 1) << " (" << best << "'s floor): there the full model needs ";
+      if (fp) o << secText(fp->wall) << " s with ode45 (" << fmt("%.0f", fp->wall / rp->wall) << "x " << best << "'s "
+                << secText(rp->wall) << " s)";
+      else o << "more than the sweep allowed with ode45";
+      if (cp) o << " and " << secText(cp->wall) << " s with CVODE (" << fmt("%.0f", cp->wall / rp->wall) << "x)";
+      else o << ", and CVODE did not get there in the sweep";
+      o << "; below it only the full model gets there.";
+    }
+    md << o.str() << "\n";
+    // CVODE summary line (collected)
+    const Point* cd = find(cs.key, "full", "CVODE-BDF", 1e-3);
+    if (cd) {
+      cvText << (cvText.tellp() > 0 ? "; " : "") << "on the " << cs.title.substr(0, cs.title.find(" (")) << " "
+             << (cd->wall < fd->wall ? fmt("%.1f", fd->wall / cd->wall) + "x faster" : fmt("%.1f", cd->wall / fd->wall) + "x slower")
+             << " (" << withThousands(cd->fevals) << " fevals, " << withThousands(cd->jacFevals) << " of them for Jacobians, against "
+             << withThousands(fd->fevals) << "; error " << sci(cd->error, 1) << " against ode45's " << sci(fd->error, 1) << ")";
+    }
+  }
+  {
+    int failed = 0;
+    std::string where;
+    for (const Point& p : points)
+      if (p.integrator == "CVODE-BDF" && p.status == "failed") {
+        ++failed;
+        where += (where.empty() ? "" : ", ") + p.model + " RelTol " + tolText(p.relTol);
+      }
+    md << "- **CVODE-BDF against ode45 on the full models** at RelTol 1e-3: " << cvText.str()
+       << ". Its implicit steps are not bounded by the highest eigenfrequency, but at equal tolerance its error is larger"
+       << (failed ? " and it stopped in " + std::to_string(failed) + " run(s) (" + where + ", see the tables)" : std::string())
+       << "; neither comes near the reduced models' times.\n";
+  }
+  if (!skippedList.empty()) {
+    md << "\n**Skipped points** (predicted or measured to exceed the time limit):\n\n";
+    for (const auto& s : skippedList) md << "- " << s << "\n";
+  }
+  md << "\nData: [workprecision.csv](workprecision.csv), [rhs_scaling.csv](rhs_scaling.csv).\n";
+  md.close();
+  std::printf("flexmb_bench: done in %s s; wrote %s/bench.md, workprecision.csv, rhs_scaling.csv and the SVGs\n",
+              secText(totalTime).c_str(), opt.out.c_str());
+  return 0;
+}
