@@ -9,6 +9,7 @@
 #include "io/ResultWriter.hpp"
 #include "solvers/Ode45.hpp"
 #include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;
@@ -26,6 +27,7 @@ int runSimulate(const std::vector<std::string>& args) {
   int intervals = -1;
   std::string out, format = "both", echo, basisFile;
   bool quiet = false;
+  int linearize = 0;
   d.add_options()("t-end", po::value(&tEnd), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol), "relative tolerance (default from the file or 1e-3)")(
       "abstol", po::value(&absTol), "absolute tolerance (default from the file or 1e-6)")(
@@ -35,6 +37,7 @@ int runSimulate(const std::vector<std::string>& args) {
       "format", po::value(&format), "csv, mat, both or none")(
       "echo", po::value(&echo), "write the final state as a restartable SPACAR95-style .dat")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
+      "linearize", po::value(&linearize), "mode 4: the N lowest eigenfrequencies along the trajectory (CSV)")(
       "quiet,q", po::bool_switch(&quiet), "no progress line");
   if (!parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return 2;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -80,6 +83,20 @@ int runSimulate(const std::vector<std::string>& args) {
       if (format == "mat" || format == "both") {
         io::writeMat(out + ".mat", model, traj);
         std::cout << "wrote " << out << ".mat\n";
+      }
+      if (linearize > 0) {
+        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis);
+        std::ofstream f(out + "_frequencies.csv");
+        f.precision(12);
+        f << "time";
+        for (int i = 0; i < linearize; ++i) f << ",f" << i + 1 << "_Hz";
+        f << "\n";
+        for (size_t k = 0; k < tm.time.size(); ++k) {
+          f << tm.time[k];
+          for (Eigen::Index i = 0; i < tm.omega[k].size(); ++i) f << "," << tm.omega[k][i] / (2 * M_PI);
+          f << "\n";
+        }
+        std::cout << "wrote " << out << "_frequencies.csv\n";
       }
       if (!echo.empty()) {
         std::ifstream in(m.file);

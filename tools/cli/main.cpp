@@ -49,9 +49,13 @@ int main(int argc, char** argv) {
       n = command.substr(7);
     }
     static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}, {"10", "static"}};
-    auto it = modes.find(n);
+    if (n == "4") {  // eigenfrequencies along the trajectory
+      command = "simulate";
+      args.push_back("--linearize=6");
+    }
+    auto it = n == "4" ? modes.find("1") : modes.find(n);
     if (it == modes.end()) {
-      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1, 10)\n";
+      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1, 4, 10; mode 3's matrices C0 and N0 are not implemented yet)\n";
       return 2;
     }
     command = it->second;

@@ -120,6 +120,7 @@ TEST(Dynamics, RigidPendulumMatchesEllipticIntegralPeriod) {
   const double period = crossings[2] - crossings[0];
   const double exact = 4.0 * std::sqrt(L / g) * ellipticK(std::sin(theta0 / 2));
   EXPECT_NEAR(period / exact, 1.0, 1e-6) << "period " << period << " exact " << exact;
+  std::printf("pendulum (115 degrees): period %.12f s, exact %.12f s, relative error %.2e\n", period, exact, period / exact - 1);
 }
 
 TEST(Dynamics, StraightGuidanceConservesEnergyAfterInitialDeflection) {

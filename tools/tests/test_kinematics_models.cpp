@@ -92,6 +92,7 @@ TEST(GeometricTransferFunctions, FourBarMatchesClosedFormOverFullTurn) {
     worst = std::max(worst, std::abs(std::remainder(x[rocker] - aRocker, 2 * M_PI)));
   }
   EXPECT_LT(worst, 1e-10);
+  std::printf("four-bar over a full crank turn (720 positions): worst deviation from closed form %.3e\n", worst);
 }
 
 TEST(GeometricTransferFunctions, FirstOrderAndConvectiveTermsMatchFiniteDifferences) {
