@@ -84,6 +84,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   setRelativeTolerance(model.settings.kinematicTol);
 
   x_ = model.x0;
+  lastGood_ = model.x0;
   e_ = Eigen::VectorXd::Zero(ne);
   target_ = Eigen::VectorXd::Zero(numConstraints());
   rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
@@ -111,7 +112,7 @@ Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
   return q;
 }
 
-void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) { x_ = x; }
+void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) { x_ = lastGood_ = x; }
 
 void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek,
                                             int order) const {
@@ -145,8 +146,7 @@ void GeometricTransferFunctions::evaluateElements() {
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
     const int nc = static_cast<int>(E.coords.size());
-    xe.resize(nc);
-    for (int j = 0; j < nc; ++j) xe[j] = x_[E.coords[j]];
+    E.gather(x_, xe);
     E.impl->deformations(xe, de);
     DefJac& De = elemJac_[el];
     E.impl->jacobian(xe, De);
@@ -165,6 +165,25 @@ void GeometricTransferFunctions::solvePositions(double t, const Eigen::VectorXd&
                           "the kinematic equations are not square (" + std::to_string(numCalculable()) +
                               " calculable coordinates, " + std::to_string(numConstraints()) +
                               " constraints); run `flexmb check`");
+  // A failed solve from a warm start far away (a trial state of the integrator) is retried once
+  // from the last converged configuration; a diverged iterate is never kept as the next start.
+  const bool warmIsLastGood = x_ == lastGood_;
+  try {
+    newton(t, q);
+  } catch (const KinematicsError&) {
+    x_ = lastGood_;
+    if (warmIsLastGood) throw;
+    try {
+      newton(t, q);
+    } catch (const KinematicsError&) {
+      x_ = lastGood_;
+      throw;
+    }
+  }
+  lastGood_ = x_;
+}
+
+void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   // Fixed coordinates keep x0; inputs and DYNX are set by constraintTargets.
   constraintTargets(t, q);
   const int maxIt = std::max(1, model_.settings.maxIterations);
@@ -262,16 +281,9 @@ void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::Vecto
   DefVec d2;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
-    const int nc = static_cast<int>(E.coords.size());
-    xe.resize(nc);
-    ve.resize(nc);
-    bool moving = false;
-    for (int j = 0; j < nc; ++j) {
-      xe[j] = x_[E.coords[j]];
-      ve[j] = xd[E.coords[j]];
-      moving |= ve[j] != 0.0;
-    }
-    if (!moving) continue;
+    E.gather(xd, ve);
+    if (ve.isZero(0.0)) continue;
+    E.gather(x_, xe);
     E.impl->secondDerivative(xe, ve, d2);
     for (int i = 0; i < d2.size(); ++i) {
       const int row = rowOfDef_[E.firstDef + i];
@@ -303,13 +315,8 @@ void GeometricTransferFunctions::deformationAccelerations(const Eigen::VectorXd&
   DefVec d2;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
-    const int nc = static_cast<int>(E.coords.size());
-    xe.resize(nc);
-    ve.resize(nc);
-    for (int j = 0; j < nc; ++j) {
-      xe[j] = x_[E.coords[j]];
-      ve[j] = xd[E.coords[j]];
-    }
+    E.gather(x_, xe);
+    E.gather(xd, ve);
     E.impl->secondDerivative(xe, ve, d2);
     for (int i = 0; i < d2.size(); ++i) edd[E.firstDef + i] += d2[i];
   }

@@ -103,6 +103,8 @@ class GeometricTransferFunctions {
   double lengthScale_ = 1.0;
 
   bool hasDynamicCoords_ = false;
+  Eigen::VectorXd lastGood_;  // last converged configuration: the restart point after a failure
+  void newton(double t, const Eigen::VectorXd& q);
   Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_;
   Eigen::MatrixXd rhsMat_;
   std::vector<DefJac> elemJac_;

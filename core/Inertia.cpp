@@ -2,13 +2,6 @@
 
 namespace flexmb::core {
 
-namespace {
-void gather(const ElementEntry& E, const Eigen::VectorXd& v, ElemVec& ve) {
-  ve.resize(static_cast<int>(E.coords.size()));
-  for (size_t j = 0; j < E.coords.size(); ++j) ve[j] = v[E.coords[j]];
-}
-}  // namespace
-
 Inertia::Inertia(const Model& model) : model_(model) {
   for (size_t el = 0; el < model.elements.size(); ++el)
     if (model.elements[el].inertia.any()) massive_.push_back(static_cast<int>(el));
@@ -21,7 +14,7 @@ void Inertia::update(const Eigen::VectorXd& x) {
   ElemVec xe;
   for (size_t k = 0; k < massive_.size(); ++k) {
     const auto& E = model_.elements[massive_[k]];
-    gather(E, x, xe);
+    E.gather(x, xe);
     E.impl->mass(xe, E.inertia, blocks_[k]);
   }
 }
@@ -64,9 +57,9 @@ void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd&
   ElemVec xe, ve, he;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
-    gather(E, xd, ve);
+    E.gather(xd, ve);
     if (ve.isZero(0.0)) continue;
-    gather(E, x, xe);
+    E.gather(x, xe);
     E.impl->velocityForces(xe, ve, E.inertia, he);
     for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += he[j];
   }
@@ -83,7 +76,7 @@ void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   ElemVec xe, fe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
-    gather(E, x, xe);
+    E.gather(x, xe);
     E.impl->gravityForces(xe, E.inertia, gx, gy, fe);
     for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += fe[j];
   }

@@ -58,8 +58,7 @@ KinematicReport checkKinematics(const Model& model) {
   ElemVec xe;
   DefJac De;
   for (const auto& E : model.elements) {
-    xe.resize(E.coords.size());
-    for (size_t j = 0; j < E.coords.size(); ++j) xe[j] = model.x0[E.coords[j]];
+    E.gather(model.x0, xe);
     E.impl->jacobian(xe, De);
     for (int i = 0; i < De.rows(); ++i) {
       if (row[E.firstDef + i] < 0) continue;

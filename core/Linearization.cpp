@@ -65,8 +65,7 @@ void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::Ve
       any |= se[i] != 0.0;
     }
     if (!any) continue;
-    xe.resize(nc);
-    for (int j = 0; j < nc; ++j) xe[j] = gtf_.x()[E.coords[j]];
+    E.gather(gtf_.x(), xe);
     E.impl->stressWeightedHessian(xe, se, He);
     for (int i = 0; i < nc; ++i)
       for (int j = 0; j < nc; ++j)

@@ -38,6 +38,11 @@ struct ElementEntry {
   ElementInertia inertia;
   bool hasStiffness = false, hasDamping = false;
   DefMat S, Sd;             // constitutive stiffness and damping (ndef x ndef)
+  // The element's entries of a global nodal vector (positions, velocities, forces ...).
+  void gather(const Eigen::VectorXd& v, ElemVec& out) const {
+    out.resize(static_cast<int>(coords.size()));
+    for (size_t j = 0; j < coords.size(); ++j) out[j] = v[coords[j]];
+  }
 };
 
 // A prescribed value in time: polynomial x0 + v t + a t^2/2, or three expressions.

@@ -59,7 +59,7 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
     }
     r.stable = spd;
     if (r.residual <= o.relativeTolerance * scale ||
-        (r.iterations > 0 && step.lpNorm<Eigen::Infinity>() <= o.stepTolerance * std::max(1.0, eta.lpNorm<Eigen::Infinity>()))) {
+        step.lpNorm<Eigen::Infinity>() <= o.stepTolerance * std::max(1.0, eta.lpNorm<Eigen::Infinity>())) {
       r.status = StaticStatus::Converged;
       return r;
     }

@@ -47,6 +47,13 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
         traj.stopReason = e.what();
         return false;
       }
+      for (const Eigen::VectorXd* v : {&out.x, &out.xd, &out.xdd, &out.e, &out.ed, &out.edd, &out.sig})
+        if (!v->allFinite()) {
+          traj.completed = false;
+          traj.stopReason = "non-finite output quantities at t = " + std::to_string(t) +
+                            " (a load or reference expression undefined there?); results before it are kept";
+          return false;
+        }
       traj.time.push_back(t);
       traj.states.push_back(std::move(out));
     }

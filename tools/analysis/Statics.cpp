@@ -23,20 +23,31 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
       lin.staticForces(t, e, f, Q);
     }
   };
-  // Force scale: the generalised applied load, or the elastic forces when nothing is applied.
-  lin.appliedForces(t, loadFactor, f);
-  lin.atRest(t, eta, f, sys, false);
-  Eigen::VectorXd fOnly;
-  {
-    Eigen::VectorXd zero = Eigen::VectorXd::Zero(f.size());
-    Eigen::VectorXd Qf;
+  // Force scale: the generalised applied load, else a stiffness times a small motion of the model.
+  double scale = 0.0;
+  try {
+    lin.appliedForces(t, loadFactor, f);
+    lin.atRest(t, eta, f, sys, false);
+    if (lin.size() == 0) {  // nothing to solve: the kinematics alone place the model
+      solvers::StaticResult r;
+      r.residual = 0.0;
+      return r;
+    }
+    Eigen::VectorXd Qf, Q0;
     lin.staticForces(t, eta, f, Qf);
-    Eigen::VectorXd Q0;
-    lin.staticForces(t, eta, zero, Q0);
-    fOnly = Qf - Q0;
+    lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
+    double L = 0.0;
+    for (int i = 0; i < lin.model().nx; ++i)
+      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position)
+        L = std::max(L, std::abs(lin.model().x0[i]));
+    scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(),
+                      1e-6 * std::max(L, 1e-3) * sys.K.diagonal().cwiseAbs().maxCoeff()});
+  } catch (const std::exception& e) {
+    solvers::StaticResult r;
+    r.status = solvers::StaticStatus::Failed;
+    r.message = e.what();
+    return r;
   }
-  double scale = fOnly.lpNorm<Eigen::Infinity>();
-  if (scale == 0.0) scale = std::max(sys.Q.lpNorm<Eigen::Infinity>(), 1e-12 * (sys.K.diagonal().cwiseAbs().maxCoeff() + 1.0));
   return solvers::solveEquilibrium(problem, eta, scale, options);
 }
 
@@ -85,6 +96,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
         return run;
       }
     }
+    try {
     StaticStep st;
     st.loadFactor = reached;
     st.eta = eta;
@@ -98,6 +110,11 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
     st.sigma = sys.sigma;
     if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
     run.steps.push_back(std::move(st));
+    } catch (const std::exception& e) {
+      run.completed = false;
+      run.stopReason = "at load factor " + std::to_string(reached) + ": " + e.what();
+      return run;
+    }
   }
   return run;
 }

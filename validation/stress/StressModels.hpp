@@ -12,6 +12,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/Inertia.hpp"
 #include "core/Model.hpp"
@@ -19,9 +20,18 @@
 
 namespace flexmb::stress {
 
+// Full precision, for generated .dat text.
 inline std::string fmt(double v) {
   std::ostringstream s;
   s.precision(17);
+  s << v;
+  return s.str();
+}
+
+// 6 significant digits, for summary lines.
+inline std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
   s << v;
   return s.str();
 }
@@ -256,6 +266,15 @@ inline double elasticEnergy(const core::Model& m, const Eigen::VectorXd& e) {
 inline double totalEnergy(const core::Model& m, core::Inertia& inertia, const core::StateOutputs& s) {
   inertia.update(s.x);
   return inertia.kineticEnergy(s.xd) + elasticEnergy(m, s.e);
+}
+
+inline bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+// The first time named in a stop reason "... at t = 0.0937 ..." (NaN when none).
+inline double stopTime(const std::string& reason) {
+  const auto p = reason.find("t = ");
+  if (p == std::string::npos) return std::nan("");
+  return std::atof(reason.c_str() + p + 4);
 }
 
 // Wall-clock seconds since construction.
