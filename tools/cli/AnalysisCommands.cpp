@@ -17,10 +17,6 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
-po::options_description commonModelOptions(ModelOptions& m);
-bool parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
-                  const char* usage);
-
 namespace {
 void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   o << "  mode   f [Hz]          omega [rad/s]\n";

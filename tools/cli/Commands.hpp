@@ -3,6 +3,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <boost/program_options/options_description.hpp>
 #include <optional>
 
 #include "core/Model.hpp"
@@ -26,5 +27,11 @@ struct ModelOptions {
   std::string elongation;  // "", "plain", "corrected"
 };
 bool loadModel(const ModelOptions& o, core::Model& model);
+
+// The options every model command shares (--dialect, --elongation), and the parse of a command's
+// options with the model file as positional argument (prints usage and errors; false on error).
+boost::program_options::options_description commonModelOptions(ModelOptions& m);
+bool parseCommand(const std::vector<std::string>& args, boost::program_options::options_description& d,
+                  ModelOptions& m, const char* usage);
 
 }  // namespace flexmb::cli

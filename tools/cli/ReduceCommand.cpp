@@ -10,10 +10,6 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
-po::options_description commonModelOptions(ModelOptions& m);
-bool parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
-                  const char* usage);
-
 int runReduce(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);

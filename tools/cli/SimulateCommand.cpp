@@ -16,10 +16,6 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
-po::options_description commonModelOptions(ModelOptions& m);
-bool parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
-                  const char* usage);
-
 int runSimulate(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
@@ -35,7 +31,7 @@ int runSimulate(const std::vector<std::string>& args) {
       "intervals", po::value(&intervals), "output intervals (0: every step, Refine 4)")(
       "out", po::value(&out), "output prefix (default: the model's name in the current folder)")(
       "format", po::value(&format), "csv, mat, both or none")(
-      "echo", po::value(&echo), "write the final state as a restartable SPACAR95-style .dat")(
+      "echo", po::value(&echo), "write the model and its final state the way SPACAR95 echoes it (XY/BETA, TIME, E/ED/EDD)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
       "linearize", po::value(&linearize), "mode 4: the N lowest eigenfrequencies along the trajectory (CSV)")(
       "quiet,q", po::bool_switch(&quiet), "no progress line");
