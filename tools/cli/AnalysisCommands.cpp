@@ -8,6 +8,7 @@
 
 #include "core/Linearization.hpp"
 #include "io/BasisFile.hpp"
+#include "io/ResultWriter.hpp"
 #include "io/SvgPlot.hpp"
 #include "tools/analysis/Statics.hpp"
 #include "tools/analysis/Sweep.hpp"
@@ -86,7 +87,7 @@ int runStatic(const std::vector<std::string>& args) {
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_static.csv";
   std::ofstream csv(out);
   csv << std::setprecision(17) << "load_factor";
-  for (int i = 0; i < model.nx; ++i) csv << "," << model.coordName(i);
+  for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
   for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
   csv << "\n";
   for (const auto& st : run.steps) {
