@@ -112,6 +112,17 @@ void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd&
   dydt.tail(m_) = etadd_;
 }
 
+void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd,
+                                 Eigen::VectorXd& R) {
+  kinematicState(t, y);
+  inertia_.update(gtf_.x());
+  inertia_.multiply(FqV_, MF_);
+  Mbar_.noalias() = FqV_.transpose() * MF_;
+  generalisedForces(t, rhsEta_);
+  R.noalias() = Mbar_ * etadd;
+  R -= rhsEta_;
+}
+
 void EquationsOfMotion::outputs(double t, const Eigen::VectorXd& y, StateOutputs& out) {
   Eigen::VectorXd dydt(2 * m_);
   rhs(t, y, dydt);

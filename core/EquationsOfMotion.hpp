@@ -39,6 +39,9 @@ class EquationsOfMotion {
 
   // dy/dt for y = [eta; etad]. Throws KinematicsError (with t) when the kinematics fail.
   void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt);
+  // Residual of Eq. 13/19 at (t, y, etadd): Mbar etadd - (F_q V)^T (f - h - M g - D_x^T sigma),
+  // without the mass solve (for linearisation checks and implicit schemes).
+  void residual(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd, Eigen::VectorXd& R);
   // Full output quantities at (t, y): one extra evaluation, for output times only.
   void outputs(double t, const Eigen::VectorXd& y, StateOutputs& out);
 

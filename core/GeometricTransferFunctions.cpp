@@ -357,3 +357,70 @@ void GeometricTransferFunctions::addConstraintStresses(const Eigen::VectorXd& r,
 }
 
 }  // namespace flexmb::core
+
+namespace flexmb::core {
+
+void GeometricTransferFunctions::secondDerivativeProduct(const Eigen::VectorXd& b, const Eigen::MatrixXd& A,
+                                                         Eigen::MatrixXd& Y) const {
+  const int m = static_cast<int>(A.cols());
+  Y.setZero(ne(), m);
+  ElemVec xe, be, ae, v;
+  DefVec dp, dm;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    E.gather(b, be);
+    if (be.isZero(0.0)) continue;
+    E.gather(x_, xe);
+    for (int j = 0; j < m; ++j) {
+      ae.resize(static_cast<int>(E.coords.size()));
+      for (size_t k = 0; k < E.coords.size(); ++k) ae[k] = A(E.coords[k], j);
+      const double an = ae.norm();
+      if (an == 0.0) continue;
+      // D2[b + s a] - D2[b - s a] = 4 s D2[b, a]; s balances the two magnitudes.
+      const double s = be.norm() / an;
+      v = be + s * ae;
+      E.impl->secondDerivative(xe, v, dp);
+      v = be - s * ae;
+      E.impl->secondDerivative(xe, v, dm);
+      for (int i = 0; i < dp.size(); ++i) Y(E.firstDef + i, j) = (dp[i] - dm[i]) / (4.0 * s);
+    }
+  }
+}
+
+void GeometricTransferFunctions::thirdDerivativeProduct(const Eigen::VectorXd& b, const Eigen::MatrixXd& A,
+                                                        const ElementSteps& steps, Eigen::MatrixXd& Y) const {
+  const int m = static_cast<int>(A.cols());
+  Y.setZero(ne(), m);
+  ElemVec xe, be, ae;
+  DefVec d;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    E.gather(b, be);
+    if (be.isZero(0.0)) continue;
+    E.gather(x_, xe);
+    const Element& impl = *E.impl;
+    auto d2 = [&](const ElemVec& xx, DefVec& out) { impl.secondDerivative(xx, be, out); };
+    for (int j = 0; j < m; ++j) {
+      ae.resize(static_cast<int>(E.coords.size()));
+      for (size_t k = 0; k < E.coords.size(); ++k) ae[k] = A(E.coords[k], j);
+      const double h = steps.step(static_cast<int>(el), ae);
+      if (h == 0.0) continue;
+      directionalDerivative(d2, xe, ae, h, d);
+      for (int i = 0; i < d.size(); ++i) Y(E.firstDef + i, j) = d[i];
+    }
+  }
+}
+
+void GeometricTransferFunctions::solveConstrained(const Eigen::MatrixXd& R, Eigen::MatrixXd& Z) {
+  const int m = static_cast<int>(R.cols()), n = numCalculable();
+  Z.setZero(nx(), m);
+  if (n == 0 || m == 0) return;
+  rhsMat_.resize(n, m);
+  for (int j = 0; j < m; ++j)
+    for (int r = 0; r < n; ++r) rhsMat_(r, j) = R(constrainedDefs_[r], j);
+  lu_.solve(rhsMat_.data(), m);
+  for (int j = 0; j < m; ++j)
+    for (int c = 0; c < n; ++c) Z(calcCoords_[c], j) = rhsMat_(c, j);
+}
+
+}  // namespace flexmb::core

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/DirectionalDerivative.hpp"
 #include "core/Model.hpp"
 #include "core/SparseLU.hpp"
 
@@ -71,6 +72,17 @@ class GeometricTransferFunctions {
   void setInputLoadFactor(double s) { inputLoadFactor_ = s; }
   // E_q V = D_x F_q V (ne x m) from a computed F_q V.
   void deformationFirstOrder(const Eigen::MatrixXd& FqV, Eigen::MatrixXd& EqV) const;
+
+  // For the linearisation of a moving system (Eq. 15, ref. [13]), after solvePositions:
+  // Y (ne x m), column j = D2[b, A_j], the symmetric second derivative of all deformations
+  // (polarisation of the analytic D2e[v, v]: exact).
+  void secondDerivativeProduct(const Eigen::VectorXd& b, const Eigen::MatrixXd& A, Eigen::MatrixXd& Y) const;
+  // Y (ne x m), column j = D3[A_j, b, b], the change of D2[b, b] along A_j (element Richardson).
+  void thirdDerivativeProduct(const Eigen::VectorXd& b, const Eigen::MatrixXd& A, const ElementSteps& steps,
+                              Eigen::MatrixXd& Y) const;
+  // Z (nx x m): J Z_c = R_C, R (ne x m) read on the constrained deformations; the other
+  // coordinates 0. The calculable response with the known coordinates held.
+  void solveConstrained(const Eigen::MatrixXd& R, Eigen::MatrixXd& Z);
 
   const Eigen::VectorXd& x() const { return x_; }
   const Eigen::VectorXd& e() const { return e_; }

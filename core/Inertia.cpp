@@ -98,4 +98,93 @@ double Inertia::kineticEnergy(const Eigen::VectorXd& xd) const {
   return 0.5 * xd.dot(Mv);
 }
 
+namespace {
+// The element's entries of column j of a nodal matrix.
+void gatherColumn(const ElementEntry& E, const Eigen::MatrixXd& A, int j, ElemVec& out) {
+  out.resize(static_cast<int>(E.coords.size()));
+  for (size_t k = 0; k < E.coords.size(); ++k) out[k] = A(E.coords[k], j);
+}
+void scatterColumn(const ElementEntry& E, const ElemVec& v, int j, Eigen::MatrixXd& Y) {
+  for (size_t k = 0; k < E.coords.size(); ++k) Y(E.coords[k], j) += v[k];
+}
+}  // namespace
+
+void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
+                                       const Eigen::MatrixXd& W, Eigen::MatrixXd& Y) const {
+  ElemVec xe, ve, we, v, hp, hm;
+  for (int el : massive_) {
+    const auto& E = model_.elements[el];
+    E.gather(xd, ve);
+    const double vn = ve.norm();
+    if (vn == 0.0) continue;  // h is quadratic: its derivative vanishes with the velocity
+    E.gather(x, xe);
+    for (int j = 0; j < W.cols(); ++j) {
+      gatherColumn(E, W, j, we);
+      const double wn = we.norm();
+      if (wn == 0.0) continue;
+      // h(v + s w) - h(v - s w) = 4 s B(v, w) and dh/dxd w = 2 B(v, w).
+      const double s = vn / wn;
+      v = ve + s * we;
+      E.impl->velocityForces(xe, v, E.inertia, hp);
+      v = ve - s * we;
+      E.impl->velocityForces(xe, v, E.inertia, hm);
+      hp = (hp - hm) / (2.0 * s);
+      scatterColumn(E, hp, j, Y);
+    }
+  }
+}
+
+void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
+                                       const Eigen::VectorXd& xdd, const Eigen::MatrixXd& A,
+                                       const ElementSteps& steps, Eigen::MatrixXd& Y) const {
+  ElemVec xe, ve, ae, d;
+  ElemVec acc;
+  for (int el : massive_) {
+    const auto& E = model_.elements[el];
+    E.gather(x, xe);
+    E.gather(xd, ve);
+    E.gather(xdd, acc);
+    const bool moving = !ve.isZero(0.0);
+    if (!moving && acc.isZero(0.0)) continue;
+    const Element& impl = *E.impl;
+    ElemMat Me;
+    ElemVec he;
+    auto force = [&](const ElemVec& xx, ElemVec& out) {
+      impl.mass(xx, E.inertia, Me);
+      out.noalias() = Me * acc;
+      if (moving) {
+        impl.velocityForces(xx, ve, E.inertia, he);
+        out += he;
+      }
+    };
+    for (int j = 0; j < A.cols(); ++j) {
+      gatherColumn(E, A, j, ae);
+      const double h = steps.step(el, ae);
+      if (h == 0.0) continue;
+      directionalDerivative(force, xe, ae, h, d);
+      scatterColumn(E, d, j, Y);
+    }
+  }
+}
+
+void Inertia::addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
+                                 Eigen::MatrixXd& Y) const {
+  if (!model_.hasGravity) return;
+  const double gx = model_.gravity[0], gy = model_.gravity[1];
+  ElemVec xe, ae, d;
+  for (int el : massive_) {
+    const auto& E = model_.elements[el];
+    E.gather(x, xe);
+    const Element& impl = *E.impl;
+    auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces(xx, E.inertia, gx, gy, out); };
+    for (int j = 0; j < A.cols(); ++j) {
+      gatherColumn(E, A, j, ae);
+      const double h = steps.step(el, ae);
+      if (h == 0.0) continue;
+      directionalDerivative(force, xe, ae, h, d);
+      scatterColumn(E, d, j, Y);
+    }
+  }
+}
+
 }  // namespace flexmb::core

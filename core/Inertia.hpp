@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/DirectionalDerivative.hpp"
 #include "core/Model.hpp"
 
 namespace flexmb::core {
@@ -23,6 +24,16 @@ class Inertia {
   void addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y) const;
   // y += gravity loads (lumped and distributed masses).
   void addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // Derivatives for the linearisation of a moving system (Eq. 15, ref. [13]):
+  // Y += (dh/dxd) W; h is quadratic in xd, so polarisation makes each column exact.
+  void addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::MatrixXd& W,
+                                Eigen::MatrixXd& Y) const;
+  // Y += d(M(x) xdd + h(x, xd))/dx A at fixed xd, xdd (element Richardson; lumped masses are constant).
+  void addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
+                                const Eigen::MatrixXd& A, const ElementSteps& steps, Eigen::MatrixXd& Y) const;
+  // Y += (dg/dx) A: gravity on distributed masses turns with the elements (a load stiffness).
+  void addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
+                          Eigen::MatrixXd& Y) const;
   // Dense M (tests, linearisation of small models).
   Eigen::MatrixXd dense() const;
   double kineticEnergy(const Eigen::VectorXd& xd) const;

@@ -125,6 +125,13 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
     res.message = std::move(msg);
     return res;
   };
+  // A failure inside the stages of a trial step: MATLAB's ode45 has no such outcome (its rhs cannot
+  // fail), so the run stops as SPACAR's does, saying where and what usually helps.
+  auto inTrialStep = [&](double tt, double hh) {
+    return " (inside a trial step of size " + num(hh) + " from the accepted state at t = " + num(tt) +
+           "; results up to there are kept. A step far too large for the stiffest mode does this: "
+           "limit the step size, e.g. a maximum step or more output intervals)";
+  };
   auto stopped = [&](double tt) {
     return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt));
   };
@@ -188,13 +195,13 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
       for (int j = 1; j <= 5; ++j) {
         combine(j - 1, j, ytmp);
         ytmp = y + h * ytmp;
-        if (!eval(t + C[j] * h, ytmp, k[j])) return fail(OdeStatus::RhsFailed, failure);
+        if (!eval(t + C[j] * h, ytmp, k[j])) return fail(OdeStatus::RhsFailed, failure + inTrialStep(t, h));
       }
       tnew = done ? tf : t + h;
       h = tnew - t;
       combine(5, 6, ynew);
       ynew = y + h * ynew;
-      if (!eval(tnew, ynew, k[6])) return fail(OdeStatus::RhsFailed, failure);
+      if (!eval(tnew, ynew, k[6])) return fail(OdeStatus::RhsFailed, failure + inTrialStep(t, h));
 
       // Step 5: err = absh * max_i |sum_j E_j k_j,i| / max(|y_i|, |ynew_i|, threshold_i).
       double m = 0.0;

@@ -211,6 +211,10 @@ TEST(Ode45, RhsErrorStopsCleanly) {
   EXPECT_GT(r.t.back(), 0.3);
   EXPECT_EQ(r.t.back(), r.res.tLast);
   EXPECT_EQ(r.t.size(), 1u + 4u * r.res.stats.nsteps);
+  // The diagnostic says where (the trial step and the last accepted state) and what helps.
+  EXPECT_NE(r.res.message.find("inside a trial step of size"), std::string::npos) << r.res.message;
+  EXPECT_NE(r.res.message.find("accepted state at t = "), std::string::npos) << r.res.message;
+  EXPECT_NE(r.res.message.find("maximum step"), std::string::npos) << r.res.message;
 }
 
 TEST(Ode45, NonFiniteRhsStopsCleanly) {

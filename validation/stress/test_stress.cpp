@@ -190,22 +190,25 @@ TEST(StressStiffSoft, ShortDynamicRun) {
 }
 
 // The same run with ode45's default first step (min(hmax, first output interval) = 1e-3 s): the
-// stages of that first attempt blow up in the stiff modes, the kinematic Newton fails inside a stage,
-// and the whole run stops at t = 0.001 ("Newton iteration diverged") instead of the step being
-// rejected and retried smaller as MATLAB's ode45 would with a finite right-hand side.
+// stages of that first attempt blow up in the stiff modes and the kinematic Newton fails inside a
+// stage. MATLAB's ode45 has no such outcome (its rhs cannot fail) and SPACAR stops there, so flexmb
+// stops too: the expected outcome is a diagnostic naming the time, the reason and the remedy.
 TEST(StressStiffSoft, ShortDynamicRunDefaultFirstStep) {
   const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
   const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 1e-4\nTIMESTEP 0.01 10"), "stiffsoft.dat");
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, {});
-  summary("2 stiff/soft dynamics (defaults)", tr.completed ? "completed" : "stopped (known issue)",
+  summary("2 stiff/soft dynamics (defaults)", tr.completed ? "completed" : "stopped (diagnostic)",
           "nfevals " + std::to_string(tr.nfevals) + (tr.completed ? "" : "; " + tr.stopReason), sw.seconds());
   EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
-  if (!tr.completed && tr.nsteps == 0)
-    GTEST_SKIP() << "known issue: a kinematic failure inside the stages of a step that would be rejected "
-                    "stops the run instead of shrinking the step (" << tr.stopReason
-                 << "); workaround: a maximum step (SimulationOptions::maxStep 1e-5) or more output intervals";
-  EXPECT_TRUE(tr.completed) << tr.stopReason;
+  if (tr.completed) return;  // a verified completion would also be acceptable
+  EXPECT_TRUE(contains(tr.stopReason, "right-hand side failed at t = ")) << tr.stopReason;
+  EXPECT_TRUE(contains(tr.stopReason, "Newton")) << tr.stopReason;
+  EXPECT_TRUE(contains(tr.stopReason, "inside a trial step of size")) << tr.stopReason;
+  EXPECT_TRUE(contains(tr.stopReason, "maximum step")) << tr.stopReason;
+  // Results before the failing step are kept (here the initial state).
+  ASSERT_FALSE(tr.states.empty());
+  EXPECT_DOUBLE_EQ(tr.time.front(), 0.0);
 }
 
 // =================================================================================================
