@@ -173,11 +173,11 @@ struct MatFile {
 
 // Writes an nrows x ncols double matrix; data column-major (size nrows*ncols).
 void writeMatVar(mat_t* mat, const std::string& path, const char* name, std::size_t nrows,
-                 std::size_t ncols, std::vector<double>& data) {
-  size_t dims[2] = {nrows, ncols};
+                 std::size_t ncols, std::vector<double>& data, std::size_t npages = 0) {
+  size_t dims[3] = {nrows, ncols, npages};
   static double dummy = 0.0;  // matio wants a non-null pointer even for empty matrices
   double* ptr = data.empty() ? &dummy : data.data();
-  matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, ptr,
+  matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, npages > 0 ? 3 : 2, dims, ptr,
                                 MAT_F_DONT_COPY_DATA);
   if (!var)
     throw std::runtime_error("cannot write '" + path + "': matio could not create variable '" +
@@ -296,6 +296,58 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
     writeMatVar(mf.mat, path, name, 1, 1, data);
   }
 
+  const int rc = Mat_Close(mf.mat);
+  mf.mat = nullptr;
+  if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to close it");
+}
+
+void writeLinearizedMat(const std::string& path, const std::vector<double>& time,
+                        const std::vector<core::LinearizedSystem>& sys,
+                        const std::vector<Eigen::VectorXd>& omega) {
+  const std::size_t nt = time.size();
+  if (sys.size() != nt || omega.size() != nt)
+    throw std::invalid_argument("linearised MAT output '" + path + "': " + std::to_string(nt) + " times, " +
+                                std::to_string(sys.size()) + " matrix sets, " + std::to_string(omega.size()) +
+                                " frequency sets");
+  using Member = const Eigen::MatrixXd core::LinearizedSystem::*;
+  const std::pair<const char*, Member> mats[] = {
+      {"M0", &core::LinearizedSystem::M}, {"K0", &core::LinearizedSystem::K}, {"G0", &core::LinearizedSystem::G},
+      {"C0", &core::LinearizedSystem::C}, {"D0", &core::LinearizedSystem::D}, {"N0", &core::LinearizedSystem::N}};
+  const std::size_t m = nt ? static_cast<std::size_t>(sys[0].M.rows()) : 0;
+  std::size_t nev = 0;
+  for (std::size_t k = 0; k < nt; ++k) {
+    nev = std::max(nev, static_cast<std::size_t>(omega[k].size()));
+    for (const auto& [name, member] : mats) {
+      const Eigen::MatrixXd& A = sys[k].*member;
+      if (static_cast<std::size_t>(A.rows()) != m || static_cast<std::size_t>(A.cols()) != m)
+        throw std::invalid_argument("linearised MAT output '" + path + "': " + name + " at t = " +
+                                    formatG17(time[k]) + " is not " + std::to_string(m) + " x " + std::to_string(m));
+      if (!A.allFinite())
+        throw std::invalid_argument("linearised MAT output '" + path + "': non-finite " + name + " at t = " +
+                                    formatG17(time[k]));
+    }
+  }
+  { OutFile probe(path); probe.close(); }
+  MatFile mf;
+  mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  if (!mf.mat) throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
+  std::vector<double> data(time.begin(), time.end());
+  writeMatVar(mf.mat, path, "time", nt, 1, data);
+  for (const auto& [name, member] : mats) {
+    // m x m x nt, column-major: A(:,:,k) is the matrix at time(k).
+    data.resize(m * m * nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      const Eigen::MatrixXd& A = sys[k].*member;
+      std::copy(A.data(), A.data() + m * m, data.begin() + static_cast<std::ptrdiff_t>(k * m * m));
+    }
+    writeMatVar(mf.mat, path, name, m, m, data, nt);
+  }
+  // Natural frequencies in Hz (nt x nev); NaN where fewer were found is not allowed, so pad with 0.
+  data.assign(nt * nev, 0.0);
+  for (std::size_t k = 0; k < nt; ++k)
+    for (std::size_t i = 0; i < static_cast<std::size_t>(omega[k].size()); ++i)
+      data[i * nt + k] = omega[k][static_cast<Eigen::Index>(i)] / (2 * M_PI);
+  writeMatVar(mf.mat, path, "freq", nt, nev, data);
   const int rc = Mat_Close(mf.mat);
   mf.mat = nullptr;
   if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to close it");

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/EquationsOfMotion.hpp"
+#include "core/Linearization.hpp"
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
 
@@ -35,6 +36,13 @@ std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& 
 // time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1).
 // All double. Rows are output times (SPACAR layout).
 void writeMat(const std::string& path, const core::Model& model, const core::Trajectory& traj);
+
+// Mode 3: the linearised matrices along a trajectory (Eq. 15) as m x m x nt arrays M0, K0, G0, C0,
+// D0, N0 (M0(:,:,k) belongs to time(k)), with time (nt x 1) and freq (nt x nev, Hz). Checks sizes
+// and finiteness first (std::invalid_argument naming the matrix and time).
+void writeLinearizedMat(const std::string& path, const std::vector<double>& time,
+                        const std::vector<core::LinearizedSystem>& sys,
+                        const std::vector<Eigen::VectorXd>& omega);
 
 // SPACAR95-style echo after an analysis, as a restartable .dat text:
 //   1. modelText copied verbatim (a newline is added when it does not end with one);

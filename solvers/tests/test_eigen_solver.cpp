@@ -731,3 +731,44 @@ TEST(EigenTiming, N1000SparseArpackVsDense) {
   EXPECT_LT(maxRelErr(ra.lambda, ref), 1e-9);
   EXPECT_LT(maxRelErr(rd.lambda, ref), 1e-6);  // dense: absolute error ~ eps*lambda_max
 }
+
+// ---- quadraticModes: the linearised equations of a moving system (Eq. 15) ----
+#include "solvers/QuadraticEigen.hpp"
+
+TEST(QuadraticModes, UndampedEqualsSymmetricFrequencies) {
+  Eigen::MatrixXd M(2, 2), K(2, 2);
+  M << 2, 0.3, 0.3, 1;
+  K << 50, -4, -4, 30;
+  const auto q = flexmb::solvers::quadraticModes(M, Eigen::MatrixXd::Zero(2, 2), K, 2);
+  ASSERT_TRUE(q.ok) << q.message;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, M);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(q.omega[i], std::sqrt(es.eigenvalues()[i]), 1e-12 * q.omega[i]);
+    EXPECT_NEAR(q.damping[i], 0.0, 1e-12);
+  }
+}
+
+TEST(QuadraticModes, DampedOscillatorAndGyroscopicPair) {
+  // m x'' + c x' + k x: |s| = sqrt(k/m), zeta = c / (2 sqrt(k m)).
+  Eigen::MatrixXd M(1, 1), C(1, 1), K(1, 1);
+  M << 2.0;
+  C << 0.8;
+  K << 18.0;
+  auto q = flexmb::solvers::quadraticModes(M, C, K, 1);
+  ASSERT_TRUE(q.ok);
+  EXPECT_NEAR(q.omega[0], 3.0, 1e-12);
+  EXPECT_NEAR(q.damping[0], 0.8 / (2 * 6.0), 1e-12);
+  // Gyroscopic: x'' + g J x' + k x = 0 splits sqrt(k) into sqrt(k + g^2/4) -+ g/2.
+  const double k = 9.0, g = 1.5;
+  Eigen::MatrixXd G(2, 2);
+  G << 0, -g, g, 0;
+  q = flexmb::solvers::quadraticModes(Eigen::MatrixXd::Identity(2, 2), G, k * Eigen::MatrixXd::Identity(2, 2), 2);
+  ASSERT_TRUE(q.ok);
+  EXPECT_NEAR(q.omega[0], std::sqrt(k + g * g / 4) - g / 2, 1e-12);
+  EXPECT_NEAR(q.omega[1], std::sqrt(k + g * g / 4) + g / 2, 1e-12);
+  // A negative stiffness diverges: reported negative.
+  K << -8.0;
+  q = flexmb::solvers::quadraticModes(M, Eigen::MatrixXd::Zero(1, 1), K, 1);
+  ASSERT_TRUE(q.ok);
+  EXPECT_NEAR(q.omega[0], -2.0, 1e-12);
+}

@@ -2,16 +2,18 @@
 
 #include <Eigen/QR>
 
-#include "core/Inertia.hpp"
+#include "solvers/QuadraticEigen.hpp"
 #include "tools/analysis/Statics.hpp"
 
 namespace flexmb::analysis {
 
-Eigen::VectorXd dofsOf(const core::Model& model, const core::StateOutputs& s) {
+Eigen::VectorXd dofsOf(const core::Model& model, const core::StateOutputs& s, int rate) {
+  const Eigen::VectorXd& x = rate == 0 ? s.x : rate == 1 ? s.xd : s.xdd;
+  const Eigen::VectorXd& e = rate == 0 ? s.e : rate == 1 ? s.ed : s.edd;
   Eigen::VectorXd q(model.numDofs());
   for (int j = 0; j < model.numDofs(); ++j) {
     const auto& d = model.dofs[j];
-    q[j] = d.isDeformation ? s.e[d.index] : s.x[d.index];
+    q[j] = d.isDeformation ? e[d.index] : x[d.index];
   }
   return q;
 }
@@ -20,26 +22,31 @@ TrajectoryModes trajectoryModes(const core::Model& model, const core::Trajectory
                                 const std::optional<Eigen::MatrixXd>& basis, bool keepMatrices) {
   TrajectoryModes out;
   core::Linearization lin(model, basis);
-  core::Inertia inertia(model);
   std::optional<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> qr;
   if (basis) qr.emplace(*basis);
-  Eigen::VectorXd f, inert;
+  auto reduce = [&](const Eigen::VectorXd& q) { return qr ? Eigen::VectorXd(qr->solve(q)) : q; };
   core::LinearizedSystem sys;
+  const int k = std::min<int>(nev, lin.size());
   for (size_t i = 0; i < traj.time.size(); ++i) {
     const double t = traj.time[i];
     const core::StateOutputs& s = traj.states[i];
-    const Eigen::VectorXd q = dofsOf(model, s);
-    const Eigen::VectorXd eta = qr ? Eigen::VectorXd(qr->solve(q)) : q;
-    lin.kinematics().solvePositions(t, basis ? Eigen::VectorXd(*basis * eta) : eta);
-    lin.appliedForces(t, 0.0, f);
-    inertia.update(s.x);
-    inertia.multiply(s.xdd, inert);
-    inertia.addVelocityForces(s.x, s.xd, inert);
-    f -= inert;
-    lin.atRest(t, eta, f, sys, true);
-    const Frequencies fr = naturalFrequencies(sys, std::min<int>(nev, lin.size()));
+    try {
+      lin.inMotion(t, reduce(dofsOf(model, s, 0)), reduce(dofsOf(model, s, 1)), reduce(dofsOf(model, s, 2)), sys);
+    } catch (const core::KinematicsError& e) {
+      out.completed = false;
+      out.stopReason = std::string("linearisation failed: ") + e.what();
+      break;
+    }
+    const solvers::QuadraticModes qm = solvers::quadraticModes(sys.M, sys.C + sys.D, sys.K + sys.N + sys.G, k);
+    if (!qm.ok) {
+      out.completed = false;
+      out.stopReason = "eigenvalues at t = " + std::to_string(t) + ": " + qm.message;
+      break;
+    }
     out.time.push_back(t);
-    out.omega.push_back(fr.omega);
+    out.omega.push_back(qm.omega);
+    out.damping.push_back(qm.damping);
+    out.omegaFrozen.push_back(naturalFrequencies(sys, k).omega);
     if (keepMatrices) out.matrices.push_back(sys);
   }
   return out;

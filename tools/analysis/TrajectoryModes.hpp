@@ -1,8 +1,10 @@
 #pragma once
 // Modes 3 and 4: linearised matrices and eigenfrequencies along a simulated trajectory (paper
-// Fig. 7b). At each output time the stresses and the reaction stresses follow from the state,
-// with the inertia forces as D'Alembert loads (f - M xdd - h). The velocity sensitivity C and the
-// dynamic stiffening N of ref. [13] are not included.
+// Eq. 15, Fig. 7b). At each output time the linearisation about the moving state (eta, etad, etadd)
+// gives M, C, D, K, N, G (ref. [13]; the inertia forces act as loads in G). Two sets of frequencies:
+//   omega       natural frequencies |s| of M s^2 + (C + D) s + (K + N + G) = 0 (the full Eq. 15);
+//   omegaFrozen (K + G) v = omega^2 M v, the configuration-frozen spectrum without the velocity
+//               sensitivity and dynamic stiffening (what a quasi-static sweep would give).
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
@@ -14,12 +16,17 @@ namespace flexmb::analysis {
 
 struct TrajectoryModes {
   std::vector<double> time;
-  std::vector<Eigen::VectorXd> omega;        // rad/s, ascending, per output time
-  std::vector<core::LinearizedSystem> matrices;  // when kept
+  std::vector<Eigen::VectorXd> omega;        // rad/s, ordered by magnitude, per output time
+  std::vector<Eigen::VectorXd> damping;      // damping ratio per entry of omega
+  std::vector<Eigen::VectorXd> omegaFrozen;  // rad/s, ascending
+  std::vector<core::LinearizedSystem> matrices;  // when kept (mode 3)
+  bool completed = true;
+  std::string stopReason;
 };
 
-// q at an output state (DYNX coordinates and DYNE deformations), then eta by least squares on V.
-Eigen::VectorXd dofsOf(const core::Model& model, const core::StateOutputs& s);
+// q at an output state (DYNX coordinates and DYNE deformations); with rates = 1 or 2 the
+// velocities or accelerations of those coordinates.
+Eigen::VectorXd dofsOf(const core::Model& model, const core::StateOutputs& s, int rate = 0);
 
 TrajectoryModes trajectoryModes(const core::Model& model, const core::Trajectory& traj, int nev,
                                 const std::optional<Eigen::MatrixXd>& basis, bool keepMatrices = false);

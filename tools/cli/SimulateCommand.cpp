@@ -22,7 +22,7 @@ int runSimulate(const std::vector<std::string>& args) {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
   std::string out, format = "both", echo, basisFile;
-  bool quiet = false;
+  bool quiet = false, matrices = false;
   int linearize = 0;
   d.add_options()("t-end", po::value(&tEnd), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol), "relative tolerance (default from the file or 1e-3)")(
@@ -33,7 +33,11 @@ int runSimulate(const std::vector<std::string>& args) {
       "format", po::value(&format), "csv, mat, both or none")(
       "echo", po::value(&echo), "write the model and its final state the way SPACAR95 echoes it (XY/BETA, TIME, E/ED/EDD)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
-      "linearize", po::value(&linearize), "mode 4: the N lowest eigenfrequencies along the trajectory (CSV)")(
+      "linearize", po::value(&linearize),
+      "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
+      "matrices", po::bool_switch(&matrices),
+      "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
+      "unless given)")(
       "quiet,q", po::bool_switch(&quiet), "no progress line");
   if (!parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return 2;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -42,6 +46,7 @@ int runSimulate(const std::vector<std::string>& args) {
   }
   core::Model model;
   if (!loadModel(m, model)) return 2;
+  if (matrices && linearize <= 0) linearize = 6;
 
   analysis::SimulationOptions opt;
   if (tEnd > 0) opt.tEnd = tEnd;
@@ -81,18 +86,38 @@ int runSimulate(const std::vector<std::string>& args) {
         std::cout << "wrote " << out << ".mat\n";
       }
       if (linearize > 0) {
-        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis);
+        const auto lt = std::chrono::steady_clock::now();
+        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices);
+        std::cout << "linearised at " << tm.time.size() << " output times in "
+                  << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
+        if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
+        // f: natural frequencies |s| of Eq. 15 (with C, D, N); zeta: damping ratios;
+        // frozen_f: (K + G) v = w^2 M v at the same configuration, without C and N.
         std::ofstream f(out + "_frequencies.csv");
         f.precision(12);
         f << "time";
         for (int i = 0; i < linearize; ++i) f << ",f" << i + 1 << "_Hz";
+        for (int i = 0; i < linearize; ++i) f << ",zeta" << i + 1;
+        for (int i = 0; i < linearize; ++i) f << ",frozen_f" << i + 1 << "_Hz";
         f << "\n";
+        auto cells = [&](const Eigen::VectorXd& v, double scale) {
+          for (int i = 0; i < linearize; ++i) {
+            f << ",";
+            if (i < v.size()) f << v[i] * scale;
+          }
+        };
         for (size_t k = 0; k < tm.time.size(); ++k) {
           f << tm.time[k];
-          for (Eigen::Index i = 0; i < tm.omega[k].size(); ++i) f << "," << tm.omega[k][i] / (2 * M_PI);
+          cells(tm.omega[k], 1 / (2 * M_PI));
+          cells(tm.damping[k], 1.0);
+          cells(tm.omegaFrozen[k], 1 / (2 * M_PI));
           f << "\n";
         }
         std::cout << "wrote " << out << "_frequencies.csv\n";
+        if (matrices) {
+          io::writeLinearizedMat(out + "_linear.mat", tm.time, tm.matrices, tm.omega);
+          std::cout << "wrote " << out << "_linear.mat\n";
+        }
       }
       if (!echo.empty()) {
         std::ifstream in(m.file);

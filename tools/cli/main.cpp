@@ -14,10 +14,12 @@ using namespace flexmb::cli;
 namespace {
 void usage(std::ostream& o) {
   o << "usage: flexmb <command> [options] model.dat\n"
-       "       flexmb --mode N model.dat [options]     (SPACAR's modes: 0 check, 1 simulate)\n\n"
+       "       flexmb --mode N model.dat [options]     (SPACAR's modes: 0 check, 1 simulate, 3 linearised\n"
+       "                                               matrices, 4 eigenfrequencies along the trajectory, 10 static)\n\n"
        "commands:\n"
        "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
-       "  simulate   mode 1: forward dynamics with the ode45-equivalent integrator\n"
+       "  simulate   mode 1: forward dynamics with the ode45-equivalent integrator;\n"
+       "             --linearize N (mode 4) and --matrices (mode 3) linearise along the trajectory\n"
        "  modes      eigenfrequencies in the initial configuration\n"
        "  static     mode 10: equilibrium over the load steps, eigenfrequencies in each\n"
        "  sweep      eigenfrequencies over a range of motion (one nodal coordinate prescribed)\n"
@@ -50,12 +52,13 @@ int main(int argc, char** argv) {
     }
     static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}, {"10", "static"}};
     if (n == "4") {  // eigenfrequencies along the trajectory
-      command = "simulate";
       args.push_back("--linearize=6");
+    } else if (n == "3") {  // linearised matrices (and frequencies) along the trajectory
+      args.push_back("--matrices");
     }
-    auto it = n == "4" ? modes.find("1") : modes.find(n);
+    auto it = (n == "3" || n == "4") ? modes.find("1") : modes.find(n);
     if (it == modes.end()) {
-      std::cerr << "flexmb: mode " << n << " is not supported yet (supported: 0, 1, 4, 10; mode 3's matrices C0 and N0 are not implemented yet)\n";
+      std::cerr << "flexmb: mode " << n << " is not supported (supported: 0, 1, 3, 4, 10)\n";
       return 2;
     }
     command = it->second;
