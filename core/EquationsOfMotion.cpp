@@ -6,7 +6,7 @@
 namespace flexmb::core {
 
 EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis)
-    : model_(model), basis_(std::move(basis)), m_(basis_ ? static_cast<int>(basis_->cols()) : model.numDofs()),
+    : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
       gtf_(model), inertia_(model), stresses_(model),
       rheonomic_(!model.inputX.empty() || !model.inputE.empty()), llt_(m_) {
   const int nq = model.numDofs(), nx = model.nx, ne = model.ne;
@@ -25,10 +25,7 @@ EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::Ma
   Mbar_.setZero(m_, m_);
 }
 
-void EquationsOfMotion::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const {
-  if (basis_) q.noalias() = *basis_ * eta;
-  else q = eta;
-}
+void EquationsOfMotion::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
 Eigen::VectorXd EquationsOfMotion::initialState() {
   const int nq = model_.numDofs();
@@ -37,28 +34,17 @@ Eigen::VectorXd EquationsOfMotion::initialState() {
     const auto& d = model_.dofs[j];
     if (d.isDeformation && model_.ed0.size() && !std::isnan(model_.ed0[d.index])) qd0[j] = model_.ed0[d.index];
   }
+  // Least squares onto the basis (exact when q0, qd0 lie in its span, e.g. zero).
   Eigen::VectorXd y(2 * m_);
-  if (basis_) {
-    // Least squares onto the basis (exact when q0, qd0 lie in its span, e.g. zero).
-    auto qr = basis_->colPivHouseholderQr();
-    y.head(m_) = qr.solve(q0);
-    y.tail(m_) = qr.solve(qd0);
-  } else {
-    y << q0, qd0;
-  }
+  y << coords_.fromFull(q0), coords_.fromFull(qd0);
   return y;
 }
 
 void EquationsOfMotion::kinematicState(double t, const Eigen::VectorXd& y) {
   const auto eta = y.head(m_);
   const auto etad = y.tail(m_);
-  if (basis_) {
-    q_.noalias() = *basis_ * eta;
-    qd_.noalias() = *basis_ * etad;
-  } else {
-    q_ = eta;
-    qd_ = etad;
-  }
+  coords_.toFull(eta, q_);
+  coords_.toFull(etad, qd_);
   gtf_.solvePositions(t, q_);
   gtf_.firstOrder(basis(), FqV_);
   if (rheonomic_ || !qd_.isZero(0.0)) {

@@ -11,6 +11,7 @@
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/Model.hpp"
+#include "core/ReducedCoordinates.hpp"
 #include "core/Stresses.hpp"
 
 namespace flexmb::core {
@@ -27,7 +28,7 @@ class EquationsOfMotion {
 
   int size() const { return m_; }  // dimension of eta
   const Model& model() const { return model_; }
-  const Eigen::MatrixXd* basis() const { return basis_ ? &*basis_ : nullptr; }
+  const Eigen::MatrixXd* basis() const { return coords_.basis(); }
   GeometricTransferFunctions& kinematics() { return gtf_; }
   const Inertia& inertia() const { return inertia_; }
   const Stresses& stresses() const { return stresses_; }
@@ -56,7 +57,7 @@ class EquationsOfMotion {
   void generalisedForces(double t, Eigen::VectorXd& rhsEta);
 
   const Model& model_;
-  std::optional<Eigen::MatrixXd> basis_;
+  ReducedCoordinates coords_;
   int m_;
   GeometricTransferFunctions gtf_;
   Inertia inertia_;

@@ -107,6 +107,19 @@ void gatherColumn(const ElementEntry& E, const Eigen::MatrixXd& A, int j, ElemVe
 void scatterColumn(const ElementEntry& E, const ElemVec& v, int j, Eigen::MatrixXd& Y) {
   for (size_t k = 0; k < E.coords.size(); ++k) Y(E.coords[k], j) += v[k];
 }
+// Y += d force(x)/dx A for one element (force: its nodal force function of its coordinates).
+template <class Fn>
+void addDirectional(const ElementEntry& E, int el, const ElemVec& xe, Fn&& force, const Eigen::MatrixXd& A,
+                    const ElementSteps& steps, Eigen::MatrixXd& Y) {
+  ElemVec ae, d;
+  for (int j = 0; j < A.cols(); ++j) {
+    gatherColumn(E, A, j, ae);
+    const double h = steps.step(el, ae);
+    if (h == 0.0) continue;
+    directionalDerivative(force, xe, ae, h, d);
+    scatterColumn(E, d, j, Y);
+  }
+}
 }  // namespace
 
 void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
@@ -137,8 +150,7 @@ void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::Ve
 void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
                                        const Eigen::VectorXd& xdd, const Eigen::MatrixXd& A,
                                        const ElementSteps& steps, Eigen::MatrixXd& Y) const {
-  ElemVec xe, ve, ae, d;
-  ElemVec acc;
+  ElemVec xe, ve, acc;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
@@ -157,13 +169,7 @@ void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::Ve
         out += he;
       }
     };
-    for (int j = 0; j < A.cols(); ++j) {
-      gatherColumn(E, A, j, ae);
-      const double h = steps.step(el, ae);
-      if (h == 0.0) continue;
-      directionalDerivative(force, xe, ae, h, d);
-      scatterColumn(E, d, j, Y);
-    }
+    addDirectional(E, el, xe, force, A, steps, Y);
   }
 }
 
@@ -171,19 +177,13 @@ void Inertia::addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd
                                  Eigen::MatrixXd& Y) const {
   if (!model_.hasGravity) return;
   const double gx = model_.gravity[0], gy = model_.gravity[1];
-  ElemVec xe, ae, d;
+  ElemVec xe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
     const Element& impl = *E.impl;
     auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces(xx, E.inertia, gx, gy, out); };
-    for (int j = 0; j < A.cols(); ++j) {
-      gatherColumn(E, A, j, ae);
-      const double h = steps.step(el, ae);
-      if (h == 0.0) continue;
-      directionalDerivative(force, xe, ae, h, d);
-      scatterColumn(E, d, j, Y);
-    }
+    addDirectional(E, el, xe, force, A, steps, Y);
   }
 }
 

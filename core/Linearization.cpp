@@ -3,13 +3,10 @@
 namespace flexmb::core {
 
 Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis)
-    : model_(model), basis_(std::move(basis)), m_(basis_ ? static_cast<int>(basis_->cols()) : model.numDofs()),
+    : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
       gtf_(model), inertia_(model), stresses_(model), steps_(model) {}
 
-void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const {
-  if (basis_) q.noalias() = *basis_ * eta;
-  else q = eta;
-}
+void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
 void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& f) const {
   f = model_.f0;

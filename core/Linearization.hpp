@@ -17,6 +17,7 @@
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/Model.hpp"
+#include "core/ReducedCoordinates.hpp"
 #include "core/Stresses.hpp"
 
 namespace flexmb::core {
@@ -36,7 +37,7 @@ class Linearization {
   int size() const { return m_; }
   const Model& model() const { return model_; }
   GeometricTransferFunctions& kinematics() { return gtf_; }
-  const Eigen::MatrixXd* basis() const { return basis_ ? &*basis_ : nullptr; }
+  const Eigen::MatrixXd* basis() const { return coords_.basis(); }
   void dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const;
 
   // Applied nodal loads: XF + loadFactor * DELXF + XFT(t) + gravity at the current configuration.
@@ -61,7 +62,7 @@ class Linearization {
   void geometricStiffness(LinearizedSystem& out);
 
   const Model& model_;
-  std::optional<Eigen::MatrixXd> basis_;
+  ReducedCoordinates coords_;
   int m_;
   GeometricTransferFunctions gtf_;
   Inertia inertia_;
