@@ -34,6 +34,15 @@ struct ElementInertia {
   bool any() const { return rhoA != 0.0 || rhoI != 0.0; }
 };
 
+// Whether an element's deformation measure still describes the configuration (see
+// Element::validity). Plain data, no allocation: checked at every output time of a simulation.
+struct ElementValidity {
+  bool valid = true;
+  int slot = -1;                 // the offending node, as slot index in keyword order
+  double rotation = 0.0;         // its rotation (rad) that left the valid range
+  const char* limit = nullptr;   // static text after "rotated N degrees": the assumption it breaks
+};
+
 class Element {
  public:
   virtual ~Element() = default;
@@ -68,6 +77,14 @@ class Element {
                              ElemVec& f) const {
     (void)inertia, (void)gx, (void)gy;
     f.setZero(x.size());
+  }
+
+  // Whether the deformation measure is valid at x. An element whose e = D(x) is exact for any
+  // rigid motion and any deformation (truss, hinge) is always valid; the beam is not (Eq. 3b/3c
+  // measure bending as l0 sin theta, which folds back beyond 90 degrees).
+  virtual ElementValidity validity(const ElemVec& x) const {
+    (void)x;
+    return {};
   }
 };
 

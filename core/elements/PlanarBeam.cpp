@@ -167,6 +167,17 @@ void PlanarBeam::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, El
   expandHessian(Hz, H);
 }
 
+ElementValidity PlanarBeam::validity(const ElemVec& x) const {
+  Geometry g;
+  geometry(x, g);
+  if (g.cp > 0.0 && g.cq > 0.0) return {};
+  // Report the node turned furthest (slots: 0 p, 1 phi_p, 2 q, 3 phi_q).
+  const double tp = std::atan2(g.sp, g.cp), tq = std::atan2(g.sq, g.cq);
+  const bool p = std::abs(tp) >= std::abs(tq);
+  return {false, p ? 1 : 3, p ? tp : tq,
+          "against its chord, beyond the beam's small-rotation validity (Eq. 3b/3c: e = l0 sin theta)"};
+}
+
 void PlanarBeam::constitutive(std::span<const double> params, DefMat& S) const {
   const double EA = params.size() > 0 ? params[0] : 0.0;
   const double EI = params.size() > 1 ? params[1] : 0.0;

@@ -44,6 +44,11 @@ class PlanarBeam final : public Element {
                       ElemVec& h) const override;
   void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
                      ElemVec& f) const override;
+  // Valid while both node rotations against the chord, theta_p and theta_q, keep cos theta > 0:
+  // e2 = l0 sin theta_p (Eq. 3b) has its maximum at 90 degrees and returns to zero at 180, so
+  // beyond 90 degrees a bent element looks less bent (a spurious, nearly stress-free fold).
+  // theta is measured from the reference configuration, so rigid rotations are always valid.
+  ElementValidity validity(const ElemVec& x) const override;
 
   double l0() const { return l0_; }
   double beta0() const { return beta0_; }

@@ -2,7 +2,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <sstream>
 
+#include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Ode45.hpp"
 
@@ -54,6 +56,16 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
                             " (a load or reference expression undefined there?); results before it are kept";
           return false;
         }
+      // A beam node turned past 90 degrees against its chord leaves Eq. 3b/3c (l0 sin theta): the
+      // motion after it is not the model's. Checked here, at output times only, not in the RHS.
+      if (const auto bad = core::firstInvalidElement(model, out.x)) {
+        std::ostringstream msg;
+        msg << "at t = " << t << ": " << bad->message
+            << "; refine the mesh or limit the step size; results before it are kept";
+        traj.completed = false;
+        traj.stopReason = msg.str();
+        return false;
+      }
       traj.time.push_back(t);
       traj.states.push_back(std::move(out));
     }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/ElementValidity.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {
@@ -106,6 +107,17 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
     lin.appliedForces(t, reached, f);
     lin.atRest(t, eta, f, sys, true);
     st.x = lin.kinematics().x();
+    // A converged equilibrium can still be spurious: load control may jump into a fold where a
+    // beam node turned past 90 degrees against its chord, which Eq. 3b/3c (l0 sin theta) see as
+    // nearly unbent. Stop there and keep the steps before it.
+    if (const auto bad = core::firstInvalidElement(model, st.x)) {
+      std::ostringstream msg;
+      msg << "load factor " << reached << " (step " << i << " of " << n << "): " << bad->message
+          << "; refine the mesh or use more load steps";
+      run.completed = false;
+      run.stopReason = msg.str();
+      return run;
+    }
     st.e = lin.kinematics().e();
     st.sigma = sys.sigma;
     if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);

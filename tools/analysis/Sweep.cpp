@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/ElementValidity.hpp"
 #include "core/Linearization.hpp"
 #include "solvers/EigenSolver.hpp"
 #include "tools/analysis/Statics.hpp"
@@ -97,6 +98,15 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     lin.appliedForces(o.t, 0.0, f);
     f[k] += P;
     lin.atRest(o.t, eta, f, sys, true);
+    // As in staticAnalysis: a converged but folded equilibrium (a beam node past 90 degrees
+    // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.
+    if (const auto bad = core::firstInvalidElement(model, lin.kinematics().x())) {
+      std::ostringstream s;
+      s << "with the coordinate at " << v << ": " << bad->message << "; refine the mesh or use more sweep steps";
+      res.completed = false;
+      res.stopReason = s.str();
+      return res;
+    }
     const Frequencies fr = naturalFrequencies(sys, o.nev);
     SweepPoint pt;
     pt.value = v;

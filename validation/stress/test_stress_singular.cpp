@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/ElementValidity.hpp"
 #include "core/KinematicCheck.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
@@ -209,7 +211,7 @@ TEST(StressNearSingular, FourBarCoastingIntoDeadPoint) {
 // Statics: the crank's orientation node prescribed (INPUTX 11, DELINPX 0.02 rad per load step, 20
 // steps: 0.4 rad > the 0.1601 rad to the dead point); the coupler is flexible in bending (DYNE, EI 1)
 // so the model has 2 DOFs, loaded by gravity (without any load the stepping stops at once: see the
-// known issue of PerfectColumnStaticAnalysis, the same zero force scale). Expected: the load stepping
+// former defect of PerfectColumnStaticAnalysis, the same zero force scale). Expected: the load stepping
 // stops with "no equilibrium beyond load factor s" with s * 0.02 at or just below the dead point, the
 // steps before it kept. Observed: load step 8 (0.16 rad, at the dead point) converges; at step 9 the
 // set-up evaluation in analysis::equilibrium (lin.atRest, outside the Newton solver's try) cannot
@@ -224,8 +226,8 @@ TEST(StressNearSingular, FourBarStaticsThroughDeadPoint) {
   try {
     run = analysis::staticAnalysis(m, 2, 0);
   } catch (const std::exception& e) {
-    summary("5b four-bar statics dead point", "EXCEPTION (known issue)", e.what(), sw.seconds());
-    GTEST_SKIP() << "known issue: analysis::staticAnalysis lets a KinematicsError escape (" << e.what()
+    summary("5b four-bar statics dead point", "EXCEPTION (REGRESSION)", e.what(), sw.seconds());
+    FAIL() << "regression of a fixed defect: analysis::staticAnalysis lets a KinematicsError escape (" << e.what()
                  << ") when the linkage cannot be assembled at the next input value (crank beyond the dead "
                     "point): analysis::equilibrium's set-up call lin.atRest() is outside the solver's try; "
                     "expected a stop reason 'no equilibrium beyond load factor 8 ...'";
@@ -258,8 +260,8 @@ TEST(StressNearSingular, FourBarStaticsRigidZeroDof) {
            fmt(run.steps.empty() ? 0.0 : run.steps.back().loadFactor) + "|" + run.stopReason;
   });
   if (r.crashed) {
-    summary("5b four-bar statics DOF 0", "CRASH (known issue)", "signal " + std::to_string(r.signal), sw.seconds());
-    GTEST_SKIP() << "known issue: analysis::staticAnalysis crashes (signal " << r.signal
+    summary("5b four-bar statics DOF 0", "CRASH (REGRESSION)", "signal " + std::to_string(r.signal), sw.seconds());
+    FAIL() << "regression of a fixed defect: analysis::staticAnalysis crashes (signal " << r.signal
                  << ") on a model with zero degrees of freedom (empty eta): analysis::equilibrium takes "
                     "maxCoeff() of the empty K diagonal when no generalised load exists";
   }
@@ -341,9 +343,9 @@ TEST(StressBuckling, PerfectColumnStaticAnalysis) {
     EXPECT_EQ(st.newton.stable, p < 1.0);
     EXPECT_EQ(st.frequencies.omega[0] > 0.0, p < 1.0);
   }
-  summary("6 perfect column staticAnalysis", knownIssue ? "WRONG ERROR (known issue)" : "verified", figure, sw.seconds());
+  summary("6 perfect column staticAnalysis", knownIssue ? "WRONG ERROR (REGRESSION)" : "verified", figure, sw.seconds());
   if (knownIssue)
-    GTEST_SKIP() << "known issue: staticAnalysis reports 'no equilibrium beyond load factor 0' for the straight "
+    FAIL() << "regression of a fixed defect: staticAnalysis reports 'no equilibrium beyond load factor 0' for the straight "
                     "column under a pure axial load (even 0.5 Pcr): the residual is at round-off (~6e-15) but "
                     "the force scale ignores the axial load (it does no work along the DOFs), so the tolerance "
                     "is ~1e-20 and Newton 'stalls'. "
@@ -416,45 +418,95 @@ TEST(StressBuckling, ImperfectColumnCoarseSteps) {
   }
 }
 
-// Tiny imperfection (1e-3) with 30 steps: load halving after a failed Newton. Expected one of the two
-// outcomes; a KinematicsError escaping staticAnalysis (instead of a stop reason) is a known issue.
+// Tiny imperfection (1e-3) with 30 steps. Load control near P_cr (load factor 20) used to jump into
+// a folded configuration (tip x 0.0036, tip y 0.75) and call it stable: elements turned by ~pi
+// against their chords have zero bending deformation in Eq. 3b/3c (l0 sin theta), a spurious
+// zero-energy state. Asserted: the correct post-buckled branch (stable, |tip x| > 0.5) or a stop
+// naming the load factor and the folded element with the advice to refine the mesh or the load
+// steps; in either case no kept step has an element beyond 90 degrees against its chord.
 TEST(StressBuckling, ImperfectColumnTinyImperfection) {
   const int steps = 30;
   const std::string dyn = "DELXF " + std::to_string(kColumnTip) + " " + fmt(1e-3 * 1.5 * kPcr / steps) + " " +
                           fmt(-1.5 * kPcr / steps) + "\nITERSTEP 50 " + std::to_string(steps);
   const core::Model m = io::readDatString(columnDat(kColumnElements, 1.0, 1.0, dyn), "column_imp.dat");
   Stopwatch sw;
-  analysis::StaticRun run;
-  try {
-    run = analysis::staticAnalysis(m, 2, 0);
-  } catch (const std::exception& e) {
-    summary("6 imperfect column 1e-3 / 30 steps", "EXCEPTION (known issue)", e.what(), sw.seconds());
-    GTEST_SKIP() << "known issue: analysis::staticAnalysis lets a KinematicsError escape (" << e.what()
-                 << "): a Newton trial at load factor 20 (1.0 Pcr) diverges in the kinematics and leaves the "
-                    "GeometricTransferFunctions warm start at the diverged iterate; every step-cut trial and "
-                    "then equilibrium()'s set-up call lin.atRest() (outside the solver's try) at the halved "
-                    "load 19.5 fail from it (a fresh Linearization at the same eta succeeds)";
-  }
+  const analysis::StaticRun run = analysis::staticAnalysis(m, 2, 0);
   ASSERT_FALSE(run.steps.empty()) << run.stopReason;
   const auto& st = run.steps.back();
+  const double tipX = st.x[coordIndex(m, kColumnTip, 1)], tipY = st.x[coordIndex(m, kColumnTip, 2)];
   summary("6 imperfect column 1e-3 / 30 steps",
           !run.completed ? "stopped (diagnostic)" : (st.newton.stable ? "post-buckled, stable" : "UNSTABLE branch"),
-          "tip x " + num(st.x[coordIndex(m, kColumnTip, 1)]) + (run.completed ? "" : "; " + run.stopReason),
+          "last kept load factor " + num(st.loadFactor) + ", tip (" + num(tipX) + ", " + num(tipY) + ")" +
+              (run.completed ? "" : "; " + run.stopReason),
           sw.seconds());
-  if (run.completed && std::abs(st.x[coordIndex(m, kColumnTip, 1)]) < 0.5)
-    GTEST_SKIP() << "known issue: with 30 load steps and a 1e-3 imperfection the load stepping jumps (near load "
-                    "factor 20) into a folded configuration (tip x "
-                 << st.x[coordIndex(m, kColumnTip, 1)]
-                 << ", tip y 0.75 of 1.0): an element turned by ~pi against its chord has zero bending deformation "
-                    "in Eq. 3b/3c (l0 sin theta), a spurious zero-energy state outside the element's small-rotation "
-                    "validity. flexmb should detect element rotations beyond 90 degrees and stop with a diagnostic "
-                    "(refine the mesh or the load steps).";
+  for (const auto& s : run.steps) {
+    EXPECT_TRUE(s.x.allFinite());
+    const auto bad = core::firstInvalidElement(m, s.x);
+    EXPECT_FALSE(bad.has_value()) << "load factor " << s.loadFactor << ": " << bad->message;
+  }
   if (run.completed) {
     EXPECT_TRUE(st.newton.stable);
-    EXPECT_GT(std::abs(st.x[coordIndex(m, kColumnTip, 1)]), 0.5);
+    EXPECT_GT(st.frequencies.omega[0], 0.0);
+    EXPECT_GT(std::abs(tipX), 0.5);
   } else {
     EXPECT_TRUE(contains(run.stopReason, "load factor")) << run.stopReason;
+    EXPECT_TRUE(contains(run.stopReason, "(PLBEAM)")) << run.stopReason;
+    EXPECT_TRUE(contains(run.stopReason, "refine the mesh or use more load steps")) << run.stopReason;
   }
+}
+
+// Dynamics beyond the beam's validity: a beam clamped at x = 0 and pinned at x = 1 (EI = 1, EA = 100,
+// rho A = 1, rotary inertia 0.01 on the pinned end) under a suddenly applied end moment of 3 EI/L,
+// with the nodal coordinates as DOFs (DYNX, all deformations released). The static end rotation is
+// M L / 4 EI = 43 degrees; the dynamic overshoot about doubles it. With 1 element the node turns
+// past 90 degrees against its chord, where e3 = -l0 sin theta_q (Eq. 3c) can no longer hold it
+// (bending moment at most 2 EI/L). Asserted: the one-element run stops at an output time naming
+// the element and the advice; the kept outputs are finite and valid; 4 elements complete valid.
+namespace {
+std::string pinnedBeamDat(int n, double moment) {
+  std::ostringstream s;
+  s << "X 1 0 0\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 100 + k << " " << k + 1 << " " << 101 + k << "\nX " << k + 1 << " "
+      << fmt(static_cast<double>(k) / n) << " 0\n";
+  s << "FIX 1\nFIX 101\nFIX " << n + 1 << "\n";
+  for (int k = 2; k <= n; ++k) s << "DYNX " << k << "\nDYNX " << 100 + k << "\n";
+  s << "DYNX " << 101 + n << "\n";
+  for (int k = 1; k <= n; ++k) s << "RLSE " << k << " 1 2 3\n";
+  s << "END\nHALT\n";
+  for (int k = 1; k <= n; ++k) s << "EM " << k << " 1.0 1e-3\nESTIFF " << k << " 100 1.0\n";
+  s << "XM " << 101 + n << " 0.01\nXF " << 101 + n << " " << fmt(moment) << "\nTIMESTEP 1.0 100\nEND\nEND\n";
+  return s.str();
+}
+}  // namespace
+
+TEST(StressBuckling, BeamEndMomentBeyondValidityDynamics) {
+  Stopwatch sw;
+  std::string fig;
+  for (int n : {1, 4}) {
+    const core::Model m = io::readDatString(pinnedBeamDat(n, 3.0), "pinned_beam.dat");
+    const core::Trajectory tr = analysis::simulate(m, {});
+    double peak = 0.0;
+    for (const auto& st : tr.states) {
+      peak = std::max(peak, std::abs(st.x[coordIndex(m, 101 + n, 1)]));
+      const auto bad = core::firstInvalidElement(m, st.x);
+      EXPECT_FALSE(bad.has_value()) << n << " elements: " << bad->message;
+    }
+    EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
+    fig += std::to_string(n) + " el: " + (tr.completed ? "completed" : tr.stopReason) + ", peak end rotation " +
+           num(peak * 180 / std::numbers::pi) + " deg; ";
+    if (n == 1) {
+      ASSERT_FALSE(tr.completed);
+      EXPECT_TRUE(std::isfinite(stopTime(tr.stopReason))) << tr.stopReason;
+      EXPECT_TRUE(contains(tr.stopReason, "element 1 (PLBEAM)")) << tr.stopReason;
+      EXPECT_TRUE(contains(tr.stopReason, "refine the mesh or limit the step size")) << tr.stopReason;
+      ASSERT_FALSE(tr.time.empty());
+      EXPECT_LT(tr.time.back(), stopTime(tr.stopReason));
+    } else {
+      EXPECT_TRUE(tr.completed) << tr.stopReason;
+    }
+  }
+  summary("6 beam end moment beyond validity", "stopped (diagnostic) / completed", fig, sw.seconds());
 }
 
 // =================================================================================================
@@ -565,9 +617,9 @@ TEST(StressBadInput, NonFiniteLoadAtOutputTime) {
       EXPECT_NEAR(stopTime(tr.stopReason), 0.05, 1e-3) << tr.stopReason;
     }
   }
-  summary("7 non-finite load at output time", nanFound ? "NaN IN RESULTS (known issue)" : "verified", fig, sw.seconds());
+  summary("7 non-finite load at output time", nanFound ? "NaN IN RESULTS (REGRESSION)" : "verified", fig, sw.seconds());
   if (nanFound)
-    GTEST_SKIP() << "known issue: analysis::simulate stores non-finite output quantities (xdd) when the load is "
+    FAIL() << "regression of a fixed defect: analysis::simulate stores non-finite output quantities (xdd) when the load is "
                     "non-finite exactly at an output time; the observer only catches KinematicsError. "
                  << fig;
 }
