@@ -129,8 +129,9 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   // fail), so the run stops as SPACAR's does, saying where and what usually helps.
   auto inTrialStep = [&](double tt, double hh) {
     return " (inside a trial step of size " + num(hh) + " from the accepted state at t = " + num(tt) +
-           "; results up to there are kept. A step far too large for the stiffest mode does this: "
-           "limit the step size, e.g. a maximum step or more output intervals)";
+           "; results up to there are kept. A step far too large for the stiffest mode fails like this: "
+           "limit the step size (a maximum step or more output intervals). If the step is already small, "
+           "the model itself fails there, e.g. a singular configuration)";
   };
   auto stopped = [&](double tt) {
     return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt));
