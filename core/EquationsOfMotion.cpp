@@ -60,9 +60,7 @@ void EquationsOfMotion::generalisedForces(double t, Eigen::VectorXd& rhsEta) {
   const Eigen::VectorXd& x = gtf_.x();
   const bool moving = !xd_.isZero(0.0);
   // Nodal force vector f - h - M g - D_x^T sigma (Eq. 13 before projection).
-  fn_ = model_.f0;
-  for (const auto& tf : model_.timeForces) fn_[tf.index] += tf.f->value(t);
-  inertia_.addGravity(x, fn_);
+  appliedLoads(model_, inertia_, t, 0.0, x, fn_);
   if (inertia_.hasMass()) {
     if (moving) {
       Mg_.setZero();

@@ -47,4 +47,9 @@ class Inertia {
   mutable Eigen::MatrixXd FeD_, YeD_;
 };
 
+// Applied nodal loads at (t, x): XF + loadFactor * DELXF + XFT(t) + gravity (Eq. 13's f). One
+// definition for the equations of motion, the linearisation and statics.
+void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
+                  Eigen::VectorXd& f);
+
 }  // namespace flexmb::core

@@ -9,10 +9,7 @@ Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
 void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& f) const {
-  f = model_.f0;
-  if (loadFactor != 0.0 && model_.delf.size() == f.size()) f += loadFactor * model_.delf;
-  for (const auto& tf : model_.timeForces) f[tf.index] += tf.f->value(t);
-  inertia_.addGravity(gtf_.x(), f);
+  appliedLoads(model_, inertia_, t, loadFactor, gtf_.x(), f);
 }
 
 void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,

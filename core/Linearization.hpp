@@ -35,6 +35,7 @@ class Linearization {
  public:
   explicit Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis = std::nullopt);
   int size() const { return m_; }
+  const ReducedCoordinates& coordinates() const { return coords_; }
   const Model& model() const { return model_; }
   GeometricTransferFunctions& kinematics() { return gtf_; }
   const Eigen::MatrixXd* basis() const { return coords_.basis(); }
@@ -68,7 +69,7 @@ class Linearization {
   Inertia inertia_;
   Stresses stresses_;
   ElementSteps steps_;
-  Eigen::VectorXd q_, qd_, qdd_, r_, sigma_, xd_, xdd_, ed_, work_;
+  Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_;
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms
 };

@@ -1,7 +1,5 @@
 #include "tools/analysis/TrajectoryModes.hpp"
 
-#include <Eigen/QR>
-
 #include "solvers/QuadraticEigen.hpp"
 #include "tools/analysis/Statics.hpp"
 
@@ -22,9 +20,7 @@ TrajectoryModes trajectoryModes(const core::Model& model, const core::Trajectory
                                 const std::optional<Eigen::MatrixXd>& basis, bool keepMatrices) {
   TrajectoryModes out;
   core::Linearization lin(model, basis);
-  std::optional<Eigen::ColPivHouseholderQR<Eigen::MatrixXd>> qr;
-  if (basis) qr.emplace(*basis);
-  auto reduce = [&](const Eigen::VectorXd& q) { return qr ? Eigen::VectorXd(qr->solve(q)) : q; };
+  auto reduce = [&](const Eigen::VectorXd& q) { return lin.coordinates().fromFull(q); };
   core::LinearizedSystem sys;
   const int k = std::min<int>(nev, lin.size());
   for (size_t i = 0; i < traj.time.size(); ++i) {
