@@ -33,6 +33,7 @@ Eigen::VectorXd EquationsOfMotion::initialState() {
   for (int j = 0; j < nq; ++j) {
     const auto& d = model_.dofs[j];
     if (d.isDeformation && model_.ed0.size() && !std::isnan(model_.ed0[d.index])) qd0[j] = model_.ed0[d.index];
+    if (!d.isDeformation && model_.xd0.size() && !std::isnan(model_.xd0[d.index])) qd0[j] = model_.xd0[d.index];
   }
   // Least squares onto the basis (exact when q0, qd0 lie in its span, e.g. zero).
   Eigen::VectorXd y(2 * m_);

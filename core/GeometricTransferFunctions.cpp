@@ -120,12 +120,14 @@ void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen
   for (const auto& r : model_.inputX) {
     double v[3];
     r.evaluate(t, v[0], v[1], v[2]);
+    if (initialLoadFactor_ != 1.0) v[0] = r.base + initialLoadFactor_ * (v[0] - r.base);
     v[0] += inputLoadFactor_ * r.delta;
     xk[r.index] = v[order];
   }
   for (const auto& r : model_.inputE) {
     double v[3];
     r.evaluate(t, v[0], v[1], v[2]);
+    if (initialLoadFactor_ != 1.0) v[0] *= initialLoadFactor_;
     ek[r.index] = v[order];
   }
 }

@@ -69,7 +69,11 @@ class GeometricTransferFunctions {
   // below their own tolerance: residual noise in x becomes noise in the right-hand side.
   void setRelativeTolerance(double tol);
   // Static load stepping: input coordinates get x + s * DELINPX.
-  void setInputLoadFactor(double s) { inputLoadFactor_ = s; }
+  // Static load steps: input x = base + initial (x0 - base) + s delta (DELINPX, the total at s = 1).
+  void setInputLoadFactor(double s, double initial = 1.0) {
+    inputLoadFactor_ = s;
+    initialLoadFactor_ = initial;
+  }
   // E_q V = D_x F_q V (ne x m) from a computed F_q V.
   void deformationFirstOrder(const Eigen::MatrixXd& FqV, Eigen::MatrixXd& EqV) const;
 
@@ -121,6 +125,7 @@ class GeometricTransferFunctions {
   Eigen::MatrixXd rhsMat_;
   std::vector<DefJac> elemJac_;
   double inputLoadFactor_ = 0.0;
+  double initialLoadFactor_ = 1.0;
   int lastIterations_ = 0;
   long totalIterations_ = 0;
 };

@@ -188,8 +188,9 @@ void Inertia::addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd
 }
 
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
-                  Eigen::VectorXd& f) {
+                  Eigen::VectorXd& f, double initialFactor) {
   f = model.f0;
+  if (initialFactor != 1.0) f *= initialFactor;
   if (loadFactor != 0.0 && model.delf.size() == f.size()) f += loadFactor * model.delf;
   for (const auto& tf : model.timeForces) f[tf.index] += tf.f->value(t);
   inertia.addGravity(x, f);

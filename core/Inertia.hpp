@@ -47,9 +47,10 @@ class Inertia {
   mutable Eigen::MatrixXd FeD_, YeD_;
 };
 
-// Applied nodal loads at (t, x): XF + loadFactor * DELXF + XFT(t) + gravity (Eq. 13's f). One
-// definition for the equations of motion, the linearisation and statics.
+// Applied nodal loads at (t, x): initialFactor * XF + loadFactor * DELXF + XFT(t) + gravity
+// (Eq. 13's f). One definition for the equations of motion, the linearisation and statics; statics
+// ramps the initial loads (initialFactor < 1) and the DEL* increments (loadFactor = step / steps).
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
-                  Eigen::VectorXd& f);
+                  Eigen::VectorXd& f, double initialFactor = 1.0);
 
 }  // namespace flexmb::core

@@ -8,8 +8,8 @@ Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> 
 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
-void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& f) const {
-  appliedLoads(model_, inertia_, t, loadFactor, gtf_.x(), f);
+void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& f, double initialFactor) const {
+  appliedLoads(model_, inertia_, t, loadFactor, gtf_.x(), f, initialFactor);
 }
 
 void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,

@@ -42,7 +42,7 @@ class Linearization {
   void dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const;
 
   // Applied nodal loads: XF + loadFactor * DELXF + XFT(t) + gravity at the current configuration.
-  void appliedForces(double t, double loadFactor, Eigen::VectorXd& f) const;
+  void appliedForces(double t, double loadFactor, Eigen::VectorXd& f, double initialFactor = 1.0) const;
   // Everything at rest in configuration eta under nodal loads f (Eq. 16). Throws KinematicsError.
   void atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, LinearizedSystem& out,
               bool withMass = true);

@@ -21,8 +21,9 @@ void Rheonomic::evaluate(double t, double& x, double& xd, double& xdd) const {
     xdd = fa ? fa->value(t) : 0.0;
     return;
   }
-  x = x0 + v * t + 0.5 * a * t * t;
-  xd = v + a * t;
+  const double dt = t - tRef;
+  x = x0 + v * dt + 0.5 * a * dt * dt;
+  xd = v + a * dt;
   xdd = a;
 }
 

@@ -37,6 +37,7 @@ struct ElementEntry {
   int line = 0;
   ElementInertia inertia;
   bool hasStiffness = false, hasDamping = false;
+  std::vector<double> stiffnessParams, dampingParams;  // as given (ESTIFF / EDAMP), for echoes
   DefMat S, Sd;             // constitutive stiffness and damping (ndef x ndef)
   // The element's entries of a global nodal vector (positions, velocities, forces ...).
   void gather(const Eigen::VectorXd& v, ElemVec& out) const {
@@ -50,7 +51,10 @@ struct Rheonomic {
   int index = 0;  // x index (input coordinate) or e index (input deformation)
   double x0 = 0.0, v = 0.0, a = 0.0;
   TimeFunctionPtr fx, fv, fa;  // when set, replace the polynomial
-  double delta = 0.0;          // DELINPX: increment over the static load steps
+  double delta = 0.0;          // DELINPX: TOTAL increment over the static load steps
+  double tRef = 0.0;           // time origin of the polynomial: x0 + v (t - tRef) + a (t - tRef)^2/2
+  double base = 0.0;           // the coordinate's X (0 for a deformation): where the initial-load
+                               // ramp of a static analysis starts (x = base + s (x0 - base))
   void evaluate(double t, double& x, double& xd, double& xdd) const;
 };
 
@@ -73,7 +77,10 @@ struct AnalysisSettings {
   double hmax = 0.0;         // 0: ode45 default 0.1*|tf - t0|
   double kinematicTol = 1e-12;  // Newton tolerance, relative to the model size (below ode tolerances)
   int maxIterations = 50;
-  int loadSteps = 1;
+  int loadSteps = 1;            // ITERSTEP field 2: steps of the DEL* increments (total at the last)
+  int initialLoadSteps = 0;     // ITERSTEP field 6: steps of the initial loads (0: at once)
+  int outputLevel = 0;          // OUTLEVEL a
+  int transferFunctionLevel = 0;  // OUTLEVEL .. b: 1 asks for the first-order transfer functions
   bool timestepGiven = false;
 };
 
@@ -104,6 +111,12 @@ struct Model {
 
   // Initial values of dynamic deformations / coordinates (E, ED, STARTDE); NaN where not given.
   Eigen::VectorXd e0, ed0, edd0;
+  Eigen::VectorXd xd0;  // initial rates of DYNX coordinates (SPACAR95 XD), size nx; NaN where not given
+  // A restart state (the file gives LENGTH0): the coordinates X are the current configuration, the
+  // deformations there are E (0 where not given) and reference lengths come from LENGTH0.
+  bool restartState = false;
+  // Reader notes for the user, each listed once (settings accepted and ignored, blocks not used).
+  std::vector<std::string> notes;
 
   // Loads and stresses.
   Eigen::VectorXd f0;      // constant nodal forces (XF/FORCE), size nx

@@ -90,7 +90,9 @@ struct ModelBuilder::Impl {
   std::optional<std::pair<double, double>> gravity;
   std::vector<CompValues> inputXValues, inputEValues, initialDeformations;
   std::vector<CompFns> inputXFunctions, inputEFunctions;
-  std::vector<CompScalar> inputIncrements, prestress;
+  std::vector<CompScalar> inputIncrements, prestress, coordinateRates;
+  std::vector<ScalarStmt> referenceLengths;
+  std::vector<std::string> notes;
 };
 
 ModelBuilder::ModelBuilder(std::string sourceFile) : impl_(std::make_unique<Impl>()) {
@@ -159,6 +161,17 @@ void ModelBuilder::setInitialDeformation(int element, int comp, std::optional<do
 }
 void ModelBuilder::setPrestress(int element, int comp, double sigma, int line) {
   impl_->prestress.push_back({element, comp, sigma, line});
+}
+void ModelBuilder::setCoordinateRate(int node, int comp, double v, int line) {
+  impl_->coordinateRates.push_back({node, comp, v, line});
+}
+void ModelBuilder::setReferenceLength(int element, double length0, int line) {
+  impl_->referenceLengths.push_back({element, length0, line});
+}
+void ModelBuilder::addNote(std::string note) {
+  for (const auto& n : impl_->notes)
+    if (n == note) return;
+  impl_->notes.push_back(std::move(note));
 }
 void ModelBuilder::addTimeStress(int element, int comp, TimeFunctionPtr f, int line) {
   impl_->timeStresses.push_back({element, comp, std::move(f), line});
@@ -413,6 +426,40 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     el.Sd = el.S;
   }
 
+  // Restart state (LENGTH0 given): X is the current configuration; every element's reference is
+  // re-derived so that its deformations there are the given E values (0 where not given), with
+  // the reference length from LENGTH0 where given.
+  m.notes = in.notes;
+  m.restartState = !in.referenceLengths.empty();
+  if (m.restartState) {
+    std::vector<double> length0(m.elements.size(), 0.0);
+    for (const auto& st : in.referenceLengths) {
+      const int ei = r.element(st.id, st.line);
+      if (!(st.value > 0.0) || !std::isfinite(st.value))
+        R::fail(st.line, "the reference length of " + r.elemName(ei) + " must be positive, found " + num(st.value));
+      length0[ei] = st.value;
+    }
+    Eigen::VectorXd eAt = Eigen::VectorXd::Zero(m.ne);
+    for (const auto& st : in.inputEValues)
+      if (st.x) eAt[r.e(st.id, st.comp, st.line)] = *st.x;
+    for (const auto& st : in.initialDeformations)
+      if (st.x) eAt[r.e(st.id, st.comp, st.line)] = *st.x;
+    for (size_t ei = 0; ei < m.elements.size(); ++ei) {
+      ElementEntry& el = m.elements[ei];
+      const int nc = slotsCoords(*el.type);
+      ElemVec xe(nc);
+      for (int c = 0; c < nc; ++c) xe[c] = m.x0[el.coords[c]];
+      DefVec ee(el.type->numDeformations());
+      for (int d = 0; d < el.type->numDeformations(); ++d)
+        ee[d] = m.eRole[el.firstDef + d] == Role::Fixed ? 0.0 : eAt[el.firstDef + d];
+      try {
+        std::const_pointer_cast<Element>(el.impl)->setReference(xe, ee, length0[ei]);
+      } catch (const std::exception& ex) {
+        R::fail(el.line, r.elemName(static_cast<int>(ei)) + " (restart reference from LENGTH0/E): " + ex.what());
+      }
+    }
+  }
+
   // Constitutive data.
   auto constitutive = [&](const std::vector<Impl::VectorStmt>& stmts, bool damping) {
     for (const auto& st : stmts) {
@@ -434,9 +481,11 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       if (damping) {
         el.Sd = S;
         el.hasDamping = true;
+        el.dampingParams = st.values;
       } else {
         el.S = S;
         el.hasStiffness = true;
+        el.stiffnessParams = st.values;
       }
     }
   };
@@ -494,7 +543,17 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
 
   // Stresses.
   m.sigma0 = Eigen::VectorXd::Zero(m.ne);
-  for (const auto& st : in.prestress) m.sigma0[r.e(st.id, st.comp, st.line)] = st.value;
+  for (const auto& st : in.prestress) {
+    int comp = st.comp;
+    if (comp == 0) {  // ESIG e s: an element with one deformation
+      const int ei = r.element(st.id, st.line);
+      if (m.elements[ei].type->numDeformations() != 1)
+        R::fail(st.line, "ESIG e s (two numbers) is for an element with one deformation; " +
+                             r.elementDescription(ei) + ": write ESIG e i s");
+      comp = 1;
+    }
+    m.sigma0[r.e(st.id, comp, st.line)] = st.value;
+  }
   for (const auto& st : in.timeStresses)
     m.timeStresses.push_back({r.e(st.id, st.comp, st.line), st.f});
   std::map<int, int> referenceLine;
@@ -519,13 +578,15 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     inputXAt[xi] = m.inputX.size();
     Rheonomic rh;
     rh.index = xi;
-    rh.x0 = m.x0[xi];
+    rh.x0 = rh.base = m.x0[xi];
+    rh.tRef = m.settings.t0;
     m.inputX.push_back(rh);
   }
   for (int di : inputEOrder) {
     inputEAt[di] = m.inputE.size();
     Rheonomic rh;
     rh.index = di;
+    rh.tRef = m.settings.t0;
     m.inputE.push_back(rh);
   }
   auto inputX = [&](int node, int comp, int line) -> Rheonomic& {
@@ -560,6 +621,18 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     rh.fx = st.x, rh.fv = st.v, rh.fa = st.a;
   }
   for (const auto& st : in.inputIncrements) inputX(st.id, st.comp, st.line).delta = st.value;
+  m.xd0 = Eigen::VectorXd::Constant(m.nx, std::numeric_limits<double>::quiet_NaN());
+  for (const auto& st : in.coordinateRates) {
+    const int xi = r.x(st.id, st.comp, st.line);
+    if (m.xRole[xi] == Role::Dynamic) {
+      m.xd0[xi] = st.value;
+    } else if (m.xRole[xi] == Role::Input) {
+      inputX(st.id, st.comp, st.line).v = st.value;
+    } else {
+      R::fail(st.line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
+                           "); XD gives the rate of an input (INPUTX) or dynamic (DYNX) coordinate");
+    }
+  }
 
   // Initial deformations.
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -574,6 +647,8 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       if (st.x) m.e0[di] = *st.x;
       if (st.v) m.ed0[di] = *st.v;
       if (st.a) m.edd0[di] = *st.a;
+    } else if (m.eRole[di] == Role::Calculable && m.restartState) {
+      // A restart state: the value of a released deformation only places the reference (above).
     } else {
       const bool nonzero = (st.x && *st.x != 0.0) || (st.v && *st.v != 0.0) || (st.a && *st.a != 0.0);
       if (nonzero)

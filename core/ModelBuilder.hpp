@@ -54,7 +54,15 @@ class ModelBuilder {
   void setInputIncrement(int node, int comp, double delta, int line);  // DELINPX
   void setInitialDeformation(int element, int comp, std::optional<double> e, std::optional<double> ed,
                              std::optional<double> edd, int line);  // E/ED/EDD, STARTDE
-  void setPrestress(int element, int comp, double sigma, int line);   // ESIG
+  // ESIG; comp 0 = the element's only deformation (ESIG e s), an error for an element with several.
+  void setPrestress(int element, int comp, double sigma, int line);
+  // SPACAR95 XD: the rate of an input coordinate, or the initial rate of a DYNX coordinate.
+  void setCoordinateRate(int node, int comp, double v, int line);
+  // LENGTH0 (a SPACAR95 restart state): the reference length of an element. Any LENGTH0 makes the
+  // model a restart state (Model::restartState): X is the current configuration, the deformations
+  // there are E (0 where not given), and element references are derived from them.
+  void setReferenceLength(int element, double length0, int line);
+  void addNote(std::string note);  // Model::notes (a note given twice is kept once)
   void addTimeStress(int element, int comp, TimeFunctionPtr f, int line);  // ESIGT
   void setReference(int element, int comp, TimeFunctionPtr f, int line);  // EREF
 

@@ -59,7 +59,8 @@ struct Statement {
   int line = 0;
   std::string keyword;  // upper case
   std::vector<Token> args;
-  const KeywordInfo* info = nullptr;
+  const KeywordInfo* info = nullptr;  // resolved once the dialect is known
+  int block = 0;                      // 0-based index of the block (closed by END) it is in
 };
 
 std::string upper(std::string_view s) {
@@ -93,8 +94,10 @@ std::string showToken(const Token& t) {
                   : show(t.text);
 }
 
+// A comma is not a separator: SPACAR's writers separate fields by blanks and tabs, and a comma
+// in a number is almost always a decimal comma (-9,81), reported as such.
 bool isSeparator(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f' || c == ',';
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 bool isCommentStart(char c) { return c == '%' || c == '#' || c == ';'; }
 
@@ -116,6 +119,42 @@ NumParse parseInt(const std::string& s, long long& out) {
   if (v > INT_MAX || v < INT_MIN) return NumParse::OutOfRange;
   out = v;
   return NumParse::Ok;
+}
+
+NumParse parseReal(const std::string& s, double& out);
+
+// An integer field: digits, or a whole number written with decimals or an exponent (SPACAR Light
+// and MATLAB writers print 1000.000000); a non-whole value (2.5) is not an integer.
+NumParse parseWhole(const std::string& s, long long& out) {
+  const NumParse p = parseInt(s, out);
+  if (p != NumParse::NotANumber) return p;
+  double v = 0.0;
+  const NumParse r = parseReal(s, v);
+  if (r != NumParse::Ok) return r;
+  if (v != std::floor(v)) return NumParse::NotANumber;
+  if (v > INT_MAX || v < INT_MIN) return NumParse::OutOfRange;
+  out = static_cast<long long>(v);
+  return NumParse::Ok;
+}
+
+// "-9,81" or "1,5e3": a number with a decimal comma (and at most one comma).
+bool looksLikeDecimalComma(const std::string& s) {
+  const auto c = s.find(',');
+  if (c == std::string::npos || s.find(',', c + 1) != std::string::npos) return false;
+  std::string t = s;
+  t[c] = '.';
+  double v = 0.0;
+  return parseReal(t, v) == NumParse::Ok;
+}
+
+std::string commaHint(const std::string& s) {
+  if (s.find(',') == std::string::npos) return "";
+  if (looksLikeDecimalComma(s)) {
+    std::string t = s;
+    t[t.find(',')] = '.';
+    return " (a decimal comma? write " + t + ": the decimal separator is '.', fields are separated by blanks)";
+  }
+  return " (fields are separated by blanks, not commas)";
 }
 
 NumParse parseReal(const std::string& s, double& out) {
@@ -169,10 +208,11 @@ class Reader {
 
   void scan();
   core::Dialect detect() const;
-  core::Model build(const ReadOptions& options);
+  std::vector<AnalysisStage> build(const ReadOptions& options);
 
  private:
   bool lexLine(std::string_view line, int lineNo, std::vector<Token>& tokens) const;
+  void resolve(Statement& s, bool spacar95) const;
   void checkArgs(const Statement& s, const std::vector<ArgSpec>& layout) const;
   std::optional<std::string> layoutError(const Statement& s, const std::vector<ArgSpec>& layout) const;
   void apply(const Statement& s, core::ModelBuilder& b, bool spacar95);
@@ -188,10 +228,14 @@ class Reader {
   std::string_view text_;
   std::string file_;
   std::vector<Statement> statements_;
+  std::vector<int> endLines_;  // line of the END closing block k
   int lastLine_ = 0;
-  // Settings bookkeeping for the final consistency checks.
+  // A mode-9 transfer block after END HALT: reported, not used.
+  int transferFirst_ = 0, transferLast_ = 0;
+  std::map<std::string, int> transferKeywords_;
+  // Per block: the SPACAR95 TIMESTEP period (the end time is TIME + period at the block's END).
+  std::optional<double> period_;
   int timestepLine_ = 0, timeLine_ = 0;
-  int kinematicEndLine_ = 0;
 };
 
 bool Reader::lexLine(std::string_view line, int lineNo, std::vector<Token>& tokens) const {
@@ -223,13 +267,14 @@ bool Reader::lexLine(std::string_view line, int lineNo, std::vector<Token>& toke
 }
 
 void Reader::scan() {
-  // Block state: the kinematic block is open from the start; after an END no block is open until
-  // the next ordinary keyword opens one.
+  // Block state: the first block is open from the start; after an END no block is open until the
+  // next ordinary keyword opens one.
   bool open = true;
   int closed = 0;          // number of blocks closed by END
   int openedAt = 0;        // line of the first statement of the open block
-  int kinematicEndLine = 0;
-  bool haltSeen = false;
+  bool haltSeen = false;   // END HALT after the first block
+  bool afterHalt = false;  // HALT after a later block: a mode-9 transfer block may follow
+  bool inTransfer = false;
   bool any = false;
   bool done = false;
 
@@ -258,7 +303,7 @@ void Reader::scan() {
       if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
         fail(lineNo, "", "invalid keyword " + show(word) +
                              " (a keyword is letters and digits, followed by blank-separated "
-                             "arguments)");
+                             "arguments)" + (word.find(',') != std::string::npos ? commaHint(word) : ""));
     const std::string name = upper(word);
     const std::vector<const KeywordInfo*> infos = findKeywords(name);
     if (infos.empty()) {
@@ -270,8 +315,36 @@ void Reader::scan() {
     }
     any = true;
     const KeywordInfo* info = infos.front();
+
+    // After END HALT closing a later block: a mode-9 transfer block (INPUTF, OUTX, ...) up to its
+    // END is recorded and reported; anything else ends the input there, as before.
+    if (afterHalt && !inTransfer && info->action != Action::End) {
+      if (!info->transfer) {
+        done = true;
+        continue;
+      }
+      inTransfer = true;
+      transferFirst_ = lineNo;
+    }
+    if (inTransfer) {
+      if (info->action == Action::End) {
+        inTransfer = false;
+        afterHalt = false;
+        open = false;
+        transferLast_ = lineNo;
+        continue;
+      }
+      if (!info->transfer)
+        fail(lineNo, name, "only mode-9 transfer keywords (INPUTF, INX, OUTF, OUTX, OUTXP) belong in the "
+                           "transfer block after END HALT (begun at line " + std::to_string(transferFirst_) +
+                           "): missing END?");
+      ++transferKeywords_[name];
+      transferLast_ = lineNo;
+      continue;
+    }
+
     if (info->action == Action::Unsupported)
-      fail(lineNo, name, "SPACAR keyword not supported by flexmb yet (" + info->meaning + "); " +
+      fail(lineNo, name, "SPACAR keyword, not supported by flexmb yet (" + info->meaning + "); " +
                              info->unsupportedNote);
 
     Statement st;
@@ -283,7 +356,7 @@ void Reader::scan() {
       if (!st.args.empty())
         fail(lineNo, name, "expected no arguments, found " + std::to_string(st.args.size()));
     };
-    const std::string blockName = closed == 0 ? "kinematic block" : "dynamic block";
+    const std::string blockName = closed == 0 ? "first block" : "block " + std::to_string(closed + 1);
     switch (info->action) {
       case Action::End:
         noArgs();
@@ -291,9 +364,10 @@ void Reader::scan() {
           done = true;
         } else {
           open = false;
-          if (closed == 0) kinematicEndLine = kinematicEndLine_ = lineNo;
+          endLines_.push_back(lineNo);
           ++closed;
         }
+        afterHalt = false;
         continue;
       case Action::Halt:
         noArgs();
@@ -303,7 +377,7 @@ void Reader::scan() {
         if (closed == 1 && !haltSeen) {
           haltSeen = true;  // END HALT after the kinematic block: a separator
         } else {
-          done = true;
+          afterHalt = true;  // a transfer block may follow; else the input ends here
         }
         continue;
       case Action::Eof:
@@ -323,25 +397,60 @@ void Reader::scan() {
     } else if (openedAt == 0) {
       openedAt = lineNo;
     }
-    const BlockKind block = closed == 0 ? BlockKind::Kinematic : BlockKind::Dynamic;
-    st.info = findKeyword(name, block);
-    if (!st.info) {
-      if (block == BlockKind::Dynamic)
-        fail(lineNo, name, "belongs to the kinematic block, which ended with END at line " +
-                               std::to_string(kinematicEndLine));
-      fail(lineNo, name, "belongs to a dynamic/static block, after the kinematic block's END (is the "
-                         "END missing?)");
-    }
+    st.block = closed;
+    st.info = info;  // provisional (dialect detection); resolve() picks the block's entry
     statements_.push_back(std::move(st));
   }
   if (!any) {
     if (lastLine_ == 0) fail(0, "", "the file is empty");
     fail(0, "", "the file holds no statements (only comments or blank lines)");
   }
+  if (inTransfer)
+    fail(lastLine_, "", "end of file inside the transfer block (begun at line " +
+                            std::to_string(transferFirst_) + "): missing END");
   if (open && !done)
     fail(lastLine_, "", std::string("end of file inside the ") +
                             (closed == 0 ? "kinematic block" : "dynamic block") + " (begun at line " +
                             std::to_string(openedAt) + "): missing END");
+}
+
+// The table entry a statement means in its block, once the dialect is known.
+//   SPACAR 2013+: the first block is the kinematic block, every later one a dynamic/static block.
+//   SPACAR95: the first block may hold every keyword (the manual's example is one block); a later
+//   block holds dynamic keywords and restated roles (FIX, INPUTX, DYNE, ... without values);
+//   elements and coordinates belong to the first block.
+void Reader::resolve(Statement& s, bool spacar95) const {
+  const int kinEnd = endLines_.empty() ? 0 : endLines_.front();
+  if (s.block == 0) {
+    s.info = findKeyword(s.keyword, BlockKind::Kinematic);
+    if (!s.info && spacar95) s.info = findKeyword(s.keyword, BlockKind::Dynamic);
+    if (!s.info)
+      fail(s.line, s.keyword, "belongs to a dynamic/static block, after the kinematic block's END (is the "
+                              "END missing?)");
+    return;
+  }
+  if (spacar95) {
+    const KeywordInfo* kin = findKeyword(s.keyword, BlockKind::Kinematic);
+    if (kin) {
+      switch (kin->action) {
+        case Action::Fix:
+        case Action::InputXRole:
+        case Action::DynX:
+        case Action::DynE:
+        case Action::Rlse:
+        case Action::InputERole: s.info = kin; return;  // a role restated in a later block
+        default: break;
+      }
+    }
+    s.info = findKeyword(s.keyword, BlockKind::Dynamic);
+    if (!s.info)
+      fail(s.line, s.keyword, "belongs to the first block (elements and coordinates cannot change after "
+                              "the first END, at line " + std::to_string(kinEnd) + ")");
+    return;
+  }
+  s.info = findKeyword(s.keyword, BlockKind::Dynamic);
+  if (!s.info)
+    fail(s.line, s.keyword, "belongs to the kinematic block, which ended with END at line " + std::to_string(kinEnd));
 }
 
 core::Dialect Reader::detect() const {
@@ -364,8 +473,15 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
                                                const std::vector<ArgSpec>& layout) const {
   const int n = static_cast<int>(s.args.size());
   const int lo = KeywordInfo::minArgs(layout), hi = KeywordInfo::maxArgs(layout);
-  if (n < lo || (hi >= 0 && n > hi))
-    return KeywordInfo::expectation(layout) + ", found " + std::to_string(n);
+  if (n < lo || (hi >= 0 && n > hi)) {
+    std::string hint;
+    for (const Token& t : s.args)
+      if (!t.quoted && t.text.find(',') != std::string::npos) {
+        hint = "; " + show(t.text) + " holds a comma" + commaHint(t.text);
+        break;
+      }
+    return KeywordInfo::expectation(layout) + ", found " + std::to_string(n) + hint;
+  }
   for (size_t k = 0; k < s.args.size(); ++k) {
     const ArgSpec& spec = k < layout.size() ? layout[k] : layout.back();
     const Token& t = s.args[k];
@@ -373,16 +489,19 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
       case ArgType::Node:
       case ArgType::Element:
       case ArgType::Component:
-      case ArgType::Count: {
+      case ArgType::Count:
+      case ArgType::Integer: {
         if (t.quoted)
           return "expected an integer for " + spec.name + ", found " + showToken(t);
         long long v = 0;
-        const NumParse p = parseInt(t.text, v);
+        const NumParse p = parseWhole(t.text, v);
         if (p == NumParse::OutOfRange)
           return "integer out of range for " + spec.name + ": " + show(t.text);
-        if (p != NumParse::Ok) return "expected an integer for " + spec.name + ", found " + show(t.text);
-        if (v <= 0)
-          return "expected a positive integer for " + spec.name + ", found " + show(t.text);
+        if (p != NumParse::Ok)
+          return "expected an integer for " + spec.name + ", found " + show(t.text) + commaHint(t.text);
+        if (spec.type == ArgType::Integer ? v < 0 : v <= 0)
+          return std::string("expected a ") + (spec.type == ArgType::Integer ? "non-negative" : "positive") +
+                 " integer for " + spec.name + ", found " + show(t.text);
         break;
       }
       case ArgType::Real: {
@@ -391,9 +510,11 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
         const NumParse p = parseReal(t.text, v);
         if (p == NumParse::OutOfRange)
           return "number out of range for " + spec.name + ": " + show(t.text);
-        if (p != NumParse::Ok) return "expected a number for " + spec.name + ", found " + show(t.text);
+        if (p != NumParse::Ok)
+          return "expected a number for " + spec.name + ", found " + show(t.text) + commaHint(t.text);
         break;
       }
+      case ArgType::Word: break;
       case ArgType::Expression:
         if (!t.quoted)
           return "expected a quoted expression for " + spec.name + ", found " + show(t.text) +
@@ -410,7 +531,7 @@ void Reader::checkArgs(const Statement& s, const std::vector<ArgSpec>& layout) c
 
 int Reader::integer(const Statement& s, size_t k) const {
   long long v = 0;
-  if (k >= s.args.size() || parseInt(s.args[k].text, v) != NumParse::Ok)
+  if (k >= s.args.size() || parseWhole(s.args[k].text, v) != NumParse::Ok)
     fail(s.line, s.keyword, "internal: integer argument " + std::to_string(k + 1) + " missing");
   return static_cast<int>(v);
 }
@@ -497,9 +618,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::InputEValues:
       b.setInputDeformation(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), optReal(s, 4), line);
       break;
-    case Action::XD:
-      b.setInputCoordinate(integer(s, 0), integer(s, 1), std::nullopt, real(s, 2), std::nullopt, line);
-      break;
+    case Action::XD: b.setCoordinateRate(integer(s, 0), integer(s, 1), real(s, 2), line); break;
     case Action::XDD:
       b.setInputCoordinate(integer(s, 0), integer(s, 1), std::nullopt, std::nullopt, real(s, 2), line);
       break;
@@ -516,11 +635,30 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       b.setInitialDeformation(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), std::nullopt, line);
       break;
     case Action::InputIncrement: b.setInputIncrement(integer(s, 0), integer(s, 1), real(s, 2), line); break;
-    case Action::Prestress: b.setPrestress(integer(s, 0), integer(s, 1), real(s, 2), line); break;
+    case Action::Prestress:
+      if (s.args.size() == 2) {  // ESIG e s: an element with one deformation
+        b.setPrestress(integer(s, 0), 0, real(s, 1), line);
+      } else {
+        long long comp = 0;
+        if (parseWhole(s.args[1].text, comp) != NumParse::Ok || comp <= 0)
+          fail(line, s.keyword, "expected a positive integer for component, found " + show(s.args[1].text) +
+                                    " (ESIG e i s; ESIG e s for an element with one deformation)");
+        b.setPrestress(integer(s, 0), static_cast<int>(comp), real(s, 2), line);
+      }
+      break;
+    case Action::OutLevel:
+      set.outputLevel = integer(s, 0);
+      if (s.args.size() > 1) set.transferFunctionLevel = integer(s, 1);
+      break;
+    case Action::Length0: b.setReferenceLength(integer(s, 0), real(s, 1), line); break;
+    case Action::Ignored:
+      b.addNote(s.keyword + " (line " + std::to_string(line) +
+                "): SPACAR95 run setting, accepted and ignored by flexmb");
+      break;
     case Action::TimeStep:
-      if (spacar95) {
+      if (spacar95) {  // a period from the current time; the end time is fixed at the block's END
         set.outputIntervals = integer(s, 0);
-        set.tEnd = real(s, 1);
+        period_ = positive(real(s, 1), "the TIMESTEP period");
       } else {
         set.tEnd = real(s, 0);
         set.outputIntervals = integer(s, 1);
@@ -542,6 +680,8 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       set.maxIterations = integer(s, 0);
       set.loadSteps = integer(s, 1);
       if (auto tol = optReal(s, 2)) set.kinematicTol = positive(*tol, "the tolerance");
+      // Fields 4 and 5 (control fields) are read and not used; field 6: initial-load steps.
+      set.initialLoadSteps = s.args.size() > 5 ? integer(s, 5) : 0;
       break;
     case Action::Time:
       set.t0 = real(s, 0);
@@ -568,42 +708,102 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
   }
 }
 
-core::Model Reader::build(const ReadOptions& options) {
+std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
   scan();
   const core::Dialect dialect = options.dialect ? *options.dialect : detect();
   const bool spacar95 = dialect == core::Dialect::Spacar95;
+  for (Statement& st : statements_) resolve(st, spacar95);
   core::ModelBuilder b(file_);
   b.setDialect(dialect);
+  if (transferFirst_) {
+    std::string list;
+    for (const auto& [k, n] : transferKeywords_) list += (list.empty() ? "" : ", ") + k + " x" + std::to_string(n);
+    b.addNote("mode-9 transfer block at lines " + std::to_string(transferFirst_) + "-" +
+              std::to_string(transferLast_) + " (" + list +
+              "): flexmb does not compute transfer functions yet; the block is not used");
+  }
   std::map<int, std::string> keywordAt;
   bool anyElement = false;
-  int kinematicLast = kinematicEndLine_;
+  const int kinematicLast = endLines_.empty() ? 0 : endLines_.front();
   const Statement* current = nullptr;
+  core::ElementOptions eo;
+  eo.elongation = options.elongation ? *options.elongation : defaultElongation(dialect);
+  std::vector<AnalysisStage> stages;
+  bool ran = false;  // an earlier block ran an analysis: the state continues from it
   try {
-    for (const Statement& s : statements_) {
-      current = &s;
-      keywordAt[s.line] = s.keyword;
-      if (s.info->action == Action::Element) anyElement = true;
-      apply(s, b, spacar95);
+    size_t k = 0;
+    const int nBlocks = static_cast<int>(endLines_.size());
+    for (int block = 0; block < nBlocks; ++block) {
+      const size_t first = k;
+      for (; k < statements_.size() && statements_[k].block == block; ++k) {
+        const Statement& s = statements_[k];
+        current = &s;
+        keywordAt[s.line] = s.keyword;
+        if (s.info->action == Action::Element) anyElement = true;
+        if (ran) {
+          switch (s.info->action) {
+            case Action::E:
+            case Action::ED:
+            case Action::EDD:
+            case Action::StartDE:
+              fail(s.line, s.keyword, "initial values belong in the first analysis: after the analysis of "
+                                      "an earlier block the state continues from where it ended");
+            default: break;
+          }
+        }
+        apply(s, b, spacar95);
+      }
+      current = nullptr;
+      if (k == first) continue;  // an empty block (END END)
+      core::AnalysisSettings& set = b.settings();
+      if (spacar95 && period_) set.tEnd = set.t0 + *period_;
+      if (set.timestepGiven && !(set.tEnd > set.t0)) {
+        std::ostringstream o;
+        o << "the end time " << set.tEnd << " must be larger than the start time " << set.t0;
+        fail(timestepLine_, "TIMESTEP", o.str());
+      }
+      const bool runs = set.timestepGiven;
+      if (!runs) set.tEnd = std::max(set.tEnd, set.t0 + 1.0);  // the default period, as before
+      if (!anyElement)
+        fail(kinematicLast, kinematicLast ? "END" : "",
+             "the model defines no elements (the kinematic block needs at least one)");
+      AnalysisStage stage;
+      stage.model = b.finalize(eo);
+      stage.runs = runs;
+      stage.endLine = endLines_[block];
+      // The next block continues from the end of this one: the current time advances, and the
+      // inputs given by value and rate restart from their values there (x + v (t - TIME) + ...),
+      // so that a later XD or XDD changes the motion from the current time on.
+      if (runs) {
+        ran = true;
+        const double t1 = set.tEnd;
+        const core::Model& m = stage.model;
+        for (const auto& r : m.inputX) {
+          if (r.fx) continue;
+          double x, v, a;
+          r.evaluate(t1, x, v, a);
+          const core::Node& n = m.nodes[m.xOwnerNode[r.index]];
+          b.setInputCoordinate(n.label, r.index - n.firstCoord + 1, x, v, a, stage.endLine);
+          b.setCoordinateRate(n.label, r.index - n.firstCoord + 1, v, stage.endLine);  // after earlier XD
+        }
+        for (const auto& r : m.inputE) {
+          if (r.fx) continue;
+          double x, v, a;
+          r.evaluate(t1, x, v, a);
+          const int ei = m.eOwnerElement[r.index];
+          b.setInputDeformation(m.elements[ei].label, r.index - m.elements[ei].firstDef + 1, x, v, a,
+                                stage.endLine);
+        }
+        set.t0 = t1;
+        set.timestepGiven = false;
+        period_.reset();
+      }
+      stages.push_back(std::move(stage));
     }
-    current = nullptr;
-    const core::AnalysisSettings& set = b.settings();
-    if (set.timestepGiven && !(set.tEnd > set.t0)) {
-      std::ostringstream o;
-      o << "the end time " << set.tEnd << " must be larger than the start time " << set.t0;
-      fail(timestepLine_, "TIMESTEP", o.str());
-    }
-    if (!set.timestepGiven && timeLine_ && !(set.tEnd > set.t0)) {
-      std::ostringstream o;
-      o << "the start time " << set.t0 << " is not before the default end time " << set.tEnd
-        << " (give TIMESTEP)";
-      fail(timeLine_, "TIME", o.str());
-    }
-    if (!anyElement)
+    if (stages.empty())
       fail(kinematicLast, kinematicLast ? "END" : "",
            "the model defines no elements (the kinematic block needs at least one)");
-    core::ElementOptions eo;
-    eo.elongation = options.elongation ? *options.elongation : defaultElongation(dialect);
-    return b.finalize(eo);
+    return stages;
   } catch (const DatError&) {
     throw;
   } catch (const core::ModelError& e) {
@@ -618,10 +818,16 @@ core::Model Reader::build(const ReadOptions& options) {
 
 }  // namespace
 
-core::Model readDatString(std::string_view text, const std::string& virtualFileName,
-                          const ReadOptions& options) {
+std::vector<AnalysisStage> readDatStagesString(std::string_view text, const std::string& virtualFileName,
+                                               const ReadOptions& options) {
   Reader r(text, virtualFileName);
   return r.build(options);
+}
+
+core::Model readDatString(std::string_view text, const std::string& virtualFileName,
+                          const ReadOptions& options) {
+  std::vector<AnalysisStage> stages = readDatStagesString(text, virtualFileName, options);
+  return std::move(stages.back().model);
 }
 
 core::Dialect detectDialect(std::string_view text, const std::string& virtualFileName) {
@@ -630,7 +836,8 @@ core::Dialect detectDialect(std::string_view text, const std::string& virtualFil
   return r.detect();
 }
 
-core::Model readDatFile(const std::string& path, const ReadOptions& options) {
+namespace {
+std::string readText(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw DatError(path, 0, "", "cannot read '" + path + "': it is a directory");
@@ -639,8 +846,16 @@ core::Model readDatFile(const std::string& path, const ReadOptions& options) {
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw DatError(path, 0, "", "cannot read '" + path + "'");
-  const std::string text = ss.str();
-  return readDatString(text, path, options);
+  return ss.str();
+}
+}  // namespace
+
+std::vector<AnalysisStage> readDatStages(const std::string& path, const ReadOptions& options) {
+  return readDatStagesString(readText(path), path, options);
+}
+
+core::Model readDatFile(const std::string& path, const ReadOptions& options) {
+  return readDatString(readText(path), path, options);
 }
 
 }  // namespace flexmb::io

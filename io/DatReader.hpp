@@ -1,19 +1,26 @@
 #pragma once
 // Reads a SPACAR .dat file (dat-format.md sections 1-4 and 6, both dialects) into a core::Model.
 //
-// Block structure (one rule for both dialects):
-//   * The first block is the kinematic block (elements, coordinates, roles); it ends with END.
-//   * HALT directly after the kinematic block's END is a separator (SPACAR 2013+ writes END HALT).
-//   * Every later block is a dynamic/static block (SPACAR95 may have several), each closed by END.
-//   * The input ends, after a block's END, at: another END (an empty block: SPACAR 2013+'s END END),
-//     HALT (after a dynamic block), EOF, VISUALIZATION, or the end of the file. Whatever follows is
-//     not read.
+// Block structure:
+//   * A file is a sequence of blocks, each closed by END. SPACAR 2013+ writes the kinematic block,
+//     END HALT, the dynamic/static block, END END (mode 9 adds a transfer block: END HALT, INPUTF /
+//     OUTX / ..., END END, which is read, reported in Model::notes and not used). SPACAR95 writes
+//     blocks closed by END up to EOF; its first block may hold every keyword at once.
+//   * The input ends, after a block's END, at: another END (an empty block), HALT (after a later
+//     block, unless a transfer block follows), EOF, VISUALIZATION, or the end of the file.
 //   * The end of the file (or EOF / VISUALIZATION / a misplaced HALT) inside an open block is an
 //     error: "missing END". A file without statements is an error.
-//   * A keyword is only accepted in its block (an element keyword after the kinematic END is an
-//     error naming the block it belongs to). INPUTX and INPUTE mean roles in the kinematic block and
-//     values (x [v [a]]) in a dynamic block.
-//
+//   * SPACAR 2013+: kinematic keywords in the first block only, dynamic ones after it; INPUTX and
+//     INPUTE mean roles in the first block and values (x [v [a]]) after it. SPACAR95: the first
+//     block takes every keyword; a later block takes dynamic keywords and restated roles (FIX,
+//     INPUTX, DYNE, ... always roles in SPACAR95), not elements or coordinates.
+//   * Analysis stages: at each END the model as read so far is finalised into an AnalysisStage.
+//     A stage whose block gives TIMESTEP runs an analysis over its period (SPACAR95: TIMESTEP n Tp
+//     from the current time TIME, default 0; 2013+: TIMESTEP T n up to the end time T); the next
+//     block continues from its end: the current time advances to the end time and the inputs given
+//     by value and rate (x + v (t - TIME) + a (t - TIME)^2/2) restart from their values there.
+//     Initial values (E, ED, EDD, STARTDE) after a stage that ran are an error: the state carries
+//     over (tools/analysis/Simulation's simulateStages).
 // Dialect: from the keywords used (SPACAR95-only versus 2013-only, see KeywordTable); neither gives
 // SPACAR 2013+; both is an error naming one keyword of each. ReadOptions::dialect skips detection
 // (and the mixing check): it only decides the dialect-dependent readings (TIMESTEP field order,
@@ -22,6 +29,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/Model.hpp"
 
@@ -56,6 +64,19 @@ core::ElongationDefinition defaultElongation(core::Dialect d);
 
 const char* dialectName(core::Dialect d);  // "SPACAR95" / "SPACAR 2013+"
 
+// One analysis stage: the model as read up to an END (all stages share the topology).
+struct AnalysisStage {
+  core::Model model;
+  bool runs = false;  // the block gave TIMESTEP: an analysis runs over [settings.t0, settings.tEnd]
+  int endLine = 0;    // the END that closed the block
+};
+
+// Every stage of a file, in order (at least one).
+std::vector<AnalysisStage> readDatStages(const std::string& path, const ReadOptions& options = {});
+std::vector<AnalysisStage> readDatStagesString(std::string_view text, const std::string& virtualFileName = "<string>",
+                                               const ReadOptions& options = {});
+
+// The model of the last stage (everything the file gives), for analyses without stages.
 core::Model readDatFile(const std::string& path, const ReadOptions& options = {});
 core::Model readDatString(std::string_view text, const std::string& virtualFileName = "<string>",
                           const ReadOptions& options = {});

@@ -29,6 +29,10 @@ ArgSpec optReal(std::string name, std::string symbol = "") {
 ArgSpec count(std::string name, std::string symbol) {
   return {ArgType::Count, std::move(name), std::move(symbol), Cardinality::One, Kind::Any};
 }
+ArgSpec integer(std::string name, std::string symbol, Cardinality card = Cardinality::One) {
+  return {ArgType::Integer, std::move(name), std::move(symbol), card, Kind::Any};
+}
+ArgSpec words() { return {ArgType::Word, "value", "v", Cardinality::Many, Kind::Any}; }
 ArgSpec expr(std::string name, Cardinality card = Cardinality::One) {
   std::string sym = "\"" + name + "\"";
   return {ArgType::Expression, std::move(name), std::move(sym), card, Kind::Any};
@@ -148,7 +152,8 @@ std::vector<KeywordInfo> buildTable() {
                  "constant nodal force Fx Fy (position node) or moment (orientation node)"));
   t.push_back(kw("DELXF", kSpacar2013, B::Dynamic, A::ForceIncrement,
                  {node(), real("f1"), optReal("f2")},
-                 "load increment applied over the load steps of a static analysis"));
+                 "load increment of a static analysis: the TOTAL increment reached at the last load "
+                 "step, applied in equal parts"));
   t.push_back(kw("GRAVITY", kSpacar2013, B::Dynamic, A::Gravity,
                  {real("gx"), real("gy"), optReal("gz")},
                  "gravitational acceleration (gz, out of the plane, has no effect)"));
@@ -177,9 +182,13 @@ std::vector<KeywordInfo> buildTable() {
                  "initial value and rate of a deformation"));
   t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement,
                  {node(), component(), real("increment", "dx")},
-                 "increment of an input coordinate over the load steps of a static analysis"));
+                 "increment of an input coordinate in a static analysis: the TOTAL increment reached "
+                 "at the last load step, applied in equal parts"));
   t.push_back(kw("ESIG", kSpacar2013, B::Dynamic, A::Prestress,
-                 {element(), component(), real("stress", "s")}, "prestress of a deformation"));
+                 {element(), real("component (or the stress of an element with one deformation)", "i|s"),
+                  optReal("stress", "s")},
+                 "prestress of a deformation: ESIG e i s, or ESIG e s for an element with one "
+                 "deformation"));
   {
     KeywordInfo ts = kw("TIMESTEP", kBothDialects, B::Dynamic, A::TimeStep,
                         {real("end time", "T"), count("number of output intervals", "n")},
@@ -200,10 +209,31 @@ std::vector<KeywordInfo> buildTable() {
                  {count("maximum iterations", "n")}, "iteration limit of the kinematic Newton iteration"));
   t.push_back(kw("ITERSTEP", kSpacar2013, B::Dynamic, A::IterStep,
                  {count("maximum iterations", "maxit"), count("number of load steps", "nsteps"),
-                  optReal("tolerance", "tol")},
-                 "Newton iteration limit, number of load steps of a static analysis, and "
-                 "(optional) Newton tolerance"));
-  t.push_back(kw("TIME", kSpacar95, B::Dynamic, A::Time, {real("start time", "t0")}, "start time"));
+                  optReal("tolerance", "tol"), integer("control field 4 (unused)", "c4", Cardinality::Optional),
+                  integer("control field 5 (unused)", "c5", Cardinality::Optional),
+                  integer("number of initial-load steps", "ninit", Cardinality::Optional)},
+                 "Newton iteration limit; number of load steps over which the DEL* increments are "
+                 "applied (in equal parts, the total reached at the last step); Newton tolerance; two "
+                 "control fields flexmb reads but does not use; number of steps over which the "
+                 "initial loads (XF, INPUTX values) are applied first (0 or absent: at once). SPACAR "
+                 "Light writes e.g. ITERSTEP 10 9 0.0000005 1 3 9"));
+  t.push_back(kw("TIME", kBothDialects, B::Anywhere, A::Time, {real("start time", "t0")},
+                 "current (start) time; SPACAR95 TIMESTEP integrates from it, input coordinates move "
+                 "as x + v (t - TIME) + a (t - TIME)^2/2 (in SPACAR 2013+ files a flexmb extension, "
+                 "written by restart echoes)"));
+  t.push_back(kw("OUTLEVEL", kSpacar2013, B::Anywhere, A::OutLevel,
+                 {integer("output level", "a"), integer("transfer functions", "b", Cardinality::Optional)},
+                 "output level; b = 1 asks for the first-order transfer functions (dx) in the results"));
+  t.push_back(kw("LENGTH0", kBothDialects, B::Anywhere, A::Length0,
+                 {element(), real("reference length", "l0")},
+                 "reference (undeformed) length of an element, as SPACAR95 prints it in its end-of-run "
+                 "state: the element's coordinates X are then its current configuration and its "
+                 "deformations there are E (0 where not given), so a restart keeps the undeformed "
+                 "geometry"));
+  for (const char* name : {"LGEOMY", "DIR", "EPSIND", "FORCEMODE", "ANIMATE", "MATASC", "RESTART", "JOBID"})
+    t.push_back(kw(name, kBothDialects, B::Anywhere, A::Ignored, {words()},
+                   "SPACAR95 run setting written in its end-of-run state; accepted and ignored "
+                   "(listed once as ignored by check and the analyses)"));
 
   // flexmb extensions (section 6).
   auto ext = [](KeywordInfo k) {
@@ -245,13 +275,57 @@ std::vector<KeywordInfo> buildTable() {
     return s;
   }();
   const std::string spatial = "flexmb handles planar models only (elements: " + planarList + ")";
-  t.push_back(unsupported("BEAM", B::Kinematic, "spatial beam element", spatial));
-  t.push_back(unsupported("TRUSS", B::Kinematic, "spatial truss element", spatial));
-  t.push_back(unsupported("HINGE", B::Kinematic, "spatial hinge element", spatial));
-  t.push_back(unsupported("PINBAR", B::Kinematic, "spatial pinned bar element", spatial));
-  t.push_back(unsupported("PLBELT", B::Kinematic, "planar belt element", "planar elements: " + planarList));
-  t.push_back(unsupported("PLBEAR", B::Kinematic, "planar bearing element", "planar elements: " + planarList));
-  t.push_back(unsupported("PLWHEEL", B::Kinematic, "planar wheel element", "planar elements: " + planarList));
+  const std::string planarNote = "not implemented in flexmb; planar elements: " + planarList;
+  // Spatial SPACAR keywords: the `spatial` work registers element types under these names; an
+  // entry is dropped here as soon as an element type of that name exists, so it needs no edit.
+  const std::pair<const char*, const char*> spatialKeywords[] = {
+      {"BEAM", "spatial beam element"},
+      {"BEAMNL", "spatial beam element with the nonlinear (second-order) elongation terms"},
+      {"BEAMW", "spatial beam element with warping"},
+      {"RBEAM", "spatial beam element variant (RBEAM)"},
+      {"TRUSS", "spatial truss element"},
+      {"HINGE", "spatial hinge element"},
+      {"PINBAR", "spatial pinned bar element"},
+      {"BEARING", "spatial bearing element"},
+      {"SURFACE", "spatial surface (contact) element"},
+      {"PINBODY", "spatial pin-body element"},
+      {"TUBE", "spatial tube (sliding) element"},
+      {"SCREW", "spatial screw element"},
+      {"LAMBDA", "constraint on the Euler parameters of a spatial orientation node"},
+      {"L2MIN1", "Euler-parameter normalisation constraint (lambda^2 - 1 = 0) of a spatial orientation node"},
+      {"XYZ", "spatial node coordinates"},
+  };
+  for (const auto& [name, meaning] : spatialKeywords)
+    if (!core::findElementType(name)) t.push_back(unsupported(name, B::Kinematic, meaning, spatial));
+  const std::pair<const char*, const char*> planarKeywords[] = {
+      {"PLBELT", "planar belt element"},
+      {"PLBEAR", "planar bearing element"},
+      {"PLWHEEL", "planar wheel (rolling contact) element"},
+      {"PLTUBE", "planar tube (sliding) element"},
+      {"PLPINBODY", "planar pin-body element"},
+  };
+  for (const auto& [name, meaning] : planarKeywords)
+    if (!core::findElementType(name)) t.push_back(unsupported(name, B::Kinematic, meaning, planarNote));
+  const std::string control = "flexmb does not build control-system models yet";
+  t.push_back(unsupported("NOMS", B::Dynamic, "control-system keyword of SPACAR (NOMS)", control));
+  t.push_back(unsupported("NOMF", B::Dynamic, "control-system keyword of SPACAR (NOMF)", control));
+  t.push_back(unsupported("REFES", B::Dynamic, "control-system reference keyword of SPACAR (REFES)", control));
+  t.push_back(unsupported("REFEF", B::Dynamic, "control-system reference keyword of SPACAR (REFEF)", control));
+  t.push_back(unsupported("LINE", B::Dynamic, "SPACAR keyword LINE", "not implemented in flexmb"));
+  t.push_back(unsupported("ENHC", B::Dynamic, "SPACAR keyword ENHC", "not implemented in flexmb"));
+  const std::string mode9 =
+      "flexmb does not compute mode-9 transfer functions yet; in a transfer block after END HALT the "
+      "block is reported and not used";
+  auto transfer = [&](const char* name, const char* meaning) {
+    KeywordInfo k = unsupported(name, B::Dynamic, meaning, mode9);
+    k.transfer = true;
+    t.push_back(std::move(k));
+  };
+  transfer("INPUTF", "mode 9: a nodal force component as input of the transfer function");
+  transfer("INX", "mode 9: a coordinate as input of the transfer function");
+  transfer("OUTF", "mode 9: a force as output of the transfer function");
+  transfer("OUTX", "mode 9: a nodal coordinate as output of the transfer function");
+  transfer("OUTXP", "mode 9: a nodal velocity as output of the transfer function");
   t.push_back(unsupported("USERINP", B::Dynamic, "MATLAB user function for inputs",
                           "MATLAB user functions cannot run in flexmb; give time-dependent inputs "
                           "with INPUTXT / INPUTET (flexmb time-function extensions, dat-format.md "
@@ -359,7 +433,7 @@ std::vector<const KeywordInfo*> findKeywords(std::string_view name) {
 
 const KeywordInfo* findKeyword(std::string_view name, BlockKind block) {
   for (const KeywordInfo* k : findKeywords(name))
-    if (k->block == block) return k;
+    if (k->block == block || k->block == BlockKind::Anywhere) return k;
   return nullptr;
 }
 
@@ -395,35 +469,68 @@ std::string suggestKeyword(std::string_view unknown) {
   return bestD <= limit ? best : "";
 }
 
-void printKeywords(std::ostream& out) {
-  const auto& table = keywordTable();
-  out << "Keywords of the .dat language read by flexmb (see dat-format.md).\n"
-         "Dialects: 95 = SPACAR95 only, 13 = SPACAR 2013+ only, '95 13' = both; 'ext' = flexmb "
-         "extension.\n"
-         "Keywords are case-insensitive. Comments: '*' in column 1, or '%', '#', ';' to the end "
-         "of the line.\n";
-  struct Group {
-    const char* title;
-    std::function<bool(const KeywordInfo&)> pick;
-  };
-  auto line = [&](const std::string& syn, const std::string& dia, const std::string& meaning) {
-    out << "  " << std::left << std::setw(34) << syn << " " << std::setw(6) << dia << " " << meaning
-        << "\n";
-  };
-  const Group groups[] = {
-      {"Kinematic block (ends with END, in SPACAR 2013+ followed by HALT)",
+namespace {
+
+struct Group {
+  const char* title;
+  std::function<bool(const KeywordInfo&)> pick;
+};
+
+const std::vector<Group>& groups() {
+  static const std::vector<Group> g = {
+      {"Kinematic block (the first block: elements, coordinates, roles)",
        [](const KeywordInfo& k) { return k.block == BlockKind::Kinematic && k.action != Action::Unsupported; }},
-      {"Dynamic / static block (ends with END; END END ends the input)",
+      {"Dynamic / static block (after the kinematic block's END; in SPACAR95 also the first block)",
        [](const KeywordInfo& k) {
          return k.block == BlockKind::Dynamic && k.action != Action::Unsupported && !k.extension;
        }},
+      {"Any block (settings; SPACAR95 end-of-run state)",
+       [](const KeywordInfo& k) { return k.block == BlockKind::Anywhere; }},
       {"flexmb extensions: time functions (muParser expressions in t, in double quotes)",
        [](const KeywordInfo& k) { return k.extension; }},
       {"Block structure", [](const KeywordInfo& k) { return k.block == BlockKind::Structure; }},
       {"SPACAR keywords recognised but not supported by flexmb yet",
        [](const KeywordInfo& k) { return k.action == Action::Unsupported; }},
   };
-  for (const auto& g : groups) {
+  return g;
+}
+
+std::string status(const KeywordInfo& k) {
+  if (k.action == Action::Unsupported) return "not supported yet";
+  if (k.action == Action::Ignored) return "accepted, ignored";
+  if (k.extension) return "flexmb extension";
+  return "supported";
+}
+
+std::string dialectWords(unsigned d) {
+  switch (d) {
+    case kSpacar95: return "SPACAR95";
+    case kSpacar2013: return "SPACAR 2013+";
+    default: return "both";
+  }
+}
+
+std::string cell(std::string s) {
+  std::string r;
+  for (char c : s) r += c == '|' ? std::string("\\|") : std::string(1, c);
+  return r;
+}
+
+}  // namespace
+
+void printKeywords(std::ostream& out) {
+  const auto& table = keywordTable();
+  out << "Keywords of the .dat language read by flexmb. Full reference (both dialects, block structure,\n"
+         "load steps, restarts): io/dat-language.md in the source tree (flexmb keywords --markdown).\n"
+         "Dialects: 95 = SPACAR95 only, 13 = SPACAR 2013+ only, '95 13' = both; 'ext' = flexmb "
+         "extension.\n"
+         "Keywords are case-insensitive. Comments: '*' in column 1, or '%', '#', ';' to the end "
+         "of the line.\n";
+  auto line = [&](const std::string& syn, const std::string& dia, const std::string& meaning) {
+    out << "  " << std::left << std::setw(34) << syn << " " << std::setw(6) << dia << " " << meaning
+        << "\n";
+  };
+  for (const auto& g : groups()) {
     out << "\n" << g.title << "\n";
     for (const auto& k : table) {
       if (!g.pick(k)) continue;
@@ -438,6 +545,82 @@ void printKeywords(std::ostream& out) {
       } else {
         line(KeywordInfo::synopsis(k.name, k.args), dia, k.meaning);
       }
+    }
+  }
+}
+
+void printKeywordsMarkdown(std::ostream& out) {
+  out << R"(<!-- Generated by `flexmb keywords --markdown` from io/KeywordTable.cpp: do not edit by hand.
+     io_tests (KeywordTable.MarkdownReferenceIsCurrent) fails when this file differs from the table. -->
+# The `.dat` language flexmb reads
+
+flexmb reads SPACAR model files unchanged, in both dialects: **SPACAR95** (TU Delft, Fortran) and
+**SPACAR 2013+** (U. Twente, called from MATLAB as `spacar(mode, name)`; also what SPACAR Light
+writes). The dialect is decided per file from the keywords it uses (a keyword marked "SPACAR95" or
+"SPACAR 2013+" below is one dialect's only; `--dialect 95|2013` overrides it); a file mixing both
+is an error naming one keyword of each.
+
+## Lexical rules
+- One keyword per line, then its fields separated by blanks or tabs. Keywords are case-insensitive.
+- Comments: `*` in column 1 (SPACAR95); `%`, `#` or `;` to the end of the line. Blank lines are ignored.
+- Numbers: integers, reals with `.` as the decimal separator and `E` or Fortran `D` exponents. An
+  integer field may be written as a whole number with decimals (`1000.000000`); a non-whole value
+  (`2.5`) is an error. A comma is not a separator: a decimal comma (`-9,81`) is an error that says so.
+- Node and element numbers are user-chosen positive integers. A node's kind (position or
+  orientation) is fixed by the element slot that first uses it.
+
+## Blocks and analyses
+- **SPACAR 2013+**: the kinematic block, `END` `HALT`, the dynamic/static block, `END` `END`. Mode 9
+  writes a transfer block between a second `END HALT` and the final `END END` (`INPUTF`, `OUTX`, ...):
+  flexmb reads it, reports it (`check` and the analyses print a note) and does not use it yet. A
+  `VISUALIZATION` section after the final `END` is skipped.
+- **SPACAR95**: a sequence of blocks, each closed by `END`, up to `EOF` or the end of the file. The
+  first block may hold every keyword at once (elements, coordinates, roles, masses, `TIMESTEP`, ...).
+  At each `END` the analysis runs over that block's period; reading then resumes and a later block
+  changes data (loads, stiffness, input rates, settings) and continues from the current state. A role
+  keyword repeated in a later block (`INPUTX 2 1`, `FIX 1`, `DYNE 3`) restates the role; elements
+  and coordinates belong to the first block; initial values (`E`, `ED`) after a block that ran are an
+  error (the state carries over).
+- **Time (SPACAR95)**: `TIMESTEP n Tp` integrates over a period `Tp` from the current time (`TIME t`,
+  default 0; after a block that ran, its end time) in `n` output intervals. An input coordinate given
+  by its value (`X`, `XY`, `BETA`) and rate (`XD`, `XDD`) moves as
+  x(t) = x + v (t - TIME) + a (t - TIME)^2 / 2. SPACAR 2013+: `TIMESTEP T n`, end time `T`;
+  `INPUTX n i x v a` moves as x + v t + a t^2 / 2.
+- **Restart**: the end-of-run state (`flexmb simulate --echo file`, as SPACAR95 prints it) is a
+  complete input that continues the run: elements, the current `XY`/`BETA`, roles, `LENGTH0` of
+  every element, `E`/`ED` of the deformations, input rates `XD`, `TIME`, loads and settings. A file
+  with `LENGTH0` is a restart state: its coordinates are the current configuration, the deformations
+  there are the given `E` (0 where not given) and reference lengths come from `LENGTH0`, so a
+  restart from a deformed state keeps the undeformed geometry. SPACAR95 run settings without meaning
+  in flexmb (`LGEOMY`, `DIR`, `EPSIND`, `FORCEMODE`, `ANIMATE`, `MATASC`, `RESTART`, `JOBID`) are
+  accepted and listed once as ignored.
+- **Load steps (static analysis, mode 10)**: `ITERSTEP maxit nsteps tol c4 c5 ninit`. `DELXF` and
+  `DELINPX` are the TOTAL increments reached at the last load step, applied in `nsteps` equal parts
+  (SPACAR Light writes the user's final load as `DELXF`). The initial loads (`XF`, the `INPUTX`
+  values) are applied first, ramped over `ninit` steps (0 or absent: at once, within the first
+  step). Without any `DEL*` increment the initial loads ramp over `ninit` steps, or `nsteps` when
+  `ninit` is 0, so `XF` with n steps gives n distinct equilibria. Gravity and time functions are not
+  ramped. The control fields `c4`, `c5` are read and not used.
+- **Stiffness**: `DYNE` and `RLSE` deformations of an element with `ESTIFF` carry stress
+  sigma = S e (+ damping); fixed deformations carry reaction stresses only.
+)";
+  out << "\n## Keywords\nStatus: supported; flexmb extension; accepted, ignored; not supported yet (recognised, "
+         "reported as a SPACAR keyword flexmb does not support, never as unknown).\n";
+  const auto& table = keywordTable();
+  for (const auto& g : groups()) {
+    out << "\n### " << g.title << "\n\n| keyword | fields | dialect | status | meaning |\n|---|---|---|---|---|\n";
+    for (const auto& k : table) {
+      if (!g.pick(k)) continue;
+      std::string syn = k.action == Action::Unsupported ? k.name : KeywordInfo::synopsis(k.name, k.args);
+      std::string dia = k.action == Action::Unsupported ? "" : dialectWords(k.dialects);
+      if (!k.args95.empty()) {
+        syn = KeywordInfo::synopsis(k.name, k.args) + "`<br>`" + KeywordInfo::synopsis(k.name, k.args95);
+        dia = "2013+<br>SPACAR95";
+      }
+      std::string meaning = k.meaning;
+      if (k.action == Action::Unsupported) meaning += "; " + k.unsupportedNote;
+      out << "| `" << k.name << "` | `" << cell(syn) << "` | " << dia << " | " << status(k) << " | " << cell(meaning)
+          << " |\n";
     }
   }
 }

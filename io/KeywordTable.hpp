@@ -18,13 +18,17 @@ enum DialectBits : unsigned { kSpacar95 = 1u, kSpacar2013 = 2u, kBothDialects = 
 
 // Where a keyword may appear. Kinematic: the first block (before the first END). Dynamic: any later
 // block. Structure: END, HALT, EOF, VISUALIZATION (block structure, handled by the reader itself).
-enum class BlockKind { Kinematic, Dynamic, Structure };
+// Anywhere: any block (OUTLEVEL, which SPACAR Light writes at the top of the file; the settings of a
+// SPACAR95 restart state). In a SPACAR95 file the first block may also hold Dynamic keywords.
+enum class BlockKind { Kinematic, Dynamic, Structure, Anywhere };
 
 enum class ArgType {
   Node,        // node label: positive integer
   Element,     // element label: positive integer
   Component,   // 1-based component index: positive integer
   Count,       // positive integer (number of steps, iterations, ...)
+  Integer,     // non-negative integer (control fields that may be 0)
+  Word,        // any token (the arguments of settings flexmb accepts and ignores)
   Real,        // real number (E or Fortran D exponent)
   Expression,  // quoted muParser expression in t (section 6)
 };
@@ -48,6 +52,7 @@ enum class Action {
   InputXValues, InputEValues, XD, XDD, E, ED, EDD, StartDE, InputIncrement, Prestress,
   TimeStep, EpsInt, ErrorTol, HMax, EpsKin, MaxIterat, IterStep, Time,
   TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions,
+  OutLevel, Length0, Ignored,
   End, Halt, Eof, Visualization,
   Unsupported,
 };
@@ -63,6 +68,7 @@ struct KeywordInfo {
   bool extension = false;       // flexmb extension (dat-format.md section 6)
   const core::ElementTypeInfo* elementType = nullptr;  // for Action::Element
   std::string unsupportedNote;  // for Action::Unsupported: what to do instead
+  bool transfer = false;        // a mode-9 transfer-block keyword (INPUTF, OUTX, ...)
 
   // The layout in force for a file of the given dialect (spacar95: args95 when set).
   const std::vector<ArgSpec>& layout(bool spacar95) const;
@@ -91,5 +97,9 @@ int editDistance(std::string_view a, std::string_view b);
 
 // `flexmb keywords`: the table as text, grouped by block, with dialects and meanings.
 void printKeywords(std::ostream& out);
+
+// `flexmb keywords --markdown`: the .dat language reference (io/dat-language.md), generated from
+// the table so that it cannot drift (a test compares the committed file with this text).
+void printKeywordsMarkdown(std::ostream& out);
 
 }  // namespace flexmb::io

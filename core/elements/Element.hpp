@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,15 @@ class Element {
   virtual ElementValidity validity(const ElemVec& x) const {
     (void)x;
     return {};
+  }
+  // Reference (undeformed) length l0, 0 for an element without one (hinge). Written as LENGTH0.
+  virtual double referenceLength() const { return 0.0; }
+  // Restart reference (SPACAR95 LENGTH0): re-derives the reference geometry so that the element's
+  // deformations at x are e, with reference length length0 when > 0. Throws std::invalid_argument
+  // for an element type that does not support it.
+  virtual void setReference(const ElemVec& x, const DefVec& e, double length0) {
+    (void)x, (void)e, (void)length0;
+    throw std::invalid_argument("this element type does not support a restart reference (LENGTH0)");
   }
 };
 

@@ -55,6 +55,27 @@ PlanarBeam::PlanarBeam(const ElemVec& x0, ElongationDefinition elongation)
   phi0q_ = x0[5];
 }
 
+void PlanarBeam::setReference(const ElemVec& x, const DefVec& e, double length0) {
+  const double dx = x[3] - x[0], dy = x[4] - x[1];
+  const double l = std::hypot(dx, dy);
+  if (!(l > 0.0)) throw std::invalid_argument("planar beam: end nodes coincide (zero length)");
+  double l0 = length0;
+  if (!(l0 > 0.0)) {  // from the elongation e1 at x (Eq. 3a solved for l0 by a fixed point)
+    const double c = 2.0 * e[1] * e[1] + e[1] * e[2] + 2.0 * e[2] * e[2];
+    l0 = l - e[0];
+    if (elongation_ == ElongationDefinition::BendingCorrected)
+      for (int k = 0; k < 20 && l0 > 0.0; ++k) l0 = l - e[0] + c / (30.0 * l0);
+  }
+  if (!(l0 > 0.0) || !std::isfinite(l0))
+    throw std::invalid_argument("planar beam: the reference length must be positive");
+  if (std::abs(e[1]) > l0 || std::abs(e[2]) > l0)
+    throw std::invalid_argument("planar beam: a bending deformation larger than the reference length");
+  l0_ = l0;
+  beta0_ = std::atan2(dy, dx);
+  phi0p_ = x[2] - std::asin(e[1] / l0);
+  phi0q_ = x[5] + std::asin(e[2] / l0);
+}
+
 std::unique_ptr<Element> PlanarBeam::create(const ElemVec& x0, const ElementOptions& options) {
   return std::make_unique<PlanarBeam>(x0, options.elongation);
 }

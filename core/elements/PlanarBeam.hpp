@@ -49,6 +49,10 @@ class PlanarBeam final : public Element {
   // beyond 90 degrees a bent element looks less bent (a spurious, nearly stress-free fold).
   // theta is measured from the reference configuration, so rigid rotations are always valid.
   ElementValidity validity(const ElemVec& x) const override;
+  double referenceLength() const override { return l0_; }
+  // Restart: l0 = length0 (or from e1), beta0 = the chord angle at x, phi0p/phi0q such that the
+  // bending deformations at x are e2, e3 (theta_p = asin(e2/l0), theta_q = asin(-e3/l0)).
+  void setReference(const ElemVec& x, const DefVec& e, double length0) override;
 
   double l0() const { return l0_; }
   double beta0() const { return beta0_; }

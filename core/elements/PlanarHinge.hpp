@@ -21,6 +21,8 @@ class PlanarHinge final : public Element {
   void constitutive(std::span<const double> params, DefMat& S) const override;
 
   double initialAngle() const { return delta0_; }
+  // Restart: delta0 such that e1 = e at x (a hinge has no length; length0 is not used).
+  void setReference(const ElemVec& x, const DefVec& e, double) override { delta0_ = (x[1] - x[0]) - e[0]; }
 
  private:
   double delta0_ = 0.0;  // phiq0 - phip0

@@ -2,6 +2,8 @@
 // PLTRUSS: planar truss, x = [xp, yp, xq, yq], one deformation e1 = l - l0 (S = EA/l0).
 // Inertia: linear position field r(xi) = (1-xi) rp + xi rq (rigid-rod consistent mass, constant,
 // no rotary inertia, no velocity dependent forces).
+#include <cmath>
+
 #include "core/elements/Element.hpp"
 
 namespace flexmb::core {
@@ -29,6 +31,12 @@ class PlanarTruss final : public Element {
                      ElemVec& f) const override;
 
   double l0() const { return l0_; }
+  double referenceLength() const override { return l0_; }
+  // Restart: l0 = length0, or l(x) - e1 when length0 is not given.
+  void setReference(const ElemVec& x, const DefVec& e, double length0) override {
+    l0_ = length0 > 0.0 ? length0 : std::hypot(x[2] - x[0], x[3] - x[1]) - e[0];
+    if (!(l0_ > 0.0)) throw std::invalid_argument("planar truss: the reference length must be positive");
+  }
 
  private:
   double l0_ = 0.0;

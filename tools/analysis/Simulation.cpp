@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
@@ -10,7 +11,15 @@
 
 namespace flexmb::analysis {
 
-core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt) {
+namespace {
+
+// The continuation of a stage: the state y = [q; qd] and the configuration x where it ended.
+struct Continuation {
+  Eigen::VectorXd y, x;
+};
+
+core::Trajectory simulateStage(const core::Model& model, const SimulationOptions& opt, const Continuation* from,
+                               Continuation* end) {
   const auto& s = model.settings;
   const double t0 = s.t0, tEnd = opt.tEnd.value_or(s.tEnd);
   const int intervals = opt.intervals.value_or(s.outputIntervals);
@@ -40,6 +49,7 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
     }
   };
   auto observer = [&](double t, const Eigen::VectorXd& y) {
+    if (end) end->y = y;
     if (opt.keepStates) {
       core::StateOutputs out;
       try {
@@ -66,6 +76,7 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
         traj.stopReason = msg.str();
         return false;
       }
+      if (end) end->x = out.x;
       traj.time.push_back(t);
       traj.states.push_back(std::move(out));
     }
@@ -85,7 +96,11 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
   eom.kinematics().setRelativeTolerance(kinTol);
   probe.kinematics().setRelativeTolerance(kinTol);
   solvers::Ode45 ode(o);
-  const Eigen::VectorXd y0 = eom.initialState();
+  if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
+    eom.kinematics().setConfiguration(from->x);
+    probe.kinematics().setConfiguration(from->x);
+  }
+  const Eigen::VectorXd y0 = from ? from->y : eom.initialState();
   const solvers::OdeResult r = ode.integrate(f, tspan, y0, observer);
   if (printed) std::fprintf(stderr, "\n");
   traj.nsteps = r.stats.nsteps;
@@ -96,6 +111,46 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
     traj.stopReason = r.message;
   }
   return traj;
+}
+
+}  // namespace
+
+core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt) {
+  return simulateStage(model, opt, nullptr, nullptr);
+}
+
+core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& opt) {
+  if (stages.empty()) throw std::invalid_argument("simulateStages: no stage to run");
+  if (stages.size() == 1) return simulate(*stages.front(), opt);
+  if (opt.basis) throw std::invalid_argument("a reduction basis is only supported for a file with one analysis block");
+  if (!opt.keepStates) throw std::invalid_argument("several analysis blocks need the states (keepStates)");
+  core::Trajectory all;
+  Continuation state;
+  for (size_t k = 0; k < stages.size(); ++k) {
+    const core::Model& m = *stages[k];
+    if (m.numDofs() != stages.front()->numDofs() || m.nx != stages.front()->nx)
+      throw std::invalid_argument("analysis blocks with different degrees of freedom cannot continue each other");
+    SimulationOptions o = opt;
+    if (k + 1 < stages.size()) o.tEnd.reset();
+    Continuation end;
+    core::Trajectory part = simulateStage(m, o, k ? &state : nullptr, &end);
+    const size_t skip = (k > 0 && !part.time.empty() && !all.time.empty() && part.time.front() == all.time.back()) ? 1 : 0;
+    for (size_t i = skip; i < part.time.size(); ++i) {
+      all.time.push_back(part.time[i]);
+      all.states.push_back(std::move(part.states[i]));
+    }
+    all.nsteps += part.nsteps;
+    all.nfailed += part.nfailed;
+    all.nfevals += part.nfevals;
+    if (!part.completed || end.y.size() == 0) {
+      all.completed = false;
+      all.stopReason = part.stopReason.empty() ? "analysis block " + std::to_string(k + 1) + " produced no state"
+                                               : part.stopReason;
+      return all;
+    }
+    state = std::move(end);
+  }
+  return all;
 }
 
 }  // namespace flexmb::analysis

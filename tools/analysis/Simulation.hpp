@@ -19,4 +19,12 @@ struct SimulationOptions {
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options);
 
+// SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
+// the topology), in order. The first starts from its model's initial values; each later one starts
+// from the state (q, qd) and configuration where the previous one ended, at its own start time
+// (the previous end time). The output is concatenated (the shared time point once) and the
+// integrator statistics add up. options.tEnd applies to the last stage; a reduction basis is only
+// accepted with a single stage. Stops at the first stage that does not complete.
+core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& options);
+
 }  // namespace flexmb::analysis

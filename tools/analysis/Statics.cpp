@@ -10,12 +10,12 @@
 namespace flexmb::analysis {
 
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
-                                  const solvers::NewtonOptions& options) {
-  lin.kinematics().setInputLoadFactor(loadFactor);
+                                  const solvers::NewtonOptions& options, double initialFactor) {
+  lin.kinematics().setInputLoadFactor(loadFactor, initialFactor);
   Eigen::VectorXd f;
   core::LinearizedSystem sys;
   auto problem = [&](const Eigen::VectorXd& e, Eigen::VectorXd& Q, Eigen::MatrixXd* T) {
-    lin.appliedForces(t, loadFactor, f);
+    lin.appliedForces(t, loadFactor, f, initialFactor);
     if (T) {
       lin.atRest(t, e, f, sys, false);
       Q = sys.Q;
@@ -27,7 +27,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   // Force scale: the generalised applied load, else a stiffness times a small motion of the model.
   double scale = 0.0;
   try {
-    lin.appliedForces(t, loadFactor, f);
+    lin.appliedForces(t, loadFactor, f, initialFactor);
     lin.atRest(t, eta, f, sys, false);
     if (lin.size() == 0) {  // nothing to solve: the kinematics alone place the model
       solvers::StaticResult r;
@@ -66,45 +66,80 @@ Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
   return out;
 }
 
+std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
+  const int nsteps = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
+  const int ninit = std::max(0, model.settings.initialLoadSteps);
+  bool increments = model.delf.size() && !model.delf.isZero(0.0);
+  for (const auto& r : model.inputX) increments = increments || r.delta != 0.0;
+  bool initial = model.f0.size() && !model.f0.isZero(0.0);
+  for (const auto& r : model.inputX) initial = initial || (!r.fx && r.x0 != r.base);
+  for (const auto& r : model.inputE) initial = initial || (!r.fx && r.x0 != 0.0);
+  std::vector<LoadPoint> points;
+  if (!increments) {
+    const int n = !initial ? 1 : ninit > 0 ? ninit : nsteps;
+    for (int k = 1; k <= n; ++k) points.push_back({static_cast<double>(k) / n, 0.0});
+    return points;
+  }
+  if (initial)
+    for (int k = 1; k <= ninit; ++k) points.push_back({static_cast<double>(k) / ninit, 0.0});
+  for (int i = 1; i <= nsteps; ++i) points.push_back({1.0, static_cast<double>(i) / nsteps});
+  return points;
+}
+
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
   StaticRun run;
   core::Linearization lin(model);
-  const int n = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
+  const std::vector<LoadPoint> schedule = loadSchedule(model, loadSteps);
+  const int n = static_cast<int>(schedule.size());
   Eigen::VectorXd eta = lin.kinematics().initialDofs();
   const double t = model.settings.t0;
-  double reached = 0.0;
+  // Every path starts unloaded (mu = s = 0): initial loads applied "at once" are reached within
+  // the first step, sub-stepped like any other when Newton needs it.
+  LoadPoint reachedPoint{0.0, 0.0};
   for (int i = 1; i <= n; ++i) {
-    const double target = i;
-    // Sub-steps: halve the increment when Newton fails, up to 2^-6 of a load step.
-    double ds = target - reached;
+    const LoadPoint from = reachedPoint, to = schedule[i - 1];
+    // Sub-steps in the fraction p of this step: halve it when Newton fails, down to 2^-6.
+    double reached = 0.0, ds = 1.0;
     solvers::StaticResult res;
-    while (reached < target - 1e-12) {
+    auto at = [&](double p) {
+      return LoadPoint{from.initial + p * (to.initial - from.initial),
+                       from.increment + p * (to.increment - from.increment)};
+    };
+    while (reached < 1.0 - 1e-12) {
       Eigen::VectorXd trial = eta;
-      const double s = std::min(target, reached + ds);
-      res = equilibrium(lin, t, s, trial);
+      const double p = std::min(1.0, reached + ds);
+      const LoadPoint lp = at(p);
+      res = equilibrium(lin, t, lp.increment, trial, {}, lp.initial);
       if (res.status == solvers::StaticStatus::Converged) {
         eta = trial;
-        reached = s;
-        ds = std::min(2 * ds, target - reached);
+        reached = p;
+        ds = std::min(2 * ds, 1.0 - reached);
         continue;
       }
       ds *= 0.5;
       if (ds < std::ldexp(1.0, -6)) {
+        const LoadPoint lr = at(reached);
         std::ostringstream msg;
-        msg << "no equilibrium beyond load factor " << reached << " (step " << i << " of " << n << "): " << res.message;
+        msg << "no equilibrium beyond load factor " << lr.increment;
+        if (lr.initial != 1.0) msg << " (initial loads " << lr.initial << ")";
+        msg << " (step " << i << " of " << n << "): " << res.message;
         run.completed = false;
         run.stopReason = msg.str();
         return run;
       }
     }
+    reachedPoint = to;
+    const double reachedS = to.increment, reachedMu = to.initial;
     try {
     StaticStep st;
-    st.loadFactor = reached;
+    st.loadFactor = reachedS;
+    st.initialFactor = reachedMu;
     st.eta = eta;
     st.newton = res;
     Eigen::VectorXd f;
     core::LinearizedSystem sys;
-    lin.appliedForces(t, reached, f);
+    lin.kinematics().setInputLoadFactor(reachedS, reachedMu);
+    lin.appliedForces(t, reachedS, f, reachedMu);
     lin.atRest(t, eta, f, sys, true);
     st.x = lin.kinematics().x();
     // A converged equilibrium can still be spurious: load control may jump into a fold where a
@@ -112,7 +147,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
     // nearly unbent. Stop there and keep the steps before it.
     if (const auto bad = core::firstInvalidElement(model, st.x)) {
       std::ostringstream msg;
-      msg << "load factor " << reached << " (step " << i << " of " << n << "): " << bad->message
+      msg << "load factor " << reachedS << " (step " << i << " of " << n << "): " << bad->message
           << "; refine the mesh or use more load steps";
       run.completed = false;
       run.stopReason = msg.str();
@@ -124,7 +159,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
     run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;
-      run.stopReason = "at load factor " + std::to_string(reached) + ": " + e.what();
+      run.stopReason = "at load factor " + std::to_string(reachedS) + ": " + e.what();
       return run;
     }
   }

@@ -1,7 +1,17 @@
 #pragma once
 // Static equilibrium (mode 10): Newton on the independent coordinates with tangent Kbar + Gbar,
-// over the load steps XF + s DELXF, INPUTX + s DELINPX (s = 1..n), cutting a load step into
-// halves when Newton fails, and eigenfrequencies in each equilibrium.
+// over the load steps, cutting a load step into halves when Newton fails, and eigenfrequencies in
+// each equilibrium.
+//
+// Load steps with SPACAR's meaning (ITERSTEP maxit nsteps tol c4 c5 ninit):
+//   loads = mu (XF, INPUTX values) + s (DELXF, DELINPX), where DELXF and DELINPX are the TOTAL
+//   increments reached at the last step (SPACAR Light writes the user's final load as DELXF).
+//   1. the initial loads (XF and the INPUTX values, measured from X) are ramped first over ninit
+//      steps, mu = k / ninit, s = 0 (ninit = 0 or absent: applied at once, with the first step);
+//   2. then the increments in nsteps equal parts: mu = 1, s = i / nsteps.
+//   Without any DEL* increment the initial loads ramp over ninit steps, or nsteps when ninit is 0,
+//   so XF with n steps gives n distinct equilibria (never one equilibrium n times). Gravity and
+//   time-dependent loads are not ramped.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -13,7 +23,7 @@ namespace flexmb::analysis {
 
 // Equilibrium of lin's model at load factor s from the start eta (updated in place).
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
-                                  const solvers::NewtonOptions& options = {});
+                                  const solvers::NewtonOptions& options = {}, double initialFactor = 1.0);
 
 // Natural frequencies (rad/s, ascending) of (K + G) v = w^2 M v; negative eigenvalues give -sqrt(|l|).
 struct Frequencies {
@@ -22,8 +32,17 @@ struct Frequencies {
 };
 Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev);
 
+// One point of the load schedule: mu (initial loads) and s (DEL* increments, 1 = the total).
+struct LoadPoint {
+  double initial = 1.0;
+  double increment = 0.0;
+};
+// The schedule described above; loadSteps > 0 overrides ITERSTEP's nsteps (--steps).
+std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps = 0);
+
 struct StaticStep {
-  double loadFactor = 0.0;
+  double loadFactor = 0.0;     // s: fraction of the DEL* increments (1 at the last step)
+  double initialFactor = 1.0;  // mu: fraction of the initial loads
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
   solvers::StaticResult newton;

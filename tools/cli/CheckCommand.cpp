@@ -61,7 +61,15 @@ int runCheck(const std::vector<std::string>& args) {
   return r.wellPosed() ? 0 : 1;
 }
 
-int runKeywords(const std::vector<std::string>&) {
+int runKeywords(const std::vector<std::string>& args) {
+  if (args.size() == 1 && args[0] == "--markdown") {
+    io::printKeywordsMarkdown(std::cout);
+    return 0;
+  }
+  if (!args.empty()) {
+    std::cerr << "usage: flexmb keywords [--markdown]\n";
+    return 2;
+  }
   io::printKeywords(std::cout);
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "core/Model.hpp"
+#include "io/DatReader.hpp"
 
 namespace flexmb::cli {
 
@@ -27,6 +28,8 @@ struct ModelOptions {
   std::string elongation;  // "", "plain", "corrected"
 };
 bool loadModel(const ModelOptions& o, core::Model& model);
+// Every analysis stage of the file (SPACAR95 blocks), read with the same options.
+bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages);
 
 // The options every model command shares (--dialect, --elongation), and the parse of a command's
 // options with the model file as positional argument (prints usage and errors; false on error).

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "io/DatReader.hpp"
+#include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
 #include "solvers/Ode45.hpp"
 #include "tools/analysis/Simulation.hpp"
@@ -31,7 +32,8 @@ int runSimulate(const std::vector<std::string>& args) {
       "intervals", po::value(&intervals), "output intervals (0: every step, Refine 4)")(
       "out", po::value(&out), "output prefix (default: the model's name in the current folder)")(
       "format", po::value(&format), "csv, mat, both or none")(
-      "echo", po::value(&echo), "write the model and its final state the way SPACAR95 echoes it (XY/BETA, TIME, E/ED/EDD)")(
+      "echo", po::value(&echo), "write the end-of-run state as a .dat input that continues the run (SPACAR95 restart: elements, XY/BETA, "
+      "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
       "linearize", po::value(&linearize),
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
@@ -44,8 +46,15 @@ int runSimulate(const std::vector<std::string>& args) {
     std::cerr << "flexmb: --format must be csv, mat, both or none\n";
     return 2;
   }
-  core::Model model;
-  if (!loadModel(m, model)) return 2;
+  std::vector<io::AnalysisStage> stages;
+  if (!loadStages(m, stages)) return 2;
+  // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
+  std::vector<const core::Model*> runs;
+  for (const auto& st : stages)
+    if (st.runs) runs.push_back(&st.model);
+  if (runs.empty()) runs.push_back(&stages.back().model);
+  const core::Model& model = *runs.back();
+  if (runs.size() > 1) std::cout << runs.size() << " analysis blocks, run in sequence\n";
   if (matrices && linearize <= 0) linearize = 6;
 
   analysis::SimulationOptions opt;
@@ -65,7 +74,7 @@ int runSimulate(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   core::Trajectory traj;
   try {
-    traj = analysis::simulate(model, opt);
+    traj = analysis::simulateStages(runs, opt);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: simulation could not start: " << e.what() << "\n";
     return 3;
@@ -119,11 +128,8 @@ int runSimulate(const std::vector<std::string>& args) {
           std::cout << "wrote " << out << "_linear.mat\n";
         }
       }
-      if (!echo.empty()) {
-        std::ifstream in(m.file);
-        std::stringstream text;
-        text << in.rdbuf();
-        io::writeEcho(echo, text.str(), model, traj.time.back(), traj.states.back());
+      if (!echo.empty()) {  // the end-of-run state as an input that continues the run
+        io::writeRestart(echo, model, traj.time.back(), traj.states.back());
         std::cout << "wrote " << echo << "\n";
       }
     }

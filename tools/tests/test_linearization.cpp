@@ -26,7 +26,8 @@ std::string cantilever(int n, double L, double EI, double rhoA, double fx = 0, d
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 2 3\n";
   s << "END\nHALT\n";
   for (int k = 1; k <= n; ++k) s << "EM " << k << " " << rhoA << "\nESTIFF " << k << " 1e9 " << EI << "\n";
-  if (fx != 0 || fy != 0) s << "DELXF " << n + 1 << " " << fx / steps << " " << fy / steps << "\n";
+  // DELXF is the total load reached at the last of the load steps (SPACAR's meaning).
+  if (fx != 0 || fy != 0) s << "DELXF " << n + 1 << " " << fx << " " << fy << "\n";
   s << "ITERSTEP 50 " << steps << "\nEND\nEND\n";
   return s.str();
 }

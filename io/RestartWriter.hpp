@@ -1,0 +1,26 @@
+#pragma once
+// The end-of-run state as a complete .dat input that continues the run (SPACAR95 prints its state
+// this way; `flexmb simulate --echo` writes it). Reading it back gives the same model in the state
+// where the run ended: elements, the current coordinates (XY / BETA), roles, LENGTH0 of every
+// element with a length, the deformations E (and rates ED of the dynamic ones), the rates of the
+// inputs at the current time, TIME, and every load, mass, stiffness and setting the model had.
+//
+// Written in the model's dialect: SPACAR95 as one block closed by END and EOF; SPACAR 2013+ as a
+// kinematic block, END HALT, the dynamic block, END END (with TIME and LENGTH0, which flexmb
+// accepts in both dialects). The next analysis runs one more period of the same length and the
+// same number of output intervals (SPACAR95 TIMESTEP n Tp; 2013+ TIMESTEP T n with T = t + Tp).
+#include <string>
+
+#include "core/EquationsOfMotion.hpp"
+#include "core/Model.hpp"
+
+namespace flexmb::io {
+
+// The restart text of `model` at time t in `state` (x, xd, e, ed of the final output time).
+// Throws std::invalid_argument when the state does not match the model or is not finite.
+std::string restartText(const core::Model& model, double t, const core::StateOutputs& state);
+
+// Writes restartText to path (std::runtime_error naming the path when it cannot be written).
+void writeRestart(const std::string& path, const core::Model& model, double t, const core::StateOutputs& state);
+
+}  // namespace flexmb::io

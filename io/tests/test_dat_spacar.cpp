@@ -1,0 +1,294 @@
+// SPACAR files as users have them (issue 10): SPACAR95 block structure and time, restart states,
+// SPACAR Light's 2013+ writing, ESIG, numbers, every SPACAR keyword known, and the generated
+// language reference. Each test reads a small file written for it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/elements/PlanarBeam.hpp"
+#include "core/elements/PlanarTruss.hpp"
+#include "io/DatReader.hpp"
+#include "io/KeywordTable.hpp"
+
+using namespace flexmb;
+using core::Dialect;
+
+namespace {
+
+const std::string kData = std::string(FLEXMB_SOURCE_DIR) + "/io/tests/data/";
+
+int xIndex(const core::Model& m, int node, int comp) {
+  return m.nodes.at(m.nodeByLabel.at(node)).firstCoord + comp - 1;
+}
+int eIndex(const core::Model& m, int element, int comp) {
+  return m.elements.at(m.elementByLabel.at(element)).firstDef + comp - 1;
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    io::readDatStagesString(text, "t.dat");
+  } catch (const io::DatError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+const core::Rheonomic& inputOf(const core::Model& m, int node, int comp) {
+  const int xi = xIndex(m, node, comp);
+  for (const auto& r : m.inputX)
+    if (r.index == xi) return r;
+  throw std::runtime_error("no input");
+}
+
+}  // namespace
+
+// Item 1: the manual's style, one block with everything and one END; a later block restates a
+// role (no error), changes the input rate and continues from where the first block ended.
+TEST(Spacar95Blocks, OneBlockHoldsEverythingAndALaterBlockContinues) {
+  const auto stages = io::readDatStages(kData + "manual_style_s95.dat");
+  ASSERT_EQ(stages.size(), 2u);
+  const core::Model& m1 = stages[0].model;
+  EXPECT_EQ(m1.dialect, Dialect::Spacar95);
+  EXPECT_TRUE(stages[0].runs);
+  EXPECT_DOUBLE_EQ(m1.settings.t0, 0.0);
+  EXPECT_DOUBLE_EQ(m1.settings.tEnd, 0.5);
+  EXPECT_EQ(m1.settings.outputIntervals, 20);
+  EXPECT_EQ(m1.numDofs(), 3);
+  EXPECT_EQ(m1.lumpedMasses.size(), 2u);  // MASS 3 on x and y
+  EXPECT_TRUE(m1.elements.at(1).hasStiffness);
+  EXPECT_DOUBLE_EQ(m1.elements.at(0).inertia.rhoA, 1.0);
+  const core::Rheonomic& r1 = inputOf(m1, 12, 1);
+  EXPECT_DOUBLE_EQ(r1.v, 2 * M_PI);
+  EXPECT_DOUBLE_EQ(r1.tRef, 0.0);
+
+  const core::Model& m2 = stages[1].model;
+  EXPECT_TRUE(stages[1].runs);
+  EXPECT_DOUBLE_EQ(m2.settings.t0, 0.5);   // continues at the end of the first block
+  EXPECT_DOUBLE_EQ(m2.settings.tEnd, 0.75);
+  EXPECT_EQ(m2.settings.outputIntervals, 20);
+  EXPECT_EQ(m2.numDofs(), m1.numDofs());
+  const core::Rheonomic& r2 = inputOf(m2, 12, 1);
+  EXPECT_DOUBLE_EQ(r2.tRef, 0.5);
+  EXPECT_NEAR(r2.x0, 2 * M_PI * 0.5, 1e-15);  // the value where block 1 ended
+  EXPECT_DOUBLE_EQ(r2.v, M_PI);              // the new rate from t = 0.5 on
+  double x, v, a;
+  r2.evaluate(0.75, x, v, a);
+  EXPECT_NEAR(x, M_PI + M_PI * 0.25, 1e-14);
+
+  // The model of the whole file (readDatFile) is the last stage.
+  EXPECT_DOUBLE_EQ(io::readDatFile(kData + "manual_style_s95.dat").settings.t0, 0.5);
+}
+
+TEST(Spacar95Blocks, LaterBlocksKeepTopologyAndState) {
+  const std::string base = "PLTRUSS 1 1 2\nXY 2 1 0\nFIX 1\nDYNX 2 1 2\nMASS 2 1\nTIMESTEP 10 1\nEND\n";
+  EXPECT_TRUE(contains(errorOf(base + "PLTRUSS 2 2 3\nEND\n"), "belongs to the first block"));
+  EXPECT_TRUE(contains(errorOf(base + "XY 2 2 0\nEND\n"), "belongs to the first block"));
+  EXPECT_TRUE(contains(errorOf(base + "ED 1 1 0.5\nEND\n"), "the state continues"));
+  EXPECT_TRUE(contains(errorOf(base + "FIX 2 1\nEND\n"), "it was made dynamic"));  // a changed role
+  // A block without TIMESTEP only changes data (no analysis of its own).
+  const auto stages = io::readDatStagesString(base + "DYNX 2 1 2\nFORCE 2 0 -1\nEND\nTIMESTEP 5 2\nEND\nEOF\n");
+  ASSERT_EQ(stages.size(), 3u);
+  EXPECT_TRUE(stages[0].runs);
+  EXPECT_FALSE(stages[1].runs);
+  EXPECT_TRUE(stages[2].runs);
+  EXPECT_DOUBLE_EQ(stages[2].model.settings.t0, 1.0);
+  EXPECT_DOUBLE_EQ(stages[2].model.settings.tEnd, 3.0);
+  EXPECT_DOUBLE_EQ(stages[2].model.f0[xIndex(stages[2].model, 2, 2)], -1.0);
+}
+
+// Item 2: TIMESTEP n Tp from TIME; inputs move as x + v (t - TIME) + a (t - TIME)^2 / 2.
+TEST(Spacar95Time, TimestepIsAPeriodFromTime) {
+  const std::string text =
+      "PLTRUSS 1 1 2\nXY 2 1 0.5\nFIX 1\nINPUTX 2 1\nDYNX 2 2\nRLSE 1 1\nMASS 2 1\nXD 2 1 0.2\nXDD 2 1 -0.4\n"
+      "TIME 2.0\nTIMESTEP 15 1.5\nEND\nEOF\n";
+  const auto stages = io::readDatStagesString(text);
+  ASSERT_EQ(stages.size(), 1u);
+  const core::Model& m = stages[0].model;
+  EXPECT_DOUBLE_EQ(m.settings.t0, 2.0);
+  EXPECT_DOUBLE_EQ(m.settings.tEnd, 3.5);
+  EXPECT_EQ(m.settings.outputIntervals, 15);
+  double x, v, a;
+  inputOf(m, 2, 1).evaluate(3.0, x, v, a);
+  EXPECT_NEAR(x, 1.0 + 0.2 * 1.0 - 0.4 * 0.5, 1e-15);
+  EXPECT_NEAR(v, 0.2 - 0.4, 1e-15);
+  EXPECT_DOUBLE_EQ(a, -0.4);
+  inputOf(m, 2, 1).evaluate(2.0, x, v, a);
+  EXPECT_DOUBLE_EQ(x, 1.0);  // the value X at TIME
+  // SPACAR 2013+: TIMESTEP T n is the end time, INPUTX x v a from t = 0.
+  const auto m13 = io::readDatString(
+      "PLTRUSS 1 1 2\nX 2 1 0.5\nFIX 1\nINPUTX 2 1\nDYNX 2 2\nEND\nHALT\nXM 2 1\nINPUTX 2 1 1.0 0.2\n"
+      "TIMESTEP 1.5 15\nEND\nEND\n");
+  EXPECT_DOUBLE_EQ(m13.settings.t0, 0.0);
+  EXPECT_DOUBLE_EQ(m13.settings.tEnd, 1.5);
+  inputOf(m13, 2, 1).evaluate(1.0, x, v, a);
+  EXPECT_NEAR(x, 1.2, 1e-15);
+}
+
+// Item 1, SPACAR 2013+: END HALT ... END END keeps its meaning; the dynamic block is the last stage.
+TEST(Spacar2013Blocks, EndHaltEndEndUnchanged) {
+  const auto stages = io::readDatStages(kData + "two_link_2013.dat");
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_FALSE(stages[0].runs);
+  EXPECT_EQ(stages[1].model.dialect, Dialect::Spacar2013);
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nEND\nHALT\nFIX 2\nEND\nEND\n"),
+                       "belongs to the kinematic block"));
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nESTIFF 1 1\nEND\nHALT\nEND\nEND\n"),
+                       "belongs to a dynamic/static block"));
+}
+
+// Item 4: a file written the way SPACAR Light writes it (tabs, '#' comments, OUTLEVEL at the top,
+// %20.15f numbers, ITERSTEP with six fields, DELXF and XF, END HALT, END END, VISUALIZATION).
+TEST(Spacar2013Light, SpacarLightStyleFile) {
+  const core::Model m = io::readDatFile(kData + "spacarlight_style_2013.dat");
+  EXPECT_EQ(m.dialect, Dialect::Spacar2013);
+  EXPECT_EQ(m.settings.maxIterations, 10);
+  EXPECT_EQ(m.settings.loadSteps, 9);
+  EXPECT_DOUBLE_EQ(m.settings.kinematicTol, 5e-7);
+  EXPECT_EQ(m.settings.initialLoadSteps, 9);
+  EXPECT_EQ(m.settings.outputLevel, 0);
+  EXPECT_EQ(m.settings.transferFunctionLevel, 1);
+  EXPECT_DOUBLE_EQ(m.delf[xIndex(m, 5, 2)], -1.0);
+  EXPECT_DOUBLE_EQ(m.f0[xIndex(m, 5, 1)], 0.5);
+  EXPECT_EQ(m.numDofs(), 6);
+}
+
+TEST(Spacar2013Light, IterstepFieldsAndWholeNumbersWithDecimals) {
+  const std::string kin = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\n";
+  const core::Model m = io::readDatString(kin + "ESTIFF 1 1\nITERSTEP 1000.000000 9 5e-7 1 3 0\nEND\nEND\n");
+  EXPECT_EQ(m.settings.maxIterations, 1000);
+  EXPECT_EQ(m.settings.initialLoadSteps, 0);  // SPACAR Light writes 0 without initial loads
+  EXPECT_EQ(io::readDatString(kin + "ITERSTEP 10 2\nEND\nEND\n").settings.initialLoadSteps, 0);
+  EXPECT_EQ(io::readDatString(kin + "TIMESTEP 1 1.0E1\nEND\nEND\n").settings.outputIntervals, 10);
+  EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 2.5 9\nEND\nEND\n"),
+                       "expected an integer for maximum iterations, found '2.5'"));
+  EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 10 9 5e-7 1 3 9 4\nEND\nEND\n"), "expected 2 to 6"));
+  EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 10 9 5e-7 1 3 -1\nEND\nEND\n"), "non-negative integer"));
+  EXPECT_TRUE(contains(errorOf(kin + "OUTLEVEL 1 0.5\nEND\nEND\n"), "expected an integer for transfer functions"));
+}
+
+TEST(Spacar2013Light, EsigWithTwoOrThreeFields) {
+  const std::string kin = "PLTRUSS 1 1 2\nPLBEAM 2 2 3 4 5\nX 2 1 0\nX 4 2 0\nFIX 1\nEND\nHALT\n";
+  const core::Model m = io::readDatString(kin + "ESIG 1 -5.0\nESIG 2 3 7.5\nEND\nEND\n");
+  EXPECT_DOUBLE_EQ(m.sigma0[eIndex(m, 1, 1)], -5.0);
+  EXPECT_DOUBLE_EQ(m.sigma0[eIndex(m, 2, 3)], 7.5);
+  EXPECT_DOUBLE_EQ(m.sigma0[eIndex(m, 2, 1)], 0.0);
+  EXPECT_TRUE(contains(errorOf(kin + "ESIG 2 7.5\nEND\nEND\n"), "for an element with one deformation"));
+  EXPECT_TRUE(contains(errorOf(kin + "ESIG 2 1.5 7.5\nEND\nEND\n"), "expected a positive integer for component"));
+}
+
+// Item 7: a decimal comma is an error naming the token and the likely mistake.
+TEST(DatNumbers, DecimalCommaIsAnError) {
+  const std::string kin = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNX 2 1 2\nEND\nHALT\nXM 2 1\n";
+  const std::string e1 = errorOf(kin + "GRAVITY 0 -9,81\nEND\nEND\n");
+  EXPECT_TRUE(contains(e1, "t.dat:8: GRAVITY")) << e1;
+  EXPECT_TRUE(contains(e1, "'-9,81'")) << e1;
+  EXPECT_TRUE(contains(e1, "decimal comma? write -9.81")) << e1;
+  const std::string e2 = errorOf("PLTRUSS 1 1 2\nX 2 1,5 0\nEND\n");
+  EXPECT_TRUE(contains(e2, "write 1.5")) << e2;
+  const std::string e3 = errorOf("PLTRUSS 1 1,2\nEND\n");  // never two silently split fields
+  EXPECT_TRUE(contains(e3, "'1,2' holds a comma")) << e3;
+}
+
+// Item 6: every SPACAR keyword is known: supported, or "SPACAR keyword, not supported by flexmb yet".
+TEST(DatKeywords, EverySpacarKeywordIsKnown) {
+  const char* unsupported[] = {"BEAM", "BEAMNL", "BEAMW", "RBEAM", "TRUSS", "HINGE", "BEARING", "SURFACE",
+                               "PINBODY", "TUBE", "SCREW", "LAMBDA", "XYZ", "L2MIN1", "PLBELT", "PLBEAR",
+                               "PLWHEEL", "PLTUBE", "PLPINBODY", "NOMS", "NOMF", "REFES", "REFEF", "INPUTF",
+                               "INX", "OUTF", "OUTX", "OUTXP", "LINE", "ENHC"};
+  for (const char* k : unsupported) {
+    const auto infos = io::findKeywords(k);
+    ASSERT_FALSE(infos.empty()) << k;
+    if (infos.front()->action != io::Action::Unsupported) continue;  // supported by now (spatial work)
+    const std::string err = errorOf(std::string(k) + " 1 1 2\nEND\n");
+    EXPECT_TRUE(contains(err, "SPACAR keyword, not supported by flexmb yet (")) << k << ": " << err;
+    EXPECT_FALSE(contains(err, "unknown")) << k << ": " << err;
+  }
+  for (const char* k : {"LENGTH0", "LGEOMY", "DIR", "EPSIND", "FORCEMODE", "ANIMATE", "MATASC", "RESTART", "JOBID",
+                        "EOF", "TIME", "XY", "BETA", "E", "ED", "EDD", "XD", "XDD", "HMAX", "MAXITERAT", "EPSKIN",
+                        "EPSINT", "OUTLEVEL", "ITERSTEP", "ESIG"}) {
+    const auto infos = io::findKeywords(k);
+    ASSERT_FALSE(infos.empty()) << k;
+    EXPECT_NE(infos.front()->action, io::Action::Unsupported) << k;
+  }
+}
+
+// Item 6: a mode-9 transfer block after END HALT is read and reported, not silently skipped.
+TEST(DatKeywords, Mode9TransferBlockIsReported) {
+  const core::Model m = io::readDatFile(kData + "transfer_mode9_2013.dat");
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_TRUE(contains(m.notes[0], "mode-9 transfer block at lines 15-19")) << m.notes[0];
+  EXPECT_TRUE(contains(m.notes[0], "INPUTF x1, OUTX x1, OUTXP x1")) << m.notes[0];
+  EXPECT_TRUE(m.elements.at(0).hasStiffness);
+  // Outside a transfer block a transfer keyword is reported as not supported.
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nOUTX 1 2 2\nEND\nEND\n"), "mode 9"));
+  // A transfer block holds transfer keywords only, and needs its END.
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nXM 2 1\nEND\nHALT\nOUTX 1 2 2\nXM 2 1\nEND\nEND\n"),
+                       "only mode-9 transfer keywords"));
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nXM 2 1\nEND\nHALT\nOUTX 1 2 2\n"),
+                       "inside the transfer block"));
+}
+
+// Item 3: SPACAR95's end-of-run state is read: LENGTH0 keeps the undeformed lengths of a deformed
+// configuration, E gives the deformations there, the run settings are accepted and listed once.
+TEST(Spacar95Restart, RestartStateKeywordsAreRead) {
+  const core::Model m = io::readDatFile(kData + "restart_state_s95.dat");
+  EXPECT_TRUE(m.restartState);
+  EXPECT_DOUBLE_EQ(m.settings.t0, 3.0);
+  EXPECT_DOUBLE_EQ(m.settings.tEnd, 4.0);
+  EXPECT_DOUBLE_EQ(m.settings.hmax, 0.01);
+  EXPECT_EQ(m.settings.maxIterations, 20);
+  const auto* t1 = dynamic_cast<const core::PlanarTruss*>(m.elements.at(0).impl.get());
+  const auto* t2 = dynamic_cast<const core::PlanarTruss*>(m.elements.at(1).impl.get());
+  ASSERT_TRUE(t1 && t2);
+  EXPECT_DOUBLE_EQ(t1->l0(), 1.0);
+  EXPECT_DOUBLE_EQ(t2->l0(), 2.0);
+  EXPECT_DOUBLE_EQ(m.e0[eIndex(m, 2, 1)], 0.004);
+  // Stiffness from the undeformed length: EA / l0.
+  EXPECT_DOUBLE_EQ(m.elements.at(1).S(0, 0), 500.0);
+  ASSERT_EQ(m.notes.size(), 8u);
+  for (const char* k : {"LGEOMY", "DIR", "EPSIND", "FORCEMODE", "ANIMATE", "MATASC", "RESTART", "JOBID"}) {
+    int n = 0;
+    for (const auto& note : m.notes) n += contains(note, std::string(k) + " (line") ? 1 : 0;
+    EXPECT_EQ(n, 1) << k;
+  }
+}
+
+// Restart references of a bent beam: the deformations at the given coordinates are the E values.
+TEST(Spacar95Restart, BeamReferenceFromLength0AndE) {
+  const std::string text =
+      "PLBEAM 1 1 2 3 4\nXY 1 0 0\nBETA 2 0.3\nXY 3 0.8 0.6\nBETA 4 0.9\nFIX 1\nFIX 2\nDYNE 1 1 2 3\n"
+      "LENGTH0 1 0.99\nE 1 1 0.01\nE 1 2 0.02\nE 1 3 -0.03\nTIMESTEP 1 1\nEND\nEOF\n";
+  for (auto el : {core::ElongationDefinition::Plain, core::ElongationDefinition::BendingCorrected}) {
+    io::ReadOptions o;
+    o.elongation = el;
+    const core::Model m = io::readDatString(text, "t.dat", o);
+    const auto* beam = dynamic_cast<const core::PlanarBeam*>(m.elements.at(0).impl.get());
+    ASSERT_TRUE(beam);
+    EXPECT_DOUBLE_EQ(beam->l0(), 0.99);
+    core::ElemVec x(6);
+    x << 0, 0, 0.3, 0.8, 0.6, 0.9;
+    core::DefVec e;
+    beam->deformations(x, e);
+    EXPECT_NEAR(e[1], 0.02, 1e-15);
+    EXPECT_NEAR(e[2], -0.03, 1e-15);
+  }
+}
+
+// Item 8: the committed language reference is the generated one.
+TEST(KeywordTable, MarkdownReferenceIsCurrent) {
+  std::ostringstream generated;
+  io::printKeywordsMarkdown(generated);
+  std::ifstream in(std::string(FLEXMB_SOURCE_DIR) + "/io/dat-language.md");
+  ASSERT_TRUE(in) << "io/dat-language.md is missing: run `flexmb keywords --markdown > io/dat-language.md`";
+  std::stringstream committed;
+  committed << in.rdbuf();
+  EXPECT_TRUE(committed.str() == generated.str())
+      << "io/dat-language.md differs from the keyword table: regenerate it with "
+         "`flexmb keywords --markdown > io/dat-language.md`";
+  // Every keyword of the table appears in it.
+  for (const auto& k : io::keywordTable()) EXPECT_TRUE(contains(generated.str(), "| `" + k.name + "` |")) << k.name;
+}
