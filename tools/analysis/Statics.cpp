@@ -89,6 +89,10 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
   StaticRun run;
   core::Linearization lin(model);
+  // The kinematic residual must stay far below the equilibrium Newton's tolerance (relative 1e-10),
+  // else it is noise in Q that stalls the iteration: SPACAR Light writes ITERSTEP's tolerance as
+  // 5e-7, which flexmb reads as the kinematic tolerance; statics tightens it (as simulate does).
+  lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
   const std::vector<LoadPoint> schedule = loadSchedule(model, loadSteps);
   const int n = static_cast<int>(schedule.size());
   Eigen::VectorXd eta = lin.kinematics().initialDofs();

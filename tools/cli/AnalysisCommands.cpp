@@ -91,7 +91,8 @@ int runStatic(const std::vector<std::string>& args) {
   for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
   csv << "\n";
   for (const auto& st : run.steps) {
-    std::cout << "load step " << st.loadFactor << ": " << st.newton.iterations << " Newton iterations"
+    std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
+              << ", DEL* increments x " << st.loadFactor << "): " << st.newton.iterations << " Newton iterations"
               << (st.newton.stable ? "" : " (UNSTABLE equilibrium)") << "\n";
     printFrequencies(std::cout, st.frequencies.omega);
     csv << st.loadFactor;

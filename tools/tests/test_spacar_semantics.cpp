@@ -282,3 +282,18 @@ TEST(LoadSteps, DelinpxIsTheTotal) {
   const int x2 = xIndex(m, 2, 1);
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(run.steps[i].x[x2], 1.0 + 0.3 * (i + 1) / 6.0, 1e-12);
 }
+
+// A static file written the way SPACAR Light writes it (ITERSTEP 10 9 0.0000005 1 3 9, XF and
+// DELXF): the tolerance 5e-7 bounds the kinematic Newton, which statics tightens so that the
+// equilibrium iteration converges; 9 steps ramp XF, then 9 steps reach the DELXF total.
+TEST(LoadSteps, SpacarLightStyleStaticFileRuns) {
+  const core::Model m = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/io/tests/data/spacarlight_style_2013.dat");
+  const analysis::StaticRun run = analysis::staticAnalysis(m, 2);
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  ASSERT_EQ(run.steps.size(), 18u);
+  EXPECT_DOUBLE_EQ(run.steps[8].initialFactor, 1.0);
+  EXPECT_DOUBLE_EQ(run.steps[8].loadFactor, 0.0);
+  EXPECT_DOUBLE_EQ(run.steps.back().loadFactor, 1.0);
+  const int tipY = xIndex(m, 5, 2);
+  EXPECT_LT(run.steps.back().x[tipY], run.steps[8].x[tipY]);  // the DELXF total pushes the tip down
+}
