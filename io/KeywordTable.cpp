@@ -158,10 +158,11 @@ std::vector<KeywordInfo> buildTable() {
                  {real("gx"), real("gy"), optReal("gz")},
                  "gravitational acceleration (gz, out of the plane, has no effect)"));
   t.push_back(kw("XD", kSpacar95, B::Dynamic, A::XD, {node(), component(), real("rate", "v")},
-                 "rate of an input coordinate: x(t) = x0 + v t + a t^2/2"));
+                 "rate of an input coordinate at the current time, x(t) = x + v (t - TIME) + a (t - TIME)^2/2 "
+                 "(X gives x); on a DYNX coordinate its initial rate"));
   t.push_back(kw("XDD", kSpacar95, B::Dynamic, A::XDD,
                  {node(), component(), real("acceleration", "a")},
-                 "acceleration of an input coordinate: x(t) = x0 + v t + a t^2/2"));
+                 "acceleration of an input coordinate: x(t) = x + v (t - TIME) + a (t - TIME)^2/2"));
   t.push_back(kw("INPUTX", kBothDialects, B::Dynamic, A::InputXValues,
                  {node(), component(), real("x"), optReal("v"), optReal("a")},
                  "value, rate, acceleration of an input coordinate: x(t) = x + v t + a t^2/2 "
@@ -192,7 +193,8 @@ std::vector<KeywordInfo> buildTable() {
   {
     KeywordInfo ts = kw("TIMESTEP", kBothDialects, B::Dynamic, A::TimeStep,
                         {real("end time", "T"), count("number of output intervals", "n")},
-                        "end time T and number of output intervals n (SPACAR95 writes n T)");
+                        "SPACAR 2013+: end time T and n output intervals; SPACAR95 (TIMESTEP n Tp): n output "
+                        "intervals over a period Tp from the current time (TIME, or the end of the previous run)");
     ts.args95 = {count("number of output intervals", "n"), real("end time", "T")};
     t.push_back(std::move(ts));
   }
