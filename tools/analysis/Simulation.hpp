@@ -1,6 +1,7 @@
 #pragma once
 // Mode 1: forward dynamics of a model (full or reduced) with the ode45-equivalent integrator.
 #include <Eigen/Core>
+#include <atomic>
 #include <functional>
 #include <optional>
 
@@ -15,8 +16,11 @@ struct SimulationOptions {
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
   bool progress = false;            // progress line on stderr for runs longer than a second
   bool keepStates = true;           // false: only statistics (benchmarks)
+  // Set asynchronously (Ctrl-C): the run stops at its next check (every 64 right-hand sides) with
+  // interrupted = true; the output times before it are kept.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
-core::Trajectory simulate(const core::Model& model, const SimulationOptions& options);
+core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
 
 }  // namespace flexmb::analysis

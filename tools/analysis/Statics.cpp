@@ -66,7 +66,7 @@ Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
   return out;
 }
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const std::function<void(int, int)>& onStep) {
   StaticRun run;
   core::Linearization lin(model);
   const int n = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
@@ -74,6 +74,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
   const double t = model.settings.t0;
   double reached = 0.0;
   for (int i = 1; i <= n; ++i) {
+    if (onStep) onStep(i - 1, n);
     const double target = i;
     // Sub-steps: halve the increment when Newton fails, up to 2^-6 of a load step.
     double ds = target - reached;

@@ -3,6 +3,7 @@
 // over the load steps XF + s DELXF, INPUTX + s DELINPX (s = 1..n), cutting a load step into
 // halves when Newton fails, and eigenfrequencies in each equilibrium.
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ struct StaticRun {
   std::string stopReason;
 };
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */);
+// onStep(i, n): progress, called before load step i (0-based) of n.
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
+                         const std::function<void(int, int)>& onStep = {});
 
 }  // namespace flexmb::analysis

@@ -72,16 +72,63 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
   const double start = model.x0[k];
+  const std::string coord = model.coordName(k);
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i) values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
-  // Continuation from the initial configuration to the first value in increments of the sweep spacing.
-  const double spacing = o.steps > 1 ? std::abs(o.to - o.from) / (o.steps - 1) : std::abs(o.from - start);
-  const int approach = spacing > 0 ? static_cast<int>(std::ceil(std::abs(values[0] - start) / spacing)) : 0;
-  for (int j = 1; j <= approach; ++j) {
-    const std::string err = prescribedEquilibrium(lin, o.t, k, start + (values[0] - start) * j / approach, eta, P);
+  // Continuation stays on the branch it starts on whatever the number of sweep points: the
+  // prescribed coordinate moves in increments of at most 2.5% of the model size (sub-steps between
+  // sweep points), each started from a secant predictor through the two previous equilibria.
+  double L = 0.0;
+  for (int i = 0; i < model.nx; ++i)
+    if (model.nodes[model.xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(model.x0[i]));
+  if (L == 0.0) L = 1.0;
+  const double maxIncrement = 0.025 * L;
+  double current = start;
+  Eigen::VectorXd etaPrev;
+  double Pprev = 0.0, valuePrev = start;
+  bool havePrev = false;
+  auto advance = [&](double target) -> std::string {
+    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(target - current) / maxIncrement - 1e-9)));
+    const double from = current;
+    for (int j = 1; j <= n; ++j) {
+      const double v = j == n ? target : from + (target - from) * j / n;
+      const Eigen::VectorXd etaHere = eta;
+      const double PHere = P;
+      const Eigen::VectorXd xHere = lin.kinematics().x();
+      std::string err = "no step";
+      // First from the secant predictor (when the previous increment is comparable), then from here.
+      for (int attempt = 0; attempt < 2 && !err.empty(); ++attempt) {
+        const double r = current != valuePrev ? (v - current) / (current - valuePrev) : 0.0;
+        const bool predict = attempt == 0 && havePrev && std::abs(r) <= 2.0;
+        if (attempt == 1 && !havePrev) break;
+        eta = predict ? Eigen::VectorXd(etaHere + r * (etaHere - etaPrev)) : etaHere;
+        P = predict ? PHere + r * (PHere - Pprev) : PHere;
+        if (attempt == 1 && xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
+        try {
+          err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
+        } catch (const std::exception& e) {
+          err = e.what();
+        }
+        if (!predict) break;
+      }
+      if (!err.empty()) {
+        std::ostringstream s;
+        s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
+        return s.str();
+      }
+      etaPrev = etaHere;
+      Pprev = PHere;
+      valuePrev = current;
+      havePrev = true;
+      current = v;
+    }
+    return "";
+  };
+  {
+    const std::string err = advance(values[0]);
     if (!err.empty()) {
       res.completed = false;
-      res.stopReason = "approaching the sweep start: " + err;
+      res.stopReason = "approaching the sweep start " + std::to_string(values[0]) + ": " + err;
       return res;
     }
   }
@@ -89,12 +136,14 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   core::LinearizedSystem sys;
   Eigen::VectorXd f;
   for (double v : values) {
-    const std::string err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
+    const std::string err = advance(v);
     if (!err.empty()) {
       res.completed = false;
       res.stopReason = err;
       return res;
     }
+    if (o.onPoint) o.onPoint(static_cast<int>(res.points.size()), o.steps);
+    try {
     lin.appliedForces(o.t, 0.0, f);
     f[k] += P;
     lin.atRest(o.t, eta, f, sys, true);
@@ -102,7 +151,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.
     if (const auto bad = core::firstInvalidElement(model, lin.kinematics().x())) {
       std::ostringstream s;
-      s << "with the coordinate at " << v << ": " << bad->message << "; refine the mesh or use more sweep steps";
+      s << "with the prescribed coordinate " << coord << " at " << v << ": " << bad->message << "; refine the mesh";
       res.completed = false;
       res.stopReason = s.str();
       return res;
@@ -113,6 +162,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     pt.load = P;
     pt.eta = eta;
     lin.dofs(eta, pt.q);
+    pt.x = lin.kinematics().x();
     Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
     for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
     pt.omega = fr.omega;
@@ -135,6 +185,13 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     }
     previousModes = modesQ;
     res.points.push_back(std::move(pt));
+    } catch (const std::exception& e) {
+      std::ostringstream s;
+      s << "with the prescribed coordinate " << coord << " at " << v << ": " << e.what();
+      res.completed = false;
+      res.stopReason = s.str();
+      return res;
+    }
   }
   return res;
 }
