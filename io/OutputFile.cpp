@@ -1,6 +1,8 @@
 #include "io/OutputFile.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -43,6 +45,47 @@ void commitTemporary(const std::string& temp, const std::string& path) {
     std::remove(temp.c_str());
     throw std::runtime_error("cannot write '" + path + "': " + reason(err, "rename failed"));
   }
+}
+
+void writeThroughMemory(const std::string& path, const std::function<void(const std::string&)>& writer) {
+  const int fd = ::memfd_create("flexmb-output", MFD_CLOEXEC);
+  if (fd < 0) {
+    writer(path);
+    return;
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  writer("/proc/self/fd/" + std::to_string(fd));
+  // A file size limit (ulimit -f) applies to the memory file too, and the writer would not say.
+  struct rlimit limit {};
+  const off_t size = ::lseek(fd, 0, SEEK_END);
+  if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      static_cast<rlim_t>(size) >= limit.rlim_cur)
+    throw std::runtime_error("cannot write '" + path + "': it reached the file size limit (ulimit -f)");
+  if (::lseek(fd, 0, SEEK_SET) != 0) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "seek failed"));
+  errno = 0;
+  std::FILE* out = std::fopen(path.c_str(), "wb");
+  if (!out) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "cannot create it"));
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      std::fclose(out);
+      throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "read failed"));
+    }
+    if (n == 0) break;
+    errno = 0;
+    if (std::fwrite(buffer, 1, static_cast<size_t>(n), out) != static_cast<size_t>(n)) {
+      const int err = errno;
+      std::fclose(out);
+      throw std::runtime_error("cannot write '" + path + "': " + reason(err, "short write"));
+    }
+  }
+  errno = 0;
+  const bool bad = std::ferror(out) != 0;
+  if (std::fclose(out) != 0 || bad) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "write failed"));
 }
 
 void checkMatFileComplete(const std::string& path) {

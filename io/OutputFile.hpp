@@ -12,6 +12,7 @@
 //     the run's settings and files. A file set is complete iff its manifest exists: a new run
 //     removes the old manifest first, so files of an earlier run never look complete after a kill.
 #include <fstream>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,10 @@ class OutputFile {
 std::string temporaryName(const std::string& path);
 // fsync + rename temp to path; throws std::runtime_error (and removes temp) on failure.
 void commitTemporary(const std::string& temp, const std::string& path);
+// Runs writer(p) on a path p in memory (a memfd), then copies the bytes to path with checked
+// writes: for writers that do not report failed writes (matio ignores a full disk). Falls back to
+// writer(path) where memfd is unavailable.
+void writeThroughMemory(const std::string& path, const std::function<void(const std::string&)>& writer);
 // A MATLAB v5 file whose data elements all end inside the file (a full disk truncates silently
 // under matio); throws std::runtime_error naming the path.
 void checkMatFileComplete(const std::string& path);

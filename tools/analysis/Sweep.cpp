@@ -106,6 +106,10 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         if (attempt == 1 && xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
         try {
           err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
+        } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
+          std::ostringstream s;
+          s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
+          err = s.str();
         } catch (const std::exception& e) {
           err = e.what();
         }

@@ -225,7 +225,8 @@ int runSimulate(const std::vector<std::string>& args) {
         for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
         io::writeCsv(files.temporaryPrefix(), model, traj);
       }
-      if (format == "mat" || format == "both") io::writeMat(files.temporaryFor(".mat"), model, traj);
+      if (format == "mat" || format == "both")  // through memory: matio does not report a full disk
+        io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
       if (linearize > 0 && !interrupted) {
         const auto lt = std::chrono::steady_clock::now();
         const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices);
@@ -257,7 +258,10 @@ int runSimulate(const std::vector<std::string>& args) {
         f.flush();
         if (!f) throw std::runtime_error("cannot write '" + files.prefix() + "_frequencies.csv': write failed");
         f.close();
-        if (matrices) io::writeLinearizedMat(files.temporaryFor("_linear.mat"), tm.time, tm.matrices, tm.omega);
+        if (matrices)
+          io::writeThroughMemory(files.temporaryFor("_linear.mat"), [&](const std::string& p) {
+            io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega);
+          });
       }
     }
     std::string status = traj.completed ? "complete" : "stopped: " + traj.stopReason;
