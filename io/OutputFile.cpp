@@ -113,8 +113,8 @@ void checkMatFileComplete(const std::string& path) {
     else if (tag[0] != 15) n = (n + 7) / 8 * 8;  // miCOMPRESSED is not padded
     pos += 8 + n;
   }
-  std::fclose(f);
   if (pos != size) throw truncated();
+  std::fclose(f);
 }
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)), temp_(temporaryName(path_)) {

@@ -35,7 +35,7 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
   // Progress between output times and Ctrl-C: looked at every 64 right-hand sides only, so the
   // clock costs nothing measurable in the RHS loop.
   long calls = 0;
-  bool stoppedByUser = false;
+  bool stoppedByUser = false, warnedSlow = false;
   double tReached = t0;
   auto printProgress = [&](double t) {
     const auto now = std::chrono::steady_clock::now();
@@ -44,7 +44,15 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
     const double share = (t - t0) / (tEnd - t0);
     std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), ~%ld steps, %ld evaluations (%.0f/s)", t, tEnd,
                  100.0 * share, eom.evaluations() / 6, eom.evaluations(), eom.evaluations() / elapsed);
-    if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", elapsed * (1 - share) / share);
+    const double left = share > 1e-6 ? elapsed * (1 - share) / share : 1e300;
+    if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", left);
+    // A run that will not finish in any reasonable time says so once (and how to stop it).
+    if (!warnedSlow && elapsed > 20 && left > 50 * elapsed) {
+      std::fprintf(stderr, "\nflexmb: warning: at this rate the run needs about %.3g hours more: the step size is "
+                   "very small (a stiff or reduced-badly model, or a singular configuration). Ctrl-C stops it and "
+                   "writes the results so far.\n", left / 3600);
+      warnedSlow = true;
+    }
     std::fflush(stderr);
     lastPrint = now;
     printed = true;
