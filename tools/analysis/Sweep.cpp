@@ -76,55 +76,78 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i) values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
   // Continuation stays on the branch it starts on whatever the number of sweep points: the
-  // prescribed coordinate moves in increments of at most 2.5% of the model size (sub-steps between
-  // sweep points), each started from a secant predictor through the two previous equilibria.
+  // prescribed coordinate moves in sub-steps of at most 2.5% of the model size between sweep
+  // points, each started from a secant predictor through the two previous equilibria, and a
+  // sub-step is accepted only when Newton's correction of the prediction is small against the
+  // predicted change (else Newton jumped to another equilibrium: the sub-step is halved). When
+  // even a tiny sub-step fails the check, the path branches or turns there and the sweep stops.
   double L = 0.0;
   for (int i = 0; i < model.nx; ++i)
     if (model.nodes[model.xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(model.x0[i]));
   if (L == 0.0) L = 1.0;
-  const double maxIncrement = 0.025 * L;
+  const double maxIncrement = 0.025 * L, minIncrement = maxIncrement / 4096;
+  double h = maxIncrement / 8;
   double current = start;
   Eigen::VectorXd etaPrev;
   double Pprev = 0.0, valuePrev = start;
   bool havePrev = false;
+  auto solveAt = [&](double v) -> std::string {
+    try {
+      return prescribedEquilibrium(lin, o.t, k, v, eta, P);
+    } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
+      std::ostringstream s;
+      s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
+      return s.str();
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  };
   auto advance = [&](double target) -> std::string {
-    const int n = std::max(1, static_cast<int>(std::ceil(std::abs(target - current) / maxIncrement - 1e-9)));
-    const double from = current;
-    for (int j = 1; j <= n; ++j) {
-      const double v = j == n ? target : from + (target - from) * j / n;
+    bool first = true;
+    while (first || current != target) {
+      first = false;
+      const double gap = target - current;
+      const bool canPredict = havePrev && current != valuePrev && (gap > 0) == (current > valuePrev);
+      if (!canPredict) h = std::min(h, maxIncrement / 8);  // no secant (start, a new direction): small
+      const double v = std::abs(gap) <= h * (1 + 1e-9) ? target : current + (gap > 0 ? h : -h);
       const Eigen::VectorXd etaHere = eta;
       const double PHere = P;
       const Eigen::VectorXd xHere = lin.kinematics().x();
-      std::string err = "no step";
-      // First from the secant predictor (when the previous increment is comparable), then from here.
-      for (int attempt = 0; attempt < 2 && !err.empty(); ++attempt) {
-        const double r = current != valuePrev ? (v - current) / (current - valuePrev) : 0.0;
-        const bool predict = attempt == 0 && havePrev && std::abs(r) <= 2.0;
-        if (attempt == 1 && !havePrev) break;
-        eta = predict ? Eigen::VectorXd(etaHere + r * (etaHere - etaPrev)) : etaHere;
-        P = predict ? PHere + r * (PHere - Pprev) : PHere;
-        if (attempt == 1 && xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
-        try {
-          err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
-        } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
+      const double r = havePrev && current != valuePrev ? (v - current) / (current - valuePrev) : 0.0;
+      const bool predict = canPredict && r > 0.0 && r <= 4.0;
+      const Eigen::VectorXd etaPred = predict ? Eigen::VectorXd(etaHere + r * (etaHere - etaPrev)) : etaHere;
+      eta = etaPred;
+      P = predict ? PHere + r * (PHere - Pprev) : PHere;
+      std::string err = solveAt(v);
+      if (err.empty() && predict) {
+        const double change = std::max((etaPred - etaHere).lpNorm<Eigen::Infinity>(), 1e-9 * L);
+        const double correction = (eta - etaPred).lpNorm<Eigen::Infinity>();
+        if (correction > 0.3 * change) {
           std::ostringstream s;
-          s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
+          s << "Newton left the equilibrium path (correction " << correction << " against a predicted change of "
+            << change << ")";
           err = s.str();
-        } catch (const std::exception& e) {
-          err = e.what();
         }
-        if (!predict) break;
       }
       if (!err.empty()) {
-        std::ostringstream s;
-        s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
-        return s.str();
+        eta = etaHere;
+        P = PHere;
+        if (xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
+        if (h <= minIncrement * (1 + 1e-9) || v == current) {
+          std::ostringstream s;
+          s << "with the prescribed coordinate " << coord << " at " << v << ": " << err
+            << "; the equilibrium path branches or turns here (or has no equilibrium), so the sweep stops";
+          return s.str();
+        }
+        h = std::max(0.5 * h, minIncrement);
+        continue;
       }
       etaPrev = etaHere;
       Pprev = PHere;
       valuePrev = current;
-      havePrev = true;
+      havePrev = v != current;
       current = v;
+      h = std::min(2 * h, maxIncrement);
     }
     return "";
   };
