@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages flexmb needs (skipping what is installed), then configures and
-# builds a Release build in ./build. Idempotent: safe to run again.
+# builds a Release build in ./build (FLEXMB_BUILD_DIR): every target, or only the targets named as
+# arguments (tools/run.sh builds flexmb and flexmb_bench). Idempotent: safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,4 +20,8 @@ fi
 
 BUILD_DIR=${FLEXMB_BUILD_DIR:-build}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD_DIR" -j"$(nproc)"
+if (($#)); then
+  cmake --build "$BUILD_DIR" -j"$(nproc)" --target "$@"
+else
+  cmake --build "$BUILD_DIR" -j"$(nproc)"
+fi

@@ -27,7 +27,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 
-void progress(const std::string& s) { std::cout << "[validate] " << s << std::endl; }
+bool g_quiet = false;
+void progress(const std::string& s) {
+  if (!g_quiet) std::cerr << "[validate] " << s << std::endl;
+}
 
 struct Run {
   std::string name;
@@ -96,6 +99,7 @@ std::vector<double> column(const core::Trajectory& t, int k, bool deformation = 
 }  // namespace
 
 int runValidation(const ValidationOptions& opt) {
+  g_quiet = opt.quiet;
   const auto start = Clock::now();
   fs::create_directories(opt.outDir);
   const std::string dir = opt.outDir + "/";

@@ -64,6 +64,7 @@ ReductionResult buildBasis(const core::Model& model, const std::string& modelPat
     so.nev = 1;
     so.t = model.settings.t0;
     so.keepMatrices = true;
+    so.onPoint = o.onConfig;
     const SweepResult sw = sweep(model, so);
     if (!sw.completed) throw std::runtime_error("SVD-modal configurations: " + sw.stopReason);
     std::vector<Eigen::MatrixXd> modes;

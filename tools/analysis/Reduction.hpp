@@ -4,6 +4,7 @@
 // DYNX orientation coordinates), the modal basis of the q_s subproblem (Eq. 21) and the SVD-modal
 // basis over equidistant equilibrium configurations along a path (Eq. 22-23).
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct ReductionOptions {
   int count = 0;                 // > 0: keep exactly this many instead
   int node = 0, component = 1;
   double from = 0.0, to = 0.0;
+  std::function<void(int done, int total)> onConfig;  // progress over the SVD-modal configurations
 };
 
 struct ReductionResult {

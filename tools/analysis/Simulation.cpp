@@ -19,7 +19,7 @@ struct Continuation {
 };
 
 core::Trajectory simulateStage(const core::Model& model, const SimulationOptions& opt, const Continuation* from,
-                               Continuation* end) {
+                               Continuation* end, bool* interrupted) {
   const auto& s = model.settings;
   const double t0 = s.t0, tEnd = opt.tEnd.value_or(s.tEnd);
   const int intervals = opt.intervals.value_or(s.outputIntervals);
@@ -41,7 +41,39 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   const auto start = std::chrono::steady_clock::now();
   auto lastPrint = start;
   bool printed = false;
-  auto f = [&eom](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+  // Progress between output times and Ctrl-C: looked at every 64 right-hand sides only, so the
+  // clock costs nothing measurable in the RHS loop.
+  long calls = 0;
+  bool stoppedByUser = false, warnedSlow = false;
+  double tReached = t0;
+  auto printProgress = [&](double t) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - start < std::chrono::seconds(1) || now - lastPrint < std::chrono::milliseconds(250)) return;
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    const double share = (t - t0) / (tEnd - t0);
+    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), ~%ld steps, %ld evaluations (%.0f/s)", t, tEnd,
+                 100.0 * share, eom.evaluations() / 6, eom.evaluations(), eom.evaluations() / elapsed);
+    const double left = share > 1e-6 ? elapsed * (1 - share) / share : 1e300;
+    if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", left);
+    // A run that will not finish in any reasonable time says so once (and how to stop it).
+    if (!warnedSlow && elapsed > 20 && left > 50 * elapsed) {
+      std::fprintf(stderr, "\nflexmb: warning: at this rate the run needs about %.3g hours more: the step size is "
+                   "very small (a stiff or reduced-badly model, or a singular configuration). Ctrl-C stops it and "
+                   "writes the results so far.\n", left / 3600);
+      warnedSlow = true;
+    }
+    std::fflush(stderr);
+    lastPrint = now;
+    printed = true;
+  };
+  auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+    if ((++calls & 63) == 0) {
+      if (opt.interrupt && opt.interrupt->load(std::memory_order_relaxed)) {
+        stoppedByUser = true;
+        throw solvers::RhsError("interrupted");
+      }
+      if (opt.progress) printProgress(t);
+    }
     try {
       eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
@@ -80,15 +112,8 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
       traj.time.push_back(t);
       traj.states.push_back(std::move(out));
     }
-    if (opt.progress) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - start > std::chrono::seconds(1) && now - lastPrint > std::chrono::milliseconds(250)) {
-        std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), %ld evaluations", t, tEnd,
-                     100.0 * (t - t0) / (tEnd - t0), eom.evaluations());
-        lastPrint = now;
-        printed = true;
-      }
-    }
+    tReached = t;
+    if (opt.progress) printProgress(t);
     return true;
   };
   // Kinematic residuals must stay far below the integration tolerance (else they are RHS noise).
@@ -106,7 +131,11 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   traj.nsteps = r.stats.nsteps;
   traj.nfailed = r.stats.nfailed;
   traj.nfevals = r.stats.nfevals;
-  if (r.status != solvers::OdeStatus::Success && traj.completed) {
+  if (stoppedByUser) {
+    traj.completed = false;
+    traj.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached) + "; results before it are kept";
+    if (interrupted) *interrupted = true;
+  } else if (r.status != solvers::OdeStatus::Success && traj.completed) {
     traj.completed = false;
     traj.stopReason = r.message;
   }
@@ -115,13 +144,14 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
 
 }  // namespace
 
-core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt) {
-  return simulateStage(model, opt, nullptr, nullptr);
+core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt, bool* interrupted) {
+  return simulateStage(model, opt, nullptr, nullptr, interrupted);
 }
 
-core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& opt) {
+core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& opt,
+                                bool* interrupted) {
   if (stages.empty()) throw std::invalid_argument("simulateStages: no stage to run");
-  if (stages.size() == 1) return simulate(*stages.front(), opt);
+  if (stages.size() == 1) return simulate(*stages.front(), opt, interrupted);
   if (opt.basis) throw std::invalid_argument("a reduction basis is only supported for a file with one analysis block");
   if (!opt.keepStates) throw std::invalid_argument("several analysis blocks need the states (keepStates)");
   core::Trajectory all;
@@ -133,7 +163,7 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     SimulationOptions o = opt;
     if (k + 1 < stages.size()) o.tEnd.reset();
     Continuation end;
-    core::Trajectory part = simulateStage(m, o, k ? &state : nullptr, &end);
+    core::Trajectory part = simulateStage(m, o, k ? &state : nullptr, &end, interrupted);
     const size_t skip = (k > 0 && !part.time.empty() && !all.time.empty() && part.time.front() == all.time.back()) ? 1 : 0;
     for (size_t i = skip; i < part.time.size(); ++i) {
       all.time.push_back(part.time[i]);

@@ -1,6 +1,7 @@
 #pragma once
 // Mode 1: forward dynamics of a model (full or reduced) with the ode45-equivalent integrator.
 #include <Eigen/Core>
+#include <atomic>
 #include <functional>
 #include <optional>
 
@@ -15,9 +16,12 @@ struct SimulationOptions {
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
   bool progress = false;            // progress line on stderr for runs longer than a second
   bool keepStates = true;           // false: only statistics (benchmarks)
+  // Set asynchronously (Ctrl-C): the run stops at its next check (every 64 right-hand sides) with
+  // interrupted = true; the output times before it are kept.
+  const std::atomic<bool>* interrupt = nullptr;
 };
 
-core::Trajectory simulate(const core::Model& model, const SimulationOptions& options);
+core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts
@@ -25,6 +29,7 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
 // (the previous end time). The output is concatenated (the shared time point once) and the
 // integrator statistics add up. options.tEnd applies to the last stage; a reduction basis is only
 // accepted with a single stage. Stops at the first stage that does not complete.
-core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& options);
+core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& options,
+                                bool* interrupted = nullptr);
 
 }  // namespace flexmb::analysis

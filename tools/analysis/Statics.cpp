@@ -86,7 +86,7 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   return points;
 }
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const std::function<void(int, int)>& onStep) {
   StaticRun run;
   core::Linearization lin(model);
   // The kinematic residual must stay far below the equilibrium Newton's tolerance (relative 1e-10),
@@ -101,6 +101,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
   // the first step, sub-stepped like any other when Newton needs it.
   LoadPoint reachedPoint{0.0, 0.0};
   for (int i = 1; i <= n; ++i) {
+    if (onStep) onStep(i - 1, n);
     const LoadPoint from = reachedPoint, to = schedule[i - 1];
     // Sub-steps in the fraction p of this step: halve it when Newton fails, down to 2^-6.
     double reached = 0.0, ds = 1.0;

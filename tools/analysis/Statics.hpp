@@ -13,6 +13,7 @@
 //   so XF with n steps gives n distinct equilibria (never one equilibrium n times). Gravity and
 //   time-dependent loads are not ramped.
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,8 @@ struct StaticRun {
   std::string stopReason;
 };
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */);
+// onStep(i, n): progress, called before load step i (0-based) of n.
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
+                         const std::function<void(int, int)>& onStep = {});
 
 }  // namespace flexmb::analysis

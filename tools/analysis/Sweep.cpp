@@ -72,16 +72,90 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
   const double start = model.x0[k];
+  const std::string coord = model.coordName(k);
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i) values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
-  // Continuation from the initial configuration to the first value in increments of the sweep spacing.
-  const double spacing = o.steps > 1 ? std::abs(o.to - o.from) / (o.steps - 1) : std::abs(o.from - start);
-  const int approach = spacing > 0 ? static_cast<int>(std::ceil(std::abs(values[0] - start) / spacing)) : 0;
-  for (int j = 1; j <= approach; ++j) {
-    const std::string err = prescribedEquilibrium(lin, o.t, k, start + (values[0] - start) * j / approach, eta, P);
+  // Continuation stays on the branch it starts on whatever the number of sweep points: the
+  // prescribed coordinate moves in sub-steps of at most 2.5% of the model size between sweep
+  // points, each started from a secant predictor through the two previous equilibria, and a
+  // sub-step is accepted only when Newton's correction of the prediction is small against the
+  // predicted change (else Newton jumped to another equilibrium: the sub-step is halved). When
+  // even a tiny sub-step fails the check, the path branches or turns there and the sweep stops.
+  double L = 0.0;
+  for (int i = 0; i < model.nx; ++i)
+    if (model.nodes[model.xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(model.x0[i]));
+  if (L == 0.0) L = 1.0;
+  const double maxIncrement = 0.025 * L, minIncrement = maxIncrement / 4096;
+  double h = maxIncrement / 8;
+  double current = start;
+  Eigen::VectorXd etaPrev;
+  double Pprev = 0.0, valuePrev = start;
+  bool havePrev = false;
+  auto solveAt = [&](double v) -> std::string {
+    try {
+      return prescribedEquilibrium(lin, o.t, k, v, eta, P);
+    } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
+      std::ostringstream s;
+      s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
+      return s.str();
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  };
+  auto advance = [&](double target) -> std::string {
+    bool first = true;
+    while (first || current != target) {
+      first = false;
+      const double gap = target - current;
+      const bool canPredict = havePrev && current != valuePrev && (gap > 0) == (current > valuePrev);
+      if (!canPredict) h = std::min(h, maxIncrement / 8);  // no secant (start, a new direction): small
+      const double v = std::abs(gap) <= h * (1 + 1e-9) ? target : current + (gap > 0 ? h : -h);
+      const Eigen::VectorXd etaHere = eta;
+      const double PHere = P;
+      const Eigen::VectorXd xHere = lin.kinematics().x();
+      const double r = havePrev && current != valuePrev ? (v - current) / (current - valuePrev) : 0.0;
+      const bool predict = canPredict && r > 0.0 && r <= 4.0;
+      const Eigen::VectorXd etaPred = predict ? Eigen::VectorXd(etaHere + r * (etaHere - etaPrev)) : etaHere;
+      eta = etaPred;
+      P = predict ? PHere + r * (PHere - Pprev) : PHere;
+      std::string err = solveAt(v);
+      if (err.empty() && predict) {
+        const double change = std::max((etaPred - etaHere).lpNorm<Eigen::Infinity>(), 1e-9 * L);
+        const double correction = (eta - etaPred).lpNorm<Eigen::Infinity>();
+        if (correction > 0.3 * change) {
+          std::ostringstream s;
+          s << "Newton left the equilibrium path (correction " << correction << " against a predicted change of "
+            << change << ")";
+          err = s.str();
+        }
+      }
+      if (!err.empty()) {
+        eta = etaHere;
+        P = PHere;
+        if (xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
+        if (h <= minIncrement * (1 + 1e-9) || v == current) {
+          std::ostringstream s;
+          s << "with the prescribed coordinate " << coord << " at " << v << ": " << err
+            << "; the equilibrium path branches or turns here (or has no equilibrium), so the sweep stops";
+          return s.str();
+        }
+        h = std::max(0.5 * h, minIncrement);
+        continue;
+      }
+      etaPrev = etaHere;
+      Pprev = PHere;
+      valuePrev = current;
+      havePrev = v != current;
+      current = v;
+      h = std::min(2 * h, maxIncrement);
+    }
+    return "";
+  };
+  {
+    const std::string err = advance(values[0]);
     if (!err.empty()) {
       res.completed = false;
-      res.stopReason = "approaching the sweep start: " + err;
+      res.stopReason = "approaching the sweep start " + std::to_string(values[0]) + ": " + err;
       return res;
     }
   }
@@ -89,12 +163,14 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   core::LinearizedSystem sys;
   Eigen::VectorXd f;
   for (double v : values) {
-    const std::string err = prescribedEquilibrium(lin, o.t, k, v, eta, P);
+    const std::string err = advance(v);
     if (!err.empty()) {
       res.completed = false;
       res.stopReason = err;
       return res;
     }
+    if (o.onPoint) o.onPoint(static_cast<int>(res.points.size()), o.steps);
+    try {
     lin.appliedForces(o.t, 0.0, f);
     f[k] += P;
     lin.atRest(o.t, eta, f, sys, true);
@@ -102,7 +178,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.
     if (const auto bad = core::firstInvalidElement(model, lin.kinematics().x())) {
       std::ostringstream s;
-      s << "with the coordinate at " << v << ": " << bad->message << "; refine the mesh or use more sweep steps";
+      s << "with the prescribed coordinate " << coord << " at " << v << ": " << bad->message << "; refine the mesh";
       res.completed = false;
       res.stopReason = s.str();
       return res;
@@ -113,6 +189,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     pt.load = P;
     pt.eta = eta;
     lin.dofs(eta, pt.q);
+    pt.x = lin.kinematics().x();
     Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
     for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
     pt.omega = fr.omega;
@@ -135,6 +212,13 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     }
     previousModes = modesQ;
     res.points.push_back(std::move(pt));
+    } catch (const std::exception& e) {
+      std::ostringstream s;
+      s << "with the prescribed coordinate " << coord << " at " << v << ": " << e.what();
+      res.completed = false;
+      res.stopReason = s.str();
+      return res;
+    }
   }
   return res;
 }

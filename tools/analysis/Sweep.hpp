@@ -4,6 +4,7 @@
 // load is the Lagrange multiplier of a bordered Newton system), and the natural frequencies of the
 // free system in each, with modes tracked between neighbours by MAC.
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,12 +22,14 @@ struct SweepOptions {
   std::optional<Eigen::MatrixXd> basis;  // q = V eta; empty = full model
   double t = 0.0;     // time at which the loads of the file are taken (XF, XFT)
   bool keepMatrices = false;  // keep K + G and M of every configuration (for SVD-modal bases)
+  std::function<void(int done, int total)> onPoint;  // progress: called before each point's eigenproblem
 };
 
 struct SweepPoint {
   double value = 0.0;       // the prescribed coordinate
   double load = 0.0;        // the dead load that holds it
   Eigen::VectorXd eta, q;   // configuration
+  Eigen::VectorXd x;        // its nodal coordinates (nx)
   Eigen::VectorXd omega;    // rad/s, tracked order (column j continues column j of the previous point)
   Eigen::VectorXd omegaSorted;  // rad/s, ascending (the i-th eigenfrequency, as the paper plots it)
   Eigen::MatrixXd modes;    // in q coordinates (nq x nev), tracked order, unit Euclidean length

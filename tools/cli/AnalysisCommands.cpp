@@ -1,18 +1,22 @@
 // Linear analyses: modes (initial configuration), static (mode 10), sweep (Fig. 5 style).
 #include <boost/program_options.hpp>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 
 #include "core/Linearization.hpp"
+#include "core/ModelDiagnostics.hpp"
 #include "io/BasisFile.hpp"
+#include "io/OutputFile.hpp"
 #include "io/ResultWriter.hpp"
 #include "io/SvgPlot.hpp"
 #include "tools/analysis/Statics.hpp"
 #include "tools/analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Progress.hpp"
 
 namespace po = boost::program_options;
 
@@ -38,6 +42,10 @@ std::optional<Eigen::MatrixXd> loadBasis(const std::string& path, const core::Mo
                              std::to_string(model.numDofs()) + " degrees of freedom");
   return V;
 }
+
+// Static load steps above this are refused up front: each is at least one Newton solve and one
+// eigenproblem, and a CSV row.
+constexpr long kMaxLoadSteps = 100000;
 }  // namespace
 
 std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model) {
@@ -49,13 +57,20 @@ int runModes(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6;
   std::string basisFile;
-  d.add_options()("nev", po::value(&nev), "number of eigenfrequencies (default 6)")(
+  d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file");
-  if (!parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N]")) return 2;
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv]")) return *rc;
   core::Model model;
-  if (!loadModel(m, model)) return 2;
+  if (!loadModelFor(m, model, true)) return kInputError;
+  std::optional<Eigen::MatrixXd> basis;
   try {
-    core::Linearization lin(model, loadBasis(basisFile, model));
+    basis = loadBasis(basisFile, model);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  try {
+    core::Linearization lin(model, basis);
     Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size()), f;
     lin.kinematics().solvePositions(model.settings.t0, lin.kinematics().initialDofs());
     lin.appliedForces(model.settings.t0, 0.0, f);
@@ -63,13 +78,15 @@ int runModes(const std::vector<std::string>& args) {
     if (!lin.basis()) eta = lin.kinematics().initialDofs();
     lin.atRest(model.settings.t0, eta, f, sys);
     const analysis::Frequencies fr = analysis::naturalFrequencies(sys, std::min<int>(nev, lin.size()));
+    if (!fr.omega.allFinite() || fr.omega.size() == 0)
+      throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
-    return 3;
+    return kNumericalFailure;
   }
-  return 0;
+  return kOk;
 }
 
 int runStatic(const std::vector<std::string>& args) {
@@ -77,35 +94,84 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0;
   std::string out;
-  d.add_options()("nev", po::value(&nev), "eigenfrequencies per equilibrium (default 6)")(
-      "steps", po::value(&steps), "load steps (default: ITERSTEP's second field)")(
-      "out", po::value(&out), "CSV with the equilibria (default: <model>_static.csv)");
-  if (!parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n]")) return 2;
+  d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
+      "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
+      "out", po::value(&out),
+      "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--out file.csv]"))
+    return *rc;
   core::Model model;
-  if (!loadModel(m, model)) return 2;
-  const analysis::StaticRun run = analysis::staticAnalysis(model, std::min(nev, model.numDofs()), steps);
-  if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_static.csv";
-  std::ofstream csv(out);
-  csv << std::setprecision(17) << "load_factor";
-  for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
-  for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
-  csv << "\n";
-  for (const auto& st : run.steps) {
-    std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
-              << ", DEL* increments x " << st.loadFactor << "): " << st.newton.iterations << " Newton iterations"
-              << (st.newton.stable ? "" : " (UNSTABLE equilibrium)") << "\n";
-    printFrequencies(std::cout, st.frequencies.omega);
-    csv << st.loadFactor;
-    for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
-    for (Eigen::Index i = 0; i < st.frequencies.omega.size(); ++i) csv << "," << st.frequencies.omega[i] / (2 * M_PI);
+  if (!loadModelFor(m, model, false)) return kInputError;
+  const long n = steps > 0 ? steps : std::max(1, model.settings.loadSteps);
+  if (n > kMaxLoadSteps) {
+    std::cerr << "flexmb: " << n << " load steps are too many (each is a Newton solve, an eigenproblem and a CSV row; "
+              << "the limit is " << kMaxLoadSteps << "): lower ITERSTEP's second field or give --steps\n";
+    return kInputError;
+  }
+  try {
+    const auto massless = core::masslessDegreesOfFreedom(model);
+    if (!massless.empty() && nev > 0) {
+      if (!m.quiet)
+        std::cerr << "flexmb: note: no eigenfrequencies: " << massless.size()
+                  << " degree(s) of freedom have no mass (give EM or XM), e.g. " << massless.front() << "\n";
+      nev = 0;
+    }
+  } catch (const std::exception&) {
+  }
+  nev = std::min(nev, model.numDofs());
+  // Output: --out file.csv, a prefix, or a folder; checked before the analysis.
+  std::string csvPath;
+  if (out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0) csvPath = out;
+  else csvPath = io::OutputSet::resolvePrefix(out, m.file, "_static") + ".csv";
+  io::OutputSet files(csvPath.substr(0, csvPath.size() - 4));
+  try {
+    files.checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  files.setting("command", "static");
+  files.setting("model", m.file);
+  files.setting("load steps", std::to_string(n));
+  files.setting("nev", std::to_string(nev));
+
+  Progress progress("static", !m.quiet);
+  const analysis::StaticRun run =
+      analysis::staticAnalysis(model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); });
+  progress.finish();
+  try {
+    std::ofstream csv(files.temporaryFor(".csv"));
+    csv << std::setprecision(17) << "load_factor";
+    for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
+    for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
     csv << "\n";
+    for (const auto& st : run.steps) {
+      std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
+                << ", DEL* increments x " << st.loadFactor << "): " << st.newton.iterations << " Newton iterations"
+                << (st.newton.stable ? "" : " (UNSTABLE equilibrium)") << "\n";
+      if (st.frequencies.omega.size()) printFrequencies(std::cout, st.frequencies.omega);
+      csv << st.loadFactor;
+      for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
+      for (int i = 0; i < nev; ++i) {  // every row as long as the header
+        csv << ",";
+        if (i < st.frequencies.omega.size()) csv << st.frequencies.omega[i] / (2 * M_PI);
+      }
+      csv << "\n";
+    }
+    csv.flush();
+    if (!csv) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
+    csv.close();
+    std::cout << "wrote " << csvPath << "\n";
+    files.commit(run.completed ? "complete" : "stopped: " + run.stopReason);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
   }
-  std::cout << "wrote " << out << "\n";
   if (!run.completed) {
-    std::cerr << "flexmb: static analysis stopped: " << run.stopReason << "\n";
-    return 3;
+    std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
+    return kNumericalFailure;
   }
-  return 0;
+  return kOk;
 }
 
 int runSweep(const std::vector<std::string>& args) {
@@ -113,59 +179,118 @@ int runSweep(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   analysis::SweepOptions o;
   std::string out, basisFile;
-  d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate")(
-      "comp", po::value(&o.component)->default_value(1), "its component (1-based)")(
-      "from", po::value(&o.from)->required(), "first value")("to", po::value(&o.to)->required(), "last value")(
-      "steps", po::value(&o.steps)->default_value(10), "number of equidistant configurations")(
-      "nev", po::value(&o.nev)->default_value(4), "eigenfrequencies per configuration")(
+  d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
+      "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component (1-based)")(
+      "from", po::value(&o.from)->required()->notifier(finite("from")), "first value (required)")(
+      "to", po::value(&o.to)->required()->notifier(finite("to")), "last value (required)")(
+      "steps", po::value(&o.steps)->default_value(10)->notifier(atLeast("steps", 1)),
+      "number of equidistant configurations (the continuation sub-steps them as it needs)")(
+      "nev", po::value(&o.nev)->default_value(4)->notifier(atLeast("nev", 1)), "eigenfrequencies per configuration")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
-      "out", po::value(&out), "output prefix (default: <model>_sweep): CSV and SVG");
-  if (!parseCommand(args, d, m, "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
-    return 2;
+      "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
+    return *rc;
   core::Model model;
-  if (!loadModel(m, model)) return 2;
-  analysis::SweepResult r;
+  if (!loadModelFor(m, model, true)) return kInputError;
+  if (o.steps > 1000000) {
+    std::cerr << "flexmb: --steps " << o.steps << " is too many (limit 1000000)\n";
+    return kUsageError;
+  }
+  auto it = model.nodeByLabel.find(o.node);
+  if (it == model.nodeByLabel.end() || o.component > model.nodes[it->second].dim()) {
+    std::cerr << "flexmb: " << m.file << " has no node " << o.node << " with component " << o.component << "\n";
+    return kInputError;
+  }
   try {
     o.basis = loadBasis(basisFile, model);
-    o.nev = std::min(o.nev, o.basis ? static_cast<int>(o.basis->cols()) : model.numDofs());
-    r = analysis::sweep(model, o);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
-    return 2;
+    return kInputError;
   }
-  if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_sweep";
-  std::ofstream csv(out + ".csv");
-  csv << std::setprecision(12) << "value,load";
-  for (int i = 0; i < o.nev; ++i) csv << ",f" << i + 1 << "_Hz";
-  for (int i = 0; i < o.nev; ++i) csv << ",tracked" << i + 1 << "_Hz";
-  csv << "\n";
-  io::Plot plot;
-  plot.title = "Eigenfrequencies against " + model.coordName(model.nodes[model.nodeByLabel.at(o.node)].firstCoord + o.component - 1);
-  plot.x.label = "prescribed coordinate";
-  plot.y.label = "frequency [Hz]";
-  plot.series.resize(o.nev);
-  for (int i = 0; i < o.nev; ++i) plot.series[i].label = "f" + std::to_string(i + 1);
-  std::cout << "  value          load           frequencies [Hz]\n";
-  for (const auto& p : r.points) {
-    csv << p.value << "," << p.load;
-    std::cout << "  " << std::setw(12) << p.value << "  " << std::setw(12) << p.load << " ";
-    for (Eigen::Index i = 0; i < p.omegaSorted.size(); ++i) {
-      csv << "," << p.omegaSorted[i] / (2 * M_PI);
-      std::cout << "  " << std::setw(10) << p.omegaSorted[i] / (2 * M_PI);
-      plot.series[i].x.push_back(p.value);
-      plot.series[i].y.push_back(p.omegaSorted[i] / (2 * M_PI));
-    }
-    for (Eigen::Index i = 0; i < p.omega.size(); ++i) csv << "," << p.omega[i] / (2 * M_PI);
+  o.nev = std::min(o.nev, o.basis ? static_cast<int>(o.basis->cols()) : model.numDofs());
+  std::string suffix = "_sweep";
+  if (!basisFile.empty()) suffix += "_" + std::filesystem::path(basisFile).stem().string();
+  io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
+  try {
+    files.checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  const std::string prefix = files.prefix();
+  files.setting("command", "sweep");
+  files.setting("model", m.file);
+  files.setting("prescribed", "node " + std::to_string(o.node) + " component " + std::to_string(o.component));
+  {
+    std::ostringstream range;
+    range << std::setprecision(17) << o.from << " to " << o.to << " in " << o.steps << " configurations";
+    files.setting("range", range.str());
+  }
+  if (!basisFile.empty()) files.setting("basis", basisFile);
+
+  Progress progress("sweep", !m.quiet);
+  o.onPoint = [&](int i, int total) { progress.update(i, total, "configurations"); };
+  analysis::SweepResult r;
+  try {
+    r = analysis::sweep(model, o);
+  } catch (const std::invalid_argument& e) {
+    progress.finish();
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  progress.finish();
+  const int k = model.nodes[it->second].firstCoord + o.component - 1;
+  try {
+    std::ofstream csv(files.temporaryFor(".csv"));
+    csv << std::setprecision(12) << "value,load";
+    for (int i = 0; i < o.nev; ++i) csv << ",f" << i + 1 << "_Hz";
+    for (int i = 0; i < o.nev; ++i) csv << ",tracked" << i + 1 << "_Hz";
+    for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     csv << "\n";
-    std::cout << "\n";
+    io::Plot plot;
+    plot.title = "Eigenfrequencies against " + model.coordName(k);
+    plot.x.label = "prescribed coordinate";
+    plot.y.label = "frequency [Hz]";
+    plot.series.resize(o.nev);
+    for (int i = 0; i < o.nev; ++i) plot.series[i].label = "f" + std::to_string(i + 1);
+    std::cout << "  value          load           frequencies [Hz]\n";
+    for (const auto& p : r.points) {
+      csv << p.value << "," << p.load;
+      std::cout << "  " << std::setw(12) << p.value << "  " << std::setw(12) << p.load << " ";
+      for (int i = 0; i < o.nev; ++i) {
+        csv << ",";
+        if (i >= p.omegaSorted.size()) continue;
+        csv << p.omegaSorted[i] / (2 * M_PI);
+        std::cout << "  " << std::setw(10) << p.omegaSorted[i] / (2 * M_PI);
+        plot.series[i].x.push_back(p.value);
+        plot.series[i].y.push_back(p.omegaSorted[i] / (2 * M_PI));
+      }
+      for (int i = 0; i < o.nev; ++i) {
+        csv << ",";
+        if (i < p.omega.size()) csv << p.omega[i] / (2 * M_PI);
+      }
+      csv << std::setprecision(17);
+      for (Eigen::Index i = 0; i < p.x.size(); ++i) csv << "," << p.x[i];
+      csv << std::setprecision(12) << "\n";
+      std::cout << "\n";
+    }
+    csv.flush();
+    if (!csv) throw std::runtime_error("cannot write '" + prefix + ".csv': write failed");
+    csv.close();
+    if (!r.points.empty()) io::writeSvg(files.temporaryFor(".svg"), plot);
+    files.commit(r.completed ? "complete" : "stopped: " + r.stopReason);
+    std::cout << "wrote " << prefix << ".csv" << (r.points.empty() ? "" : " and " + prefix + ".svg") << " ("
+              << r.points.size() << " of " << o.steps << " configurations)\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
   }
-  io::writeSvg(out + ".svg", plot);
-  std::cout << "wrote " << out << ".csv and " << out << ".svg\n";
   if (!r.completed) {
-    std::cerr << "flexmb: sweep stopped: " << r.stopReason << "\n";
-    return 3;
+    std::cerr << "flexmb: sweep stopped " << r.stopReason << " (" << r.points.size()
+              << " configurations before it are written)\n";
+    return kNumericalFailure;
   }
-  return 0;
+  return kOk;
 }
 
 }  // namespace flexmb::cli

@@ -1,7 +1,9 @@
 #include <boost/program_options.hpp>
 #include <iostream>
 
+#include "core/GeometricTransferFunctions.hpp"
 #include "core/KinematicCheck.hpp"
+#include "core/ModelDiagnostics.hpp"
 #include "io/DatReader.hpp"
 #include "io/KeywordTable.hpp"
 #include "tools/cli/Commands.hpp"
@@ -10,68 +12,53 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
-namespace {
-po::options_description modelOptions(ModelOptions& m) {
-  po::options_description d("model options");
-  d.add_options()("dialect", po::value(&m.dialect), "force the dialect: 95 or 2013")(
-      "elongation", po::value(&m.elongation), "PLBEAM elongation: plain (l - l0) or corrected (Eq. 3a)");
-  return d;
-}
-
-bool parse(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
-           const char* usage) {
-  d.add_options()("help,h", "this help")("model", po::value(&m.file), "model file");
-  po::positional_options_description pos;
-  pos.add("model", 1);
-  po::variables_map vm;
-  try {
-    po::store(po::command_line_parser(args).options(d).positional(pos).run(), vm);
-    po::notify(vm);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n" << usage << "\n" << d;
-    return false;
-  }
-  if (vm.count("help")) {
-    std::cout << usage << "\n" << d;
-    std::exit(0);
-  }
-  if (m.file.empty()) {
-    std::cerr << "flexmb: no model file given\n" << usage << "\n" << d;
-    return false;
-  }
-  return true;
-}
-}  // namespace
-
-po::options_description commonModelOptions(ModelOptions& m) { return modelOptions(m); }
-bool parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
-                  const char* usage) {
-  return parse(args, d, m, usage);
-}
-
 int runCheck(const std::vector<std::string>& args) {
   ModelOptions m;
-  po::options_description d = modelOptions(m);
-  if (!parse(args, d, m, "usage: flexmb check model.dat [options]")) return 2;
+  po::options_description d = commonModelOptions(m);
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb check model.dat [options]")) return *rc;
+  m.quiet = true;  // the notes are part of the report below
   core::Model model;
-  if (!loadModel(m, model)) return 2;
+  if (!loadModel(m, model)) return kInputError;
   std::cout << "model: " << model.sourceFile << " (" << io::dialectName(model.dialect) << ")\n";
   const core::KinematicReport r = core::checkKinematics(model);
   std::cout << core::formatReport(r);
-  return r.wellPosed() ? 0 : 1;
+  bool ok = r.wellPosed();
+  const core::ModelDiagnosis diag = core::diagnoseModel(model);
+  if (!diag.mechanismDeformations.empty()) {
+    std::cout << "mechanism degrees of freedom: " << diag.mechanismDeformations.size()
+              << " dynamic (DYNE) deformation(s) without stiffness move freely:\n";
+    for (const auto& s : diag.mechanismDeformations) std::cout << "  " << s << "\n";
+    std::cout << "  intended for a free hinge; for a flexible element give ESTIFF (else `modes` shows zero or\n"
+                 "  negative frequencies and `static` has no unique equilibrium)\n";
+  }
+  if (ok) {
+    try {
+      const std::string assembly = core::initialAssemblyProblem(model);
+      if (!assembly.empty()) {
+        std::cout << "initial configuration: " << assembly << "\n";
+        ok = false;
+      }
+    } catch (const core::KinematicsError& e) {
+      std::cout << "initial configuration: cannot be assembled: " << e.what() << "\n";
+      ok = false;
+    }
+  }
+  return ok ? kOk : kInputError;
 }
 
 int runKeywords(const std::vector<std::string>& args) {
-  if (args.size() == 1 && args[0] == "--markdown") {
+  ModelOptions m;
+  bool markdown = false;
+  po::options_description d("options");
+  d.add_options()("markdown", po::bool_switch(&markdown),
+                  "the reference as Markdown (the text of io/dat-language.md)");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb keywords [--markdown]", false)) return *rc;
+  if (markdown) {
     io::printKeywordsMarkdown(std::cout);
-    return 0;
-  }
-  if (!args.empty()) {
-    std::cerr << "usage: flexmb keywords [--markdown]\n";
-    return 2;
+    return kOk;
   }
   io::printKeywords(std::cout);
-  return 0;
+  return kOk;
 }
 
 }  // namespace flexmb::cli

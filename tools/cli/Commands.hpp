@@ -1,15 +1,27 @@
 #pragma once
+#include <atomic>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
-#include <optional>
 
 #include "core/Model.hpp"
 #include "io/DatReader.hpp"
 
 namespace flexmb::cli {
+
+// Exit codes (README "Exit codes"): one meaning each, in every command.
+enum ExitCode : int {
+  kOk = 0,
+  kInputError = 1,        // the model, a basis or the output location is wrong (check: not well posed)
+  kUsageError = 2,        // the command line: unknown option, invalid or missing value
+  kNumericalFailure = 3,  // the analysis stopped (Newton, step size, folded element); results so far written
+  kWriteFailed = 4,       // a result file could not be written (disk full, removed folder)
+  kInterrupted = 130,     // Ctrl-C: results so far written
+};
 
 int runCheck(const std::vector<std::string>& args);
 int runSimulate(const std::vector<std::string>& args);
@@ -26,15 +38,32 @@ struct ModelOptions {
   std::string file;
   std::string dialect;     // "", "95", "2013"
   std::string elongation;  // "", "plain", "corrected"
+  bool quiet = false;      // --quiet: no progress, no notes
 };
 bool loadModel(const ModelOptions& o, core::Model& model);
-// Every analysis stage of the file (SPACAR95 blocks), read with the same options.
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages);
+// loadModel, then the model diagnostics (core/ModelDiagnostics) that make an analysis meaningless:
+// no degrees of freedom, no mass where the analysis needs it, overflowing values, an initial
+// assembly on another branch. Prints them; false = input error.
+bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass);
+// Every analysis stage of the file (SPACAR95 blocks), read with the same options, after
+// loadModelFor's checks of the whole file.
+bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass);
 
-// The options every model command shares (--dialect, --elongation), and the parse of a command's
-// options with the model file as positional argument (prints usage and errors; false on error).
+// The options every model command shares (--dialect, --elongation, --quiet), and the parse of a
+// command's options with the model file as positional argument. Returns an exit code when the
+// command must stop (--help: 0; a usage error: 2, message printed), nothing to go on.
 boost::program_options::options_description commonModelOptions(ModelOptions& m);
-bool parseCommand(const std::vector<std::string>& args, boost::program_options::options_description& d,
-                  ModelOptions& m, const char* usage);
+std::optional<int> parseCommand(const std::vector<std::string>& args, boost::program_options::options_description& d,
+                                ModelOptions& m, const char* usage, bool needsModel = true);
+
+// Value checks for options (run by po::notify; a violation is a usage error naming the option).
+std::function<void(const double&)> positive(const char* option);  // finite and > 0
+std::function<void(const double&)> finite(const char* option);
+std::function<void(const int&)> atLeast(const char* option, int minimum);
+
+// Ctrl-C: the first SIGINT sets the flag (an analysis stops at its next check and writes what it
+// has); a second one ends the program at once.
+void installInterruptHandler();
+const std::atomic<bool>* interruptFlag();
 
 }  // namespace flexmb::cli

@@ -1,46 +1,187 @@
+#include <boost/program_options.hpp>
+#include <csignal>
+#include <cmath>
 #include <iostream>
+#include <sstream>
 
+#include "core/GeometricTransferFunctions.hpp"
+#include "core/ModelDiagnostics.hpp"
 #include "io/DatReader.hpp"
 #include "tools/cli/Commands.hpp"
 
+namespace po = boost::program_options;
+
 namespace flexmb::cli {
 
-bool loadModel(const ModelOptions& o, core::Model& model) {
-  io::ReadOptions ro;
-  if (o.dialect == "95" || o.dialect == "spacar95") ro.dialect = core::Dialect::Spacar95;
-  else if (o.dialect == "2013" || o.dialect == "spacar2013") ro.dialect = core::Dialect::Spacar2013;
-  else if (!o.dialect.empty()) {
-    std::cerr << "flexmb: --dialect must be 95 or 2013, not '" << o.dialect << "'\n";
-    return false;
-  }
-  if (o.elongation == "plain") ro.elongation = core::ElongationDefinition::Plain;
-  else if (o.elongation == "corrected") ro.elongation = core::ElongationDefinition::BendingCorrected;
-  else if (!o.elongation.empty()) {
-    std::cerr << "flexmb: --elongation must be plain or corrected, not '" << o.elongation << "'\n";
-    return false;
-  }
-  try {
-    model = io::readDatFile(o.file, ro);
-    for (const auto& note : model.notes) std::cerr << "flexmb: note: " << note << "\n";
-    return true;
-  } catch (const io::DatError& e) {
-    std::cerr << e.what() << "\n";
-  } catch (const std::exception& e) {
-    std::cerr << o.file << ": " << e.what() << "\n";
-  }
-  return false;
+namespace {
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onInterrupt(int) {
+  if (g_interrupted.exchange(true)) std::_Exit(kInterrupted);  // second Ctrl-C: stop at once
 }
 
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages) {
-  core::Model probe;
-  if (!loadModel(o, probe)) return false;  // options, errors and notes, once
+std::string shortNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string listed(const std::vector<std::string>& v, size_t shown = 8) {
+  std::string s;
+  for (size_t i = 0; i < v.size() && i < shown; ++i) s += (i ? ", " : "") + v[i];
+  if (v.size() > shown) s += " and " + std::to_string(v.size() - shown) + " more";
+  return s;
+}
+}  // namespace
+
+void installInterruptHandler() {
+  struct sigaction sa {};
+  sa.sa_handler = onInterrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+const std::atomic<bool>* interruptFlag() { return &g_interrupted; }
+
+std::function<void(const double&)> positive(const char* option) {
+  return [option](const double& v) {
+    if (!(std::isfinite(v) && v > 0))
+      throw po::error(std::string("--") + option + " must be a positive finite number, not " + shortNumber(v));
+  };
+}
+std::function<void(const double&)> finite(const char* option) {
+  return [option](const double& v) {
+    if (!std::isfinite(v)) throw po::error(std::string("--") + option + " must be a finite number");
+  };
+}
+std::function<void(const int&)> atLeast(const char* option, int minimum) {
+  return [option, minimum](const int& v) {
+    if (v < minimum)
+      throw po::error(std::string("--") + option + " must be at least " + std::to_string(minimum) + ", not " +
+                      std::to_string(v));
+  };
+}
+
+po::options_description commonModelOptions(ModelOptions& m) {
+  po::options_description d("options");
+  d.add_options()("dialect", po::value(&m.dialect), "force the dialect: 95 or 2013")(
+      "elongation", po::value(&m.elongation), "PLBEAM elongation: plain (l - l0) or corrected (Eq. 3a)")(
+      "quiet,q", po::bool_switch(&m.quiet), "no progress lines and notes on stderr");
+  return d;
+}
+
+std::optional<int> parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
+                                const char* usage, bool needsModel) {
+  d.add_options()("help,h", "this help");
+  po::options_description hidden;
+  hidden.add_options()("model", po::value(&m.file), "model file");
+  po::options_description all;
+  all.add(d).add(hidden);
+  po::positional_options_description pos;
+  if (needsModel) pos.add("model", 1);
+  po::variables_map vm;
+  try {
+    po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+    if (vm.count("help")) {  // before notify: --help needs no required option
+      std::cout << usage << "\n" << d;
+      return kOk;
+    }
+    po::notify(vm);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n" << usage << "\n(flexmb <command> --help lists the options)\n";
+    return kUsageError;
+  }
+  if (needsModel && m.file.empty()) {
+    std::cerr << "flexmb: no model file given\n" << usage << "\n";
+    return kUsageError;
+  }
+  if (m.dialect != "" && m.dialect != "95" && m.dialect != "spacar95" && m.dialect != "2013" && m.dialect != "spacar2013") {
+    std::cerr << "flexmb: --dialect must be 95 or 2013, not '" << m.dialect << "'\n";
+    return kUsageError;
+  }
+  if (m.elongation != "" && m.elongation != "plain" && m.elongation != "corrected") {
+    std::cerr << "flexmb: --elongation must be plain or corrected, not '" << m.elongation << "'\n";
+    return kUsageError;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+io::ReadOptions readOptions(const ModelOptions& o) {
   io::ReadOptions ro;
   if (o.dialect == "95" || o.dialect == "spacar95") ro.dialect = core::Dialect::Spacar95;
   else if (o.dialect == "2013" || o.dialect == "spacar2013") ro.dialect = core::Dialect::Spacar2013;
   if (o.elongation == "plain") ro.elongation = core::ElongationDefinition::Plain;
   else if (o.elongation == "corrected") ro.elongation = core::ElongationDefinition::BendingCorrected;
+  return ro;
+}
+
+}  // namespace
+
+bool loadModel(const ModelOptions& o, core::Model& model) {
   try {
-    stages = io::readDatStages(o.file, ro);
+    model = io::readDatFile(o.file, readOptions(o));
+    if (!o.quiet)
+      for (const auto& note : model.notes) std::cerr << "flexmb: note: " << note << "\n";
+  } catch (const io::DatError& e) {
+    std::cerr << e.what() << "\n";
+    return false;
+  } catch (const std::exception& e) {
+    std::cerr << o.file << ": " << e.what() << "\n";
+    return false;
+  }
+  const core::ModelDiagnosis d = core::diagnoseModel(model);
+  if (!d.overflow.empty()) {
+    std::cerr << o.file << ": values too large to compute with (above " << core::kOverflowLimit
+              << "; products of them overflow): " << listed(d.overflow)
+              << ". Check the units and the exponents.\n";
+    return false;
+  }
+  if (!d.mechanismDeformations.empty() && !o.quiet)
+    std::cerr << o.file << ": note: " << d.mechanismDeformations.size()
+              << " dynamic deformation(s) without stiffness, i.e. mechanism degrees of freedom: "
+              << listed(d.mechanismDeformations) << "\n";
+  return true;
+}
+
+bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass) {
+  if (!loadModel(o, model)) return false;
+  if (model.numDofs() == 0) {
+    std::cerr << o.file << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate): "
+                 "nothing moves, so there is nothing to integrate and no eigenfrequency. Make the deformations "
+                 "that carry the motion DYNE (with ESTIFF), see `flexmb check`.\n";
+    return false;
+  }
+  try {
+    const std::string assembly = core::initialAssemblyProblem(model);
+    if (!assembly.empty()) {
+      std::cerr << o.file << ": " << assembly << "\n";
+      return false;
+    }
+    if (needsMass) {
+      const auto massless = core::masslessDegreesOfFreedom(model);
+      if (!massless.empty()) {
+        std::cerr << o.file << ": no mass on " << massless.size() << " of " << model.numDofs()
+                  << " degrees of freedom: " << listed(massless)
+                  << ". Dynamics and eigenfrequencies need mass on every one: give EM (mass per length) of the "
+                     "elements or XM (lumped masses) at the nodes that move.\n";
+        return false;
+      }
+    }
+  } catch (const core::KinematicsError& e) {
+    std::cerr << o.file << ": the initial configuration cannot be assembled: " << e.what()
+              << " (run `flexmb check` for the kinematic rank analysis)\n";
+    return false;
+  }
+  return true;
+}
+
+bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass) {
+  core::Model probe;
+  if (!loadModelFor(o, probe, needsMass)) return false;  // errors, diagnostics and notes, once
+  try {
+    stages = io::readDatStages(o.file, readOptions(o));
     return true;
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";

@@ -3,8 +3,10 @@
 #include <sstream>
 
 #include "io/BasisFile.hpp"
+#include "io/OutputFile.hpp"
 #include "tools/analysis/Reduction.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Progress.hpp"
 
 namespace po = boost::program_options;
 
@@ -16,48 +18,93 @@ int runReduce(const std::vector<std::string>& args) {
   analysis::ReductionOptions o;
   std::string out, large;
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
-      "modes", po::value(&o.modes)->default_value(3), "r: modes per configuration")(
-      "configs", po::value(&o.configs)->default_value(10), "svd-modal: equidistant configurations")(
-      "weight", po::value(&o.weight)->default_value(0.0), "svd-modal: a in omega^-a")(
-      "threshold", po::value(&o.threshold)->default_value(0.01), "svd-modal: keep singular values above this share")(
-      "count", po::value(&o.count)->default_value(0), "svd-modal: keep exactly this many (overrides threshold)")(
-      "node", po::value(&o.node), "svd-modal path: node label")("comp", po::value(&o.component)->default_value(1), "its component")(
-      "from", po::value(&o.from), "path start value")("to", po::value(&o.to), "path end value")(
+      "modes", po::value(&o.modes)->default_value(3)->notifier(atLeast("modes", 1)), "r: modes per configuration")(
+      "configs", po::value(&o.configs)->default_value(10)->notifier(atLeast("configs", 1)),
+      "svd-modal: equidistant configurations")(
+      "weight", po::value(&o.weight)->default_value(0.0)->notifier(finite("weight")), "svd-modal: a in omega^-a")(
+      "threshold", po::value(&o.threshold)->default_value(0.01)->notifier(positive("threshold")),
+      "svd-modal: keep singular values above this share")(
+      "count", po::value(&o.count)->default_value(0)->notifier(atLeast("count", 0)),
+      "svd-modal: keep exactly this many (overrides threshold)")(
+      "node", po::value(&o.node), "svd-modal path: node label")(
+      "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component")(
+      "from", po::value(&o.from)->notifier(finite("from")), "path start value")(
+      "to", po::value(&o.to)->notifier(finite("to")), "path end value")(
       "large", po::value(&large), "comma-separated q indices (0-based) kept with identity columns (default: hinges)")(
       "out", po::value(&out)->default_value("basis.csv"), "basis file");
-  if (!parseCommand(args, d, m, "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
-    return 2;
-  core::Model model;
-  if (!loadModel(m, model)) return 2;
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
+    return *rc;
+  if (o.method != "modal" && o.method != "svd-modal") {
+    std::cerr << "flexmb: --method must be modal or svd-modal, not '" << o.method << "'\n";
+    return kUsageError;
+  }
+  if (o.configs > 100000) {
+    std::cerr << "flexmb: --configs " << o.configs << " is too many (limit 100000)\n";
+    return kUsageError;
+  }
   if (!large.empty()) {
     std::vector<int> idx;
     std::stringstream ss(large);
     std::string tok;
     while (std::getline(ss, tok, ',')) {
+      size_t used = 0;
+      int v = -1;
       try {
-        idx.push_back(std::stoi(tok));
+        v = std::stoi(tok, &used);
       } catch (...) {
-        std::cerr << "flexmb: --large: '" << tok << "' is not an index\n";
-        return 2;
+        used = 0;
       }
+      if (used == 0 || used != tok.size() || v < 0) {
+        std::cerr << "flexmb: --large: '" << tok << "' is not an index (0-based integers separated by commas)\n";
+        return kUsageError;
+      }
+      idx.push_back(v);
     }
     o.large = idx;
   }
+  core::Model model;
+  if (!loadModelFor(m, model, true)) return kInputError;
+  if (o.large)
+    for (int i : *o.large)
+      if (i >= model.numDofs()) {
+        std::cerr << "flexmb: --large: index " << i << " is out of range (the model has " << model.numDofs()
+                  << " degrees of freedom, 0-based)\n";
+        return kUsageError;
+      }
   try {
-    const analysis::ReductionResult r = analysis::buildBasis(model, m.file, o);
-    io::writeBasis(out, r.V, r.info);
-    std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.info.large.size()
-              << " identity columns) written to " << out << "\n";
-    if (r.scaledSingularValues.size()) {
-      std::cout << "scaled singular values:";
-      for (Eigen::Index i = 0; i < r.scaledSingularValues.size(); ++i) std::cout << " " << r.scaledSingularValues[i];
-      std::cout << "\n";
-    }
+    io::OutputSet(out).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
-    return 2;
+    return kInputError;
   }
-  return 0;
+  analysis::ReductionResult r;
+  try {
+    Progress progress("reduce", !m.quiet);
+    o.onConfig = [&](int i, int n) { progress.update(i, n, "configurations"); };
+    r = analysis::buildBasis(model, m.file, o);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kNumericalFailure;
+  }
+  try {
+    const std::string temp = io::temporaryName(out);
+    io::writeBasis(temp, r.V, r.info);
+    io::commitTemporary(temp, out);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.info.large.size()
+            << " identity columns) written to " << out << "\n";
+  if (r.scaledSingularValues.size()) {
+    std::cout << "scaled singular values:";
+    for (Eigen::Index i = 0; i < r.scaledSingularValues.size(); ++i) std::cout << " " << r.scaledSingularValues[i];
+    std::cout << "\n";
+  }
+  return kOk;
 }
 
 }  // namespace flexmb::cli

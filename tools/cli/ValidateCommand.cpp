@@ -1,8 +1,11 @@
+#include <boost/program_options.hpp>
 #include <filesystem>
 #include <iostream>
 
 #include "tools/cli/Commands.hpp"
 #include "validation/PaperValidation.hpp"
+
+namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
@@ -10,20 +13,35 @@ int runValidate(const std::vector<std::string>& args) {
   validation::ValidationOptions o;
   o.sourceDir = FLEXMB_SOURCE_DIR;
   o.outDir = o.sourceDir + "/validation/report";
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--out" && i + 1 < args.size()) o.outDir = args[++i];
-    else if (args[i] == "--source" && i + 1 < args.size()) o.sourceDir = args[++i];
-    else if (args[i] == "--sweep-steps" && i + 1 < args.size()) o.sweepSteps = std::stoi(args[++i]);
-    else {
-      std::cerr << "usage: flexmb validate [--out DIR] [--source PROJECT_DIR] [--sweep-steps n]\n";
-      return 2;
-    }
+  ModelOptions m;
+  po::options_description d("options");
+  d.add_options()("out", po::value(&o.outDir), "report folder (default: validation/report in the source tree)")(
+      "source", po::value(&o.sourceDir), "project folder whose datfiles/ are used")(
+      "sweep-steps", po::value(&o.sweepSteps)->notifier(atLeast("sweep-steps", 2)),
+      "configurations of the Fig. 5 sweeps (default 21)")("quiet,q", po::bool_switch(&o.quiet), "no progress lines");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb validate [--out DIR] [--source PROJECT_DIR] [--sweep-steps n]",
+                             false))
+    return *rc;
+  if (o.sweepSteps > 100000) {
+    std::cerr << "flexmb: --sweep-steps " << o.sweepSteps << " is too many (limit 100000)\n";
+    return kUsageError;
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_directory(o.sourceDir + "/datfiles", ec)) {
+    std::cerr << "flexmb: --source " << o.sourceDir << " has no datfiles/ folder\n";
+    return kInputError;
+  }
+  try {
+    std::filesystem::create_directories(o.outDir);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: cannot create the report folder '" << o.outDir << "': " << e.what() << "\n";
+    return kInputError;
   }
   try {
     return validation::runValidation(o);
   } catch (const std::exception& e) {
     std::cerr << "flexmb validate: " << e.what() << "\n";
-    return 3;
+    return kNumericalFailure;
   }
 }
 

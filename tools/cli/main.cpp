@@ -1,6 +1,7 @@
 // flexmb: command-line front end. `flexmb <command> [options] model.dat` or SPACAR style
-// `flexmb --mode N model.dat`. Input errors print file:line messages and exit 2; numerical
-// failures print the time and reason and exit 3 (results computed so far are still written).
+// `flexmb --mode N model.dat`. Exit codes (Commands.hpp, README): 0 done, 1 input error (file:line
+// messages), 2 usage error, 3 numerical failure (time/coordinate and reason; results so far are
+// written), 4 a result file could not be written, 130 interrupted (results so far are written).
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -26,7 +27,9 @@ void usage(std::ostream& o) {
        "  reduce     build a modal or SVD-modal reduction basis (q = V eta)\n"
        "  validate   reproduce the paper's Section 4 into validation/report/\n"
        "  keywords   list every .dat keyword flexmb reads\n"
-       "Run `flexmb <command> --help` for a command's options.\n";
+       "Run `flexmb <command> --help` for a command's options; `flexmb --version` for the version.\n"
+       "Exit codes: 0 done, 1 input error, 2 usage error, 3 numerical failure (results so far written),\n"
+       "            4 a result file could not be written, 130 interrupted (results so far written).\n";
 }
 }  // namespace
 
@@ -34,7 +37,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help") {
     usage(args.empty() ? std::cerr : std::cout);
-    return args.empty() ? 2 : 0;
+    return args.empty() ? kUsageError : kOk;
+  }
+  if (args[0] == "--version" || args[0] == "version") {
+    std::cout << "flexmb " << FLEXMB_VERSION << "\n";
+    return kOk;
   }
   std::string command = args[0];
   args.erase(args.begin());
@@ -43,7 +50,7 @@ int main(int argc, char** argv) {
     if (command == "--mode") {
       if (args.empty()) {
         std::cerr << "flexmb: --mode needs a number\n";
-        return 2;
+        return kUsageError;
       }
       n = args[0];
       args.erase(args.begin());
@@ -59,7 +66,7 @@ int main(int argc, char** argv) {
     auto it = (n == "3" || n == "4") ? modes.find("1") : modes.find(n);
     if (it == modes.end()) {
       std::cerr << "flexmb: mode " << n << " is not supported (supported: 0, 1, 3, 4, 10)\n";
-      return 2;
+      return kUsageError;
     }
     command = it->second;
   }
@@ -70,7 +77,16 @@ int main(int argc, char** argv) {
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";
     usage(std::cerr);
-    return 2;
+    return kUsageError;
   }
-  return it->second(args);
+  try {
+    return it->second(args);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "flexmb: out of memory: the run is too large for this machine (fewer output intervals, a "
+                 "reduced model or a shorter run)\n";
+    return kNumericalFailure;
+  } catch (const std::exception& e) {  // a safety net: every known failure is reported where it happens
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
 }

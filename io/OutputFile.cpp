@@ -1,0 +1,221 @@
+#include "io/OutputFile.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+namespace fs = std::filesystem;
+
+namespace flexmb::io {
+
+namespace {
+std::string reason(int err, const char* fallback) { return err ? std::strerror(err) : fallback; }
+
+// fsync the file so that a full disk shows up here (delayed allocation) and not after "wrote".
+void syncFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "cannot reopen it"));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0 && err != EINVAL && err != EROFS)  // EINVAL: special files that cannot sync
+    throw std::runtime_error("cannot write '" + path + "': " + reason(err, "fsync failed"));
+}
+}  // namespace
+
+std::string temporaryName(const std::string& path) { return path + ".part-" + std::to_string(::getpid()); }
+
+void commitTemporary(const std::string& temp, const std::string& path) {
+  try {
+    syncFile(temp);
+  } catch (...) {
+    std::remove(temp.c_str());
+    throw;
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    std::remove(temp.c_str());
+    throw std::runtime_error("cannot write '" + path + "': " + reason(err, "rename failed"));
+  }
+}
+
+void writeThroughMemory(const std::string& path, const std::function<void(const std::string&)>& writer) {
+  const int fd = ::memfd_create("flexmb-output", MFD_CLOEXEC);
+  if (fd < 0) {
+    writer(path);
+    return;
+  }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  writer("/proc/self/fd/" + std::to_string(fd));
+  // A file size limit (ulimit -f) applies to the memory file too, and the writer would not say.
+  struct rlimit limit {};
+  const off_t size = ::lseek(fd, 0, SEEK_END);
+  if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      static_cast<rlim_t>(size) >= limit.rlim_cur)
+    throw std::runtime_error("cannot write '" + path + "': it reached the file size limit (ulimit -f)");
+  if (::lseek(fd, 0, SEEK_SET) != 0) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "seek failed"));
+  errno = 0;
+  std::FILE* out = std::fopen(path.c_str(), "wb");
+  if (!out) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "cannot create it"));
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      std::fclose(out);
+      throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "read failed"));
+    }
+    if (n == 0) break;
+    errno = 0;
+    if (std::fwrite(buffer, 1, static_cast<size_t>(n), out) != static_cast<size_t>(n)) {
+      const int err = errno;
+      std::fclose(out);
+      throw std::runtime_error("cannot write '" + path + "': " + reason(err, "short write"));
+    }
+  }
+  errno = 0;
+  const bool bad = std::ferror(out) != 0;
+  if (std::fclose(out) != 0 || bad) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "write failed"));
+}
+
+void checkMatFileComplete(const std::string& path) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw std::runtime_error("cannot write '" + path + "': " + ec.message());
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw std::runtime_error("cannot write '" + path + "': cannot reopen it to check it");
+  auto truncated = [&] {
+    std::fclose(f);
+    return std::runtime_error("cannot write '" + path + "': the file is incomplete (disk full or file size limit?)");
+  };
+  unsigned char header[128];
+  if (size < 128 || std::fread(header, 1, 128, f) != 128) throw truncated();
+  const bool swap = header[126] == 'M' && header[127] == 'I';
+  std::uint64_t pos = 128;
+  while (pos < size) {
+    std::uint32_t tag[2];
+    if (pos + 8 > size || std::fseek(f, static_cast<long>(pos), SEEK_SET) != 0 || std::fread(tag, 4, 2, f) != 2)
+      throw truncated();
+    if (swap)
+      for (auto& w : tag) w = __builtin_bswap32(w);
+    std::uint64_t n = tag[1];
+    if (tag[0] >> 16) n = 0;  // small data element: the data lives in the tag
+    else if (tag[0] != 15) n = (n + 7) / 8 * 8;  // miCOMPRESSED is not padded
+    pos += 8 + n;
+  }
+  if (pos != size) throw truncated();
+  std::fclose(f);
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)), temp_(temporaryName(path_)) {
+  out_.open(temp_, std::ios::binary);
+  if (!out_)
+    throw std::runtime_error("cannot write '" + path_ + "': " + reason(errno, "cannot create it"));
+  out_.precision(17);
+}
+
+OutputFile::~OutputFile() {
+  if (!done_) {
+    out_.close();
+    std::remove(temp_.c_str());
+  }
+}
+
+void OutputFile::commit() {
+  errno = 0;
+  out_.flush();
+  const bool bad = !out_;
+  const int err = errno;
+  out_.close();
+  if (bad || out_.fail()) {
+    std::remove(temp_.c_str());
+    done_ = true;
+    throw std::runtime_error("cannot write '" + path_ + "': " + reason(err, "write failed"));
+  }
+  done_ = true;
+  commitTemporary(temp_, path_);
+}
+
+std::string OutputSet::resolvePrefix(const std::string& out, const std::string& modelFile,
+                                     const std::string& suffix) {
+  const std::string stem = fs::path(modelFile).stem().string() + suffix;
+  if (out.empty()) return stem;
+  std::error_code ec;
+  if (out.back() == '/' || fs::is_directory(out, ec)) {
+    std::string dir = out;
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    return (fs::path(dir) / stem).string();
+  }
+  return out;
+}
+
+OutputSet::OutputSet(std::string prefix) : prefix_(std::move(prefix)) {}
+
+OutputSet::~OutputSet() {
+  if (!committed_)
+    for (const auto& f : files_) std::remove(f.second.c_str());
+}
+
+void OutputSet::checkWritable() const {
+  fs::path dir = fs::path(prefix_).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw std::runtime_error("cannot write results to '" + prefix_ + "*': the folder '" + dir.string() +
+                             "' does not exist (create it first, or choose another --out)");
+  const std::string probe = temporaryName(prefix_ + "_probe");
+  {
+    std::ofstream p(probe);
+    p << "probe\n";
+    p.flush();
+    if (!p) {
+      const int err = errno;
+      std::remove(probe.c_str());
+      throw std::runtime_error("cannot write results to '" + prefix_ + "*': " + reason(err, "the folder is not writable") +
+                               " (choose another --out)");
+    }
+  }
+  std::remove(probe.c_str());
+  std::remove(manifestPath().c_str());  // an earlier run's files are no longer a complete set
+}
+
+std::string OutputSet::temporaryFor(const std::string& suffix) {
+  files_.emplace_back(prefix_ + suffix, temporaryPrefix() + suffix);
+  return files_.back().second;
+}
+
+std::vector<std::string> OutputSet::commit(const std::string& status) {
+  std::vector<std::string> written;
+  for (const auto& [final, temp] : files_) {
+    if (final.size() >= 4 && final.compare(final.size() - 4, 4, ".mat") == 0) {
+      try {
+        checkMatFileComplete(temp);
+      } catch (const std::exception& e) {
+        std::remove(temp.c_str());
+        throw std::runtime_error(e.what());
+      }
+    }
+    commitTemporary(temp, final);
+    written.push_back(final);
+  }
+  committed_ = true;
+  OutputFile m(manifestPath());
+  m << "flexmb run\nstatus: " << status << "\n";
+  for (const auto& [name, value] : settings_) m << name << ": " << value << "\n";
+  for (const auto& w : written) m << "file: " << fs::path(w).filename().string() << "\n";
+  m.commit();
+  written.push_back(manifestPath());
+  return written;
+}
+
+}  // namespace flexmb::io

@@ -1,0 +1,89 @@
+#pragma once
+// Checked, atomic result files. A result is written under a temporary name beside its final name
+// and renamed into place only when every byte of it was written, so a kill, a full disk or a
+// missing folder never leaves a half file under the final name, and a failed write is an error,
+// never "wrote ...".
+//
+//   * OutputFile: one text file (a stream); commit() checks the stream, flushes to disk, renames.
+//   * OutputSet: the file set of one run. resolve() turns --out into a prefix (a folder, "dir/" or
+//     an existing directory, gets the model's name inside it); checkWritable() probes the folder
+//     BEFORE the analysis; temporaryFor() hands out temporary names that any writer (CSV, matio)
+//     can fill; commit() renames them all and then writes <prefix>_run.txt, the manifest that lists
+//     the run's settings and files. A file set is complete iff its manifest exists: a new run
+//     removes the old manifest first, so files of an earlier run never look complete after a kill.
+#include <fstream>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace flexmb::io {
+
+class OutputFile {
+ public:
+  explicit OutputFile(std::string path);  // throws std::runtime_error when the temporary cannot be opened
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+  ~OutputFile();  // removes the temporary when not committed
+  std::ostream& stream() { return out_; }
+  template <class T>
+  OutputFile& operator<<(const T& v) {
+    out_ << v;
+    return *this;
+  }
+  void commit();  // throws std::runtime_error naming the path and the reason; then nothing is left
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_, temp_;
+  std::ofstream out_;
+  bool done_ = false;
+};
+
+// Temporary name of path: "<path>.part-<pid>" (same folder, so rename() is atomic).
+std::string temporaryName(const std::string& path);
+// fsync + rename temp to path; throws std::runtime_error (and removes temp) on failure.
+void commitTemporary(const std::string& temp, const std::string& path);
+// Runs writer(p) on a path p in memory (a memfd), then copies the bytes to path with checked
+// writes: for writers that do not report failed writes (matio ignores a full disk). Falls back to
+// writer(path) where memfd is unavailable.
+void writeThroughMemory(const std::string& path, const std::function<void(const std::string&)>& writer);
+// A MATLAB v5 file whose data elements all end inside the file (a full disk truncates silently
+// under matio); throws std::runtime_error naming the path.
+void checkMatFileComplete(const std::string& path);
+
+class OutputSet {
+ public:
+  // --out as given (may be empty, a prefix, "dir/" or an existing directory) and the model file:
+  // empty -> <model stem><suffix>; a folder -> <folder>/<model stem><suffix>; else out itself.
+  static std::string resolvePrefix(const std::string& out, const std::string& modelFile,
+                                   const std::string& suffix = "");
+
+  explicit OutputSet(std::string prefix);
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet();  // removes the temporaries of an uncommitted set
+
+  const std::string& prefix() const { return prefix_; }
+  // Throws std::runtime_error when the folder is missing or not writable (probes with a file);
+  // removes the manifest of an earlier run with the same prefix.
+  void checkWritable() const;
+  // Registers the final path prefix + suffix and returns the temporary to write instead,
+  // temporaryPrefix() + suffix (so a writer that appends suffixes to a prefix can fill several).
+  std::string temporaryFor(const std::string& suffix);
+  std::string temporaryPrefix() const { return temporaryName(prefix_); }
+  // Records a setting for the manifest ("reltol", "1e-3").
+  void setting(const std::string& name, const std::string& value) { settings_.emplace_back(name, value); }
+  // Renames every temporary (a .mat is checked first) and writes the manifest with the status line
+  // ("complete" or why the run stopped). Returns the final paths. Throws on failure.
+  std::vector<std::string> commit(const std::string& status);
+  std::string manifestPath() const { return prefix_ + "_run.txt"; }
+
+ private:
+  std::string prefix_;
+  std::vector<std::pair<std::string, std::string>> files_;  // final, temporary
+  std::vector<std::pair<std::string, std::string>> settings_;
+  bool committed_ = false;
+};
+
+}  // namespace flexmb::io

@@ -1,0 +1,417 @@
+// The flexmb command line as a user meets it (issue 14): invalid option values, --help, bad values
+// for every option, exit codes, output locations checked first, atomic and checked writes, folder
+// --out, run manifests, Ctrl-C, huge runs, model diagnostics, the tutorial models. Each test runs
+// the real binary in a fresh folder.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <map>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+const std::string kData = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/";
+
+struct Result {
+  int code = -1;  // exit code; 128 + signal when killed
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("flexmb_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  // Runs a bash command line in the test folder; `flexmb` as a command is replaced by the binary.
+  Result sh(const std::string& line) {
+    const std::string cmd = std::regex_replace(line, std::regex("(^|[;&] *|timeout 120 )flexmb\\b"), "$1" + kFlexmb);
+    std::ofstream(dir_ / "run.sh") << "cd '" << dir_.string() << "' || exit 99\n{ " << cmd << "\n} >out.txt 2>err.txt\n";
+    const int status = std::system(("/bin/bash '" + (dir_ / "run.sh").string() + "'").c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir_ / "out.txt");
+    r.err = slurp(dir_ / "err.txt");
+    fs::remove(dir_ / "out.txt");
+    fs::remove(dir_ / "err.txt");
+    fs::remove(dir_ / "run.sh");
+    return r;
+  }
+  Result flexmb(const std::string& args) { return sh("timeout 120 flexmb " + args); }
+  // A model file in the test folder: `base` from datfiles/ with every line matching `from`
+  // replaced by `to` (regex), or extra lines put before the dynamic block's END.
+  std::string variant(const std::string& base, const std::string& from, const std::string& to,
+                      const std::string& name = "model.dat") {
+    const std::string text = std::regex_replace(slurp(kData + base), std::regex(from), to);
+    std::ofstream(dir_ / name) << text;
+    return name;
+  }
+  std::vector<std::string> files() const {
+    std::vector<std::string> v;
+    for (const auto& e : fs::recursive_directory_iterator(dir_)) v.push_back(fs::relative(e.path(), dir_).string());
+    std::sort(v.begin(), v.end());
+    return v;
+  }
+  fs::path dir_;
+};
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += x + " ";
+  return s;
+}
+
+// Item 1 and 6: invalid values are usage errors (exit 2) naming the option, never defaults.
+TEST_F(Cli, InvalidOptionValuesAreUsageErrors) {
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"--reltol", "-1"},   {"--reltol", "0"},     {"--abstol", "nan"}, {"--t-end", "0"},
+      {"--t-end", "-1"},    {"--max-step", "0"},   {"--max-step", "-1"}, {"--intervals", "-5"},
+      {"--reltol", "1,5"},  {"--t-end", "0,1"},    {"--abstol", "1e-6x"}, {"--intervals", "1.5"},
+      {"--t-end", "1e999"}, {"--linearize", "-2"}};
+  for (const auto& [opt, value] : bad) {
+    const Result r = flexmb("simulate " + kData + "portal.dat --format none -q " + opt + " " + value);
+    EXPECT_EQ(r.code, 2) << opt << " " << value << "\n" << r.out << r.err;
+    EXPECT_NE(r.err.find(opt.substr(2)), std::string::npos) << opt << " " << value << ": " << r.err;
+    EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << "ran anyway with " << opt << " " << value;
+  }
+  EXPECT_EQ(flexmb("static " + kData + "portal.dat --steps 0").code, 2);
+  EXPECT_EQ(flexmb("modes " + kData + "portal.dat --nev -1").code, 2);
+  EXPECT_EQ(flexmb("validate --sweep-steps abc").code, 2);
+  EXPECT_EQ(flexmb("reduce " + kData + "portal.dat --large 1,x").code, 2);
+}
+
+const std::vector<std::string> kCommands = {"check", "simulate", "modes", "static", "sweep", "reduce", "validate", "keywords"};
+
+TEST_F(Cli, EveryCommandHasHelp) {
+  for (const auto& c : kCommands) {
+    const Result r = flexmb(c + " --help");
+    EXPECT_EQ(r.code, 0) << c << ": " << r.err;
+    EXPECT_NE(r.out.find("usage: flexmb"), std::string::npos) << c;
+  }
+  const Result top = flexmb("--help");
+  EXPECT_EQ(top.code, 0);
+  EXPECT_NE(top.out.find("Exit codes"), std::string::npos);
+  const Result v = flexmb("--version");
+  EXPECT_EQ(v.code, 0);
+  EXPECT_TRUE(std::regex_search(v.out, std::regex("^flexmb [0-9]+\\.[0-9]+"))) << v.out;
+}
+
+// Item 2: every option of every command with bad values ends cleanly: a documented exit code and,
+// when it is not 0, a message. Never a crash (134, 139), an uncaught exception or a hang.
+TEST_F(Cli, EveryOptionWithBadValuesEndsCleanly) {
+  const std::set<int> documented = {0, 1, 2, 3, 4};
+  const std::vector<std::string> values = {"abc", "-1", "0", "nan", "1e999", "1,5", "''", "/nonexistent/x"};
+  int runs = 0;
+  for (const auto& c : kCommands) {
+    const Result help = flexmb(c + " --help");
+    std::set<std::string> options;
+    const std::regex optionName("--([a-z][a-z-]*)");
+    for (std::sregex_iterator it(help.out.begin(), help.out.end(), optionName), end; it != end; ++it)
+      options.insert((*it)[1]);
+    options.erase("help");
+    ASSERT_FALSE(options.empty() && c != "keywords") << c;
+    std::string base = c + " " + kData + "portal.dat -q";
+    if (c == "sweep") base += " --node 3 --from 0 --to 0.01 --steps 2";
+    if (c == "validate" || c == "keywords") base = c + " -q";
+    if (c == "keywords") base = c;
+    for (const auto& o : options) {
+      for (const auto& v : values) {
+        // validate with a valid --out or --source would run the whole report: only bad ones.
+        if (c == "validate" && (o == "out" || o == "quiet" || (o == "source" && v != "/nonexistent/x"))) continue;
+        if (c == "validate" && o == "sweep-steps" && v == "1e999") continue;
+        const std::string out = options.count("out") && o != "out" ? " --out o" : "";
+        const Result r = flexmb(base + " --" + o + " " + v + out);
+        ++runs;
+        EXPECT_TRUE(documented.count(r.code)) << c << " --" << o << " " << v << ": exit " << r.code << "\n" << r.err;
+        if (r.code != 0) EXPECT_FALSE(r.err.empty()) << c << " --" << o << " " << v << ": no message";
+        EXPECT_EQ(r.err.find("terminate called"), std::string::npos) << c << " --" << o << " " << v;
+      }
+    }
+  }
+  EXPECT_GT(runs, 200);
+}
+
+// Item 3: the sweep's result does not depend on --steps, and the CSV holds the configurations.
+// The second case pulls the guidance's top down, past the flexures' buckling load: without
+// sub-steps and the step check, 2 points jumped to another equilibrium (-2143 N) than 31 (-8122 N).
+TEST_F(Cli, SweepStaysOnItsBranchWhateverTheSteps) {
+  struct Row {
+    int code = -1;
+    std::map<std::string, double> cells;
+  };
+  auto lastRow = [&](const std::string& model, const std::string& range, int steps) {
+    const std::string prefix = "s" + std::to_string(steps);
+    const Result r = flexmb("sweep " + kData + model + " -q " + range + " --steps " + std::to_string(steps) +
+                            " --out " + prefix);
+    Row row;
+    row.code = r.code;
+    EXPECT_TRUE(r.code == 0 || r.code == 3) << r.err;
+    std::ifstream in(dir_ / (prefix + ".csv"));
+    std::string header, line, last;
+    std::getline(in, header);
+    int rows = 0;
+    while (std::getline(in, line)) last = line, ++rows;
+    if (r.code == 0) EXPECT_EQ(rows, steps);
+    std::vector<std::string> names, cells;
+    std::stringstream hs(header), ls(last);
+    for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    EXPECT_EQ(names.size(), cells.size());
+    for (size_t i = 0; i < names.size() && i < cells.size(); ++i)
+      row.cells[names[i]] = cells[i].empty() ? NAN : std::stod(cells[i]);
+    return row;
+  };
+  {
+    auto a = lastRow("portal.dat", "--node 3 --comp 1 --from 0 --to -0.17", 2);
+    auto b = lastRow("portal.dat", "--node 3 --comp 1 --from 0 --to -0.17", 41);
+    ASSERT_EQ(a.code, 0);
+    ASSERT_TRUE(a.cells.count("node3.x")) << "the CSV has no configuration columns";
+    EXPECT_NEAR(a.cells["node3.x"], -0.17, 1e-12);
+    EXPECT_NEAR(a.cells["load"], b.cells["load"], 1e-8 * std::abs(b.cells["load"]));
+    EXPECT_NEAR(a.cells["f1_Hz"], b.cells["f1_Hz"], 1e-8 * b.cells["f1_Hz"]);
+    EXPECT_NEAR(a.cells["node13.y"], b.cells["node13.y"], 1e-10);
+  }
+  {
+    const std::string range = "--node 6 --comp 2 --from 0.2 --to 0.19";
+    auto a = lastRow("straight_guidance.dat", range, 2);
+    auto b = lastRow("straight_guidance.dat", range, 31);
+    // Either both reach 0.19 on the same equilibrium, or the short one stops and says so.
+    if (a.code == 0 && b.code == 0) {
+      EXPECT_NEAR(a.cells["load"], b.cells["load"], 1e-6 * std::abs(b.cells["load"]));
+      EXPECT_NEAR(a.cells["node16.x"], b.cells["node16.x"], 1e-9);
+    } else {
+      EXPECT_EQ(a.code, 3);
+    }
+  }
+}
+
+// Item 4: a sweep failing at its last point keeps what it solved, names the path coordinate and
+// exits with the numerical-failure code.
+TEST_F(Cli, SweepFailingAtItsLastPointKeepsThePointsBefore) {
+  const Result r = flexmb("sweep " + kData + "portal.dat -q --node 3 --comp 1 --from 0 --to 0.19 --steps 5 --out p");
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("x(node 3, x)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("t = 0"), std::string::npos) << r.err;
+  std::ifstream in(dir_ / "p.csv");
+  ASSERT_TRUE(in) << joined(files());
+  std::string line;
+  int rows = -1;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_GE(rows, 3);
+  EXPECT_NE(slurp(dir_ / "p_run.txt").find("status: stopped"), std::string::npos);
+}
+
+// Item 5: the output location is checked before the analysis.
+TEST_F(Cli, OutputLocationIsCheckedBeforeTheAnalysis) {
+  for (const std::string& c : {std::string("simulate ") + kData + "manipulator.dat --out /nonexistent/m",
+                               std::string("simulate ") + kData + "portal.dat --linearize 2 --out /nonexistent/m",
+                               std::string("static ") + kData + "portal.dat --out /nonexistent/s.csv",
+                               std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --out /nonexistent/p",
+                               std::string("reduce ") + kData + "portal.dat --out /nonexistent/b.csv"}) {
+    const Result r = flexmb(c + " -q");
+    EXPECT_EQ(r.code, 1) << c << "\n" << r.err;
+    EXPECT_NE(r.err.find("/nonexistent"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << c << ": the analysis ran first";
+    EXPECT_EQ(r.out.find("wrote"), std::string::npos) << c;
+  }
+}
+
+// Item 11: a full disk (a file size limit here) is an error with exit 4, never "wrote", and leaves
+// no file under a final name and no temporary.
+TEST_F(Cli, FailedWritesAreErrors) {
+  for (const std::string& c : {std::string("simulate ") + kData + "portal.dat --intervals 400 --format mat --out r/m",
+                               std::string("simulate ") + kData + "portal.dat --intervals 400 --format csv --out r/m",
+                               std::string("simulate ") + kData + "portal.dat --intervals 400 --linearize 3 --matrices --format none --out r/m",
+                               std::string("static ") + kData + "portal.dat --out r/s.csv --steps 3",
+                               std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --steps 300 --out r/p"}) {
+    fs::remove_all(dir_ / "r");
+    fs::create_directories(dir_ / "r");
+    const Result r = sh("trap '' XFSZ; ulimit -f " + std::string(c.rfind("static", 0) == 0 ? "1" : "8") + "; flexmb " + c + " -q");
+    EXPECT_EQ(r.code, 4) << c << "\n" << r.err;
+    EXPECT_EQ(r.out.find("wrote"), std::string::npos) << c << "\n" << r.out;
+    EXPECT_TRUE(fs::is_empty(dir_ / "r")) << c << ": left " << joined(files());
+  }
+}
+
+// Item 12: --out folder/ is a folder; a run's file set has a manifest with its settings; an
+// earlier run's manifest goes away when a new run starts.
+TEST_F(Cli, FolderOutAndCompleteFileSets) {
+  fs::create_directories(dir_ / "outd");
+  Result r = flexmb("simulate " + kData + "portal.dat -q --intervals 10 --out outd/");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "outd/portal_x.csv")) << joined(files());
+  EXPECT_TRUE(fs::exists(dir_ / "outd/portal.mat"));
+  EXPECT_FALSE(fs::exists(dir_ / "outd/_x.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "outd/.mat"));
+  const std::string manifest = slurp(dir_ / "outd/portal_run.txt");
+  EXPECT_NE(manifest.find("status: complete"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("file: portal_x.csv"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("10 output intervals"), std::string::npos) << manifest;
+  for (const auto& f : files()) EXPECT_EQ(f.find(".part-"), std::string::npos) << f;
+  // Without the slash, an existing folder is a folder too.
+  r = flexmb("static " + kData + "portal.dat -q --out outd");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "outd/portal_static.csv")) << joined(files());
+  // A failing run removes the earlier manifest: the old files no longer look complete.
+  r = sh("trap '' XFSZ; ulimit -f 4; flexmb simulate " + kData + "portal.dat -q --intervals 400 --out outd/");
+  EXPECT_EQ(r.code, 4);
+  EXPECT_FALSE(fs::exists(dir_ / "outd/portal_run.txt"));
+}
+
+// Item 5: Ctrl-C during simulate writes the results so far.
+TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
+  const Result r = sh("flexmb simulate " + kData + "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
+                   "kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  std::ifstream in(dir_ / "m_x.csv");
+  ASSERT_TRUE(in) << joined(files());
+  std::string line;
+  int rows = -1;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_GT(rows, 1);
+  EXPECT_NE(slurp(dir_ / "m_run.txt").find("status: stopped: interrupted"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir_ / "m.mat"));
+}
+
+// Item 7: huge runs are refused up front with a message saying what to change.
+TEST_F(Cli, HugeRunsAreRefusedUpFront) {
+  struct Case {
+    std::string args, hint;
+  };
+  const std::string big = variant("portal.dat", "TIMESTEP 0.1 100", "TIMESTEP 10 100000000", "big.dat");
+  const std::string huge = variant("portal.dat", "TIMESTEP 0.1 100", "TIMESTEP 0.2 1000000000", "huge.dat");
+  const std::string steps = variant("portal.dat", "ITERSTEP 10 1", "ITERSTEP 20 1000000000", "steps.dat");
+  for (const Case& c : {Case{"simulate " + big, "intervals"}, Case{"simulate " + huge, "intervals"},
+                        Case{"simulate " + kData + "portal.dat --intervals 1000000000", "intervals"},
+                        Case{"simulate " + kData + "portal.dat --max-step 1e-300", "--max-step"},
+                        Case{"static " + steps, "--steps"}}) {
+    const Result r = flexmb(c.args + " -q");
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.hint), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << c.args;
+  }
+}
+
+// Item 8: a DYNE deformation without ESTIFF is reported by check and at read time.
+TEST_F(Cli, DynamicDeformationWithoutStiffnessIsAMechanismDof) {
+  const std::string m = variant("cantilever.dat", "ESTIFF 4  8.4e6  2.8\n", "");
+  Result r = flexmb("check " + m);
+  EXPECT_NE(r.out.find("mechanism degrees of freedom"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("e(PLBEAM 4, 2"), std::string::npos) << r.out;
+  r = flexmb("modes " + m);
+  EXPECT_NE(r.err.find("without stiffness"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("e(PLBEAM 4, 3"), std::string::npos) << r.err;
+  r = flexmb("check " + kData + "cantilever.dat");
+  EXPECT_EQ(r.out.find("mechanism"), std::string::npos) << r.out;
+}
+
+// Item 9: massless, DOF-free and overflowing models give a user-worded message and exit 1.
+TEST_F(Cli, MasslessDofFreeAndOverflowingModels) {
+  struct Case {
+    std::string from, to, command, message;
+  };
+  const std::vector<Case> cases = {
+      {"EM \\d  0.312  1.04e-7\n", "", "modes", "no mass"},
+      {"EM \\d  0.312  1.04e-7\n", "", "simulate", "no mass"},
+      {"DYNE \\d  1 2 3\n", "", "modes", "no degrees of freedom"},
+      {"DYNE \\d  1 2 3\n", "", "static", "no degrees of freedom"},
+      {"ESTIFF 1  8.4e6  2.8", "ESTIFF 1 1e308 2.8", "static", "too large"},
+      {"EM 1  0.312  1.04e-7", "EM 1 1e308 1e-7", "modes", "too large"},
+      {"DELXF 5  0.0  -0.1", "DELXF 5 0 -0.1\nXM 3 1e308\nGRAVITY 0 -9.81", "simulate", "too large"},
+      {"DELXF 5  0.0  -0.1", "GRAVITY 0 -1e308", "simulate", "too large"},
+      {"DELXF 5  0.0  -0.1", "XF 5 0 1e308", "static", "too large"},
+      {"X 3  0.5   0.0", "X 3 1e308 0", "check", "too large"},
+  };
+  for (const auto& c : cases) {
+    const std::string m = variant("cantilever.dat", c.from, c.to);
+    const std::string out = c.command == "simulate" || c.command == "static" ? " --out o" : "";
+    const Result r = flexmb(c.command + " " + m + " -q" + out);
+    EXPECT_EQ(r.code, 1) << c.from << " -> " << c.to << " (" << c.command << ")\n" << r.out << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.to << ": " << r.err;
+    EXPECT_EQ(r.err.find("solveDense"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("determined"), std::string::npos) << r.err;
+  }
+}
+
+// Item 10: a start that folds onto another assembly branch is named as such.
+TEST_F(Cli, FoldedInitialAssemblyIsDetected) {
+  std::ofstream(dir_ / "pendulum.dat") << "PLHINGE 1 100 101\nPLBEAM 2 1 101 2 102\nX 1 0 0\nX 2 1 0\nFIX 1\n"
+                                          "FIX 100\nDYNE 1 1\nEND\nHALT\nEM 2 1.0 0.0\nSTARTDE 1 1 3.0 0.0\n"
+                                          "GRAVITY 0 -9.81\nTIMESTEP 1 10\nEND\nEND\n";
+  for (const std::string c : {"check", "simulate"}) {
+    const Result r = flexmb(c + " pendulum.dat -q");
+    EXPECT_EQ(r.code, 1) << c << "\n" << r.out << r.err;
+    EXPECT_NE((r.out + r.err).find("another assembly branch"), std::string::npos) << r.out << r.err;
+  }
+}
+
+// A reduced run does not overwrite the full run's files.
+TEST_F(Cli, ReducedRunKeepsTheFullRunsFiles) {
+  ASSERT_EQ(flexmb("reduce " + kData + "portal.dat -q --modes 2 --out v.csv").code, 0);
+  ASSERT_EQ(flexmb("simulate " + kData + "portal.dat -q --intervals 5").code, 0);
+  const Result r = flexmb("simulate " + kData + "portal.dat -q --intervals 5 --basis v.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "portal_x.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "portal_v_x.csv")) << joined(files());
+  EXPECT_NE(slurp(dir_ / "portal_v_run.txt").find("basis: v.csv"), std::string::npos);
+}
+
+// The tutorial models: the cantilever's tip deflection against beam theory, the loop's DOF count.
+TEST_F(Cli, TutorialModels) {
+  Result r = flexmb("check " + kData + "cantilever.dat");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("degrees of freedom: 12"), std::string::npos) << r.out;
+  r = flexmb("check " + kData + "portal.dat");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("degrees of freedom: 5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("released 3"), std::string::npos) << r.out;
+  r = flexmb("static " + kData + "cantilever.dat -q --nev 10");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir_ / "cantilever_static.csv");
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  const auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
+  EXPECT_EQ(count(header), count(row));  // rows as long as the header
+  std::vector<std::string> names, cells;
+  std::stringstream hs(header), rs(row);
+  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+  for (std::string c; std::getline(rs, c, ',');) cells.push_back(c);
+  const auto tip = std::find(names.begin(), names.end(), "node5.y") - names.begin();
+  ASSERT_LT(tip, static_cast<long>(cells.size()));
+  const double P = 0.1, L = 1.0, EI = 2.8;
+  EXPECT_NEAR(std::stod(cells[tip]), -P * L * L * L / (3 * EI), 1e-3 * P * L * L * L / (3 * EI));
+  r = flexmb("static " + kData + "portal.dat -q");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = flexmb("simulate " + kData + "portal.dat -q --format csv");
+  EXPECT_EQ(r.code, 0) << r.err;
+}
+
+}  // namespace
