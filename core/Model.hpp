@@ -75,6 +75,7 @@ struct AnalysisSettings {
   int maxIterations = 50;
   int loadSteps = 1;
   bool timestepGiven = false;
+  bool outputTransferFunctions = false;  // OUTLEVEL a 1: results include dx (first-order transfer functions)
 };
 
 struct Model {

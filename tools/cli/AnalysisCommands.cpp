@@ -9,7 +9,9 @@
 #include "core/Linearization.hpp"
 #include "io/BasisFile.hpp"
 #include "io/ResultWriter.hpp"
+#include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
+#include "tools/analysis/SpacarOutput.hpp"
 #include "tools/analysis/Statics.hpp"
 #include "tools/analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
@@ -48,14 +50,16 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile;
+  std::string basisFile, out;
   d.add_options()("nev", po::value(&nev), "number of eigenfrequencies (default 6)")(
-      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file");
+      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
+      "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)");
   if (!parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N]")) return 2;
   core::Model model;
   if (!loadModel(m, model)) return 2;
   try {
-    core::Linearization lin(model, loadBasis(basisFile, model));
+    const auto basis = loadBasis(basisFile, model);
+    core::Linearization lin(model, basis);
     Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size()), f;
     lin.kinematics().solvePositions(model.settings.t0, lin.kinematics().initialDofs());
     lin.appliedForces(model.settings.t0, 0.0, f);
@@ -65,6 +69,9 @@ int runModes(const std::vector<std::string>& args) {
     const analysis::Frequencies fr = analysis::naturalFrequencies(sys, std::min<int>(nev, lin.size()));
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
+    if (out.empty()) out = std::filesystem::path(m.file).stem().string();
+    const io::SpacarResults sr = analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
+    for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return 3;
@@ -100,6 +107,18 @@ int runStatic(const std::vector<std::string>& args) {
     csv << "\n";
   }
   std::cout << "wrote " << out << "\n";
+  // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md); the steps reached are kept.
+  try {
+    const auto base = (std::filesystem::path(out).parent_path() / std::filesystem::path(m.file).stem()).string();
+    analysis::SpacarOutputOptions so;
+    so.transferFunctions = model.settings.outputTransferFunctions;
+    so.jacobian = true;
+    const io::SpacarResults sr = analysis::spacarFromStatics(model, run, so);
+    for (const auto& p : io::writeSpacarResults(base, model, sr)) std::cout << "wrote " << p << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return 2;
+  }
   if (!run.completed) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << "\n";
     return 3;

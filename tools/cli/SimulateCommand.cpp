@@ -8,7 +8,9 @@
 #include "io/DatReader.hpp"
 #include "io/ResultWriter.hpp"
 #include "solvers/Ode45.hpp"
+#include "io/SpacarResults.hpp"
 #include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/SpacarOutput.hpp"
 #include "tools/analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
 
@@ -85,9 +87,11 @@ int runSimulate(const std::vector<std::string>& args) {
         io::writeMat(out + ".mat", model, traj);
         std::cout << "wrote " << out << ".mat\n";
       }
+      const bool spacarFiles = format == "mat" || format == "both";
+      std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
       if (linearize > 0) {
         const auto lt = std::chrono::steady_clock::now();
-        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices);
+        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices || spacarFiles);
         std::cout << "linearised at " << tm.time.size() << " output times in "
                   << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
         if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
@@ -118,6 +122,14 @@ int runSimulate(const std::vector<std::string>& args) {
           io::writeLinearizedMat(out + "_linear.mat", tm.time, tm.matrices, tm.omega);
           std::cout << "wrote " << out << "_linear.mat\n";
         }
+        if (spacarFiles) kept = tm;
+      }
+      if (spacarFiles) {  // SPACAR's <name>.sbd / .sbm (io/results.md)
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = model.settings.outputTransferFunctions;
+        const io::SpacarResults sr = analysis::spacarFromTrajectory(
+            model, traj, kept ? &*kept : nullptr, matrices ? 3 : linearize > 0 ? 4 : 1, so);
+        for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
       }
       if (!echo.empty()) {
         std::ifstream in(m.file);
