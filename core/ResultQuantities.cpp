@@ -18,6 +18,11 @@ void ResultQuantities::forces(double t, double loadFactor, const StateOutputs& s
   Eigen::VectorXd f;
   appliedLoads(model_, inertia_, t, loadFactor, x, f);
   if (userForces.size() == f.size()) f += userForces;
+  if (model_.userFunctions && model_.userFunctions->hasLoads() && userForces.size() == 0) {
+    Eigen::VectorXd us, uf;  // USERSIG forces at this state (its stresses are in s.sig already)
+    model_.userFunctions->loads(t, x, s.xd, s.e, s.ed, us, uf);
+    f += uf;
+  }
   // Inertia forces M xdd + h of the state (zero at rest).
   Eigen::VectorXd inert = Eigen::VectorXd::Zero(model_.nx);
   if (inertia_.hasMass()) {

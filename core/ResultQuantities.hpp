@@ -30,7 +30,7 @@ class ResultQuantities {
   void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0);
   // After setState: sigma~ and fxt for the state's rates and its elastic stresses sig (size ne;
   // entries of constrained deformations are replaced by reaction stresses, elastic ones kept).
-  // userForces (size nx or empty) are nodal loads beyond the model's (USERSIG).
+  // userForces (size nx) are nodal loads beyond the model's; empty: the model's USERSIG forces.
   void forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
               Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt);
   // After setState: dx (nx x cols.size()), column j = dx / d cols[j] with the other listed

@@ -191,6 +191,8 @@ class Reader {
   int lastLine_ = 0;
   // Settings bookkeeping for the final consistency checks.
   int timestepLine_ = 0, timeLine_ = 0;
+  std::string userStress_, userInput_;  // USERSIG / USERINP function names
+  int userStressLine_ = 0, userInputLine_ = 0;
   int kinematicEndLine_ = 0;
 };
 
@@ -394,6 +396,12 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
         if (p != NumParse::Ok) return "expected a number for " + spec.name + ", found " + show(t.text);
         break;
       }
+      case ArgType::Name: {
+        bool ok = !t.quoted && !t.text.empty() && std::isalpha(static_cast<unsigned char>(t.text[0]));
+        for (char c : t.text) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+        if (!ok) return "expected a MATLAB function name for " + spec.name + ", found " + showToken(t);
+        break;
+      }
       case ArgType::Expression:
         if (!t.quoted)
           return "expected a quoted expression for " + spec.name + ", found " + show(t.text) +
@@ -548,6 +556,12 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       timeLine_ = line;
       break;
     case Action::TimeForce: b.addTimeForce(integer(s, 0), integer(s, 1), function(s, 2, "f(t)"), line); break;
+    case Action::UserStress:
+      userStress_ = s.args[0].text, userStressLine_ = line;
+      break;
+    case Action::UserInput:
+      userInput_ = s.args[0].text, userInputLine_ = line;
+      break;
     case Action::TimeStress:
       b.addTimeStress(integer(s, 0), integer(s, 1), function(s, 2, "sigma(t)"), line);
       break;
@@ -603,7 +617,10 @@ core::Model Reader::build(const ReadOptions& options) {
            "the model defines no elements (the kinematic block needs at least one)");
     core::ElementOptions eo;
     eo.elongation = options.elongation ? *options.elongation : defaultElongation(dialect);
-    return b.finalize(eo);
+    core::Model model = b.finalize(eo);
+    model.userStressFunction = userStress_, model.userStressLine = userStressLine_;
+    model.userInputFunction = userInput_, model.userInputLine = userInputLine_;
+    return model;
   } catch (const DatError&) {
     throw;
   } catch (const core::ModelError& e) {

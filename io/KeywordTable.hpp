@@ -27,6 +27,7 @@ enum class ArgType {
   Count,       // positive integer (number of steps, iterations, ...)
   Real,        // real number (E or Fortran D exponent)
   Expression,  // quoted muParser expression in t (section 6)
+  Name,        // a MATLAB function name: a letter, then letters, digits, '_' (USERSIG, USERINP)
 };
 
 enum class Cardinality { One, Optional, Many };  // Optional/Many only at the end of a layout
@@ -47,7 +48,7 @@ enum class Action {
   LumpedMass, ElementInertia, Stiffness, Damping, Force, ForceIncrement, Gravity,
   InputXValues, InputEValues, XD, XDD, E, ED, EDD, StartDE, InputIncrement, Prestress,
   TimeStep, EpsInt, ErrorTol, HMax, EpsKin, MaxIterat, IterStep, Time,
-  TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions,
+  TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions, UserStress, UserInput,
   End, Halt, Eof, Visualization,
   Unsupported,
 };

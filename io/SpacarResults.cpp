@@ -160,6 +160,40 @@ int elementTypeId(const core::ElementTypeInfo* type) {
   return 0;
 }
 
+SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
+  int maxNode = 0, width = 0, maxEl = 0, nodesPerEl = 0, defsPerEl = 0;
+  for (const auto& n : model.nodes) maxNode = std::max(maxNode, n.label), width = std::max(width, n.dim());
+  for (const auto& E : model.elements) {
+    maxEl = std::max(maxEl, E.label);
+    nodesPerEl = std::max(nodesPerEl, static_cast<int>(E.nodes.size()));
+    defsPerEl = std::max(defsPerEl, E.impl ? E.impl->numDeformations() : 0);
+  }
+  Eigen::MatrixXd lnp = Eigen::MatrixXd::Zero(maxNode, width);
+  for (const auto& n : model.nodes)
+    for (int k = 0; k < n.dim(); ++k) lnp(n.label - 1, k) = L.xPos[n.firstCoord + k] + 1;
+  Eigen::MatrixXd ln = Eigen::MatrixXd::Zero(maxEl, nodesPerEl), le = Eigen::MatrixXd::Zero(maxEl, defsPerEl);
+  Eigen::MatrixXd it = Eigen::MatrixXd::Zero(maxEl, 1), rl0 = Eigen::MatrixXd::Zero(maxEl, 1);
+  for (const auto& E : model.elements) {
+    for (std::size_t j = 0; j < E.nodes.size(); ++j) ln(E.label - 1, j) = model.nodes[E.nodes[j]].label;
+    const int nd = E.impl ? E.impl->numDeformations() : 0;
+    for (int j = 0; j < nd; ++j) le(E.label - 1, j) = L.ePos[E.firstDef + j] + 1;
+    it(E.label - 1, 0) = elementTypeId(E.type);
+    // Reference length: distance of the first two position nodes in the initial configuration.
+    std::vector<const core::Node*> pos;
+    for (int ni : E.nodes)
+      if (model.nodes[ni].kind == core::NodeKind::Position) pos.push_back(&model.nodes[ni]);
+    if (pos.size() >= 2) {
+      double s2 = 0.0;
+      for (int k = 0; k < std::min(pos[0]->dim(), pos[1]->dim()); ++k) {
+        const double d = model.x0[pos[1]->firstCoord + k] - model.x0[pos[0]->firstCoord + k];
+        s2 += d * d;
+      }
+      rl0(E.label - 1, 0) = std::sqrt(s2);
+    }
+  }
+  return {lnp, ln, le, it, rl0};
+}
+
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& r) {
   const SpacarLayout L = spacarLayout(model);
@@ -211,37 +245,8 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.scalar("ndof", L.ndof());
     w.scalar("nddof", L.nddof());
     w.scalar("tdef", static_cast<double>(nt));
-    // Topology, rows by node / element label (rows of unused labels are 0).
-    int maxNode = 0, width = 0, maxEl = 0, nodesPerEl = 0, defsPerEl = 0;
-    for (const auto& n : model.nodes) maxNode = std::max(maxNode, n.label), width = std::max(width, n.dim());
-    for (const auto& E : model.elements) {
-      maxEl = std::max(maxEl, E.label);
-      nodesPerEl = std::max(nodesPerEl, static_cast<int>(E.nodes.size()));
-      defsPerEl = std::max(defsPerEl, E.impl ? E.impl->numDeformations() : 0);
-    }
-    Eigen::MatrixXd lnp = Eigen::MatrixXd::Zero(maxNode, width);
-    for (const auto& n : model.nodes)
-      for (int k = 0; k < n.dim(); ++k) lnp(n.label - 1, k) = L.xPos[n.firstCoord + k] + 1;
-    Eigen::MatrixXd ln = Eigen::MatrixXd::Zero(maxEl, nodesPerEl), le = Eigen::MatrixXd::Zero(maxEl, defsPerEl);
-    Eigen::MatrixXd it = Eigen::MatrixXd::Zero(maxEl, 1), rl0 = Eigen::MatrixXd::Zero(maxEl, 1);
-    for (const auto& E : model.elements) {
-      for (std::size_t j = 0; j < E.nodes.size(); ++j) ln(E.label - 1, j) = model.nodes[E.nodes[j]].label;
-      const int nd = E.impl ? E.impl->numDeformations() : 0;
-      for (int j = 0; j < nd; ++j) le(E.label - 1, j) = L.ePos[E.firstDef + j] + 1;
-      it(E.label - 1, 0) = elementTypeId(E.type);
-      // Reference length: distance of the first two position nodes in the initial configuration.
-      std::vector<int> pos;
-      for (int ni : E.nodes)
-        if (model.nodes[ni].kind == core::NodeKind::Position) pos.push_back(model.nodes[ni].firstCoord);
-      if (pos.size() >= 2) {
-        double s2 = 0.0;
-        for (int k = 0; k < model.nodes[E.nodes[0]].dim(); ++k) {
-          const double d = model.x0[pos[1] + k] - model.x0[pos[0] + k];
-          s2 += d * d;
-        }
-        rl0(E.label - 1, 0) = std::sqrt(s2);
-      }
-    }
+    const SpacarTopology T = spacarTopology(model, L);
+    const Eigen::MatrixXd &lnp = T.lnp, &ln = T.ln, &le = T.le, &it = T.it, &rl0 = T.rl0;
     w.matrix("lnp", lnp);
     w.matrix("ln", ln);
     w.matrix("le", le);

@@ -35,6 +35,14 @@ struct SpacarLayout {
 };
 SpacarLayout spacarLayout(const core::Model& model);
 
+// The topology tables (rows by node / element label, 0 for unused labels; io/results.md):
+// lnp (places of node coordinates in x), ln (element nodes), le (places of element deformations in
+// e), it (type ids), rl0 (reference lengths).
+struct SpacarTopology {
+  Eigen::MatrixXd lnp, ln, le, it, rl0;
+};
+SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layout);
+
 // Element type id written to `it`: the 1-based place of the element's type in the element table
 // (core::elementTypes()), listed in io/results.md.
 int elementTypeId(const core::ElementTypeInfo* type);

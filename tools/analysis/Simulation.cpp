@@ -37,6 +37,8 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
       eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
       throw solvers::RhsError(e.what());
+    } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
+      throw solvers::RhsError(e.what());
     }
   };
   auto observer = [&](double t, const Eigen::VectorXd& y) {
@@ -45,6 +47,10 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
       try {
         probe.outputs(t, y, out);
       } catch (const core::KinematicsError& e) {
+        traj.completed = false;
+        traj.stopReason = e.what();
+        return false;
+      } catch (const core::UserFunctionError& e) {
         traj.completed = false;
         traj.stopReason = e.what();
         return false;

@@ -111,7 +111,7 @@ int runStatic(const std::vector<std::string>& args) {
   try {
     const auto base = (std::filesystem::path(out).parent_path() / std::filesystem::path(m.file).stem()).string();
     analysis::SpacarOutputOptions so;
-    so.transferFunctions = model.settings.outputTransferFunctions;
+    so.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
     so.jacobian = true;
     const io::SpacarResults sr = analysis::spacarFromStatics(model, run, so);
     for (const auto& p : io::writeSpacarResults(base, model, sr)) std::cout << "wrote " << p << "\n";

@@ -1,4 +1,5 @@
 #include <iostream>
+#include <tuple>
 
 #include "io/DatReader.hpp"
 #include "tools/cli/Commands.hpp"
@@ -21,6 +22,16 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
   }
   try {
     model = io::readDatFile(o.file, ro);
+    // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
+    for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
+                                          std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
+      if (!name.empty()) {
+        std::cerr << o.file << ":" << line << ": " << key << " " << name
+                  << ": a MATLAB user function runs only when the model is run through spacar() in Octave or "
+                     "MATLAB (addpath the folder with spacar.mex, see README); from the command line give the "
+                     "loads and inputs as time expressions (XFT, ESIGT, INPUTXT, INPUTET)\n";
+        return false;
+      }
     return true;
   } catch (const io::DatError& e) {
     std::cerr << e.what() << "\n";
