@@ -154,7 +154,9 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
     runSpacar(static_cast<int>(std::abs(m)), m < 0, name, run);
   }
   // Results so far go to the workspace even when the run stopped.
-  for (const auto& [n, a] : run.vars) mexPutVariable("caller", n.c_str(), a);
+  // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().
+  for (const auto& [n, a] : run.vars)
+    if (n != "mode") mexPutVariable("caller", n.c_str(), a);
   if (nlhs > 0) {
     std::vector<const char*> names;
     for (const auto& v : run.vars) names.push_back(v.first.c_str());
