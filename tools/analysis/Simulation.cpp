@@ -29,15 +29,18 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
   }
 
   core::Trajectory traj;
+  std::string userError;  // a failing USERSIG / USERINP: reported as the stop reason as it is
   const auto start = std::chrono::steady_clock::now();
   auto lastPrint = start;
   bool printed = false;
-  auto f = [&eom](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+  auto f = [&eom, &userError](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+    userError.clear();  // only the evaluation that ended the run counts
     try {
       eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
       throw solvers::RhsError(e.what());
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
+      userError = e.what();
       throw solvers::RhsError(e.what());
     }
   };
@@ -100,6 +103,8 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
   if (r.status != solvers::OdeStatus::Success && traj.completed) {
     traj.completed = false;
     traj.stopReason = r.message;
+    // The user's function failed, not the step size: say that, without the integrator's advice.
+    if (!userError.empty()) traj.stopReason = userError + "; results before it are kept";
   }
   return traj;
 }

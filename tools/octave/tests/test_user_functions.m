@@ -38,6 +38,7 @@ function test_user_functions(src, flexmb)
     assert(~isempty(strfind(err.message, 'flexmb_test_failing_loads')), 'message lacks the function: %s', err.message);
     assert(~isempty(regexp(err.message, 't = 0\.3', 'once')), 'message lacks the time: %s', err.message);
     assert(~isempty(strfind(err.message, 'tip sensor lost')), 'message lacks the reason: %s', err.message);
+    assert(isempty(strfind(err.message, 'step size')), 'message blames the step size: %s', err.message);
     fprintf('failing USERSIG: "%s"\n', err.message);
   end
   assert(exist('tdef', 'var') == 1 && tdef >= 30 && tdef < 101, 'results so far not in the workspace');
