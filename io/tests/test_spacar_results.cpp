@@ -100,3 +100,20 @@ TEST(SpacarResults, WriterChecksBeforeWriting) {
   Mat_Close(mat);
   fs::remove_all(dir);
 }
+
+TEST(SpacarResults, UserFunctionNamesAreReadForTheGateway) {
+  const std::string kin = "PLBEAM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nDYNE 1 2 3\nEND\nHALT\n";
+  const core::Model m = io::readDatString(kin + "USERSIG my_loads\nUSERINP motion_2\nEND\nEND\n", "u.dat");
+  EXPECT_EQ(m.userStressFunction, "my_loads");
+  EXPECT_EQ(m.userStressLine, 9);
+  EXPECT_EQ(m.userInputFunction, "motion_2");
+  EXPECT_EQ(m.userInputLine, 10);
+  EXPECT_EQ(m.userFunctions, nullptr);  // the gateway sets it; nothing else does
+  try {
+    io::readDatString(kin + "USERSIG \"f(t)\"\nEND\nEND\n", "u.dat");
+    FAIL() << "a quoted expression accepted as a function name";
+  } catch (const io::DatError& e) {
+    EXPECT_EQ(e.line(), 9);
+    EXPECT_NE(std::string(e.what()).find("expected a MATLAB function name"), std::string::npos) << e.what();
+  }
+}
