@@ -62,6 +62,15 @@ void EquationsOfMotion::generalisedForces(double t, Eigen::VectorXd& rhsEta) {
   const bool moving = !xd_.isZero(0.0);
   // Nodal force vector f - h - M g - D_x^T sigma (Eq. 13 before projection).
   appliedLoads(model_, inertia_, t, 0.0, x, fn_);
+  // USERSIG: the user's stresses and nodal forces at this state, added where XFT and ESIGT are
+  // (same order of additions, so that the same loads give the same bits).
+  UserFunctions* user = model_.userFunctions && model_.userFunctions->hasLoads() ? model_.userFunctions.get() : nullptr;
+  if ((stresses_.hasDamping() || user) && moving) gtf_.deformationRates(xd_, ed_);
+  else ed_.setZero();
+  if (user) {
+    user->loads(t, x, xd_, gtf_.e(), ed_, userSigma_, userForces_);
+    fn_ += userForces_;
+  }
   if (inertia_.hasMass()) {
     if (moving) {
       Mg_.setZero();
@@ -73,9 +82,8 @@ void EquationsOfMotion::generalisedForces(double t, Eigen::VectorXd& rhsEta) {
       fn_ -= Mg_;
     }
   }
-  if (stresses_.hasDamping() && moving) gtf_.deformationRates(xd_, ed_);
-  else ed_.setZero();
   stresses_.evaluate(t, gtf_.e(), stresses_.hasDamping() ? &ed_ : nullptr, sigma_);
+  if (user) sigma_ += userSigma_;
   gtf_.addTransposedJacobianProduct(sigma_, fn_, -1.0);
   rhsEta.noalias() = FqV_.transpose() * fn_;
 }

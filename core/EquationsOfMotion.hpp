@@ -65,7 +65,7 @@ class EquationsOfMotion {
   bool rheonomic_;
   long evaluations_ = 0;
   // Workspace (allocated once).
-  Eigen::VectorXd q_, qd_, xd_, g_, ed_, sigma_, fn_, Mg_, rhsEta_, etadd_;
+  Eigen::VectorXd q_, qd_, xd_, g_, ed_, sigma_, fn_, Mg_, rhsEta_, etadd_, userSigma_, userForces_;
   Eigen::MatrixXd FqV_, MF_, Mbar_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/TimeFunction.hpp"
+#include "core/UserFunctions.hpp"
 #include "core/elements/Element.hpp"
 
 namespace flexmb::core {
@@ -132,6 +133,12 @@ struct Model {
 
   std::vector<LumpedMass> lumpedMasses;
   AnalysisSettings settings;
+
+  // USERSIG / USERINP: the MATLAB function names the file gives (with their lines), and the
+  // implementation a front end sets before an analysis (null: none; the command line rejects them).
+  std::string userStressFunction, userInputFunction;
+  int userStressLine = 0, userInputLine = 0;
+  std::shared_ptr<UserFunctions> userFunctions;
 
   int numDofs() const { return static_cast<int>(dofs.size()); }
   // Human-readable names for messages: "x(node 3, 2)" and "e(element 5, 3)".

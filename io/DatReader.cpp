@@ -236,6 +236,8 @@ class Reader {
   // Per block: the SPACAR95 TIMESTEP period (the end time is TIME + period at the block's END).
   std::optional<double> period_;
   int timestepLine_ = 0, timeLine_ = 0;
+  std::string userStress_, userInput_;  // USERSIG / USERINP function names
+  int userStressLine_ = 0, userInputLine_ = 0;
 };
 
 bool Reader::lexLine(std::string_view line, int lineNo, std::vector<Token>& tokens) const {
@@ -515,6 +517,12 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
         break;
       }
       case ArgType::Word: break;
+      case ArgType::Name: {
+        bool ok = !t.quoted && !t.text.empty() && std::isalpha(static_cast<unsigned char>(t.text[0]));
+        for (char c : t.text) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+        if (!ok) return "expected a MATLAB function name for " + spec.name + ", found " + showToken(t);
+        break;
+      }
       case ArgType::Expression:
         if (!t.quoted)
           return "expected a quoted expression for " + spec.name + ", found " + show(t.text) +
@@ -688,6 +696,12 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       timeLine_ = line;
       break;
     case Action::TimeForce: b.addTimeForce(integer(s, 0), integer(s, 1), function(s, 2, "f(t)"), line); break;
+    case Action::UserStress:
+      userStress_ = s.args[0].text, userStressLine_ = line;
+      break;
+    case Action::UserInput:
+      userInput_ = s.args[0].text, userInputLine_ = line;
+      break;
     case Action::TimeStress:
       b.addTimeStress(integer(s, 0), integer(s, 1), function(s, 2, "sigma(t)"), line);
       break;
@@ -769,6 +783,8 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
              "the model defines no elements (the kinematic block needs at least one)");
       AnalysisStage stage;
       stage.model = b.finalize(eo);
+      stage.model.userStressFunction = userStress_, stage.model.userStressLine = userStressLine_;
+      stage.model.userInputFunction = userInput_, stage.model.userInputLine = userInputLine_;
       stage.runs = runs;
       stage.endLine = endLines_[block];
       // The next block continues from the end of this one: the current time advances, and the

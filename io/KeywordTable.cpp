@@ -328,14 +328,15 @@ std::vector<KeywordInfo> buildTable() {
   transfer("OUTF", "mode 9: a force as output of the transfer function");
   transfer("OUTX", "mode 9: a nodal coordinate as output of the transfer function");
   transfer("OUTXP", "mode 9: a nodal velocity as output of the transfer function");
-  t.push_back(unsupported("USERINP", B::Dynamic, "MATLAB user function for inputs",
-                          "MATLAB user functions cannot run in flexmb; give time-dependent inputs "
-                          "with INPUTXT / INPUTET (flexmb time-function extensions, dat-format.md "
-                          "section 6)"));
-  t.push_back(unsupported("USERSIG", B::Dynamic, "MATLAB user function for stresses",
-                          "MATLAB user functions cannot run in flexmb; give time-dependent stresses "
-                          "with ESIGT / EREF (flexmb time-function extensions, dat-format.md "
-                          "section 6)"));
+  // MATLAB user functions: read here, run by the Octave/MATLAB gateway spacar() (tools/octave);
+  // the command line stops with a message saying so.
+  const ArgSpec fname{ArgType::Name, "MATLAB function name", "fname", Cardinality::One, ArgSpec::Kind::Any};
+  t.push_back(kw("USERINP", kBothDialects, B::Dynamic, A::UserInput, {fname},
+                 "MATLAB function [t, e, x] = fname(t, is) giving the input coordinates and deformations "
+                 "(is = 0, 1, 2: values, rates, accelerations); runs through spacar() in Octave/MATLAB"));
+  t.push_back(kw("USERSIG", kBothDialects, B::Dynamic, A::UserStress, {fname},
+                 "MATLAB function [time, sig, f] = fname(t, ne, le, e, ep, nx, lnp, x, xp) adding stresses and "
+                 "nodal forces [node component value]; runs through spacar() in Octave/MATLAB"));
   return t;
 }
 
@@ -378,7 +379,7 @@ std::string KeywordInfo::expectation(const std::vector<ArgSpec>& layout) {
   if (allOf(layout, ArgType::Node, ArgType::Element, ArgType::Component, ArgType::Count))
     noun = "integer";
   else if (std::any_of(layout.begin(), layout.end(),
-                       [](const ArgSpec& s) { return s.type == ArgType::Expression; }))
+                       [](const ArgSpec& s) { return s.type == ArgType::Expression || s.type == ArgType::Name; }))
     noun = "argument";
   else
     noun = "number";

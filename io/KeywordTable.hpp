@@ -31,6 +31,7 @@ enum class ArgType {
   Word,        // any token (the arguments of settings flexmb accepts and ignores)
   Real,        // real number (E or Fortran D exponent)
   Expression,  // quoted muParser expression in t (section 6)
+  Name,        // a MATLAB function name: a letter, then letters, digits, '_' (USERSIG, USERINP)
 };
 
 enum class Cardinality { One, Optional, Many };  // Optional/Many only at the end of a layout
@@ -51,7 +52,7 @@ enum class Action {
   LumpedMass, ElementInertia, Stiffness, Damping, Force, ForceIncrement, Gravity,
   InputXValues, InputEValues, XD, XDD, E, ED, EDD, StartDE, InputIncrement, Prestress,
   TimeStep, EpsInt, ErrorTol, HMax, EpsKin, MaxIterat, IterStep, Time,
-  TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions,
+  TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions, UserStress, UserInput,
   OutLevel, Length0, Ignored,
   End, Halt, Eof, Visualization,
   Unsupported,

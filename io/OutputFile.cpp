@@ -197,7 +197,8 @@ std::string OutputSet::temporaryFor(const std::string& suffix) {
 std::vector<std::string> OutputSet::commit(const std::string& status) {
   std::vector<std::string> written;
   for (const auto& [final, temp] : files_) {
-    if (final.size() >= 4 && final.compare(final.size() - 4, 4, ".mat") == 0) {
+    const std::string ext = fs::path(final).extension().string();
+    if (ext == ".mat" || ext == ".sbd" || ext == ".sbm") {  // MAT v5 files (matio ignores a full disk)
       try {
         checkMatFileComplete(temp);
       } catch (const std::exception& e) {

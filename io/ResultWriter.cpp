@@ -353,48 +353,5 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
   if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to close it");
 }
 
-void writeEcho(const std::string& path, const std::string& modelText, const Model& model,
-               double t, const StateOutputs& finalState) {
-  const auto xNames = coordinateColumnNames(model);
-  const auto eNames = deformationColumnNames(model);
-  const std::string where = "echo output '" + path + "'";
-  checkTime(t, where);
-  checkState(finalState, t, model, xNames, eNames, where);
-
-  std::string out = modelText;
-  if (!out.empty() && out.back() != '\n') out += '\n';
-  out += "* final state at t = " + formatE15(t) + "\n";
-
-  const Eigen::VectorXd& x = finalState.x;
-  for (const core::Node& n : model.nodes) {
-    if (n.kind == core::NodeKind::Orientation) {
-      out += "BETA ";
-      out += std::to_string(n.label) + " " + formatE15(x[n.firstCoord]) + "\n";
-    } else {
-      out += "XY ";
-      out += std::to_string(n.label) + " " + formatE15(x[n.firstCoord]) + " " +
-             formatE15(x[n.firstCoord + 1]) + "\n";
-    }
-  }
-  out += "TIME " + formatE15(t) + "\n";
-
-  const auto owner = deformationOwners(model);
-  for (int j = 0; j < model.ne; ++j) {
-    if (j >= static_cast<int>(model.eRole.size()) || model.eRole[j] != core::Role::Dynamic) continue;
-    const auto [k, c] = owner[j];
-    if (k < 0)
-      throw std::runtime_error(where + ": dynamic deformation " + std::to_string(j + 1) +
-                               " belongs to no element");
-    const std::string id =
-        std::to_string(model.elements[k].label) + " " + std::to_string(c + 1) + " ";
-    out += "E " + id + formatE15(finalState.e[j]) + "\n";
-    out += "ED " + id + formatE15(finalState.ed[j]) + "\n";
-    out += "EDD " + id + formatE15(finalState.edd[j]) + "\n";
-  }
-
-  OutFile f(path);
-  f.write(out);
-  f.close();
-}
 
 }  // namespace flexmb::io

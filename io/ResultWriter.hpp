@@ -2,7 +2,7 @@
 // Result writers: what a time simulation produced (core::Trajectory), in three forms.
 //   * writeCsv: one wide CSV table per quantity, columns named by node / element and component.
 //   * writeMat: a MATLAB v5 .mat file with SPACAR's variable names (dat-format.md section 5).
-//   * writeEcho: SPACAR95-style echo of the model text plus the final state as .dat statements.
+//   (The end-of-run state as a restart input is io/RestartWriter.)
 //
 // Every writer checks its input before writing anything: vector sizes must match the model
 // (nx / ne), and every value must be finite (a NaN or Inf throws, naming the quantity, the time and
@@ -44,15 +44,5 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
                         const std::vector<core::LinearizedSystem>& sys,
                         const std::vector<Eigen::VectorXd>& omega);
 
-// SPACAR95-style echo after an analysis, as a restartable .dat text:
-//   1. modelText copied verbatim (a newline is added when it does not end with one);
-//   2. a comment line "* final state at t = <t>";
-//   3. for every node in model order: "XY n x y" (position node) or "BETA n b" (orientation node);
-//   4. "TIME t";
-//   5. for every DYNE deformation (eRole Dynamic, ascending deformation index): "E e i v", then
-//      "ED e i v", then "EDD e i v" (e the element label, i the 1-based deformation index).
-// Numbers are written in E-format with 16 significant digits ("%.15E").
-void writeEcho(const std::string& path, const std::string& modelText, const core::Model& model,
-               double t, const core::StateOutputs& finalState);
 
 }  // namespace flexmb::io

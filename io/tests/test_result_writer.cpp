@@ -351,84 +351,6 @@ TEST_F(ResultWriterTest, MatReadsBackWithScipy) {
   }
 }
 
-TEST_F(ResultWriterTest, EchoAppendsFinalStateStatements) {
-  const Model m = makeModel();
-  const Trajectory tr = makeTrajectory(m);
-  const StateOutputs& fin = tr.states.back();
-  const double t = tr.time.back();
-  const std::string modelText =
-      "* hand-made model\nPLBEAM 5 3 103 4 104\nPLHINGE 7 103 104\nDYNE 5 2\nDYNE 7 1\nEND\n"
-      "END";  // no final newline: the writer adds one
-  const std::string p = path("echo.dat");
-  flexmb::io::writeEcho(p, modelText, m, t, fin);
-  const std::string text = readFile(p);
-  ASSERT_EQ(text.compare(0, modelText.size(), modelText), 0) << "model text not copied verbatim";
-  ASSERT_EQ(text[modelText.size()], '\n');
-
-  const auto ls = lines(text.substr(modelText.size() + 1));
-  ASSERT_FALSE(ls.empty());
-  EXPECT_EQ(ls[0].rfind("* final state at t = ", 0), 0u) << ls[0];
-
-  auto near = [](double a, double b) { return std::abs(a - b) <= 1e-14 * std::abs(b); };
-  std::map<std::string, int> counts;
-  std::map<int, std::vector<double>> xy, beta;
-  std::map<std::pair<int, int>, double> E, ED, EDD;
-  double time = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t i = 1; i < ls.size(); ++i) {
-    std::istringstream in(ls[i]);
-    std::string kw;
-    in >> kw;
-    ++counts[kw];
-    std::vector<std::string> toks;
-    std::string tok;
-    while (in >> tok) toks.push_back(tok);
-    if (kw == "XY") {
-      ASSERT_EQ(toks.size(), 3u) << ls[i];
-      xy[std::stoi(toks[0])] = {parseExact(toks[1]), parseExact(toks[2])};
-    } else if (kw == "BETA") {
-      ASSERT_EQ(toks.size(), 2u) << ls[i];
-      beta[std::stoi(toks[0])] = {parseExact(toks[1])};
-    } else if (kw == "TIME") {
-      ASSERT_EQ(toks.size(), 1u) << ls[i];
-      time = parseExact(toks[0]);
-    } else if (kw == "E" || kw == "ED" || kw == "EDD") {
-      ASSERT_EQ(toks.size(), 3u) << ls[i];
-      auto& mp = kw == "E" ? E : kw == "ED" ? ED : EDD;
-      mp[{std::stoi(toks[0]), std::stoi(toks[1])}] = parseExact(toks[2]);
-      EXPECT_NE(toks[2].find('E'), std::string::npos) << "not E-format: " << ls[i];
-    } else {
-      ADD_FAILURE() << "unexpected line in the final-state block: " << ls[i];
-    }
-  }
-  EXPECT_EQ(counts["XY"], 2);
-  EXPECT_EQ(counts["BETA"], 2);
-  EXPECT_EQ(counts["TIME"], 1);
-  EXPECT_EQ(counts["E"], 2);
-  EXPECT_EQ(counts["ED"], 2);
-  EXPECT_EQ(counts["EDD"], 2);
-
-  ASSERT_EQ(xy.count(3), 1u);
-  ASSERT_EQ(xy.count(4), 1u);
-  ASSERT_EQ(beta.count(103), 1u);
-  ASSERT_EQ(beta.count(104), 1u);
-  EXPECT_TRUE(near(xy[3][0], fin.x[0]) && near(xy[3][1], fin.x[1]));
-  EXPECT_TRUE(near(beta[103][0], fin.x[2]));
-  EXPECT_TRUE(near(xy[4][0], fin.x[3]) && near(xy[4][1], fin.x[4]));
-  EXPECT_TRUE(near(beta[104][0], fin.x[5]));
-  EXPECT_TRUE(near(time, t)) << time << " vs " << t;
-
-  // DYNE 5 2 is e index 1, DYNE 7 1 is e index 3.
-  const std::pair<std::pair<int, int>, int> dyne[] = {{{5, 2}, 1}, {{7, 1}, 3}};
-  for (const auto& [key, j] : dyne) {
-    ASSERT_EQ(E.count(key), 1u);
-    ASSERT_EQ(ED.count(key), 1u);
-    ASSERT_EQ(EDD.count(key), 1u);
-    EXPECT_TRUE(near(E[key], fin.e[j])) << E[key] << " vs " << fin.e[j];
-    EXPECT_TRUE(near(ED[key], fin.ed[j])) << ED[key] << " vs " << fin.ed[j];
-    EXPECT_TRUE(near(EDD[key], fin.edd[j])) << EDD[key] << " vs " << fin.edd[j];
-  }
-}
-
 TEST_F(ResultWriterTest, UnwritablePathThrowsNamingThePath) {
   const Model m = makeModel();
   const Trajectory tr = makeTrajectory(m);
@@ -443,8 +365,6 @@ TEST_F(ResultWriterTest, UnwritablePathThrowsNamingThePath) {
   };
   expectThrowWith([&] { flexmb::io::writeCsv(bad, m, tr); }, bad + "_x.csv");
   expectThrowWith([&] { flexmb::io::writeMat(bad + ".mat", m, tr); }, bad + ".mat");
-  expectThrowWith([&] { flexmb::io::writeEcho(bad + ".dat", "END\n", m, 1.0, tr.states[0]); },
-                  bad + ".dat");
   // A directory is not writable as a file, even for root.
   expectThrowWith([&] { flexmb::io::writeMat(dir_.string(), m, tr); }, dir_.string());
 }
@@ -467,21 +387,6 @@ TEST_F(ResultWriterTest, NonFiniteValuesThrowNamingQuantityTimeAndColumn) {
 
   EXPECT_THROW(flexmb::io::writeMat(path("nan.mat"), m, tr), std::runtime_error);
   EXPECT_FALSE(fs::exists(path("nan.mat")));
-
-  StateOutputs s = makeTrajectory(m).states[0];
-  s.x[2] = std::numeric_limits<double>::infinity();
-  try {
-    flexmb::io::writeEcho(path("nan.dat"), "END\n", m, 0.5, s);
-    ADD_FAILURE() << "Inf written silently to the echo";
-  } catch (const std::runtime_error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find("in x "), std::string::npos) << msg;
-    EXPECT_NE(msg.find("node103.angle"), std::string::npos) << msg;
-  }
-  EXPECT_THROW(flexmb::io::writeEcho(path("nan2.dat"), "END\n", m,
-                                     std::numeric_limits<double>::quiet_NaN(),
-                                     makeTrajectory(m).states[0]),
-               std::runtime_error);
 }
 
 TEST_F(ResultWriterTest, SizeMismatchThrows) {

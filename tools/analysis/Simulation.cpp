@@ -38,6 +38,7 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   }
 
   core::Trajectory traj;
+  std::string userError;  // a failing USERSIG / USERINP: reported as the stop reason as it is
   const auto start = std::chrono::steady_clock::now();
   auto lastPrint = start;
   bool printed = false;
@@ -74,9 +75,13 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
       }
       if (opt.progress) printProgress(t);
     }
+    userError.clear();  // only the evaluation that ended the run counts
     try {
       eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());
+    } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
+      userError = e.what();
       throw solvers::RhsError(e.what());
     }
   };
@@ -87,6 +92,10 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
       try {
         probe.outputs(t, y, out);
       } catch (const core::KinematicsError& e) {
+        traj.completed = false;
+        traj.stopReason = e.what();
+        return false;
+      } catch (const core::UserFunctionError& e) {
         traj.completed = false;
         traj.stopReason = e.what();
         return false;
@@ -138,6 +147,8 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   } else if (r.status != solvers::OdeStatus::Success && traj.completed) {
     traj.completed = false;
     traj.stopReason = r.message;
+    // The user's function failed, not the step size: say that, without the integrator's advice.
+    if (!userError.empty()) traj.stopReason = userError + "; results before it are kept";
   }
   return traj;
 }

@@ -160,6 +160,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     }
     st.e = lin.kinematics().e();
     st.sigma = sys.sigma;
+    st.system = sys;
     if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
     run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {

@@ -47,6 +47,7 @@ struct StaticStep {
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
   solvers::StaticResult newton;
+  core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };
 
 struct StaticRun {

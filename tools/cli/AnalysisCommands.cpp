@@ -12,7 +12,9 @@
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
 #include "io/ResultWriter.hpp"
+#include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
+#include "tools/analysis/SpacarOutput.hpp"
 #include "tools/analysis/Statics.hpp"
 #include "tools/analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
@@ -56,10 +58,12 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile;
+  std::string basisFile, out;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
-      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv]")) return *rc;
+      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
+      "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name]"))
+    return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
   std::optional<Eigen::MatrixXd> basis;
@@ -82,6 +86,9 @@ int runModes(const std::vector<std::string>& args) {
       throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
+    if (out.empty()) out = std::filesystem::path(m.file).stem().string();
+    const io::SpacarResults sr = analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
+    for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kNumericalFailure;
@@ -163,6 +170,18 @@ int runStatic(const std::vector<std::string>& args) {
     csv.close();
     std::cout << "wrote " << csvPath << "\n";
     files.commit(run.completed ? "complete" : "stopped: " + run.stopReason);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md); the steps reached are kept.
+  try {
+    const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
+    analysis::SpacarOutputOptions so;
+    so.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
+    so.jacobian = true;
+    const io::SpacarResults sr = analysis::spacarFromStatics(model, run, so);
+    for (const auto& p : io::writeSpacarResults(base, model, sr)) std::cout << "wrote " << p << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/ModelDiagnostics.hpp"
@@ -124,6 +125,16 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
     model = io::readDatFile(o.file, readOptions(o));
     if (!o.quiet)
       for (const auto& note : model.notes) std::cerr << "flexmb: note: " << note << "\n";
+    // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
+    for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
+                                          std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
+      if (!name.empty()) {
+        std::cerr << o.file << ":" << line << ": " << key << " " << name
+                  << ": a MATLAB user function runs only when the model is run through spacar() in Octave or "
+                     "MATLAB (addpath the folder with spacar.mex, see README); from the command line give the "
+                     "loads and inputs as time expressions (XFT, ESIGT, INPUTXT, INPUTET)\n";
+        return false;
+      }
   } catch (const io::DatError& e) {
     std::cerr << e.what() << "\n";
     return false;

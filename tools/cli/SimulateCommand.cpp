@@ -16,7 +16,9 @@
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
 #include "solvers/Ode45.hpp"
+#include "io/SpacarResults.hpp"
 #include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/SpacarOutput.hpp"
 #include "tools/analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
 
@@ -238,9 +240,11 @@ int runSimulate(const std::vector<std::string>& args) {
       }
       if (format == "mat" || format == "both")  // through memory: matio does not report a full disk
         io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+      const bool spacarFiles = format == "mat" || format == "both";
+      std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
       if (linearize > 0 && !interrupted) {
         const auto lt = std::chrono::steady_clock::now();
-        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices);
+        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices || spacarFiles);
         std::cout << "linearised at " << tm.time.size() << " output times in "
                   << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
         if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
@@ -273,6 +277,15 @@ int runSimulate(const std::vector<std::string>& args) {
           io::writeThroughMemory(files.temporaryFor("_linear.mat"), [&](const std::string& p) {
             io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega);
           });
+        if (spacarFiles) kept = tm;
+      }
+      if (spacarFiles) {  // SPACAR's <name>.sbd / .sbm (io/results.md), renamed into place with the rest
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+        const io::SpacarResults sr = analysis::spacarFromTrajectory(
+            model, traj, kept ? &*kept : nullptr, matrices ? 3 : linearize > 0 ? 4 : 1, so);
+        const std::string temp = files.temporaryPrefix();
+        for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
       }
     }
     std::string status = traj.completed ? "complete" : "stopped: " + traj.stopReason;

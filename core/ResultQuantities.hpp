@@ -1,0 +1,49 @@
+#pragma once
+// SPACAR's derived result quantities at a known state (for result files, not the hot path):
+//   * sigma with the reaction stresses of the constrained deformations (fixed, input, dynamic rows
+//     whose stress is not elastic), from D_c^T sigma~ = (f - M xdd - h - D^T sigma)_c on the
+//     calculable coordinates;
+//   * fxt = M xdd + h + D^T sigma~: the total nodal force, applied loads plus reactions (on free
+//     coordinates it equals the applied force, on fixed and input coordinates it includes the
+//     support reaction);
+//   * the first-order transfer functions dx/d(input and dynamic coordinates) and D = de/dx.
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/EquationsOfMotion.hpp"
+#include "core/GeometricTransferFunctions.hpp"
+#include "core/Inertia.hpp"
+#include "core/Model.hpp"
+
+namespace flexmb::core {
+
+// A coordinate of the kinematic degrees of freedom (SPACAR's x^m and e^m, input ones included).
+struct FreeCoordinate {
+  bool isDeformation = false;
+  int index = 0;  // x or e index
+};
+
+class ResultQuantities {
+ public:
+  explicit ResultQuantities(const Model& model);
+  // Positions and Jacobians at (t, q), input coordinates at load factor s. Throws KinematicsError.
+  void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0);
+  // After setState: sigma~ and fxt for the state's rates and its elastic stresses sig (size ne;
+  // entries of constrained deformations are replaced by reaction stresses, elastic ones kept).
+  // userForces (size nx) are nodal loads beyond the model's; empty: the model's USERSIG forces.
+  void forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
+              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt);
+  // After setState: dx (nx x cols.size()), column j = dx / d cols[j] with the other listed
+  // coordinates and all fixed ones held.
+  void transfer(const std::vector<FreeCoordinate>& cols, Eigen::MatrixXd& dx);
+  // After setState: D = de/dx (ne x nx), dense.
+  void jacobian(Eigen::MatrixXd& D) const;
+
+ private:
+  const Model& model_;
+  GeometricTransferFunctions gtf_;
+  Inertia inertia_;
+  std::vector<char> calculable_;
+};
+
+}  // namespace flexmb::core

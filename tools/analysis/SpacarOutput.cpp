@@ -1,0 +1,142 @@
+#include "tools/analysis/SpacarOutput.hpp"
+
+#include <cmath>
+
+#include "core/ResultQuantities.hpp"
+
+namespace flexmb::analysis {
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+std::vector<core::FreeCoordinate> dynamicColumns(const core::Model& model) {
+  std::vector<core::FreeCoordinate> cols;
+  for (const auto& d : model.dofs) cols.push_back({d.isDeformation, d.index});
+  return cols;
+}
+
+// The state part of a step, in SPACAR's order, with sig~ and fxt (and dx, bigd when asked).
+io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, core::ResultQuantities& rq, double t,
+                         double loadFactor, const core::StateOutputs& s, const SpacarOutputOptions& o) {
+  io::SpacarStep st;
+  rq.setState(t, dofsOf(model, s, 0), loadFactor);
+  Eigen::VectorXd sig, fxt;
+  rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt);
+  st.x = L.sortX(s.x), st.xd = L.sortX(s.xd), st.xdd = L.sortX(s.xdd), st.fxt = L.sortX(fxt);
+  st.e = L.sortE(s.e), st.ed = L.sortE(s.ed), st.edd = L.sortE(s.edd), st.sig = L.sortE(sig);
+  if (o.transferFunctions) {
+    Eigen::MatrixXd dx;
+    rq.transfer(L.dofColumns, dx);
+    st.dx.resize(model.nx, dx.cols());
+    for (int i = 0; i < model.nx; ++i) st.dx.row(i) = dx.row(L.xOrder[i]);
+  }
+  if (o.jacobian) {
+    Eigen::MatrixXd D;
+    rq.jacobian(D);
+    st.bigd.resize(model.ne, model.nx);
+    for (int i = 0; i < model.ne; ++i)
+      for (int j = 0; j < model.nx; ++j) st.bigd(i, j) = D(L.eOrder[i], L.xOrder[j]);
+  }
+  return st;
+}
+
+void setMatrices(io::SpacarStep& st, const core::LinearizedSystem& sys) {
+  st.M0 = sys.M, st.K0 = sys.K, st.G0 = sys.G, st.D0 = sys.D;
+  const Eigen::Index m = sys.M.rows();
+  st.C0 = sys.C.size() ? sys.C : Eigen::MatrixXd::Zero(m, m);
+  st.N0 = sys.N.size() ? sys.N : Eigen::MatrixXd::Zero(m, m);
+}
+
+}  // namespace
+
+io::SpacarResults spacarFromTrajectory(const core::Model& model, const core::Trajectory& traj,
+                                       const TrajectoryModes* modes, int mode, const SpacarOutputOptions& o) {
+  io::SpacarResults r;
+  r.mode = mode;
+  r.nsteps = traj.nsteps, r.nfailed = traj.nfailed, r.nfevals = traj.nfevals;
+  r.completed = traj.completed, r.stopReason = traj.stopReason;
+  const io::SpacarLayout L = io::spacarLayout(model);
+  core::ResultQuantities rq(model);
+  // Modes 3 and 4 store the steps the linearisation reached.
+  const std::size_t n = modes ? std::min(traj.time.size(), modes->time.size()) : traj.time.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    io::SpacarStep st = stateStep(model, L, rq, traj.time[k], 0.0, traj.states[k], o);
+    if (modes) {
+      if (k < modes->matrices.size()) setMatrices(st, modes->matrices[k]);
+      st.freq = modes->omega[k] / kTwoPi;
+    }
+    r.time.push_back(traj.time[k]);
+    r.steps.push_back(std::move(st));
+  }
+  if (modes && !modes->completed && r.completed) r.completed = false, r.stopReason = modes->stopReason;
+  return r;
+}
+
+io::SpacarResults spacarFromStatics(const core::Model& model, const StaticRun& run, const SpacarOutputOptions& o) {
+  io::SpacarResults r;
+  r.mode = 10;
+  r.completed = run.completed, r.stopReason = run.stopReason;
+  const io::SpacarLayout L = io::spacarLayout(model);
+  core::ResultQuantities rq(model);
+  for (const StaticStep& s : run.steps) {
+    core::StateOutputs out;
+    out.x = s.x, out.e = s.e, out.sig = s.sigma;
+    out.xd = out.xdd = Eigen::VectorXd::Zero(model.nx);
+    out.ed = out.edd = Eigen::VectorXd::Zero(model.ne);
+    io::SpacarStep st = stateStep(model, L, rq, model.settings.t0, s.loadFactor, out, o);
+    setMatrices(st, s.system);
+    st.freq = s.frequencies.omega / kTwoPi;
+    r.time.push_back(s.loadFactor);
+    r.steps.push_back(std::move(st));
+  }
+  return r;
+}
+
+io::SpacarResults spacarFromModes(const core::Model& model, double t, const Eigen::VectorXd& eta,
+                                  const core::LinearizedSystem& sys, const Eigen::VectorXd& omega,
+                                  const Eigen::MatrixXd& modes, const std::optional<Eigen::MatrixXd>& basis) {
+  io::SpacarResults r;
+  r.mode = 2;
+  const io::SpacarLayout L = io::spacarLayout(model);
+  core::ResultQuantities rq(model);
+  const Eigen::VectorXd q = basis ? Eigen::VectorXd(*basis * eta) : eta;
+  rq.setState(t, q);
+  core::GeometricTransferFunctions probe(model);
+  probe.solvePositions(t, q);
+  core::StateOutputs s;
+  s.x = probe.x(), s.e = probe.e(), s.sig = sys.sigma;
+  s.xd = s.xdd = Eigen::VectorXd::Zero(model.nx);
+  s.ed = s.edd = Eigen::VectorXd::Zero(model.ne);
+  io::SpacarStep st = stateStep(model, L, rq, t, 0.0, s, {});
+  setMatrices(st, sys);
+  st.freq = omega / kTwoPi;
+  st.modeq = basis ? Eigen::MatrixXd(*basis * modes) : modes;
+  Eigen::MatrixXd Fq;
+  rq.transfer(dynamicColumns(model), Fq);
+  const Eigen::MatrixXd xm = Fq * st.modeq;
+  st.modex.resize(model.nx, xm.cols());
+  for (int i = 0; i < model.nx; ++i) st.modex.row(i) = xm.row(L.xOrder[i]);
+  r.time.push_back(t);
+  r.steps.push_back(std::move(st));
+  return r;
+}
+
+io::SpacarResults spacarKinematic(const core::Model& model) {
+  io::SpacarResults r;
+  r.mode = 0;
+  const io::SpacarLayout L = io::spacarLayout(model);
+  core::ResultQuantities rq(model);
+  core::GeometricTransferFunctions probe(model);
+  const double t = model.settings.t0;
+  const Eigen::VectorXd q = probe.initialDofs();
+  probe.solvePositions(t, q);
+  core::StateOutputs s;
+  s.x = probe.x(), s.e = probe.e();
+  s.xd = s.xdd = Eigen::VectorXd::Zero(model.nx);
+  s.ed = s.edd = s.sig = Eigen::VectorXd::Zero(model.ne);
+  r.time.push_back(t);
+  r.steps.push_back(stateStep(model, L, rq, t, 0.0, s, {true, true}));
+  return r;
+}
+
+}  // namespace flexmb::analysis

@@ -1,0 +1,36 @@
+#pragma once
+// SPACAR-shaped results (io/SpacarResults.hpp, io/results.md) from flexmb's analyses: every analysis
+// fills one io::SpacarResults, written as <name>.sbd / <name>.sbm. The derived quantities SPACAR
+// reports (reaction stresses in sig, total nodal forces fxt, transfer functions dx, D = de/dx)
+// come from core::ResultQuantities at each stored step.
+#include <optional>
+
+#include "core/Linearization.hpp"
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+#include "io/SpacarResults.hpp"
+#include "tools/analysis/Statics.hpp"
+#include "tools/analysis/TrajectoryModes.hpp"
+
+namespace flexmb::analysis {
+
+// What is stored beside the state: dx (OUTLEVEL .. 1, or asked for) and bigd (D = de/dx).
+struct SpacarOutputOptions {
+  bool transferFunctions = false;
+  bool jacobian = false;
+};
+
+// Mode 1 (and 3, 4 with `modes`: its matrices and frequencies per step). `mode` is written as is.
+io::SpacarResults spacarFromTrajectory(const core::Model& model, const core::Trajectory& traj,
+                                       const TrajectoryModes* modes, int mode, const SpacarOutputOptions& options);
+// Mode 10: one step per load step (time = load factor), with reactions, matrices and frequencies.
+io::SpacarResults spacarFromStatics(const core::Model& model, const StaticRun& run, const SpacarOutputOptions& options);
+// The modes of the initial configuration: one step with M0 .. N0, frequencies and mode shapes
+// (in q and in x). modes: M-orthonormal columns in eta; basis: q = V eta (empty: the full model).
+io::SpacarResults spacarFromModes(const core::Model& model, double t, const Eigen::VectorXd& eta,
+                                  const core::LinearizedSystem& sys, const Eigen::VectorXd& omega,
+                                  const Eigen::MatrixXd& modes, const std::optional<Eigen::MatrixXd>& basis);
+// Mode 0: the initial configuration with dx and bigd (SPACAR's kinematic analysis).
+io::SpacarResults spacarKinematic(const core::Model& model);
+
+}  // namespace flexmb::analysis

@@ -1,0 +1,63 @@
+function out = getfrsbf(file, var, step)
+% GETFRSBF  A variable from flexmb's SPACAR result files (.sbd, .sbm), as SPACAR's getfrsbf.
+%   v = getfrsbf(file, var)        the whole history: per-step quantities (x, xd, xdd, e, ed, edd,
+%                                  sig, fxt, time) as tdef x n, one row per step; per-step matrices
+%                                  (dx, bigd, m0, k0, g0, c0, d0, n0, modeq, modex) as tdef x (rows*cols),
+%                                  row k the step's matrix flattened column-wise; with one stored step
+%                                  the step's value in its natural shape (a column, or the matrix).
+%   v = getfrsbf(file, var, step)  the value at one step (1..tdef): a column vector or the matrix.
+%   Topology and counts (lnp, ln, le, it, nx, ne, nxp, nep, ndof, nddof, tdef, rxyz, rl0, x0) are
+%   returned as stored, whatever step. Names are case-insensitive. Layouts: io/results.md.
+  if nargin < 2 || ~ischar(file) || ~ischar(var)
+    error('getfrsbf:usage', 'usage: getfrsbf(file, var[, step])');
+  end
+  if ~exist(file, 'file')
+    error('getfrsbf:file', 'getfrsbf: cannot find ''%s''', file);
+  end
+  s = load(file, '-mat');
+  names = fieldnames(s);
+  k = find(strcmpi(names, var), 1);
+  if isempty(k)
+    error('getfrsbf:var', 'getfrsbf: %s holds no variable ''%s'' (it holds: %s)', file, var, ...
+          strjoin(names', ', '));
+  end
+  v = s.(names{k});
+  key = lower(var);
+  rows = {'time', 'x', 'xd', 'xdd', 'e', 'ed', 'edd', 'sig', 'fxt', 'freq'};
+  pages = {'dx', 'bigd', 'm0', 'k0', 'g0', 'c0', 'd0', 'n0', 'modeq', 'modex'};
+  isRows = any(strcmp(key, rows));
+  isPages = any(strcmp(key, pages));
+  if isfield(s, 'tdef')
+    tdef = s.tdef;
+  else
+    tdef = size(v, 1);
+  end
+  if nargin >= 3
+    if ~isnumeric(step) || ~isscalar(step) || step ~= fix(step) || step < 1 || step > tdef
+      error('getfrsbf:step', 'getfrsbf: step must be an integer from 1 to %d (tdef of %s)', tdef, file);
+    end
+    if isRows
+      out = v(step, :).';
+    elseif isPages
+      out = v(:, :, step);
+    else
+      out = v;
+    end
+    return;
+  end
+  if isRows
+    if tdef == 1
+      out = v.';
+    else
+      out = v;
+    end
+  elseif isPages
+    if tdef == 1
+      out = v;
+    else
+      out = reshape(v, size(v, 1) * size(v, 2), size(v, 3)).';
+    end
+  else
+    out = v;
+  end
+end

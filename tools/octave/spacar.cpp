@@ -1,0 +1,177 @@
+// spacar(mode, name): SPACAR's MATLAB entry point over the flexmb libraries (MEX API only, so that
+// Octave's `mkoctfile --mex` and MATLAB's `mex` both build it). Reads name.dat, runs the analysis
+// of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices, 4 eigenfrequencies along the
+// trajectory, 10 statics; a negative mode runs the same without console output), writes
+// name.sbd / name.sbm (io/results.md), puts their variables into the caller's workspace and, when
+// an output is requested, returns them in a struct. Errors (input file:line, a failed run, a failing
+// user function) are MATLAB errors; a run that stops keeps and assigns the steps it stored.
+// USERSIG / USERINP functions named in the file are called back through mexCallMATLAB
+// (tools/octave/MatlabUserFunctions.hpp).
+#include "mex.h"
+
+#include <matio.h>
+
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "io/DatReader.hpp"
+#include "io/SpacarResults.hpp"
+#include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/SpacarOutput.hpp"
+#include "tools/analysis/Statics.hpp"
+#include "tools/analysis/TrajectoryModes.hpp"
+#include "tools/octave/MatlabUserFunctions.hpp"
+
+using namespace flexmb;
+
+namespace {
+
+using Variables = std::vector<std::pair<std::string, mxArray*>>;
+
+// Every double variable of a MAT file as mxArrays (the workspace gets exactly what the file holds).
+void readBack(const std::string& path, Variables& vars, bool skipTime) {
+  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
+  if (!mat) throw std::runtime_error("cannot read back '" + path + "'");
+  while (matvar_t* v = Mat_VarReadNext(mat)) {
+    const std::string name = v->name ? v->name : "";
+    if (v->class_type == MAT_C_DOUBLE && !v->isComplex && !(skipTime && (name == "time" || name == "tdef"))) {
+      std::vector<mwSize> dims(v->dims, v->dims + v->rank);
+      mxArray* a = mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
+      std::size_t n = 1;
+      for (int k = 0; k < v->rank; ++k) n *= v->dims[k];
+      if (n) std::memcpy(mxGetPr(a), v->data, n * sizeof(double));
+      vars.emplace_back(name, a);
+    }
+    Mat_VarFree(v);
+  }
+  Mat_Close(mat);
+}
+
+struct Run {
+  std::string error;     // empty: success
+  std::string errorId = "flexmb:spacar:run";
+  Variables vars;
+};
+
+void say(bool silent, const std::string& s) {
+  if (!silent) mexPrintf("%s", s.c_str());
+}
+
+void runSpacar(int mode, bool silent, std::string name, Run& run) {
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
+  const std::string datFile = name + ".dat";
+  core::Model model;
+  try {
+    model = io::readDatFile(datFile);
+  } catch (const std::exception& e) {
+    run.error = e.what();
+    run.errorId = "flexmb:spacar:input";
+    return;
+  }
+  auto user = std::make_shared<octave_gateway::MatlabUserFunctions>(model);
+  if (user->active()) model.userFunctions = user;
+  if (user->active() && mode != 1 && mode != 0) {
+    run.error = datFile + ": USERSIG / USERINP user functions are supported in mode 1 (dynamics); mode " +
+                std::to_string(mode) + " needs time expressions (XFT, ESIGT, INPUTXT)";
+    run.errorId = "flexmb:spacar:input";
+    return;
+  }
+  io::SpacarResults results;
+  std::ostringstream out;
+  try {
+    switch (mode) {
+      case 0:
+        results = analysis::spacarKinematic(model);
+        out << "spacar: kinematic analysis of " << datFile << ": " << model.numDofs() << " dynamic degrees of freedom\n";
+        break;
+      case 1: case 3: case 4: {
+        analysis::SimulationOptions opt;
+        const core::Trajectory traj = analysis::simulate(model, opt);
+        out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
+            << " failed attempts, " << traj.nfevals << " function evaluations\n";
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+        std::optional<analysis::TrajectoryModes> tm;
+        if (mode != 1 && !traj.time.empty())
+          tm = analysis::trajectoryModes(model, traj, std::min(6, model.numDofs()), std::nullopt, true);
+        results = analysis::spacarFromTrajectory(model, traj, tm ? &*tm : nullptr, mode, so);
+        break;
+      }
+      case 10: {
+        const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
+        out << "spacar: static analysis, " << st.steps.size() << " load steps\n";
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = true;  // as the command line: few steps, compliance scripts read dx
+        so.jacobian = true;
+        results = analysis::spacarFromStatics(model, st, so);
+        break;
+      }
+      default:
+        run.error = "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 10 and their negatives)";
+        run.errorId = "flexmb:spacar:mode";
+        return;
+    }
+  } catch (const std::exception& e) {
+    run.error = datFile + ": " + e.what();
+    return;
+  }
+  // A user-function failure stops the integration like any right-hand-side failure: its message
+  // (function, time, reason) is the stop reason.
+  if (!results.completed) run.error = datFile + ": run stopped: " + results.stopReason;
+  say(silent, out.str());
+  try {
+    const auto written = io::writeSpacarResults(name, model, results);
+    for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
+    readBack(written[0], run.vars, false);
+    if (written.size() > 1) readBack(written[1], run.vars, true);
+  } catch (const std::exception& e) {
+    if (run.error.empty()) run.error = e.what();
+  }
+}
+
+}  // namespace
+
+void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
+  if (nrhs != 2 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
+    mexErrMsgIdAndTxt("flexmb:spacar:usage", "usage: spacar(mode, 'name') with mode 0, 1, 3, 4 or 10 (negative: silent)");
+  if (nlhs > 1) mexErrMsgIdAndTxt("flexmb:spacar:usage", "spacar returns at most one output (a struct)");
+  const double m = mxGetScalar(prhs[0]);
+  char* nameC = mxArrayToString(prhs[1]);
+  const std::string name = nameC ? nameC : "";
+  mxFree(nameC);
+  Run run;
+  if (m != std::floor(m)) {
+    run.error = "spacar: the mode must be an integer";
+    run.errorId = "flexmb:spacar:mode";
+  } else {
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, run);
+  }
+  // Results so far go to the workspace even when the run stopped.
+  // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().
+  for (const auto& [n, a] : run.vars)
+    if (n != "mode") mexPutVariable("caller", n.c_str(), a);
+  if (nlhs > 0) {
+    std::vector<const char*> names;
+    for (const auto& v : run.vars) names.push_back(v.first.c_str());
+    plhs[0] = mxCreateStructMatrix(1, 1, static_cast<int>(names.size()), names.data());
+    for (std::size_t k = 0; k < run.vars.size(); ++k)
+      mxSetFieldByNumber(plhs[0], 0, static_cast<int>(k), run.vars[k].second);
+  } else {
+    for (auto& v : run.vars) mxDestroyArray(v.second);
+  }
+  run.vars.clear();
+  if (!run.error.empty()) {
+    // Static copies: MATLAB's error may leave this frame without running destructors.
+    static std::string msg, id;
+    msg = run.error, id = run.errorId;
+    run = Run();
+    mexErrMsgIdAndTxt(id.c_str(), "%s", msg.c_str());
+  }
+}
