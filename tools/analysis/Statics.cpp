@@ -39,7 +39,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
     double L = 0.0;
     for (int i = 0; i < lin.model().nx; ++i)
-      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position)
+      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position || lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition)
         L = std::max(L, std::abs(lin.model().x0[i]));
     scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(),
                       1e-6 * std::max(L, 1e-3) * sys.K.diagonal().cwiseAbs().maxCoeff()});
