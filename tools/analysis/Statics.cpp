@@ -1,6 +1,8 @@
 #include "tools/analysis/Statics.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -66,7 +68,26 @@ Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
   return out;
 }
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
+Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count) {
+  // K0 = L L^T; mu = 1/nu for the eigenvalues nu > 0 of -L^-1 G0 L^-T (symmetric).
+  const Eigen::Index m = sys.K.rows();
+  if (m == 0 || count <= 0) return {};
+  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (sys.K + sys.K.transpose()));
+  if (llt.info() != Eigen::Success) return {};
+  Eigen::MatrixXd A = -0.5 * (sys.G + sys.G.transpose());
+  A = llt.matrixL().solve(A);
+  A = llt.matrixL().solve(A.transpose().eval()).transpose().eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (A + A.transpose()), Eigen::EigenvaluesOnly);
+  std::vector<double> mu;
+  const double top = es.eigenvalues().cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < m; ++i)
+    if (es.eigenvalues()[i] > 1e-12 * top) mu.push_back(1.0 / es.eigenvalues()[i]);
+  std::sort(mu.begin(), mu.end());
+  if (static_cast<int>(mu.size()) > count) mu.resize(count);
+  return Eigen::Map<Eigen::VectorXd>(mu.data(), static_cast<Eigen::Index>(mu.size()));
+}
+
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, int buckling) {
   StaticRun run;
   core::Linearization lin(model);
   const int n = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
@@ -121,6 +142,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps) {
     st.e = lin.kinematics().e();
     st.sigma = sys.sigma;
     if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
+    if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
     run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;

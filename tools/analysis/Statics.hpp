@@ -22,10 +22,16 @@ struct Frequencies {
 };
 Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev);
 
+// Buckling load factors (SPACAR mode 8): mu with (K0 + mu G0) v = 0, K0 the structural and G0 the
+// geometric stiffness of sys; the smallest positive ones, ascending (at most count). The load that
+// produced G0 times mu is the critical load (linear pre-buckling). Empty when K0 is not definite.
+Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count);
+
 struct StaticStep {
   double loadFactor = 0.0;
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
+  Eigen::VectorXd buckling;  // load factors (only when asked for)
   solvers::StaticResult newton;
 };
 
@@ -35,6 +41,7 @@ struct StaticRun {
   std::string stopReason;
 };
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */);
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
+                         int buckling = 0 /* number of buckling load factors per step */);
 
 }  // namespace flexmb::analysis
