@@ -217,9 +217,10 @@ std::vector<KeywordInfo> buildTable() {
                  {count("maximum iterations", "n")}, "iteration limit of the kinematic Newton iteration"));
   t.push_back(kw("ITERSTEP", kSpacar2013, B::Dynamic, A::IterStep,
                  {count("maximum iterations", "maxit"), count("number of load steps", "nsteps"),
-                  optReal("tolerance", "tol")},
+                  optReal("tolerance", "tol"), optReal("f4"), optReal("f5"), optReal("f6")},
                  "Newton iteration limit, number of load steps of a static analysis, and "
-                 "(optional) Newton tolerance"));
+                 "(optional) Newton tolerance; fields 4-6 as SPACAR Light writes them are read "
+                 "and not used"));
   t.push_back(kw("TIME", kSpacar95, B::Dynamic, A::Time, {real("start time", "t0")}, "start time"));
 
   // flexmb extensions (section 6).

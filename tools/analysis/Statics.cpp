@@ -16,7 +16,15 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   lin.kinematics().setInputLoadFactor(loadFactor);
   Eigen::VectorXd f;
   core::LinearizedSystem sys;
+  // Loads that depend on the configuration (gravity on distributed masses, spatial moments on
+  // Euler parameters) are evaluated where the generalised forces are: place the model first.
+  Eigen::VectorXd q;
+  auto place = [&](const Eigen::VectorXd& e) {
+    lin.dofs(e, q);
+    lin.kinematics().solvePositions(t, q);
+  };
   auto problem = [&](const Eigen::VectorXd& e, Eigen::VectorXd& Q, Eigen::MatrixXd* T) {
+    place(e);
     lin.appliedForces(t, loadFactor, f);
     if (T) {
       lin.atRest(t, e, f, sys, false);
@@ -29,6 +37,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   // Force scale: the generalised applied load, else a stiffness times a small motion of the model.
   double scale = 0.0;
   try {
+    place(eta);
     lin.appliedForces(t, loadFactor, f);
     lin.atRest(t, eta, f, sys, false);
     if (lin.size() == 0) {  // nothing to solve: the kinematics alone place the model
@@ -102,7 +111,11 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, int b
     while (reached < target - 1e-12) {
       Eigen::VectorXd trial = eta;
       const double s = std::min(target, reached + ds);
+      // A failed attempt may leave the kinematic warm start far away (another assembly branch of
+      // a closed loop): every attempt starts from the last equilibrium's configuration.
+      const Eigen::VectorXd xGood = lin.kinematics().x();
       res = equilibrium(lin, t, s, trial);
+      if (res.status != solvers::StaticStatus::Converged) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
         eta = trial;
         reached = s;
@@ -125,6 +138,9 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, int b
     st.newton = res;
     Eigen::VectorXd f;
     core::LinearizedSystem sys;
+    Eigen::VectorXd q;
+    lin.dofs(eta, q);
+    lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
     lin.appliedForces(t, reached, f);
     lin.atRest(t, eta, f, sys, true);
     st.x = lin.kinematics().x();

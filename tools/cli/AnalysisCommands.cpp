@@ -75,20 +75,27 @@ int runModes(const std::vector<std::string>& args) {
 int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
-  int nev = 6, steps = 0;
+  int nev = 6, steps = 0, buckling = 0;
   std::string out;
   d.add_options()("nev", po::value(&nev), "eigenfrequencies per equilibrium (default 6)")(
       "steps", po::value(&steps), "load steps (default: ITERSTEP's second field)")(
+      "buckling", po::value(&buckling)->implicit_value(3),
+      "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out), "CSV with the equilibria (default: <model>_static.csv)");
-  if (!parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n]")) return 2;
+  if (!parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]]")) return 2;
+  if (buckling < 0) {
+    std::cerr << "flexmb: --buckling must be a non-negative count, found " << buckling << "\n";
+    return 2;
+  }
   core::Model model;
   if (!loadModel(m, model)) return 2;
-  const analysis::StaticRun run = analysis::staticAnalysis(model, std::min(nev, model.numDofs()), steps);
+  const analysis::StaticRun run = analysis::staticAnalysis(model, std::min(nev, model.numDofs()), steps, buckling);
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_static.csv";
   std::ofstream csv(out);
   csv << std::setprecision(17) << "load_factor";
   for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
   for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
+  for (int i = 0; i < buckling; ++i) csv << ",buckling" << i + 1;
   csv << "\n";
   for (const auto& st : run.steps) {
     std::cout << "load step " << st.loadFactor << ": " << st.newton.iterations << " Newton iterations"
@@ -97,6 +104,16 @@ int runStatic(const std::vector<std::string>& args) {
     csv << st.loadFactor;
     for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
     for (Eigen::Index i = 0; i < st.frequencies.omega.size(); ++i) csv << "," << st.frequencies.omega[i] / (2 * M_PI);
+    if (buckling > 0) {
+      std::cout << "  buckling load factors:";
+      for (Eigen::Index i = 0; i < st.buckling.size(); ++i) std::cout << " " << st.buckling[i];
+      if (st.buckling.size() == 0) std::cout << " none (K0 not positive definite or no compressive G0)";
+      std::cout << "\n";
+      for (int i = 0; i < buckling; ++i) {
+        csv << ",";  // empty where there is no factor
+        if (i < st.buckling.size()) csv << st.buckling[i];
+      }
+    }
     csv << "\n";
   }
   std::cout << "wrote " << out << "\n";
