@@ -550,10 +550,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::IterStep:
       set.maxIterations = integer(s, 0);
       set.loadSteps = integer(s, 1);
-      // The tolerance only ever tightens the kinematic Newton: SPACAR Light writes 5e-7, which as a
-      // position tolerance would leave axial-force noise of EA/l * 5e-7 l in stiff spatial leaves.
-      if (auto tol = optReal(s, 2))
-        set.kinematicTol = std::min(set.kinematicTol, positive(*tol, "the tolerance"));
+      if (auto tol = optReal(s, 2)) set.kinematicTol = positive(*tol, "the tolerance");
       break;
     case Action::Time:
       set.t0 = real(s, 0);

@@ -74,7 +74,7 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
         break;
       }
     }
-    if (!accepted && spd) {
+    if (!accepted && spd && o.energyFallback) {
       // Fallback merit: the energy norm Q^T T^-1 Q. In a closed loop of axially stiff members
       // (spatial leaf springs) the predictor's second-order axial forces dominate ||Q||_inf
       // for any useful step; weighted by the compliance they are small against the bending

@@ -20,6 +20,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   // Euler parameters) are evaluated where the generalised forces are: place the model first.
   Eigen::VectorXd q;
   auto place = [&](const Eigen::VectorXd& e) {
+    if (!lin.model().spatial) return;  // planar: the load path as before (gravity turns little)
     lin.dofs(e, q);
     lin.kinematics().solvePositions(t, q);
   };
@@ -112,10 +113,13 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, int b
       Eigen::VectorXd trial = eta;
       const double s = std::min(target, reached + ds);
       // A failed attempt may leave the kinematic warm start far away (another assembly branch of
-      // a closed loop): every attempt starts from the last equilibrium's configuration.
+      // a closed loop): the next attempt starts from the last equilibrium's configuration.
       const Eigen::VectorXd xGood = lin.kinematics().x();
-      res = equilibrium(lin, t, s, trial);
-      if (res.status != solvers::StaticStatus::Converged) lin.kinematics().setConfiguration(xGood);
+      solvers::NewtonOptions newton;
+      newton.energyFallback = model.spatial;
+      res = equilibrium(lin, t, s, trial, newton);
+      // (Spatial models only: planar load paths, e.g. onto a post-buckled branch, stay as they were.)
+      if (res.status != solvers::StaticStatus::Converged && model.spatial) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
         eta = trial;
         reached = s;
@@ -138,9 +142,11 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, int b
     st.newton = res;
     Eigen::VectorXd f;
     core::LinearizedSystem sys;
-    Eigen::VectorXd q;
-    lin.dofs(eta, q);
-    lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
+    if (model.spatial) {
+      Eigen::VectorXd q;
+      lin.dofs(eta, q);
+      lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
+    }
     lin.appliedForces(t, reached, f);
     lin.atRest(t, eta, f, sys, true);
     st.x = lin.kinematics().x();
