@@ -9,17 +9,19 @@ ElementSteps::ElementSteps(const Model& model) {
     const int n = static_cast<int>(E.coords.size());
     // Element length: the largest distance between its position nodes in the reference geometry.
     std::vector<int> pos;
+    auto dimOf = [&](int x) { return model.nodes[model.xOwnerNode[x]].dim(); };
     for (int node : E.nodes)
-      if (model.nodes[node].kind == NodeKind::Position) pos.push_back(model.nodes[node].firstCoord);
+      if (isTranslational(model.nodes[node].kind)) pos.push_back(model.nodes[node].firstCoord);
     double length = 0.0;
     for (size_t i = 0; i < pos.size(); ++i)
       for (size_t j = i + 1; j < pos.size(); ++j)
-        length = std::max(length, std::hypot(model.x0[pos[i]] - model.x0[pos[j]],
-                                             model.x0[pos[i] + 1] - model.x0[pos[j] + 1]));
+        length = std::max(length, (model.x0.segment(pos[i], dimOf(pos[i])) -
+                                   model.x0.segment(pos[j], dimOf(pos[j])))
+                                      .norm());
     if (length <= 0.0) length = 1.0;
     scale_[el].resize(n);
     for (int j = 0; j < n; ++j)
-      scale_[el][j] = model.nodes[model.xOwnerNode[E.coords[j]]].kind == NodeKind::Position ? length : 1.0;
+      scale_[el][j] = isTranslational(model.nodes[model.xOwnerNode[E.coords[j]]].kind) ? length : 1.0;
   }
 }
 

@@ -78,7 +78,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   // Length scale for the Newton tolerance: the model's extent (at least the longest element).
   double scale = 0.0;
   for (int i = 0; i < nx; ++i)
-    if (model.nodes[model.xOwnerNode[i]].kind == NodeKind::Position)
+    if (isTranslational(model.nodes[model.xOwnerNode[i]].kind))
       scale = std::max(scale, std::abs(model.x0[i]));
   lengthScale_ = scale > 0.0 ? scale : 1.0;
   setRelativeTolerance(model.settings.kinematicTol);

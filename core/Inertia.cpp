@@ -67,17 +67,15 @@ void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd&
 
 void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   if (!model_.hasGravity) return;
-  const double gx = model_.gravity[0], gy = model_.gravity[1];
   for (const auto& n : model_.nodes) {
-    if (n.kind != NodeKind::Position) continue;
-    y[n.firstCoord] += lumped_[n.firstCoord] * gx;
-    y[n.firstCoord + 1] += lumped_[n.firstCoord + 1] * gy;
+    if (!isTranslational(n.kind)) continue;
+    for (int c = 0; c < n.dim(); ++c) y[n.firstCoord + c] += lumped_[n.firstCoord + c] * model_.gravity[c];
   }
   ElemVec xe, fe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
-    E.impl->gravityForces(xe, E.inertia, gx, gy, fe);
+    E.impl->gravityForces3(xe, E.inertia, model_.gravity, fe);
     for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += fe[j];
   }
 }
@@ -176,13 +174,12 @@ void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::Ve
 void Inertia::addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
                                  Eigen::MatrixXd& Y) const {
   if (!model_.hasGravity) return;
-  const double gx = model_.gravity[0], gy = model_.gravity[1];
   ElemVec xe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
     const Element& impl = *E.impl;
-    auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces(xx, E.inertia, gx, gy, out); };
+    auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces3(xx, E.inertia, model_.gravity, out); };
     addDirectional(E, el, xe, force, A, steps, Y);
   }
 }
@@ -194,6 +191,28 @@ void appliedLoads(const Model& model, const Inertia& inertia, double t, double l
   if (loadFactor != 0.0 && model.delf.size() == f.size()) f += loadFactor * model.delf;
   for (const auto& tf : model.timeForces) f[tf.index] += tf.f->value(t);
   inertia.addGravity(x, f);
+  for (const auto& mo : model.moments) {
+    const int at = model.nodes[mo.node].firstCoord;
+    f.segment<4>(at) += momentMatrix(initialFactor * mo.value + loadFactor * mo.increment) * x.segment<4>(at);
+  }
+}
+
+Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M) {
+  // 2 E(lambda)^T M = 2 Z(M) lambda, Z(M) = [[0, -M^T], [M, [M]x]] (spatial-elements.md 6.3).
+  Eigen::Matrix4d Z;
+  Z << 0.0, -M[0], -M[1], -M[2],
+       M[0], 0.0, -M[2], M[1],
+       M[1], M[2], 0.0, -M[0],
+       M[2], -M[1], M[0], 0.0;
+  return 2.0 * Z;
+}
+
+void addMomentLoadJacobian(const Model& model, double initialFactor, double loadFactor, const Eigen::MatrixXd& A,
+                           Eigen::MatrixXd& Y) {
+  for (const auto& mo : model.moments) {
+    const int at = model.nodes[mo.node].firstCoord;
+    Y.middleRows<4>(at) += momentMatrix(initialFactor * mo.value + loadFactor * mo.increment) * A.middleRows<4>(at);
+  }
 }
 
 }  // namespace flexmb::core

@@ -53,4 +53,10 @@ class Inertia {
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor = 1.0);
 
+// Generalised force on the Euler parameters of a global moment M: 2 E(lambda)^T M = momentMatrix(M) lambda.
+Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M);
+// Y += d(moment loads)/dx A (spatial XF moments, exact: the loads are linear in lambda).
+void addMomentLoadJacobian(const Model& model, double initialFactor, double loadFactor, const Eigen::MatrixXd& A,
+                           Eigen::MatrixXd& Y);
+
 }  // namespace flexmb::core

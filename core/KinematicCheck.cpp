@@ -25,7 +25,7 @@ std::vector<int> involved(const Eigen::MatrixXd& basis) {
 
 KinematicReport checkKinematics(const Model& model) {
   KinematicReport r;
-  for (const auto& n : model.nodes) (n.kind == NodeKind::Position ? r.positionNodes : r.orientationNodes)++;
+  for (const auto& n : model.nodes) (isTranslational(n.kind) ? r.positionNodes : r.orientationNodes)++;
   r.elements = static_cast<int>(model.elements.size());
   r.nx = model.nx;
   r.ne = model.ne;

@@ -9,6 +9,8 @@ Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
 void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& f, double initialFactor) const {
+  loadFactor_ = loadFactor;  // the moment load stiffness of geometricStiffness follows them
+  initialFactor_ = initialFactor;
   appliedLoads(model_, inertia_, t, loadFactor, gtf_.x(), f, initialFactor);
 }
 
@@ -65,9 +67,10 @@ void Linearization::geometricStiffness(LinearizedSystem& out) {
         if (He(i, j) != 0.0) HF_.row(E.coords[i]) += He(i, j) * FqV_.row(E.coords[j]);
   }
   // Load stiffness of gravity on distributed masses: -(dg/dx) F_q V.
-  if (model_.hasGravity) {
+  if (model_.hasGravity || !model_.moments.empty()) {
     Y_.setZero(model_.nx, m_);
     inertia_.addGravityJacobian(gtf_.x(), FqV_, steps_, Y_);
+    addMomentLoadJacobian(model_, initialFactor_, loadFactor_, FqV_, Y_);  // spatial global moments
     HF_ -= Y_;
   }
   out.G.noalias() = FqV_.transpose() * HF_;

@@ -56,6 +56,7 @@ class Linearization {
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
  private:
+  mutable double loadFactor_ = 0.0, initialFactor_ = 1.0;  // of the last appliedForces
   // out = L^T S R (S or S_d), on the active deformations.
   void constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
                            Eigen::MatrixXd& out) const;

@@ -24,7 +24,7 @@ struct Node {
   int label = 0;
   NodeKind kind = NodeKind::Position;
   int firstCoord = 0;  // index into x
-  int dim() const { return kind == NodeKind::Position ? 2 : 1; }
+  int dim() const { return nodeKindDim(kind); }
   int line = 0;        // where it was first used
 };
 
@@ -67,6 +67,14 @@ struct TimeLoad {
 struct LumpedMass {
   int coord = 0;  // x index
   double value = 0.0;
+};
+
+// A moment on a spatial orientation node in global components (XF n Mx My Mz, SPACAR 2017+):
+// its generalised force on the Euler parameters is 2 E(lambda)^T M (spatial-elements.md 6.3).
+struct NodalMoment {
+  int node = 0;                                     // node index
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();  // XF
+  Eigen::Vector3d increment = Eigen::Vector3d::Zero();  // DELXF, scaled like delf
 };
 
 struct AnalysisSettings {
@@ -123,7 +131,9 @@ struct Model {
   Eigen::VectorXd f0;      // constant nodal forces (XF/FORCE), size nx
   Eigen::VectorXd delf;    // DELXF, size nx
   std::vector<TimeLoad> timeForces;  // XFT
-  double gravity[2] = {0.0, 0.0};
+  double gravity[3] = {0.0, 0.0, 0.0};
+  std::vector<NodalMoment> moments;  // spatial models: global moments on orientation nodes
+  bool spatial = false;              // the model's elements are spatial (BEAM, TRUSS, HINGE ...)
   bool hasGravity = false;
   Eigen::VectorXd sigma0;  // ESIG prestress, size ne
   std::vector<TimeLoad> timeStresses;  // ESIGT

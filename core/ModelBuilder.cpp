@@ -32,6 +32,7 @@ struct ModelBuilder::Impl {
     int label;
     std::vector<int> nodes;
     int line;
+    std::vector<double> vec = {};  // direction vector of spatial elements
   };
   struct CoordStmt {
     int node;
@@ -53,6 +54,7 @@ struct ModelBuilder::Impl {
     int element;
     double rhoA, rhoI;
     int line;
+    std::vector<double> values = {};  // EM in the element type's layout (empty: rhoA, rhoI)
   };
   struct VectorStmt {
     int id;
@@ -88,6 +90,8 @@ struct ModelBuilder::Impl {
   std::vector<VectorStmt> stiffness, damping, forces, forceIncrements;
   std::vector<CompFn> timeForces, timeStresses, references;
   std::optional<std::pair<double, double>> gravity;
+  double gravityZ = 0.0;
+  std::vector<VectorStmt> nodeInertias;
   std::vector<CompValues> inputXValues, inputEValues, initialDeformations;
   std::vector<CompFns> inputXFunctions, inputEFunctions;
   std::vector<CompScalar> inputIncrements, prestress, coordinateRates;
@@ -103,6 +107,22 @@ ModelBuilder::~ModelBuilder() = default;
 void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
                               int line) {
   impl_->elements.push_back({&type, label, {nodeLabels.begin(), nodeLabels.end()}, line});
+}
+void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
+                              std::span<const double> vector, int line) {
+  impl_->elements.push_back({&type, label, {nodeLabels.begin(), nodeLabels.end()}, line,
+                             {vector.begin(), vector.end()}});
+}
+void ModelBuilder::setElementInertia(int element, std::span<const double> values, int line) {
+  impl_->inertias.push_back({element, values.empty() ? 0.0 : values[0],
+                             values.size() > 1 ? values[1] : 0.0, line, {values.begin(), values.end()}});
+}
+void ModelBuilder::setNodeInertia(int node, std::span<const double> values, int line) {
+  impl_->nodeInertias.push_back({node, {values.begin(), values.end()}, line});
+}
+void ModelBuilder::setGravity(double gx, double gy, double gz, int line) {
+  setGravity(gx, gy, line);
+  impl_->gravityZ = gz;
 }
 void ModelBuilder::setCoordinates(int node, std::span<const double> values, int line) {
   impl_->coords.push_back({node, {values.begin(), values.end()}, line});
@@ -134,7 +154,10 @@ void ModelBuilder::addForceIncrement(int node, std::span<const double> comps, in
 void ModelBuilder::addTimeForce(int node, int comp, TimeFunctionPtr f, int line) {
   impl_->timeForces.push_back({node, comp, std::move(f), line});
 }
-void ModelBuilder::setGravity(double gx, double gy, int /*line*/) { impl_->gravity = {gx, gy}; }
+void ModelBuilder::setGravity(double gx, double gy, int /*line*/) {
+  impl_->gravity = {gx, gy};
+  impl_->gravityZ = 0.0;
+}
 void ModelBuilder::setInputCoordinate(int node, int comp, std::optional<double> x,
                                       std::optional<double> v, std::optional<double> a, int line) {
   impl_->inputXValues.push_back({node, comp, x, v, a, line});
@@ -196,13 +219,13 @@ std::string slotName(const ElementTypeInfo& type, size_t slot) {
   int idx = 0;
   for (size_t s = 0; s < slot; ++s)
     if (type.slots[s] == type.slots[slot]) ++idx;
-  return std::string(type.slots[slot] == NodeKind::Position ? "node " : "orientation ") +
+  return std::string(isTranslational(type.slots[slot]) ? "node " : "orientation ") +
          static_cast<char>('p' + std::min(idx, 9));
 }
 
 int slotsCoords(const ElementTypeInfo& type) {
   int n = 0;
-  for (NodeKind k : type.slots) n += k == NodeKind::Position ? 2 : 1;
+  for (NodeKind k : type.slots) n += nodeKindDim(k);
   return n;
 }
 
@@ -232,9 +255,16 @@ struct Resolver {
   }
   std::string nodeDescription(int ni) const {
     const Node& n = m.nodes[ni];
-    return "node " + std::to_string(n.label) + " is " +
-           (n.kind == NodeKind::Position ? "a position node (components 1..2: x, y)"
-                                         : "an orientation node (component 1: angle)");
+    const char* what = "";
+    switch (n.kind) {
+      case NodeKind::Position: what = "a position node (components 1..2: x, y)"; break;
+      case NodeKind::Orientation: what = "an orientation node (component 1: angle)"; break;
+      case NodeKind::SpatialPosition: what = "a position node (components 1..3: x, y, z)"; break;
+      case NodeKind::EulerParameters:
+        what = "an orientation node (components 1..4: Euler parameters lambda0..lambda3)";
+        break;
+    }
+    return "node " + std::to_string(n.label) + " is " + what;
   }
   int x(int nodeLabel, int comp, int line) const {
     const int ni = node(nodeLabel, line);
@@ -274,6 +304,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   if (in.elements.empty()) R::fail(0, "the model defines no elements");
 
   // Elements, nodes (kind and x indices in order of first use), deformation indices.
+  const Impl::ElemStmt* firstOfKind[2] = {nullptr, nullptr};  // first planar, first spatial
   for (const auto& st : in.elements) {
     if (!st.type) R::fail(st.line, "element without a type");
     const ElementTypeInfo& type = *st.type;
@@ -286,6 +317,26 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     if (st.nodes.size() != type.slots.size())
       R::fail(st.line, type.keyword + " needs " + std::to_string(type.slots.size()) + " nodes, found " +
                            std::to_string(st.nodes.size()));
+    if (st.vec.size() != type.vector.size())
+      R::fail(st.line, type.keyword + " " + std::to_string(st.label) + " needs " +
+                           std::to_string(type.vector.size()) + " direction components after its nodes, found " +
+                           std::to_string(st.vec.size()));
+    for (double v : st.vec)
+      if (!std::isfinite(v)) R::fail(st.line, "direction vector is not finite");
+    // A model is planar or spatial.
+    const bool spatialType = isSpatial(type.slots.front());
+    if (!firstOfKind[spatialType]) firstOfKind[spatialType] = &st;
+    if (firstOfKind[!spatialType]) {
+      const Impl::ElemStmt* o = firstOfKind[!spatialType];
+      const Impl::ElemStmt* planar = spatialType ? o : &st;
+      const Impl::ElemStmt* spatial = spatialType ? &st : o;
+      R::fail(st.line, "planar and spatial elements cannot be mixed in one model: planar " +
+                           planar->type->keyword + " " + std::to_string(planar->label) + " (line " +
+                           std::to_string(planar->line) + ") and spatial " + spatial->type->keyword +
+                           " " + std::to_string(spatial->label) + " (line " +
+                           std::to_string(spatial->line) + ")");
+    }
+    m.spatial = spatialType;
     const int ei = static_cast<int>(m.elements.size());
     ElementEntry el;
     el.label = st.label;
@@ -322,10 +373,10 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
           const auto [fe, fs] = r.firstUse[ni];
           const ElementEntry& first = fe == ei ? el : m.elements[fe];
           R::fail(st.line, "node " + std::to_string(label) + " is used as " +
-                               (kind == NodeKind::Position ? "a position" : "an orientation") +
+                               (isTranslational(kind) ? "a position" : "an orientation") +
                                " node here (" + type.keyword + " " + std::to_string(st.label) + ", " +
                                slotName(type, s) + ") but as " +
-                               (n.kind == NodeKind::Position ? "a position" : "an orientation") +
+                               (isTranslational(n.kind) ? "a position" : "an orientation") +
                                " node by " + first.type->keyword + " " + std::to_string(first.label) +
                                " (" + slotName(*first.type, fs) + ") at line " +
                                std::to_string(first.line));
@@ -343,15 +394,14 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
 
   // Initial coordinates.
   m.x0 = Eigen::VectorXd::Zero(m.nx);
+  for (const Node& n : m.nodes)
+    if (n.kind == NodeKind::EulerParameters) m.x0[n.firstCoord] = 1.0;  // default 1 0 0 0
   for (const auto& st : in.coords) {
     const int ni = r.node(st.node, st.line);
     const Node& n = m.nodes[ni];
     if (static_cast<int>(st.values.size()) != n.dim())
-      R::fail(st.line, "node " + std::to_string(n.label) + " is " +
-                           (n.kind == NodeKind::Position
-                                ? "a position node: expected 2 coordinates (x, y)"
-                                : "an orientation node: expected 1 coordinate (angle)") +
-                           ", found " + std::to_string(st.values.size()));
+      R::fail(st.line, r.nodeDescription(ni) + ": expected " + std::to_string(n.dim()) + " coordinate" +
+                           (n.dim() == 1 ? "" : "s") + ", found " + std::to_string(st.values.size()));
     for (int c = 0; c < n.dim(); ++c) {
       if (!std::isfinite(st.values[c])) R::fail(st.line, "coordinate is not finite");
       m.x0[n.firstCoord + c] = st.values[c];
@@ -404,6 +454,32 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     }
   }
 
+  // L2MIN1: the normalisation constraint of every orientation node with a calculable parameter
+  // (with all four parameters known it has no unknown and drops out). Labels follow the user's.
+  std::map<int, int> normalisationOf;  // node index -> element index
+  {
+    int label = m.elementByLabel.empty() ? 0 : m.elementByLabel.rbegin()->first;
+    for (size_t ni = 0; ni < m.nodes.size(); ++ni) {
+      const Node& n = m.nodes[ni];
+      if (n.kind != NodeKind::EulerParameters) continue;
+      bool calculable = false;
+      for (int c = 0; c < 4; ++c) calculable |= m.xRole[n.firstCoord + c] == Role::Calculable;
+      if (!calculable) continue;
+      ElementEntry el;
+      el.label = ++label;
+      el.type = &normalisationType();
+      el.line = n.line;
+      el.nodes = {static_cast<int>(ni)};
+      for (int c = 0; c < 4; ++c) el.coords.push_back(n.firstCoord + c);
+      el.firstDef = m.ne++;
+      m.eOwnerElement.push_back(static_cast<int>(m.elements.size()));
+      m.eRole.push_back(Role::Fixed);
+      r.eRoleLine.push_back(0);
+      normalisationOf[static_cast<int>(ni)] = static_cast<int>(m.elements.size());
+      m.elements.push_back(std::move(el));
+    }
+  }
+
   // Element objects (reference geometry from the initial coordinates).
   for (size_t ei = 0; ei < m.elements.size(); ++ei) {
     ElementEntry& el = m.elements[ei];
@@ -412,9 +488,13 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       R::fail(el.line, el.type->keyword + ": element type exceeds the fixed element capacity");
     ElemVec x0e(nc);
     for (int c = 0; c < nc; ++c) x0e[c] = m.x0[el.coords[c]];
-    if (!el.type->create) R::fail(el.line, el.type->keyword + ": element type cannot be created");
+    if (!el.type->create && !el.type->createWithVector)
+      R::fail(el.line, el.type->keyword + ": element type cannot be created");
     try {
-      std::unique_ptr<Element> impl = el.type->create(x0e, options);
+      std::unique_ptr<Element> impl =
+          el.type->createWithVector
+              ? el.type->createWithVector(x0e, in.elements[ei].vec.data(), options)
+              : el.type->create(x0e, options);
       if (!impl) R::fail(el.line, el.type->keyword + ": element could not be created");
       el.impl = std::move(impl);
     } catch (const ModelError&) {
@@ -466,7 +546,10 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       const int ei = r.element(st.id, st.line);
       ElementEntry& el = m.elements[ei];
       const auto& layout = el.type->stiffness;
-      if (st.values.size() != layout.size()) {
+      // Spatial elements: trailing parameters may be omitted (0), as SPACAR files do.
+      const bool tooFew = isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty()
+                                                            : st.values.size() != layout.size();
+      if (tooFew || st.values.size() > layout.size()) {
         std::string names;
         for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
         R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
@@ -500,7 +583,55 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     if (!(st.rhoI >= 0.0) || !std::isfinite(st.rhoI))
       R::fail(st.line, "negative rotary inertia per unit length " + num(st.rhoI) + " for " +
                            r.elemName(ei));
+    const ElementTypeInfo& type = *m.elements[ei].type;
+    if (isSpatial(type.slots.front())) {
+      if (st.values.size() > type.inertia.size() || st.values.empty())
+        R::fail(st.line, r.elemName(ei) + " takes " +
+                             (type.inertia.empty() ? std::string("no mass parameters")
+                                                   : "1 to " + std::to_string(type.inertia.size()) +
+                                                         " mass parameters") +
+                             ", found " + std::to_string(st.values.size()));
+      for (double v : st.values)
+        if (!std::isfinite(v)) R::fail(st.line, "mass parameter is not finite");
+      for (size_t k = 0; k < 4 && k + 1 < st.values.size(); ++k)
+        if (st.values[k + 1] < 0.0 && k < 3)
+          R::fail(st.line, "negative mass moment of inertia " + num(st.values[k + 1]) + " for " + r.elemName(ei));
+      ElementInertia in;
+      auto at = [&](size_t k) { return k < st.values.size() ? st.values[k] : 0.0; };
+      in.rhoA = at(0);
+      in.jxx = at(1), in.jyy = at(2), in.jzz = at(3), in.jyz = at(4);
+      m.elements[ei].inertia = in;
+      continue;
+    }
+    if (st.values.size() > 2)
+      R::fail(st.line, r.elemName(ei) + " takes 1 or 2 mass parameters (rhoA, rhoI), found " +
+                           std::to_string(st.values.size()));
     m.elements[ei].inertia = {st.rhoA, st.rhoI};
+  }
+  for (const auto& st : in.nodeInertias) {
+    const int ni = r.node(st.id, st.line);
+    const Node& n = m.nodes[ni];
+    if (n.kind != NodeKind::EulerParameters)
+      R::fail(st.line, r.nodeDescription(ni) + ": an inertia tensor (6 values) applies to a spatial "
+                                              "orientation node");
+    if (st.values.size() != 6 && st.values.size() != 1)
+      R::fail(st.line, "node " + std::to_string(n.label) +
+                           ": expected the inertia tensor Ixx Ixy Ixz Iyy Iyz Izz (or one value I), found " +
+                           std::to_string(st.values.size()) + " values");
+    for (double v : st.values)
+      if (!std::isfinite(v)) R::fail(st.line, "inertia is not finite");
+    auto it = normalisationOf.find(ni);
+    if (it == normalisationOf.end()) continue;  // all four parameters known: the node does not move
+    ElementInertia& in = m.elements[it->second].inertia;
+    if (st.values.size() == 1) {
+      in.jxx = in.jyy = in.jzz = st.values[0];
+      in.jxy = in.jxz = in.jyz = 0.0;
+    } else {
+      in.jxx = st.values[0], in.jxy = st.values[1], in.jxz = st.values[2];
+      in.jyy = st.values[3], in.jyz = st.values[4], in.jzz = st.values[5];
+    }
+    if (in.jxx < 0.0 || in.jyy < 0.0 || in.jzz < 0.0)
+      R::fail(st.line, "negative moment of inertia at node " + std::to_string(n.label));
   }
   std::map<int, double> massByCoord;
   for (const auto& st : in.masses) {
@@ -508,8 +639,16 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     const Node& n = m.nodes[ni];
     if (!(st.value >= 0.0) || !std::isfinite(st.value))
       R::fail(st.line, std::string("negative ") +
-                           (n.kind == NodeKind::Position ? "mass " : "rotary inertia ") +
+                           (isTranslational(n.kind) ? "mass " : "rotary inertia ") +
                            num(st.value) + " at node " + std::to_string(n.label));
+    if (n.kind == NodeKind::EulerParameters) {  // XM n I: isotropic rigid-body inertia
+      if (auto it = normalisationOf.find(ni); it != normalisationOf.end()) {
+        ElementInertia& in = m.elements[it->second].inertia;
+        in.jxx = in.jyy = in.jzz = st.value;
+        in.jxy = in.jxz = in.jyz = 0.0;
+      }
+      continue;
+    }
     for (int c = 0; c < n.dim(); ++c) massByCoord[n.firstCoord + c] = st.value;
   }
   for (const auto& [coord, value] : massByCoord)
@@ -518,10 +657,26 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   // Loads.
   m.f0 = Eigen::VectorXd::Zero(m.nx);
   m.delf = Eigen::VectorXd::Zero(m.nx);
+  std::map<int, size_t> momentAt;
   auto nodalLoads = [&](const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f) {
     for (const auto& st : stmts) {
       const int ni = r.node(st.id, st.line);
       const Node& n = m.nodes[ni];
+      if (n.kind == NodeKind::EulerParameters && st.values.size() == 3) {
+        // SPACAR 2017+: a moment in global components (four values: forces on lambda0..3).
+        for (double v : st.values)
+          if (!std::isfinite(v)) R::fail(st.line, "load is not finite");
+        auto [it, fresh] = momentAt.try_emplace(ni, m.moments.size());
+        if (fresh) m.moments.push_back({ni, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+        const Eigen::Vector3d v(st.values[0], st.values[1], st.values[2]);
+        (&f == &m.f0 ? m.moments[it->second].value : m.moments[it->second].increment) += v;
+        continue;
+      }
+      if (isSpatial(n.kind) && static_cast<int>(st.values.size()) > n.dim())
+        R::fail(st.line, r.nodeDescription(ni) + ": expected at most " + std::to_string(n.dim()) +
+                             " load components" +
+                             (n.kind == NodeKind::EulerParameters ? " (3: moment Mx My Mz)" : "") +
+                             ", found " + std::to_string(st.values.size()));
       if (static_cast<int>(st.values.size()) > n.dim())
         R::fail(st.line, "node " + std::to_string(n.label) +
                              " is an orientation node: expected 1 component (moment), found " +
@@ -538,6 +693,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   if (in.gravity) {
     m.gravity[0] = in.gravity->first;
     m.gravity[1] = in.gravity->second;
+    m.gravity[2] = in.gravityZ;
     m.hasGravity = true;
   }
 

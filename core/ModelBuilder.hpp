@@ -26,6 +26,9 @@ class ModelBuilder {
 
   // Kinematic block. Node kinds are fixed by the first element slot that uses a node.
   void addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels, int line);
+  // Spatial elements with a direction vector (BEAM ... y1 y2 y3, HINGE ... a1 a2 a3).
+  void addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
+                  std::span<const double> vector, int line);
   void setCoordinates(int node, std::span<const double> values, int line);          // X, XY, BETA
   void setCoordinateRole(int node, std::span<const int> comps, Role role, int line);  // 1-based; empty = all
   void setDeformationRole(int element, std::span<const int> comps, Role role, int line);
@@ -33,12 +36,17 @@ class ModelBuilder {
   // Dynamic / static block.
   void setLumpedMass(int node, double value, int line);                    // MASS / XM
   void setElementInertia(int element, double rhoA, double rhoI, int line);  // EMASS / EM
+  // EM with the element type's layout (planar rhoA [rhoI]; BEAM rhoA Jxx Jyy Jzz Jyz).
+  void setElementInertia(int element, std::span<const double> values, int line);
+  // XM on a spatial orientation node: Ixx Ixy Ixz Iyy Iyz Izz (body frame), or one value (I * 1).
+  void setNodeInertia(int node, std::span<const double> values, int line);
   void setStiffness(int element, std::span<const double> params, int line);
   void setDamping(int element, std::span<const double> params, int line);
   void addForce(int node, std::span<const double> comps, int line);         // FORCE / XF
   void addForceIncrement(int node, std::span<const double> comps, int line);  // DELXF
   void addTimeForce(int node, int comp, TimeFunctionPtr f, int line);       // XFT
   void setGravity(double gx, double gy, int line);
+  void setGravity(double gx, double gy, double gz, int line);
   // Input coordinate values: 2013+ INPUTX n i x [v [a]]; SPACAR95 XD / XDD set one field each.
   void setInputCoordinate(int node, int comp, std::optional<double> x, std::optional<double> v,
                           std::optional<double> a, int line);

@@ -598,8 +598,14 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
   core::AnalysisSettings& set = b.settings();
   switch (info.action) {
     case Action::Element: {
-      const std::vector<int> nodes = ints(1);
-      b.addElement(*info.elementType, integer(s, 0), nodes, line);
+      const size_t nn = info.elementType->slots.size();
+      std::vector<int> nodes;
+      for (size_t k = 1; k <= nn && k < s.args.size(); ++k) nodes.push_back(integer(s, k));
+      if (info.elementType->vector.empty()) {
+        b.addElement(*info.elementType, integer(s, 0), nodes, line);
+      } else {
+        b.addElement(*info.elementType, integer(s, 0), nodes, reals(1 + nn), line);
+      }
       break;
     }
     case Action::Coordinates:
@@ -611,15 +617,18 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::DynE: b.setDeformationRole(integer(s, 0), ints(1), Role::Dynamic, line); break;
     case Action::Rlse: b.setDeformationRole(integer(s, 0), ints(1), Role::Calculable, line); break;
     case Action::InputERole: b.setDeformationRole(integer(s, 0), ints(1), Role::Input, line); break;
-    case Action::LumpedMass: b.setLumpedMass(integer(s, 0), real(s, 1), line); break;
+    case Action::LumpedMass:
+      if (s.args.size() > 2) b.setNodeInertia(integer(s, 0), reals(1), line);  // spatial tensor
+      else b.setLumpedMass(integer(s, 0), real(s, 1), line);
+      break;
     case Action::ElementInertia:
-      b.setElementInertia(integer(s, 0), real(s, 1), optReal(s, 2).value_or(0.0), line);
+      b.setElementInertia(integer(s, 0), reals(1), line);  // layout by element type
       break;
     case Action::Stiffness: b.setStiffness(integer(s, 0), reals(1), line); break;
     case Action::Damping: b.setDamping(integer(s, 0), reals(1), line); break;
     case Action::Force: b.addForce(integer(s, 0), reals(1), line); break;
     case Action::ForceIncrement: b.addForceIncrement(integer(s, 0), reals(1), line); break;
-    case Action::Gravity: b.setGravity(real(s, 0), real(s, 1), line); break;
+    case Action::Gravity: b.setGravity(real(s, 0), real(s, 1), optReal(s, 2).value_or(0.0), line); break;
     case Action::InputXValues:
       b.setInputCoordinate(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), optReal(s, 4), line);
       break;

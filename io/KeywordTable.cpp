@@ -66,13 +66,14 @@ KeywordInfo elementKeyword(const core::ElementTypeInfo& type) {
   std::vector<ArgSpec> args{element()};
   int nPos = 0, nOri = 0;
   for (core::NodeKind k : type.slots) {
-    const bool pos = k == core::NodeKind::Position;
+    const bool pos = core::isTranslational(k);
     const int idx = pos ? nPos++ : nOri++;
     const char letter = static_cast<char>('p' + std::min(idx, 9));
     args.push_back(node(std::string(pos ? "node " : "orientation ") + letter,
                         std::string(pos ? "p" : "o") + std::to_string(idx + 1),
                         pos ? Kind::Position : Kind::Orientation));
   }
+  for (const auto& v : type.vector) args.push_back(real(v.name));
   std::string meaning = type.description;
   if (!type.deformationNames.empty()) {
     meaning += ". Deformations:";
@@ -104,9 +105,17 @@ std::vector<KeywordInfo> buildTable() {
   // Kinematic block: elements (from the registry), coordinates, roles.
   for (const auto& type : core::elementTypes()) t.push_back(elementKeyword(type));
   t.push_back(kw("X", kBothDialects, B::Kinematic, A::Coordinates,
-                 {node(), real("c1"), optReal("c2")},
+                 {node(), real("c1"), optReal("c2"), optReal("c3"), optReal("c4")},
                  "initial coordinates of a node: x y of a position node, the angle (rad) of an "
-                 "orientation node (default 0)"));
+                 "orientation node (default 0); spatial: x y z, or the Euler parameters "
+                 "lambda0..lambda3 of an orientation node (default 1 0 0 0)"));
+  t.push_back(kw("XYZ", kBothDialects, B::Kinematic, A::Coordinates,
+                 {node("node", "n", Kind::Position), real("x"), real("y"), real("z")},
+                 "initial coordinates x y z of a spatial position node"));
+  t.push_back(kw("LAMBDA", kBothDialects, B::Kinematic, A::Coordinates,
+                 {node("node", "o", Kind::Orientation), real("lambda0", "l0"), real("lambda1", "l1"),
+                  real("lambda2", "l2"), real("lambda3", "l3")},
+                 "initial Euler parameters of a spatial orientation node (default 1 0 0 0)"));
   t.push_back(kw("XY", kBothDialects, B::Kinematic, A::CoordinatesXY,
                  {node("node", "n", Kind::Position), real("x"), real("y")},
                  "initial coordinates x y of a position node"));
@@ -127,15 +136,20 @@ std::vector<KeywordInfo> buildTable() {
                  "element deformations prescribed in time (actuated joint or length)"));
 
   // Dynamic / static block.
-  t.push_back(kw("MASS", kSpacar95, B::Dynamic, A::LumpedMass, {node(), real("mass", "m")},
+  const std::vector<ArgSpec> massArgs = {node(), real("mass", "m"), optReal("Ixy"), optReal("Ixz"),
+                                         optReal("Iyy"), optReal("Iyz"), optReal("Izz")};
+  t.push_back(kw("MASS", kSpacar95, B::Dynamic, A::LumpedMass, massArgs,
                  "lumped mass on a position node (x and y); rotary inertia on an orientation node"));
-  t.push_back(kw("XM", kSpacar2013, B::Dynamic, A::LumpedMass, {node(), real("mass", "m")},
-                 "lumped mass on a position node (x and y); rotary inertia on an orientation node"));
+  t.push_back(kw("XM", kSpacar2013, B::Dynamic, A::LumpedMass, massArgs,
+                 "lumped mass on a position node (x and y; spatial x y z); rotary inertia on an "
+                 "orientation node; spatial orientation node: Ixx Ixy Ixz Iyy Iyz Izz (body frame)"));
   t.push_back(kw("EMASS", kSpacar95, B::Dynamic, A::ElementInertia,
                  {element(), real("mass per length", "rhoA")}, "mass per unit length of an element"));
   t.push_back(kw("EM", kSpacar2013, B::Dynamic, A::ElementInertia,
-                 {element(), real("mass per length", "rhoA"), optReal("rotary inertia per length", "rhoI")},
-                 "mass (and rotary inertia) per unit length of an element"));
+                 {element(), real("mass per length", "rhoA"), optReal("rotary inertia per length", "rhoI"),
+                  optReal("Jyy"), optReal("Jzz"), optReal("Jyz")},
+                 "mass (and rotary inertia) per unit length of an element; spatial beams: rhoA Jxx "
+                 "Jyy Jzz Jyz (mass moments of inertia per length about the local axes)"));
   const std::string layouts = stiffnessLayouts();
   t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
                  {element(), real("parameter", "p", Cardinality::Many)},
@@ -146,17 +160,20 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping,
                  {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
-  t.push_back(kw("FORCE", kSpacar95, B::Dynamic, A::Force, {node(), real("f1"), optReal("f2")},
-                 "constant nodal force Fx Fy (position node) or moment (orientation node)"));
-  t.push_back(kw("XF", kSpacar2013, B::Dynamic, A::Force, {node(), real("f1"), optReal("f2")},
-                 "constant nodal force Fx Fy (position node) or moment (orientation node)"));
-  t.push_back(kw("DELXF", kSpacar2013, B::Dynamic, A::ForceIncrement,
-                 {node(), real("f1"), optReal("f2")},
+  const std::vector<ArgSpec> loadArgs = {node(), real("f1"), optReal("f2"), optReal("f3"), optReal("f4")};
+  t.push_back(kw("FORCE", kSpacar95, B::Dynamic, A::Force, loadArgs,
+                 "constant nodal force Fx Fy (position node) or moment (orientation node); spatial: "
+                 "Fx Fy Fz, or four forces on the Euler parameters"));
+  t.push_back(kw("XF", kSpacar2013, B::Dynamic, A::Force, loadArgs,
+                 "constant nodal force Fx Fy (position node) or moment (orientation node); spatial: "
+                 "Fx Fy Fz, on an orientation node the global moment Mx My Mz (four values: forces "
+                 "on the Euler parameters, older SPACAR)"));
+  t.push_back(kw("DELXF", kSpacar2013, B::Dynamic, A::ForceIncrement, loadArgs,
                  "load increment of a static analysis: the TOTAL increment reached at the last load "
-                 "step, applied in equal parts"));
+                 "step, applied in equal parts; on a spatial orientation node the global moment"));
   t.push_back(kw("GRAVITY", kSpacar2013, B::Dynamic, A::Gravity,
                  {real("gx"), real("gy"), optReal("gz")},
-                 "gravitational acceleration (gz, out of the plane, has no effect)"));
+                 "gravitational acceleration (planar models: gz, out of the plane, has no effect)"));
   t.push_back(kw("XD", kSpacar95, B::Dynamic, A::XD, {node(), component(), real("rate", "v")},
                  "rate of an input coordinate at the current time, x(t) = x + v (t - TIME) + a (t - TIME)^2/2 "
                  "(X gives x); on a DYNX coordinate its initial rate"));
@@ -276,7 +293,7 @@ std::vector<KeywordInfo> buildTable() {
     for (const auto& ty : core::elementTypes()) s += (s.empty() ? "" : ", ") + upper(ty.keyword);
     return s;
   }();
-  const std::string spatial = "flexmb handles planar models only (elements: " + planarList + ")";
+  const std::string spatial = "not implemented in flexmb; elements: " + planarList;
   const std::string planarNote = "not implemented in flexmb; planar elements: " + planarList;
   // Spatial SPACAR keywords: the `spatial` work registers element types under these names; an
   // entry is dropped here as soon as an element type of that name exists, so it needs no edit.
@@ -297,8 +314,15 @@ std::vector<KeywordInfo> buildTable() {
       {"L2MIN1", "Euler-parameter normalisation constraint (lambda^2 - 1 = 0) of a spatial orientation node"},
       {"XYZ", "spatial node coordinates"},
   };
+  auto known = [&t](const char* name) {
+    return std::any_of(t.begin(), t.end(), [&](const KeywordInfo& k) { return k.name == name; });
+  };
+  t.push_back(unsupported("BEAMW", B::Kinematic, "spatial beam element with warping",
+                          "recognised, not supported yet: use BEAM (" + spatial + ")"));
+  t.push_back(unsupported("L2MIN1", B::Kinematic, "Euler-parameter normalisation element",
+                          "flexmb creates it for every orientation node: leave it out"));
   for (const auto& [name, meaning] : spatialKeywords)
-    if (!core::findElementType(name)) t.push_back(unsupported(name, B::Kinematic, meaning, spatial));
+    if (!known(name)) t.push_back(unsupported(name, B::Kinematic, meaning, spatial));
   const std::pair<const char*, const char*> planarKeywords[] = {
       {"PLBELT", "planar belt element"},
       {"PLBEAR", "planar bearing element"},
@@ -307,7 +331,7 @@ std::vector<KeywordInfo> buildTable() {
       {"PLPINBODY", "planar pin-body element"},
   };
   for (const auto& [name, meaning] : planarKeywords)
-    if (!core::findElementType(name)) t.push_back(unsupported(name, B::Kinematic, meaning, planarNote));
+    if (!known(name)) t.push_back(unsupported(name, B::Kinematic, meaning, planarNote));
   const std::string control = "flexmb does not build control-system models yet";
   t.push_back(unsupported("NOMS", B::Dynamic, "control-system keyword of SPACAR (NOMS)", control));
   t.push_back(unsupported("NOMF", B::Dynamic, "control-system keyword of SPACAR (NOMF)", control));

@@ -198,7 +198,12 @@ std::vector<std::string> coordinateColumnNames(const Model& model) {
   for (const core::Node& n : model.nodes) {
     std::string base = "node";
     base += std::to_string(n.label);
-    if (n.kind == core::NodeKind::Orientation) {
+    if (core::isSpatial(n.kind)) {
+      for (int c = 0; c < n.dim(); ++c)
+        names[n.firstCoord + c] = base + (n.kind == core::NodeKind::EulerParameters
+                                              ? ".lambda" + std::to_string(c)
+                                              : std::string(".") + "xyz"[c]);
+    } else if (n.kind == core::NodeKind::Orientation) {
       if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".angle";
     } else {
       if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".x";

@@ -74,6 +74,21 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
         break;
       }
     }
+    if (!accepted && spd && o.energyFallback) {
+      // Fallback merit: the energy norm Q^T T^-1 Q. In a closed loop of axially stiff members
+      // (spatial leaf springs) the predictor's second-order axial forces dominate ||Q||_inf
+      // for any useful step; weighted by the compliance they are small against the bending
+      // residual, so a fraction of the step still makes progress.
+      const double merit = Q.dot(step);
+      alpha = 1.0;
+      for (int cut = 0; cut <= 3 * o.maxCuts; ++cut, alpha *= 0.5) {
+        trial = eta + alpha * step;
+        if (evaluate(problem, trial, Qtrial, nullptr, error) && Qtrial.dot(ldlt.solve(Qtrial)) < merit) {
+          accepted = true;
+          break;
+        }
+      }
+    }
     if (!accepted) {
       r.status = StaticStatus::NotConverged;
       std::ostringstream s;

@@ -13,6 +13,9 @@ struct NewtonOptions {
   double stepTolerance = 1e-12;      // on ||d eta|| relative to max(1, ||eta||)
   int maxIterations = 50;
   int maxCuts = 10;                  // halvings of a step that does not reduce ||Q||
+  // When no halving reduces ||Q||_inf, try the energy norm Q^T T^-1 Q (spatial models: axially
+  // stiff closed loops). Off by default: planar load paths stay as they were.
+  bool energyFallback = false;
 };
 
 enum class StaticStatus { Converged, NotConverged, SingularTangent, Failed };

@@ -10,8 +10,10 @@
 
 namespace flexmb::core {
 
-constexpr int kMaxElemCoords = 6;
-constexpr int kMaxElemDefs = 3;
+// Capacity of the largest element: the spatial BEAM (two position nodes of 3 coordinates, two
+// orientation nodes of 4 Euler parameters; six deformations).
+constexpr int kMaxElemCoords = 14;
+constexpr int kMaxElemDefs = 6;
 // Fixed-capacity Eigen types: no heap allocation in element kernels (hot path).
 using ElemVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemCoords, 1>;
 using DefVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemDefs, 1>;
@@ -19,7 +21,24 @@ using DefJac = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElem
 using ElemMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemCoords, kMaxElemCoords>;
 using DefMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemDefs, kMaxElemDefs>;
 
-enum class NodeKind { Position, Orientation };
+// Planar models: Position (x y) and Orientation (angle). Spatial models: SpatialPosition (x y z)
+// and EulerParameters (lambda0..lambda3, normalised by the automatic L2MIN1 constraint).
+enum class NodeKind { Position, Orientation, SpatialPosition, EulerParameters };
+constexpr int nodeKindDim(NodeKind k) {
+  switch (k) {
+    case NodeKind::Position: return 2;
+    case NodeKind::Orientation: return 1;
+    case NodeKind::SpatialPosition: return 3;
+    case NodeKind::EulerParameters: return 4;
+  }
+  return 0;
+}
+constexpr bool isTranslational(NodeKind k) {
+  return k == NodeKind::Position || k == NodeKind::SpatialPosition;
+}
+constexpr bool isSpatial(NodeKind k) {
+  return k == NodeKind::SpatialPosition || k == NodeKind::EulerParameters;
+}
 
 // How the PLBEAM elongation is defined: SPACAR95's l - l0, or Eq. 3a with the bending correction.
 enum class ElongationDefinition { Plain, BendingCorrected };
@@ -29,10 +48,17 @@ struct ElementOptions {
 };
 
 // Distributed inertia of an element (EMASS / EM): mass and rotary inertia per unit length.
+// Spatial elements use rhoA and the per-length mass moments of inertia of the cross-section about
+// its local x (polar), y, z axes and the product yz (EM rhoA Jxx Jyy Jzz Jyz).
 struct ElementInertia {
   double rhoA = 0.0;
   double rhoI = 0.0;
-  bool any() const { return rhoA != 0.0 || rhoI != 0.0; }
+  double jxx = 0.0, jyy = 0.0, jzz = 0.0, jyz = 0.0;
+  double jxy = 0.0, jxz = 0.0;  // full tensor of a rigid body on an orientation node (XM)
+  bool any() const {
+    return rhoA != 0.0 || rhoI != 0.0 || jxx != 0.0 || jyy != 0.0 || jzz != 0.0 || jyz != 0.0 ||
+           jxy != 0.0 || jxz != 0.0;
+  }
 };
 
 // Whether an element's deformation measure still describes the configuration (see
@@ -79,6 +105,11 @@ class Element {
     (void)inertia, (void)gx, (void)gy;
     f.setZero(x.size());
   }
+  // Gravity g = (gx, gy, gz); planar elements ignore gz.
+  virtual void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g,
+                              ElemVec& f) const {
+    gravityForces(x, inertia, g[0], g[1], f);
+  }
 
   // Whether the deformation measure is valid at x. An element whose e = D(x) is exact for any
   // rigid motion and any deformation (truss, hinge) is always valid; the beam is not (Eq. 3b/3c
@@ -113,6 +144,14 @@ struct ElementTypeInfo {
   std::vector<ParameterSpec> stiffness;  // ESTIFF / EDAMP layout
   // Creates the element from its initial nodal coordinates (reference geometry l0, beta0).
   std::unique_ptr<Element> (*create)(const ElemVec& x0, const ElementOptions& options);
+  // Spatial elements with a direction vector after the nodes (BEAM ... y1 y2 y3: the initial
+  // cross-section y axis; HINGE ... a1 a2 a3: the axis). create is then unused.
+  std::vector<ParameterSpec> vector = {};
+  std::unique_ptr<Element> (*createWithVector)(const ElemVec& x0, const double* v,
+                                               const ElementOptions& options) = nullptr;
+  // EM layout when it differs from the planar "rhoA [rhoI]".
+  std::vector<ParameterSpec> inertia = {};
+  bool internal = false;  // created by flexmb (L2MIN1), not a user keyword
   int numCoords() const;
   int numDeformations() const { return static_cast<int>(deformationNames.size()); }
 };
@@ -120,5 +159,7 @@ struct ElementTypeInfo {
 // The registry (one list, in ElementRegistry.cpp). Keyword lookup is case-insensitive.
 const std::vector<ElementTypeInfo>& elementTypes();
 const ElementTypeInfo* findElementType(std::string_view keyword);
+// L2MIN1, the automatic normalisation element of orientation nodes (not in the keyword registry).
+const ElementTypeInfo& normalisationType();
 
 }  // namespace flexmb::core

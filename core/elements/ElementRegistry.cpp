@@ -7,12 +7,17 @@
 #include "core/elements/PlanarBeam.hpp"
 #include "core/elements/PlanarHinge.hpp"
 #include "core/elements/PlanarTruss.hpp"
+#include "core/elements/EulerNormalisation.hpp"
+#include "core/elements/RigidBeam.hpp"
+#include "core/elements/SpatialBeam.hpp"
+#include "core/elements/SpatialHinge.hpp"
+#include "core/elements/SpatialTruss.hpp"
 
 namespace flexmb::core {
 
 int ElementTypeInfo::numCoords() const {
   int n = 0;
-  for (NodeKind k : slots) n += (k == NodeKind::Position) ? 2 : 1;
+  for (NodeKind k : slots) n += nodeKindDim(k);
   return n;
 }
 
@@ -49,9 +54,97 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                  {"relative rotation"},
                  {{"k", "N m/rad", "rotational stiffness (EDAMP: N m s/rad damping coefficient)"}},
                  &PlanarHinge::create});
+
+    // Spatial elements (spatial-elements.md): position nodes x y z, orientation nodes with four
+    // Euler parameters.
+    const std::vector<ParameterSpec> yAxis = {{"y1", "-", "initial cross-section y axis, x component"},
+                                              {"y2", "-", "y component"},
+                                              {"y3", "-", "z component"}};
+    const std::vector<std::string> spatialBeamDefs = {"elongation", "torsion",     "bending y p",
+                                                      "bending y q", "bending z p", "bending z q"};
+    const std::vector<ParameterSpec> spatialBeamParams = {
+        {"EA", "N", "axial stiffness"},
+        {"GIt", "N m^2", "torsional stiffness"},
+        {"EIy", "N m^2", "bending stiffness about the local y axis (deformations 3, 4)"},
+        {"EIz", "N m^2", "bending stiffness about the local z axis (deformations 5, 6)"},
+        {"cy", "m^2", "shear flexibility EIy/(k G A) (optional, 0: Euler-Bernoulli)"},
+        {"cz", "m^2", "shear flexibility EIz/(k G A) (optional)"}};
+    const std::vector<ParameterSpec> spatialBeamMass = {
+        {"rhoA", "kg/m", "mass per length"},
+        {"Jxx", "kg m", "polar mass moment of inertia per length (local x)"},
+        {"Jyy", "kg m", "mass moment of inertia per length about local y"},
+        {"Jzz", "kg m", "mass moment of inertia per length about local z"},
+        {"Jyz", "kg m", "product of inertia per length (y z)"}};
+    const std::vector<ParameterSpec> rhoAOnly = {{"rhoA", "kg/m", "mass per length"}};
+    {
+      ElementTypeInfo b{"BEAM",
+                        "spatial flexible beam: elongation l - l0, torsion, bending about the local y "
+                        "and z axes at p and q (l0 sin theta, as PLBEAM); y1 y2 y3: initial "
+                        "cross-section y axis",
+                        {SpatialPosition, EulerParameters, SpatialPosition, EulerParameters},
+                        spatialBeamDefs,
+                        spatialBeamParams,
+                        nullptr};
+      b.vector = yAxis;
+      b.createWithVector = &SpatialBeam::create;
+      b.inertia = spatialBeamMass;
+      t.push_back(b);
+      b.keyword = "BEAMNL";
+      b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";
+      b.createWithVector = &SpatialBeam::createNonlinear;
+      t.push_back(b);
+    }
+    {
+      ElementTypeInfo tr{"TRUSS", "spatial truss, elongation l - l0", {SpatialPosition, SpatialPosition},
+                         {"elongation"}, {{"EA", "N", "axial stiffness"}}, &SpatialTruss::create};
+      tr.inertia = rhoAOnly;
+      t.push_back(tr);
+    }
+    {
+      ElementTypeInfo h{"HINGE",
+                        "spatial hinge: rotation of orientation q relative to p about the axis a1 a2 "
+                        "a3, and two tilts of the axis (normally fixed)",
+                        {EulerParameters, EulerParameters},
+                        {"rotation", "tilt y", "tilt z"},
+                        {{"St", "N m/rad", "rotational stiffness about the axis"},
+                         {"S2", "N m/rad", "tilt stiffness about local y (optional)"},
+                         {"S3", "N m/rad", "tilt stiffness about local z (optional)"}},
+                        nullptr};
+      h.vector = {{"a1", "-", "hinge axis, x component"}, {"a2", "-", "y component"}, {"a3", "-", "z component"}};
+      h.createWithVector = &SpatialHinge::create;
+      t.push_back(h);
+    }
+    {
+      ElementTypeInfo r{"RBEAM",
+                        "rigid spatial beam from node p with orientation to node q (three fixed "
+                        "deformations: length and two lateral offsets in the frame of p)",
+                        {SpatialPosition, EulerParameters, SpatialPosition},
+                        {"elongation", "lateral y", "lateral z"},
+                        {},
+                        nullptr};
+      r.vector = yAxis;
+      r.createWithVector = &RigidBeam::create;
+      r.inertia = rhoAOnly;
+      t.push_back(r);
+    }
     return t;
   }();
   return types;
+}
+
+const ElementTypeInfo& normalisationType() {
+  static const ElementTypeInfo n = [] {
+    ElementTypeInfo i{"L2MIN1",
+                      "normalisation of the Euler parameters of an orientation node, lambda^T lambda "
+                      "- 1 (created by flexmb for every orientation node)",
+                      {NodeKind::EulerParameters},
+                      {"normalisation"},
+                      {},
+                      &EulerNormalisation::create};
+    i.internal = true;
+    return i;
+  }();
+  return n;
 }
 
 const ElementTypeInfo* findElementType(std::string_view keyword) {

@@ -14,8 +14,10 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
   for (int j = 0; j < model.numDofs(); ++j) {
     const auto& d = model.dofs[j];
     if (d.isDeformation) {
-      if (model.elements[model.eOwnerElement[d.index]].type->keyword == "PLHINGE") large.push_back(j);
-    } else if (model.nodes[model.xOwnerNode[d.index]].kind == core::NodeKind::Orientation) {
+      if (model.elements[model.eOwnerElement[d.index]].type->keyword == "PLHINGE" ||
+          (model.elements[model.eOwnerElement[d.index]].type->keyword == "HINGE" && d.index == model.elements[model.eOwnerElement[d.index]].firstDef))
+        large.push_back(j);
+    } else if (!core::isTranslational(model.nodes[model.xOwnerNode[d.index]].kind)) {
       large.push_back(j);
     }
   }

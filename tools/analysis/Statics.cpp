@@ -1,6 +1,8 @@
 #include "tools/analysis/Statics.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -14,7 +16,16 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   lin.kinematics().setInputLoadFactor(loadFactor, initialFactor);
   Eigen::VectorXd f;
   core::LinearizedSystem sys;
+  // Loads that depend on the configuration (gravity on distributed masses, spatial moments on
+  // Euler parameters) are evaluated where the generalised forces are: place the model first.
+  Eigen::VectorXd q;
+  auto place = [&](const Eigen::VectorXd& e) {
+    if (!lin.model().spatial) return;  // planar: the load path as before (gravity turns little)
+    lin.dofs(e, q);
+    lin.kinematics().solvePositions(t, q);
+  };
   auto problem = [&](const Eigen::VectorXd& e, Eigen::VectorXd& Q, Eigen::MatrixXd* T) {
+    place(e);
     lin.appliedForces(t, loadFactor, f, initialFactor);
     if (T) {
       lin.atRest(t, e, f, sys, false);
@@ -27,6 +38,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   // Force scale: the generalised applied load, else a stiffness times a small motion of the model.
   double scale = 0.0;
   try {
+    place(eta);
     lin.appliedForces(t, loadFactor, f, initialFactor);
     lin.atRest(t, eta, f, sys, false);
     if (lin.size() == 0) {  // nothing to solve: the kinematics alone place the model
@@ -39,7 +51,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
     double L = 0.0;
     for (int i = 0; i < lin.model().nx; ++i)
-      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position)
+      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position || lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition)
         L = std::max(L, std::abs(lin.model().x0[i]));
     scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(),
                       1e-6 * std::max(L, 1e-3) * sys.K.diagonal().cwiseAbs().maxCoeff()});
@@ -86,7 +98,27 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   return points;
 }
 
-StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const std::function<void(int, int)>& onStep) {
+Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count) {
+  // K0 = L L^T; mu = 1/nu for the eigenvalues nu > 0 of -L^-1 G0 L^-T (symmetric).
+  const Eigen::Index m = sys.K.rows();
+  if (m == 0 || count <= 0) return {};
+  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (sys.K + sys.K.transpose()));
+  if (llt.info() != Eigen::Success) return {};
+  Eigen::MatrixXd A = -0.5 * (sys.G + sys.G.transpose());
+  A = llt.matrixL().solve(A);
+  A = llt.matrixL().solve(A.transpose().eval()).transpose().eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (A + A.transpose()), Eigen::EigenvaluesOnly);
+  std::vector<double> mu;
+  const double top = es.eigenvalues().cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < m; ++i)
+    if (es.eigenvalues()[i] > 1e-12 * top) mu.push_back(1.0 / es.eigenvalues()[i]);
+  std::sort(mu.begin(), mu.end());
+  if (static_cast<int>(mu.size()) > count) mu.resize(count);
+  return Eigen::Map<Eigen::VectorXd>(mu.data(), static_cast<Eigen::Index>(mu.size()));
+}
+
+StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const std::function<void(int, int)>& onStep,
+                         int buckling) {
   StaticRun run;
   core::Linearization lin(model);
   // The kinematic residual must stay far below the equilibrium Newton's tolerance (relative 1e-10),
@@ -114,7 +146,14 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       Eigen::VectorXd trial = eta;
       const double p = std::min(1.0, reached + ds);
       const LoadPoint lp = at(p);
-      res = equilibrium(lin, t, lp.increment, trial, {}, lp.initial);
+      // A failed attempt may leave the kinematic warm start far away (another assembly branch of
+      // a closed loop): the next attempt starts from the last equilibrium's configuration.
+      const Eigen::VectorXd xGood = lin.kinematics().x();
+      solvers::NewtonOptions newton;
+      newton.energyFallback = model.spatial;
+      res = equilibrium(lin, t, lp.increment, trial, newton, lp.initial);
+      // (Spatial models only: planar load paths, e.g. onto a post-buckled branch, stay as they were.)
+      if (res.status != solvers::StaticStatus::Converged && model.spatial) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
         eta = trial;
         reached = p;
@@ -144,6 +183,11 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     Eigen::VectorXd f;
     core::LinearizedSystem sys;
     lin.kinematics().setInputLoadFactor(reachedS, reachedMu);
+    if (model.spatial) {
+      Eigen::VectorXd q;
+      lin.dofs(eta, q);
+      lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
+    }
     lin.appliedForces(t, reachedS, f, reachedMu);
     lin.atRest(t, eta, f, sys, true);
     st.x = lin.kinematics().x();
@@ -162,6 +206,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     st.sigma = sys.sigma;
     st.system = sys;
     if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
+    if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
     run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;

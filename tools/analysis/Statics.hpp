@@ -40,12 +40,17 @@ struct LoadPoint {
 };
 // The schedule described above; loadSteps > 0 overrides ITERSTEP's nsteps (--steps).
 std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps = 0);
+// Buckling load factors (SPACAR mode 8): mu with (K0 + mu G0) v = 0, K0 the structural and G0 the
+// geometric stiffness of sys; the smallest positive ones, ascending (at most count). The load that
+// produced G0 times mu is the critical load (linear pre-buckling). Empty when K0 is not definite.
+Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count);
 
 struct StaticStep {
   double loadFactor = 0.0;     // s: fraction of the DEL* increments (1 at the last step)
   double initialFactor = 1.0;  // mu: fraction of the initial loads
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
+  Eigen::VectorXd buckling;  // load factors (only when asked for)
   solvers::StaticResult newton;
   core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };
@@ -58,6 +63,7 @@ struct StaticRun {
 
 // onStep(i, n): progress, called before load step i (0-based) of n.
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
-                         const std::function<void(int, int)>& onStep = {});
+                         const std::function<void(int, int)>& onStep = {},
+                         int buckling = 0 /* number of buckling load factors per step */);
 
 }  // namespace flexmb::analysis

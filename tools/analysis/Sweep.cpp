@@ -22,7 +22,7 @@ std::string prescribedEquilibrium(core::Linearization& lin, double t, int k, dou
   // Scales: the model size for lengths, the holding load (or a stiffness times a small motion) for forces.
   double L = 0.0;
   for (int i = 0; i < lin.model().nx; ++i)
-    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(lin.model().x0[i]));
+    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position || lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition) L = std::max(L, std::abs(lin.model().x0[i]));
   if (L == 0.0) L = 1.0;
   for (int it = 0; it < 60; ++it) {
     lin.kinematics().solvePositions(t, lin.basis() ? Eigen::VectorXd(*lin.basis() * eta) : eta);

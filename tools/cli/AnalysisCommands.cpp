@@ -99,13 +99,15 @@ int runModes(const std::vector<std::string>& args) {
 int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
-  int nev = 6, steps = 0;
+  int nev = 6, steps = 0, buckling = 0;
   std::string out;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
+      "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
+      "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--out file.csv]"))
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -144,13 +146,15 @@ int runStatic(const std::vector<std::string>& args) {
 
   Progress progress("static", !m.quiet);
   const analysis::StaticRun run =
-      analysis::staticAnalysis(model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); });
+      analysis::staticAnalysis(model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); },
+                               buckling);
   progress.finish();
   try {
     std::ofstream csv(files.temporaryFor(".csv"));
     csv << std::setprecision(17) << "load_factor";
     for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
+    for (int i = 0; i < buckling; ++i) csv << ",buckling" << i + 1;
     csv << "\n";
     for (const auto& st : run.steps) {
       std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
@@ -162,6 +166,16 @@ int runStatic(const std::vector<std::string>& args) {
       for (int i = 0; i < nev; ++i) {  // every row as long as the header
         csv << ",";
         if (i < st.frequencies.omega.size()) csv << st.frequencies.omega[i] / (2 * M_PI);
+      }
+      if (buckling > 0) {
+        std::cout << "  buckling load factors:";
+        for (Eigen::Index i = 0; i < st.buckling.size(); ++i) std::cout << " " << st.buckling[i];
+        if (st.buckling.size() == 0) std::cout << " none (K0 not positive definite or no compressive G0)";
+        std::cout << "\n";
+        for (int i = 0; i < buckling; ++i) {
+          csv << ",";  // empty where there is no factor
+          if (i < st.buckling.size()) csv << st.buckling[i];
+        }
       }
       csv << "\n";
     }
