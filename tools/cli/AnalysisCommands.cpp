@@ -13,6 +13,7 @@
 #include "tools/analysis/Statics.hpp"
 #include "tools/analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -48,9 +49,10 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile;
+  std::string basisFile, svg;
   d.add_options()("nev", po::value(&nev), "number of eigenfrequencies (default 6)")(
-      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file");
+      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
+      "svg", po::value(&svg), "also draw the mode shapes into this SVG file");
   if (!parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N]")) return 2;
   core::Model model;
   if (!loadModel(m, model)) return 2;
@@ -65,6 +67,12 @@ int runModes(const std::vector<std::string>& args) {
     const analysis::Frequencies fr = analysis::naturalFrequencies(sys, std::min<int>(nev, lin.size()));
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
+    if (!svg.empty()) {
+      ModeSet set{"", {}, lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes, fr.omega, model.settings.t0};
+      lin.dofs(eta, set.q);
+      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
+      std::cout << "wrote " << svg << "\n";
+    }
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return 3;
@@ -76,10 +84,11 @@ int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0;
-  std::string out;
+  std::string out, svg;
   d.add_options()("nev", po::value(&nev), "eigenfrequencies per equilibrium (default 6)")(
       "steps", po::value(&steps), "load steps (default: ITERSTEP's second field)")(
-      "out", po::value(&out), "CSV with the equilibria (default: <model>_static.csv)");
+      "out", po::value(&out), "CSV with the equilibria (default: <model>_static.csv)")(
+      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
   if (!parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n]")) return 2;
   core::Model model;
   if (!loadModel(m, model)) return 2;
@@ -100,6 +109,7 @@ int runStatic(const std::vector<std::string>& args) {
     csv << "\n";
   }
   std::cout << "wrote " << out << "\n";
+  if (!svg.empty() && !writeStaticFigure(svg, model, m.file, run)) return 2;
   if (!run.completed) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << "\n";
     return 3;
@@ -111,14 +121,15 @@ int runSweep(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   analysis::SweepOptions o;
-  std::string out, basisFile;
+  std::string out, basisFile, svg;
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate")(
       "comp", po::value(&o.component)->default_value(1), "its component (1-based)")(
       "from", po::value(&o.from)->required(), "first value")("to", po::value(&o.to)->required(), "last value")(
       "steps", po::value(&o.steps)->default_value(10), "number of equidistant configurations")(
       "nev", po::value(&o.nev)->default_value(4), "eigenfrequencies per configuration")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
-      "out", po::value(&out), "output prefix (default: <model>_sweep): CSV and SVG");
+      "out", po::value(&out), "output prefix (default: <model>_sweep): CSV and SVG")(
+      "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file");
   if (!parseCommand(args, d, m, "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
     return 2;
   core::Model model;
@@ -160,6 +171,7 @@ int runSweep(const std::vector<std::string>& args) {
   }
   io::writeSvg(out + ".svg", plot);
   std::cout << "wrote " << out << ".csv and " << out << ".svg\n";
+  if (!svg.empty() && !writeSweepFigure(svg, model, m.file, r, o.t)) return 2;
   if (!r.completed) {
     std::cerr << "flexmb: sweep stopped: " << r.stopReason << "\n";
     return 3;

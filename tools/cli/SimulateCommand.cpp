@@ -11,6 +11,7 @@
 #include "tools/analysis/Simulation.hpp"
 #include "tools/analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -22,7 +23,7 @@ int runSimulate(const std::vector<std::string>& args) {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
   std::string out, format = "both", echo, basisFile;
-  bool quiet = false, matrices = false;
+  bool quiet = false, matrices = false, vtk = false, html = false;
   int linearize = 0;
   d.add_options()("t-end", po::value(&tEnd), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol), "relative tolerance (default from the file or 1e-3)")(
@@ -38,6 +39,8 @@ int runSimulate(const std::vector<std::string>& args) {
       "matrices", po::bool_switch(&matrices),
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
       "unless given)")(
+      "vtk", po::bool_switch(&vtk), "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
+      "html", po::bool_switch(&html), "<out>.html: a self-contained page that plays the motion in a browser")(
       "quiet,q", po::bool_switch(&quiet), "no progress line");
   if (!parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return 2;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -85,6 +88,8 @@ int runSimulate(const std::vector<std::string>& args) {
         io::writeMat(out + ".mat", model, traj);
         std::cout << "wrote " << out << ".mat\n";
       }
+      if (vtk) writeVtk(out, model, traj);
+      if (html) writeAnimation(out, model, traj);
       if (linearize > 0) {
         const auto lt = std::chrono::steady_clock::now();
         const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices);
