@@ -320,7 +320,7 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
       pts[i].push_back(projected(g, l.x, view));
       all.insert(all.end(), pts[i].back().begin(), pts[i].back().end());
     }
-  const Frame unit = fit(all, 0, 0, pw, ph - 50, 20);
+  const Frame unit = fit(all, 0, 0, pw, ph - 96, 14);  // room for the title and three legend lines
 
   std::string o = header(W, H);
   o += text(W / 2, 24, fig.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
@@ -329,18 +329,19 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
   for (int i = 0; i < n; ++i) {
     const ShapePanel& panel = fig.panels[i];
     Frame f = unit;
-    f.left = (i % cols) * pw, f.top = top + (i / cols) * ph + 20;
-    o += "<g class=\"panel\">\n<rect x=\"" + num(f.left + 4) + "\" y=\"" + num(f.top - 16) + "\" width=\"" + num(pw - 8) +
+    const double panelTop = top + (i / cols) * ph;
+    f.left = (i % cols) * pw, f.top = panelTop + 24;
+    o += "<g class=\"panel\">\n<rect x=\"" + num(f.left + 4) + "\" y=\"" + num(panelTop + 4) + "\" width=\"" + num(pw - 8) +
          "\" height=\"" + num(ph - 8) + "\" fill=\"none\" stroke=\"#dddddd\"/>\n";
-    o += text(f.left + pw / 2, f.top, panel.title, "text-anchor=\"middle\" font-weight=\"bold\"");
+    o += text(f.left + pw / 2, panelTop + 20, panel.title, "text-anchor=\"middle\" font-weight=\"bold\"");
     size_t k = 0, colourIndex = 0;
-    double legendY = f.top + ph - 38;
+    double legendY = panelTop + ph - 44;
     for (const ShapeLayer& l : panel.layers) {
       if (l.x.size() != g.model().nx) continue;
       const std::string c = l.reference ? "#999999" : l.color.empty() ? kPalette[colourIndex++ % kPalette.size()] : l.color;
       o += "<g class=\"" + std::string(l.reference ? "reference" : "shape") + "\">\n" +
            drawElements(g, pts[i][k++], f, c, l.reference ? 1.5 : 2.2, l.reference, false) + "</g>\n";
-      if (!l.label.empty() && legendY < f.top + ph - 12) {
+      if (!l.label.empty() && legendY < panelTop + ph - 12) {
         o += "<line x1=\"" + num(f.left + 14) + "\" y1=\"" + num(legendY) + "\" x2=\"" + num(f.left + 32) + "\" y2=\"" +
              num(legendY) + "\" stroke=\"" + c + "\" stroke-width=\"2\"" + (l.reference ? " stroke-dasharray=\"4 3\"" : "") + "/>\n";
         o += text(f.left + 36, legendY + 4, l.label, "font-size=\"10\"");

@@ -5,7 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev libarpack2-dev
-          libboost-program-options-dev libgtest-dev libmuparser-dev libmatio-dev python3-scipy libsundials-dev)
+          libboost-program-options-dev libgtest-dev libmuparser-dev libmatio-dev python3-scipy libsundials-dev
+          clang libclang-rt-14-dev chromium)
+# clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes): tools/fuzz; chromium: the headless
+# browser test of the HTML animation. Installed without recommends (no desktop stack).
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
