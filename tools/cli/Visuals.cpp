@@ -103,8 +103,10 @@ bool writeSweepFigure(const std::string& path, const core::Model& model, const s
     std::vector<NamedConfiguration> configs;
     for (size_t i = 0; i < xs.size(); ++i) configs.push_back({"value " + io::shortNumber(sweep.points[i].value, 6), xs[i]});
     std::vector<ModeSet> sets;
-    for (size_t i : {size_t{0}, sweep.points.size() - 1}) {
-      if (sweep.points.empty() || (i > 0 && sets.size() == 1 && sweep.points.size() == 1)) break;
+    std::vector<size_t> ends;
+    if (!sweep.points.empty()) ends.push_back(0);
+    if (sweep.points.size() > 1) ends.push_back(sweep.points.size() - 1);
+    for (size_t i : ends) {
       const auto& p = sweep.points[i];
       sets.push_back({"value " + io::shortNumber(p.value, 6), p.q, p.modes, p.omega, t, 0.0});
     }
