@@ -7,7 +7,10 @@ cd "$(dirname "$0")/.."
 
 packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev libarpack2-dev
           libboost-program-options-dev libgtest-dev libmuparser-dev libmatio-dev python3-scipy libsundials-dev
-          octave liboctave-dev calculix-ccx)
+          octave liboctave-dev calculix-ccx clang libclang-rt-14-dev chromium)
+# octave + liboctave-dev: the Octave/MATLAB gateway (tools/octave); calculix-ccx: the independent FE
+# oracle of the spatial tests; clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes): tools/fuzz;
+# chromium: the headless browser test of the HTML animation. Installed without recommends.
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

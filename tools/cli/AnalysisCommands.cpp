@@ -19,6 +19,7 @@
 #include "tools/analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
+#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -58,11 +59,12 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile, out;
+  std::string basisFile, out, svg;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
-      "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name]"))
+      "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)")(
+      "svg", po::value(&svg), "also draw the mode shapes into this SVG file");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
@@ -89,6 +91,12 @@ int runModes(const std::vector<std::string>& args) {
     if (out.empty()) out = std::filesystem::path(m.file).stem().string();
     const io::SpacarResults sr = analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
     for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
+    if (!svg.empty()) {
+      ModeSet set{"", {}, lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes, fr.omega, model.settings.t0};
+      lin.dofs(eta, set.q);
+      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
+      std::cout << "wrote " << svg << "\n";
+    }
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kNumericalFailure;
@@ -100,14 +108,15 @@ int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
-  std::string out;
+  std::string out, svg;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
       "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
-      "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv]"))
+      "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
+      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] [--svg file.svg]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -200,6 +209,7 @@ int runStatic(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
+  if (!svg.empty() && !writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;
   if (!run.completed) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
     return kNumericalFailure;
@@ -211,7 +221,7 @@ int runSweep(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   analysis::SweepOptions o;
-  std::string out, basisFile;
+  std::string out, basisFile, svg;
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component (1-based)")(
       "from", po::value(&o.from)->required()->notifier(finite("from")), "first value (required)")(
@@ -220,7 +230,8 @@ int runSweep(const std::vector<std::string>& args) {
       "number of equidistant configurations (the continuation sub-steps them as it needs)")(
       "nev", po::value(&o.nev)->default_value(4)->notifier(atLeast("nev", 1)), "eigenfrequencies per configuration")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
-      "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG");
+      "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG")(
+      "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file");
   if (auto rc = parseCommand(args, d, m, "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
     return *rc;
   core::Model model;
@@ -318,6 +329,7 @@ int runSweep(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
+  if (!svg.empty() && !writeSweepFigure(svg, model, m.file, r, o.t)) return kWriteFailed;
   if (!r.completed) {
     std::cerr << "flexmb: sweep stopped " << r.stopReason << " (" << r.points.size()
               << " configurations before it are written)\n";

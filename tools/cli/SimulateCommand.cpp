@@ -21,6 +21,7 @@
 #include "tools/analysis/SpacarOutput.hpp"
 #include "tools/analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -88,7 +89,7 @@ int runSimulate(const std::vector<std::string>& args) {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
   std::string out, format = "both", echo, basisFile;
-  bool matrices = false;
+  bool matrices = false, vtk = false, html = false;
   int linearize = 0;
   d.add_options()("t-end", po::value(&tEnd)->notifier(positive("t-end")), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol)->notifier(positive("reltol")), "relative tolerance (default from the file or 1e-3)")(
@@ -107,7 +108,9 @@ int runSimulate(const std::vector<std::string>& args) {
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
       "matrices", po::bool_switch(&matrices),
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
-      "unless given)");
+      "unless given)")(
+      "vtk", po::bool_switch(&vtk), "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
+      "html", po::bool_switch(&html), "<out>.html: a self-contained page that plays the motion in a browser");
   if (auto rc = parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
@@ -290,6 +293,10 @@ int runSimulate(const std::vector<std::string>& args) {
     }
     std::string status = traj.completed ? "complete" : "stopped: " + traj.stopReason;
     report = files.commit(status);
+    if (!traj.time.empty()) {  // pictures of the motion, beside the committed result files
+      if (vtk) writeVtk(files.prefix(), model, traj);
+      if (html) writeAnimation(files.prefix(), model, traj);
+    }
     if (!echo.empty() && !traj.time.empty()) {
       const std::string temp = io::temporaryName(echo);
       io::writeRestart(temp, model, traj.time.back(), traj.states.back());

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Visuals.hpp"
 
 using namespace flexmb::cli;
 
@@ -19,6 +20,7 @@ void usage(std::ostream& o) {
        "                                               matrices, 4 eigenfrequencies along the trajectory, 10 static)\n\n"
        "commands:\n"
        "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
+       "  show       the model as SVG: node and element numbers, roles (fixed, input, DOF)\n"
        "  simulate   mode 1: forward dynamics with the ode45-equivalent integrator;\n"
        "             --linearize N (mode 4) and --matrices (mode 3) linearise along the trajectory\n"
        "  modes      eigenfrequencies in the initial configuration\n"
@@ -72,7 +74,8 @@ int main(int argc, char** argv) {
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
       {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords},
-      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}, {"validate", runValidate}};
+      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}, {"validate", runValidate},
+      {"show", runShow}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";

@@ -1,0 +1,135 @@
+#include "tools/cli/Visuals.hpp"
+
+#include <cmath>
+#include <iostream>
+
+#include "core/GeometricTransferFunctions.hpp"
+#include "io/HtmlAnimation.hpp"
+#include "io/MechanismSvg.hpp"
+#include "io/TextOutput.hpp"
+#include "io/VtkWriter.hpp"
+
+namespace flexmb::cli {
+
+namespace {
+// Light to dark blue for a sequence of configurations.
+std::string sequenceColor(size_t i, size_t n) {
+  const double a = n > 1 ? static_cast<double>(i) / static_cast<double>(n - 1) : 1.0;
+  const int r = static_cast<int>(std::lround(160 - 160 * a)), g = static_cast<int>(std::lround(200 - 126 * a)),
+            b = static_cast<int>(std::lround(240 - 62 * a));
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02X%02X%02X", r, g, b);
+  return buf;
+}
+}  // namespace
+
+std::vector<Eigen::VectorXd> positionsOf(const core::Model& model, const std::vector<Eigen::VectorXd>& qs, double t) {
+  core::GeometricTransferFunctions gtf(model);
+  std::vector<Eigen::VectorXd> xs;
+  for (const auto& q : qs) {
+    gtf.solvePositions(t, q);
+    xs.push_back(gtf.x());
+  }
+  return xs;
+}
+
+void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
+                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets) {
+  io::ShapeFigure fig;
+  fig.title = title;
+  io::ShapePanel configs;
+  configs.title = configurations.empty() ? "initial configuration" : configurations.size() == 1 ? configurations[0].label : "configurations";
+  configs.layers.push_back({model.x0, "initial configuration", "", true});
+  for (size_t i = 0; i < configurations.size(); ++i) {
+    // Legend entries for the first and the last only (the panel has room for three).
+    const bool named = i == 0 || i + 1 == configurations.size();
+    configs.layers.push_back({configurations[i].x, named ? configurations[i].label : "",
+                              sequenceColor(i, configurations.size()), false});
+  }
+  fig.panels.push_back(configs);
+
+  core::GeometricTransferFunctions gtf(model);
+  Eigen::MatrixXd shapes;
+  for (const ModeSet& set : modeSets) {
+    if (set.modes.cols() == 0) continue;
+    gtf.setInputLoadFactor(set.inputLoadFactor);
+    gtf.solvePositions(set.t, set.q);
+    const Eigen::VectorXd x = gtf.x();
+    gtf.firstOrder(&set.modes, shapes);
+    for (Eigen::Index j = 0; j < set.modes.cols(); ++j) {
+      io::ShapePanel p;
+      const double f = j < set.omega.size() ? set.omega[j] / (2 * M_PI) : NAN;
+      p.title = (set.title.empty() ? "" : set.title + ": ") + "mode " + std::to_string(j + 1) + ", " +
+                io::shortNumber(f, 5) + " Hz";
+      if (!std::isfinite(f)) p.title = set.title + ": mode " + std::to_string(j + 1);
+      p.layers.push_back({x, "", "", true});
+      p.layers.push_back({io::scaledShape(model, x, shapes.col(j)), "", "#D55E00", false});
+      fig.panels.push_back(p);
+    }
+  }
+  fig.notes.push_back("mode shapes x + s F_q v drawn with the largest nodal displacement at 12% of the model size "
+                      "(rotations at most 0.3 rad); dashed grey: the configuration they belong to");
+  const io::MechanismGeometry geometry(model);
+  io::writeShapesSvg(path, geometry, fig);
+}
+
+bool writeStaticFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
+                       const analysis::StaticRun& run) {
+  try {
+    std::vector<NamedConfiguration> configs;
+    for (const auto& st : run.steps) configs.push_back({"load factor " + io::shortNumber(st.loadFactor, 6), st.x});
+    std::vector<ModeSet> sets;
+    if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
+      const auto& st = run.steps.back();
+      // Static analyses run on the full model: eta = q.
+      sets.push_back({"load factor " + io::shortNumber(st.loadFactor, 6), st.eta, st.frequencies.modes, st.frequencies.omega,
+                      model.settings.t0, st.loadFactor});
+    }
+    writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << path << ": " << e.what() << "\n";
+    return false;
+  }
+  std::cout << "wrote " << path << "\n";
+  return true;
+}
+
+bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
+                      const analysis::SweepResult& sweep, double t) {
+  try {
+    std::vector<Eigen::VectorXd> qs;
+    for (const auto& p : sweep.points) qs.push_back(p.q);
+    const std::vector<Eigen::VectorXd> xs = positionsOf(model, qs, t);
+    std::vector<NamedConfiguration> configs;
+    for (size_t i = 0; i < xs.size(); ++i) configs.push_back({"value " + io::shortNumber(sweep.points[i].value, 6), xs[i]});
+    std::vector<ModeSet> sets;
+    std::vector<size_t> ends;
+    if (!sweep.points.empty()) ends.push_back(0);
+    if (sweep.points.size() > 1) ends.push_back(sweep.points.size() - 1);
+    for (size_t i : ends) {
+      const auto& p = sweep.points[i];
+      sets.push_back({"value " + io::shortNumber(p.value, 6), p.q, p.modes, p.omega, t, 0.0});
+    }
+    writeShapeFigure(path, model, "Sweep of " + modelFile, configs, sets);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << path << ": " << e.what() << "\n";
+    return false;
+  }
+  std::cout << "wrote " << path << "\n";
+  return true;
+}
+
+void writeVtk(const std::string& prefix, const core::Model& model, const core::Trajectory& traj) {
+  const auto files = io::writeVtkSeries(prefix, model, traj);
+  std::cout << "wrote " << files.front() << " (ParaView collection of " << files.size() - 1 << " .vtu files)\n";
+}
+
+void writeAnimation(const std::string& prefix, const core::Model& model, const core::Trajectory& traj) {
+  io::AnimationOptions o;
+  o.title = model.sourceFile + ": t = " + io::shortNumber(traj.time.front(), 6) + " ... " +
+            io::shortNumber(traj.time.back(), 6) + " s" + (traj.completed ? "" : " (stopped early)");
+  io::writeHtmlAnimation(prefix + ".html", model, traj, o);
+  std::cout << "wrote " << prefix << ".html\n";
+}
+
+}  // namespace flexmb::cli

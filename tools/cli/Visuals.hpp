@@ -1,0 +1,57 @@
+#pragma once
+// The pictures and animations of the command line: `flexmb show`, the --svg figures of modes,
+// static and sweep, and simulate's --vtk / --html outputs. The drawing itself lives in io/
+// (MechanismGeometry, MechanismSvg, VtkWriter, HtmlAnimation); this file only gathers what the
+// analyses computed (configurations in q, modes in q) into nodal coordinates.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+#include "tools/analysis/Statics.hpp"
+#include "tools/analysis/Sweep.hpp"
+
+namespace flexmb::cli {
+
+int runShow(const std::vector<std::string>& args);
+
+// A configuration in degrees of freedom q with mode shapes (q coordinates, one per column).
+struct ModeSet {
+  std::string title;          // "load factor 1", "x(node 3, y) = 0.05"
+  Eigen::VectorXd q;
+  Eigen::MatrixXd modes;      // nq x k (may be empty)
+  Eigen::VectorXd omega;      // rad/s, one per mode column
+  double t = 0.0;             // time of the configuration (rheonomic inputs)
+  double inputLoadFactor = 0.0;  // DELINPX factor of static load steps
+};
+// A named configuration in nodal coordinates x.
+struct NamedConfiguration {
+  std::string label;
+  Eigen::VectorXd x;
+};
+
+// The figure of `modes`, `static` and `sweep --svg`: a first panel with the initial configuration
+// (dashed grey) and the given configurations over it (light to dark blue), then one panel per mode
+// of each mode set: the configuration (dashed grey) and x + s F_q v (s: scaledShape). Positions and
+// F_q are recomputed from q by the model's kinematics. Throws std::runtime_error on failures.
+void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
+                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets);
+
+// Nodal coordinates of each q at time t by the model's kinematics, solved in order (each solve
+// starts from the previous one, as a continuation does).
+std::vector<Eigen::VectorXd> positionsOf(const core::Model& model, const std::vector<Eigen::VectorXd>& qs, double t);
+
+// static --svg: the equilibria of every load step and the mode shapes of the last one.
+// sweep --svg: the configurations of every point and the mode shapes at the first and the last.
+// Both print "wrote <path>", or the error (false).
+bool writeStaticFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
+                       const analysis::StaticRun& run);
+bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
+                      const analysis::SweepResult& sweep, double t);
+
+// simulate --vtk / --html: <prefix>.pvd with <prefix>_vtu/, and <prefix>.html. Print what they wrote.
+void writeVtk(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
+void writeAnimation(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
+
+}  // namespace flexmb::cli

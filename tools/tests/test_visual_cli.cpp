@@ -1,0 +1,200 @@
+// The pictures and animations through the command line: flexmb show, --svg of modes / static /
+// sweep, simulate --vtk --html; the HTML page loaded in a real headless browser (Debian chromium):
+// it must set document.title to "ok" (no JavaScript error) and its screenshot must show the
+// mechanism (pixels in the element colours).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+const std::string kData = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/";
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    path = fs::temp_directory_path() / ("flexmb_visual_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+// Exit status and combined output of a shell command.
+std::pair<int, std::string> run(const std::string& cmd) {
+  std::string out;
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return {-1, "popen failed"};
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int st = ::pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+size_t count(const std::string& hay, const std::string& needle) {
+  size_t n = 0;
+  for (size_t at = 0; (at = hay.find(needle, at)) != std::string::npos; at += needle.size()) ++n;
+  return n;
+}
+
+std::string chromium() {
+  for (const char* c : {"/usr/bin/chromium", "/usr/bin/chromium-browser"})
+    if (fs::exists(c)) return c;
+  return "";
+}
+
+// Headless chromium with a fresh profile and no network services.
+std::string browser(const std::string& exe, const fs::path& profile, const std::string& extra) {
+  return exe + " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking "
+               "--disable-component-update --disable-sync --user-data-dir=" + profile.string() + " " + extra;
+}
+
+// Decodes an 8-bit RGB(A) PNG and counts pixels near the given colours: "width height n1 n2 ...".
+const char* kPngPixels = R"PY(
+import sys, zlib, struct
+data = open(sys.argv[1], 'rb').read()
+assert data[:8] == b'\x89PNG\r\n\x1a\n'
+pos, idat = 8, b''
+while pos < len(data):
+    n, kind = struct.unpack('>I4s', data[pos:pos + 8])
+    body = data[pos + 8:pos + 8 + n]
+    if kind == b'IHDR':
+        w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
+    elif kind == b'IDAT':
+        idat += body
+    pos += 12 + n
+assert depth == 8 and ctype in (2, 6)
+bpp = 3 if ctype == 2 else 4
+raw = zlib.decompress(idat)
+stride = w * bpp
+rows, prev, i = [], bytearray(stride), 0
+for y in range(h):
+    f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
+    for x in range(stride):
+        a = line[x - bpp] if x >= bpp else 0
+        b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+        if f == 1: line[x] = (line[x] + a) & 255
+        elif f == 2: line[x] = (line[x] + b) & 255
+        elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
+        elif f == 4:
+            p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+            line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+    rows.append(line); prev = line
+targets = [tuple(int(t[k:k + 2], 16) for k in (0, 2, 4)) for t in sys.argv[2:]]
+counts = [0] * len(targets)
+for line in rows:
+    for x in range(0, stride, bpp):
+        px = line[x:x + 3]
+        for k, t in enumerate(targets):
+            if abs(px[0] - t[0]) + abs(px[1] - t[1]) + abs(px[2] - t[2]) < 40: counts[k] += 1
+print(w, h, *counts)
+)PY";
+}  // namespace
+
+TEST(VisualCli, ShowDrawsTheModelWithNumbersAndRoles) {
+  TempDir dir;
+  const fs::path svg = dir.path / "m.svg";
+  const auto [rc, out] = run(kFlexmb + " show " + kData + "manipulator.dat --out " + svg.string());
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("wrote " + svg.string()), std::string::npos);
+  const std::string s = slurp(svg);
+  for (int e : {1, 2, 11, 14, 21, 24}) EXPECT_NE(s.find(">[" + std::to_string(e) + "]<"), std::string::npos) << e;
+  EXPECT_NE(s.find("18 degrees of freedom"), std::string::npos);
+  EXPECT_NE(s.find("kinematic check: well posed"), std::string::npos);
+  EXPECT_NE(s.find("1 (0, 0): fixed"), std::string::npos);
+  EXPECT_EQ(count(s, "class=\"element\""), 8u);  // the eight beams; the two hinges are joints
+  EXPECT_EQ(count(s, "class=\"joint\""), 2u);
+
+  // An ill-posed model is still drawn, with the problem in the notes; bad options and files fail.
+  const auto [rc2, out2] = run(kFlexmb + " show " + kData + "tests/underconstrained.dat --out " + (dir.path / "u.svg").string());
+  EXPECT_EQ(rc2, 0) << out2;
+  EXPECT_NE(slurp(dir.path / "u.svg").find("UNDER-DETERMINED"), std::string::npos);
+  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --view top --out " + (dir.path / "v.svg").string()).first, 2);
+  EXPECT_EQ(run(kFlexmb + " show " + (dir.path / "missing.dat").string()).first, 2);
+  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 2);
+  EXPECT_EQ(run(kFlexmb + " show --help").first, 0);
+}
+
+TEST(VisualCli, ModesStaticAndSweepDrawTheirShapes) {
+  TempDir dir;
+  const fs::path modes = dir.path / "modes.svg", stat = dir.path / "static.svg", sweep = dir.path / "sweep.svg";
+  auto r = run(kFlexmb + " modes " + kData + "manipulator.dat --nev 3 --svg " + modes.string());
+  ASSERT_EQ(r.first, 0) << r.second;
+  // One panel for the configuration and one per mode, titled with the frequency printed above.
+  std::string s = slurp(modes);
+  EXPECT_EQ(count(s, "class=\"panel\""), 4u);
+  EXPECT_NE(s.find("mode 3, "), std::string::npos);
+
+  r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + kData + "straight_guidance.dat --nev 2 --svg " + stat.string());
+  ASSERT_EQ(r.first, 0) << r.second;
+  s = slurp(stat);
+  EXPECT_EQ(count(s, "class=\"panel\""), 3u);
+  EXPECT_NE(s.find("load factor 1"), std::string::npos);
+
+  r = run("cd " + dir.path.string() + " && " + kFlexmb + " sweep " + kData +
+          "straight_guidance.dat --node 6 --comp 1 --from -0.05 --to 0.05 --steps 3 --nev 2 --svg " + sweep.string());
+  ASSERT_EQ(r.first, 0) << r.second;
+  s = slurp(sweep);
+  EXPECT_EQ(count(s, "class=\"panel\""), 1u + 2u + 2u);  // configurations, 2 modes at each end
+  EXPECT_NE(s.find("value 0.05: mode 2"), std::string::npos);
+  EXPECT_NE(s.find("value -0.05: mode 1"), std::string::npos);
+}
+
+TEST(VisualCli, SimulateWritesParaViewSeriesAndAnAnimationThatPlaysInABrowser) {
+  TempDir dir;
+  const fs::path prefix = dir.path / "sc";
+  const auto [rc, out] = run(kFlexmb + " simulate " + kData + "slider_crank_s95.dat --format none --vtk --html -q --out " +
+                             prefix.string());
+  ASSERT_EQ(rc, 0) << out;
+  const std::string pvd = slurp(dir.path / "sc.pvd");
+  const size_t sets = count(pvd, "<DataSet ");
+  EXPECT_EQ(sets, 501u);  // TIMESTEP: 500 intervals
+  size_t vtus = 0;
+  for (const auto& f : fs::directory_iterator(dir.path / "sc_vtu")) vtus += f.path().extension() == ".vtu";
+  EXPECT_EQ(vtus, sets);
+  const fs::path html = dir.path / "sc.html";
+  ASSERT_TRUE(fs::exists(html));
+
+  const std::string exe = chromium();
+  if (exe.empty()) GTEST_SKIP() << "chromium is not installed (tools/setup.sh installs it): the page was not loaded";
+  const fs::path profile = dir.path / "profile";
+  fs::create_directories(profile);
+  const auto dom = run("timeout 120 " + browser(exe, profile, "--dump-dom file://" + html.string()) + " 2>/dev/null");
+  EXPECT_NE(dom.second.find("<title>ok</title>"), std::string::npos) << dom.second.substr(0, 400);
+
+  const fs::path png = dir.path / "shot.png", script = dir.path / "png.py";
+  fs::remove_all(profile);
+  fs::create_directories(profile);
+  run("timeout 120 " + browser(exe, profile, "--hide-scrollbars --window-size=1000,720 --screenshot=" + png.string() +
+                                                 " file://" + html.string()));
+  ASSERT_TRUE(fs::exists(png)) << "no screenshot";
+  std::ofstream(script) << kPngPixels;
+  // Element colours: rigid crank #444444, flexible (DOF) rod #0072B2.
+  const auto px = run("/usr/bin/python3 " + script.string() + " " + png.string() + " 444444 0072B2");
+  ASSERT_EQ(px.first, 0) << px.second;
+  std::istringstream in(px.second);
+  int w = 0, h = 0, grey = 0, blue = 0;
+  in >> w >> h >> grey >> blue;
+  EXPECT_EQ(w, 1000);
+  EXPECT_EQ(h, 720);
+  // The crank (about 190 px long, 3.5 px wide) and the rod (about 450 px) are drawn.
+  EXPECT_GT(grey, 300) << px.second;
+  EXPECT_GT(blue, 800) << px.second;
+}
