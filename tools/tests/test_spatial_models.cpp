@@ -88,7 +88,7 @@ Vec4 tipParameters(const core::Model& m, const Eigen::VectorXd& x, int label) {
 
 analysis::StaticRun solve(const Cantilever& c, int buckling = 0, int nev = 0) {
   const core::Model m = io::readDatString(c.dat(), "cantilever.dat");
-  return analysis::staticAnalysis(m, nev, 0, buckling);
+  return analysis::staticAnalysis(m, nev, 0, {}, buckling);
 }
 
 }  // namespace

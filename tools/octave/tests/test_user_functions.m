@@ -66,8 +66,7 @@ function test_user_functions(src, flexmb)
   % Octave still works, and the gateway too.
   c = spacar(-1, 'arm_user');
   assert(isequal(c.x, b.x), 'a second run differs');
-  % The command line refuses USERSIG / USERINP with a pointer to spacar().
-  % The command line refuses a file with user functions as an input error (exit code 1, README).
+  % The command line refuses USERSIG / USERINP with a pointer to spacar() (input error, exit 1).
   [status, out] = system(sprintf('"%s" simulate arm_user.dat -q 2>&1', flexmb));
   assert(status == 1 && ~isempty(strfind(out, 'spacar()')) && ~isempty(strfind(out, 'arm_user.dat:')), ...
          'command line: status %d, %s', status, out);
