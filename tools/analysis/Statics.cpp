@@ -83,9 +83,11 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   const int ninit = std::max(0, model.settings.initialLoadSteps);
   bool increments = model.delf.size() && !model.delf.isZero(0.0);
   for (const auto& r : model.inputX) increments = increments || r.delta != 0.0;
+  for (const auto& mo : model.moments) increments = increments || !mo.increment.isZero(0.0);  // spatial DELXF
   bool initial = model.f0.size() && !model.f0.isZero(0.0);
   for (const auto& r : model.inputX) initial = initial || (!r.fx && r.x0 != r.base);
   for (const auto& r : model.inputE) initial = initial || (!r.fx && r.x0 != 0.0);
+  for (const auto& mo : model.moments) initial = initial || !mo.value.isZero(0.0);  // spatial XF moments
   std::vector<LoadPoint> points;
   if (!increments) {
     const int n = !initial ? 1 : ninit > 0 ? ninit : nsteps;

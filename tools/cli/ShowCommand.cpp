@@ -39,15 +39,22 @@ int runShow(const std::vector<std::string>& args) {
   std::string out, viewName;
   d.add_options()("out,o", po::value(&out), "SVG file to write (default: <model>_model.svg in the current folder)")(
       "view", po::value(&viewName), "projection: auto (default), xy, xz, yz or iso (spatial models)");
-  if (!parseCommand(args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso]")) return 2;
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso]"))
+    return *rc;
   io::ModelDrawing drawing;
   if (!parseView(viewName, drawing.view)) {
     std::cerr << "flexmb: --view must be auto, xy, xz, yz or iso, not '" << viewName << "'\n";
-    return 2;
+    return kUsageError;
   }
   core::Model model;
-  if (!loadModel(m, model)) return 2;
+  if (!loadModel(m, model)) return kInputError;
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_model.svg";
+  // The output folder is checked before the work, as every command does (README: exit codes).
+  if (const auto folder = std::filesystem::path(out).parent_path();
+      !folder.empty() && !std::filesystem::is_directory(folder)) {
+    std::cerr << "flexmb: cannot write '" << out << "': the folder '" << folder.string() << "' does not exist\n";
+    return kInputError;
+  }
 
   drawing.title = std::filesystem::path(m.file).filename().string() + " (" + io::dialectName(model.dialect) + ")";
   bool wellPosed = true;
@@ -77,7 +84,7 @@ int runShow(const std::vector<std::string>& args) {
     io::writeModelSvg(out, geometry, drawing);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
-    return 2;
+    return kWriteFailed;
   }
   std::cout << "wrote " << out << "\n";
   if (!wellPosed) std::cerr << "flexmb: the kinematic check found problems (see the notes in the picture, or run flexmb check)\n";

@@ -12,6 +12,12 @@
 namespace flexmb::cli {
 
 namespace {
+// A load step's progress for figure labels: the fraction of the DEL* totals, or of the initial
+// loads while those are being applied (tools/analysis/Statics.hpp: the load schedule).
+double loadLabel(const analysis::StaticStep& st) { return st.loadFactor > 0 ? st.loadFactor : st.initialFactor; }
+}  // namespace
+
+namespace {
 // Light to dark blue for a sequence of configurations.
 std::string sequenceColor(size_t i, size_t n) {
   const double a = n > 1 ? static_cast<double>(i) / static_cast<double>(n - 1) : 1.0;
@@ -77,12 +83,12 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
                        const analysis::StaticRun& run) {
   try {
     std::vector<NamedConfiguration> configs;
-    for (const auto& st : run.steps) configs.push_back({"load factor " + io::shortNumber(st.loadFactor, 6), st.x});
+    for (const auto& st : run.steps) configs.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.x});
     std::vector<ModeSet> sets;
     if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
       const auto& st = run.steps.back();
       // Static analyses run on the full model: eta = q.
-      sets.push_back({"load factor " + io::shortNumber(st.loadFactor, 6), st.eta, st.frequencies.modes, st.frequencies.omega,
+      sets.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.eta, st.frequencies.modes, st.frequencies.omega,
                       model.settings.t0, st.loadFactor});
     }
     writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);

@@ -182,7 +182,7 @@ TEST(SpatialModels, TipMomentRollsTheBeamIntoACircle) {
       c.EIy = 2.0;
       c.EA = 1e8;
       c.steps = turns < 1 ? 1 : 8;
-      c.dM = Vec3(0, 0, 2 * kPi * turns * c.EIz / c.L / c.steps);
+      c.dM = Vec3(0, 0, 2 * kPi * turns * c.EIz / c.L);  // DELXF: the total, reached at the last step
       const auto run = solve(c);
       ASSERT_TRUE(run.completed) << run.stopReason;
       const core::Model m = io::readDatString(c.dat(), "m.dat");

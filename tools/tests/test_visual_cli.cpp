@@ -127,8 +127,8 @@ TEST(VisualCli, ShowDrawsTheModelWithNumbersAndRoles) {
   EXPECT_EQ(rc2, 0) << out2;
   EXPECT_NE(slurp(dir.path / "u.svg").find("UNDER-DETERMINED"), std::string::npos);
   EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --view top --out " + (dir.path / "v.svg").string()).first, 2);
-  EXPECT_EQ(run(kFlexmb + " show " + (dir.path / "missing.dat").string()).first, 2);
-  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 2);
+  EXPECT_EQ(run(kFlexmb + " show " + (dir.path / "missing.dat").string()).first, 1);  // input error
+  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 1);
   EXPECT_EQ(run(kFlexmb + " show --help").first, 0);
 }
 
