@@ -17,6 +17,7 @@ int runReduce(const std::vector<std::string>& args) {
   std::string out, large;
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
       "modes", po::value(&o.modes)->default_value(3), "r: modes per configuration")(
+      "normalise", po::value(&o.normalise)->default_value("mass"), "modal: mass (V^T M V = I, as MATLAB's eig) or unit columns")(
       "configs", po::value(&o.configs)->default_value(10), "svd-modal: equidistant configurations")(
       "weight", po::value(&o.weight)->default_value(0.0), "svd-modal: a in omega^-a")(
       "threshold", po::value(&o.threshold)->default_value(0.01), "svd-modal: keep singular values above this share")(
