@@ -127,6 +127,20 @@ Eigen::MatrixXd modalBasis(const Eigen::MatrixXd& modes, int r) {
   return Vs;
 }
 
+Eigen::MatrixXd massNormalisedModalBasis(const Eigen::MatrixXd& modes, const Eigen::MatrixXd& M, int r) {
+  if (M.rows() != modes.rows() || M.cols() != modes.rows())
+    fail("massNormalisedModalBasis: M is " + shape(M) + " but the modes have " + str(modes.rows()) + " rows");
+  Eigen::MatrixXd Vs = modalBasis(modes, r);  // checks, unit length and sign
+  for (Eigen::Index k = 0; k < r; ++k) {
+    const double m = Vs.col(k).dot(M * Vs.col(k));
+    if (!(m > 0.0) || !std::isfinite(m))
+      fail("massNormalisedModalBasis: mode " + str(k) + " has modal mass " + std::to_string(m) +
+           " (M must be positive definite on the modes)");
+    Vs.col(k) /= std::sqrt(m);  // positive factor: the sign convention is kept
+  }
+  return Vs;
+}
+
 // ---------------------------------------------------------------------------------------------
 // SVD-modal basis
 

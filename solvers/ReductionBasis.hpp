@@ -62,6 +62,13 @@ void normaliseColumn(Eigen::Ref<Eigen::VectorXd> v);
 // zero or non-finite columns throw.
 Eigen::MatrixXd modalBasis(const Eigen::MatrixXd& modes, int r);
 
+// Mass-normalised modal basis (Eq. 21, as MATLAB's eig(K, M) returns the modes, which is what the
+// paper's counts were made with): the first r columns of `modes`, each scaled so that v^T M v = 1,
+// with the sign convention above (largest-magnitude entry positive). M (n_s x n_s) must be symmetric
+// positive definite on the modes; a column with v^T M v <= 0 or non-finite throws.
+// The scaling matters for the reduced simulation: ode45's absolute tolerance acts on eta.
+Eigen::MatrixXd massNormalisedModalBasis(const Eigen::MatrixXd& modes, const Eigen::MatrixXd& M, int r);
+
 struct SvdModalResult {
   Eigen::MatrixXd Vs;                    // n_s x kept, orthonormal columns, sign convention applied
   Eigen::VectorXd singularValues;        // all min(n_s, n*r) singular values of Q, descending

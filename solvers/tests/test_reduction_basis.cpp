@@ -185,6 +185,24 @@ TEST(ReductionBasisModal, UnitColumnsAndSignConvention) {
   EXPECT_EQ(modalBasis(-modes, 3), Vs);
 }
 
+TEST(ReductionBasisModal, MassNormalisedColumnsAreMOrthonormal) {
+  // Eigenvectors of a random pencil (K, M): mass-normalised columns satisfy V^T M V = I (as MATLAB's
+  // eig(K, M) returns them), stay parallel to the modes and keep the sign convention.
+  const MatrixXd R = randomMatrix(6, 6, 11), S = randomMatrix(6, 6, 12);
+  const MatrixXd M = R * R.transpose() + 6.0 * MatrixXd::Identity(6, 6), K = S * S.transpose();
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> es(K, M);
+  MatrixXd modes = es.eigenvectors();
+  modes.col(0) *= -3.0;  // arbitrary scaling of the input must not matter
+  modes.col(2) *= 1e-4;
+  const MatrixXd Vs = massNormalisedModalBasis(modes, M, 4);
+  ASSERT_EQ(Vs.cols(), 4);
+  EXPECT_LT((Vs.transpose() * M * Vs - MatrixXd::Identity(4, 4)).cwiseAbs().maxCoeff(), 1e-12);
+  const MatrixXd U = modalBasis(modes, 4);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(U.col(k).dot(Vs.col(k)) / Vs.col(k).norm(), 1.0, 1e-14) << k;
+  EXPECT_THROW(massNormalisedModalBasis(modes, MatrixXd::Identity(5, 5), 2), std::invalid_argument);
+  EXPECT_THROW(massNormalisedModalBasis(modes, -M, 2), std::invalid_argument);
+}
+
 TEST(ReductionBasisModal, SignTieBrokenByFirstIndex) {
   // Equal magnitudes up to round-off: the first index decides.
   MatrixXd modes(2, 3);

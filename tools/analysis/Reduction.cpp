@@ -54,7 +54,14 @@ ReductionResult buildBasis(const core::Model& model, const std::string& modelPat
     lin.atRest(model.settings.t0, q0, f, sys);
     const solvers::EigenResult er = smallModes(p, sys.K + sys.G, sys.M, o.modes);
     if (er.status != solvers::EigenStatus::Converged) throw std::runtime_error("modal basis: " + er.message);
-    res.V = solvers::assembleBasis(p, solvers::modalBasis(er.vectors, o.modes));
+    if (o.normalise == "mass") {
+      res.V = solvers::assembleBasis(p, solvers::massNormalisedModalBasis(er.vectors, solvers::restrictToSmall(p, sys.M), o.modes));
+    } else if (o.normalise == "unit") {
+      res.V = solvers::assembleBasis(p, solvers::modalBasis(er.vectors, o.modes));
+    } else {
+      throw std::invalid_argument("unknown normalisation '" + o.normalise + "' (mass or unit)");
+    }
+    res.info.parameters.push_back({"normalise", o.normalise});
     res.omegaSmall = er.omega;
   } else if (o.method == "svd-modal") {
     SweepOptions so;

@@ -17,6 +17,9 @@ namespace flexmb::analysis {
 struct ReductionOptions {
   std::string method = "modal";  // "modal" or "svd-modal"
   int modes = 3;                 // r: modes per configuration
+  // modal: "mass" (default; V_s^T M_s V_s = I, as MATLAB's eig(K, M)) or "unit" (unit columns).
+  // ode45's absolute tolerance acts on eta, so the choice changes the reduced run's step sizes.
+  std::string normalise = "mass";
   std::optional<std::vector<int>> large;  // q indices with identity columns; default: hinges, DYNX angles
   // SVD-modal path: nodal coordinate prescribed from..to in `configs` equidistant equilibria.
   int configs = 10;

@@ -19,6 +19,8 @@ int runReduce(const std::vector<std::string>& args) {
   std::string out, large;
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
       "modes", po::value(&o.modes)->default_value(3)->notifier(atLeast("modes", 1)), "r: modes per configuration")(
+      "normalise", po::value(&o.normalise)->default_value("mass"),
+      "modal: mass (V^T M V = I, as MATLAB's eig) or unit columns")(
       "configs", po::value(&o.configs)->default_value(10)->notifier(atLeast("configs", 1)),
       "svd-modal: equidistant configurations")(
       "weight", po::value(&o.weight)->default_value(0.0)->notifier(finite("weight")), "svd-modal: a in omega^-a")(

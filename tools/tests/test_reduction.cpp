@@ -3,6 +3,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <algorithm>
+#include <utility>
 
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
@@ -93,4 +95,63 @@ TEST(Reduction, SvdModalOfOneConfigurationSpansTheModalBasis) {
   const auto a = analysis::buildBasis(m, "", modal), b = analysis::buildBasis(m, "", svd);
   ASSERT_EQ(b.V.cols(), 3);
   EXPECT_LT((projector(a.V) - projector(b.V)).norm(), 1e-8);
+}
+
+namespace {
+// M_s of Eq. 21 in the initial configuration (the small block of the full model's mass matrix).
+Eigen::MatrixXd smallMass(const core::Model& m, const std::vector<int>& small) {
+  core::Linearization lin(m);
+  Eigen::VectorXd f;
+  const Eigen::VectorXd q0 = lin.kinematics().initialDofs();
+  lin.kinematics().solvePositions(m.settings.t0, q0);
+  lin.appliedForces(m.settings.t0, 0.0, f);
+  core::LinearizedSystem sys;
+  lin.atRest(m.settings.t0, q0, f, sys);
+  Eigen::MatrixXd Ms(small.size(), small.size());
+  for (size_t i = 0; i < small.size(); ++i)
+    for (size_t j = 0; j < small.size(); ++j) Ms(i, j) = sys.M(small[i], small[j]);
+  return Ms;
+}
+}  // namespace
+
+TEST(Reduction, ModalBasisIsMassNormalisedByDefaultAndUnitOnRequest) {
+  const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  analysis::ReductionOptions o;
+  o.modes = 3;
+  const analysis::ReductionResult mass = analysis::buildBasis(m, "", o);
+  o.normalise = "unit";
+  const analysis::ReductionResult unit = analysis::buildBasis(m, "", o);
+  const std::vector<int> large = analysis::defaultLargeCoordinates(m);
+  std::vector<int> small;
+  for (int i = 0; i < m.numDofs(); ++i)
+    if (std::find(large.begin(), large.end(), i) == large.end()) small.push_back(i);
+  const int nl = static_cast<int>(large.size());
+  Eigen::MatrixXd Vm(small.size(), 3), Vu(small.size(), 3);
+  for (size_t i = 0; i < small.size(); ++i) Vm.row(i) = mass.V.row(small[i]).tail(3), Vu.row(i) = unit.V.row(small[i]).tail(3);
+  ASSERT_EQ(mass.V.cols(), nl + 3);
+  const Eigen::MatrixXd Ms = smallMass(m, small);
+  EXPECT_LT((Vm.transpose() * Ms * Vm - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(), 1e-10);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(Vu.col(k).norm(), 1.0, 1e-14);
+    EXPECT_NEAR(Vu.col(k).dot(Vm.col(k)) / Vm.col(k).norm(), 1.0, 1e-12) << "same direction and sign, mode " << k;
+  }
+  o.normalise = "length";
+  EXPECT_THROW(analysis::buildBasis(m, "", o), std::invalid_argument);
+}
+
+// The paper's counts (Table 2: MODAL-3 697, MODAL-5 1213 evaluations) were made with MATLAB's
+// mass-normalised eig(K, M) columns; ode45's absolute tolerance acts on eta, so the scaling matters
+// (unit columns: 931 and 1357). Tolerance 15%: the full model's count itself differs from the
+// paper's (45,757 against 46,075) and the reduced counts are sensitive to the exact error norm.
+TEST(Reduction, MassNormalisedModalCountsNearThePapers) {
+  const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  for (const auto& [r, paper] : {std::pair<int, double>{3, 697.0}, {5, 1213.0}}) {
+    analysis::ReductionOptions o;
+    o.modes = r;
+    analysis::SimulationOptions so;
+    so.basis = analysis::buildBasis(m, "", o).V;
+    const core::Trajectory t = analysis::simulate(m, so);
+    ASSERT_TRUE(t.completed) << t.stopReason;
+    EXPECT_NEAR(t.nfevals / paper, 1.0, 0.15) << "MODAL-" << r << ": " << t.nfevals << " evaluations, paper " << paper;
+  }
 }
