@@ -1,4 +1,5 @@
 #include "io/SvgPlot.hpp"
+#include "io/TextOutput.hpp"
 
 #include <algorithm>
 #include <array>
@@ -113,24 +114,6 @@ std::string numberLabel(double v, double step, bool scientific) {
   return tidyScientific(std::string(buf, r.ptr));
 }
 
-std::string escape(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        if (c == '\n' || c == '\r' || c == '\t') out += ' ';
-        else if (static_cast<unsigned char>(c) < 0x20) out += '?';  // not allowed in XML 1.0
-        else out += c;
-    }
-  }
-  return out;
-}
 
 double textWidth(std::string_view s) {  // UTF-8 code points times an average glyph width
   double n = 0;
@@ -307,7 +290,7 @@ std::string marker(int shape, Pt p) {
 }
 
 std::string seriesColor(const Series& s, std::size_t index) {
-  return s.color.empty() ? kPalette[index % kPalette.size()] : escape(s.color);
+  return s.color.empty() ? kPalette[index % kPalette.size()] : xmlEscape(s.color);
 }
 
 std::string strokeStyle(const std::string& color, bool dashed) {
@@ -381,13 +364,13 @@ std::string renderSvg(const Plot& plot) {
     cursor += 16;
     head += "<text class=\"title\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
             "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
-            escape(plot.title) + "</text>\n";
+            xmlEscape(plot.title) + "</text>\n";
     cursor += 4;
   }
   for (const std::string& note : plot.notes) {
     cursor += 13;
     head += "<text class=\"note\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
-            "\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555555\">" + escape(note) +
+            "\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555555\">" + xmlEscape(note) +
             "</text>\n";
   }
   std::vector<std::size_t> legendItems;
@@ -458,12 +441,12 @@ std::string renderSvg(const Plot& plot) {
   if (!plot.x.label.empty())
     o += "<text class=\"axis-label\" x=\"" + fixed2((area.x0 + area.x1) / 2) + "\" y=\"" +
          fixed2(area.y1 + 36) + "\" text-anchor=\"middle\" font-size=\"12\">" +
-         escape(plot.x.label) + "</text>\n";
+         xmlEscape(plot.x.label) + "</text>\n";
   if (!plot.y.label.empty())
     o += "<text class=\"axis-label\" transform=\"translate(" + fixed2(14) + "," +
          fixed2((area.y0 + area.y1) / 2) +
          ") rotate(-90)\" text-anchor=\"middle\" dy=\"0.35em\" font-size=\"12\">" +
-         escape(plot.y.label) + "</text>\n";
+         xmlEscape(plot.y.label) + "</text>\n";
 
   // Reference lines and data, clipped to the plot area.
   o += "<g class=\"vertical-lines\" clip-path=\"url(#flexmb-plot-area)\">\n";
@@ -535,7 +518,7 @@ std::string renderSvg(const Plot& plot) {
              "/>\n";
       if (s.markers)
         o += "<g fill=\"" + color + "\">" + marker(static_cast<int>(si), {x0 + 21, y}) + "</g>\n";
-      o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + escape(s.label) +
+      o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + xmlEscape(s.label) +
            "</text>\n";
     }
     o += "</g>\n";
