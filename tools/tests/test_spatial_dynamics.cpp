@@ -15,6 +15,7 @@
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
+constexpr double kPiD = 3.14159265358979323846;
 
 namespace {
 
@@ -126,4 +127,98 @@ TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) 
   // ode45 at RelTol 1e-10 / AbsTol 1e-12 (kinematic tolerance 1e-5 of that): local errors of order
   // 1e-10 of the 0.5 m reach, accumulated over ~300 steps, stay below 1e-8 m.
   EXPECT_LT(worst, 1e-8);
+}
+
+// Reduction on a spatial model (issue 11): the four-wire parallel guidance of
+// datfiles/spatial/wire_guidance.dat, driven by a corner force, simulated full and with modal and
+// SVD-modal bases; then modes 3/4 (linearisation along the trajectory) full and reduced.
+#include <chrono>
+
+#include "tools/analysis/Reduction.hpp"
+#include "tools/analysis/TrajectoryModes.hpp"
+
+TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
+  const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/wire_guidance.dat";
+  const core::Model m = io::readDatFile(path);
+  const int corner = m.nodes[m.nodeByLabel.at(3)].firstCoord;
+  auto run = [&](const std::optional<Eigen::MatrixXd>& V, double& seconds) {
+    analysis::SimulationOptions o;
+    o.basis = V;
+    const auto t0 = std::chrono::steady_clock::now();
+    core::Trajectory tr = analysis::simulate(m, o);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return tr;
+  };
+  double tFull = 0;
+  const core::Trajectory full = run(std::nullopt, tFull);
+  ASSERT_TRUE(full.completed) << full.stopReason;
+  double amplitude = 0;
+  for (const auto& s : full.states)
+    amplitude = std::max(amplitude, (s.x.segment<3>(corner) - m.x0.segment<3>(corner)).norm());
+  std::printf("wire guidance (%d DOF), full: %ld evaluations, %ld steps, %.2f s; corner amplitude %.3e m\n",
+              m.numDofs(), full.nfevals, full.nsteps, tFull, amplitude);
+  ASSERT_GT(amplitude, 1e-4);
+
+  struct Case {
+    const char* name;
+    analysis::ReductionOptions o;
+    double bound;
+  };
+  analysis::ReductionOptions modal3, modal6, svd;
+  modal3.method = modal6.method = "modal";
+  modal3.modes = 3;
+  modal6.modes = 6;
+  svd.method = "svd-modal";
+  svd.modes = 3;
+  svd.configs = 5;
+  svd.node = 3, svd.component = 1;
+  svd.from = 0.08, svd.to = 0.0805;  // the loaded corner pushed 0.5 mm along x
+  std::optional<Eigen::MatrixXd> V3;
+  core::Trajectory red3;
+  for (const Case& c : {Case{"MODAL-3", modal3, 0.06}, Case{"MODAL-6", modal6, 0.01}, Case{"SVD-MODAL", svd, 0.02}}) {
+    const analysis::ReductionResult b = analysis::buildBasis(m, path, c.o);
+    if (std::string(c.name) == "MODAL-3") V3 = b.V;
+    double t = 0;
+    const core::Trajectory red = run(b.V, t);
+    ASSERT_TRUE(red.completed) << c.name << ": " << red.stopReason;
+    ASSERT_EQ(red.time.size(), full.time.size());
+    if (std::string(c.name) == "MODAL-3") red3 = red;
+    double err = 0;
+    for (size_t i = 0; i < full.time.size(); ++i)
+      err = std::max(err, (red.states[i].x.segment<3>(corner) - full.states[i].x.segment<3>(corner)).norm());
+    std::printf("  %-9s (%ld columns): %ld evaluations, %ld steps, %.3f s; corner response error %.3e m = %.3f%% "
+                "of the amplitude\n",
+                c.name, static_cast<long>(b.V.cols()), red.nfevals, red.nsteps, t, err, 100 * err / amplitude);
+    EXPECT_LT(err / amplitude, c.bound) << c.name;
+    EXPECT_LT(red.nfevals, full.nfevals / 10) << c.name;  // the >800 Hz modes are gone
+  }
+
+  // Modes 3/4 along the trajectory: the guidance frequencies (17, 26, 29 Hz) barely move at these
+  // small deflections; MODAL-3 (along its own trajectory) gives them at t = 0.
+  const analysis::TrajectoryModes tmFull = analysis::trajectoryModes(m, full, 6, std::nullopt);
+  const analysis::TrajectoryModes tmRed = analysis::trajectoryModes(m, red3, 3, V3);
+  ASSERT_TRUE(tmFull.completed) << tmFull.stopReason;
+  ASSERT_TRUE(tmRed.completed) << tmRed.stopReason;
+  double drift = 0, redErr = 0, redErr0 = 0;
+  for (int k = 0; k < 3; ++k) {
+    std::printf("  t = 0: full %.5f, MODAL-3 %.5f Hz\n", tmFull.omegaFrozen[0][k] / (2 * kPiD),
+                tmRed.omegaFrozen[0][k] / (2 * kPiD));
+    redErr0 = std::max(redErr0, std::abs(tmRed.omegaFrozen[0][k] / tmFull.omegaFrozen[0][k] - 1));
+  }
+  for (size_t i = 0; i < tmFull.time.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      drift = std::max(drift, std::abs(tmFull.omegaFrozen[i][k] / tmFull.omegaFrozen[0][k] - 1));
+      redErr = std::max(redErr, std::abs(tmRed.omegaFrozen[i][k] / tmFull.omegaFrozen[i][k] - 1));
+    }
+  std::printf("  modes 3/4: f1..f3 at t = 0: %.4f %.4f %.4f Hz, largest change along the run %.2e; "
+              "MODAL-3 vs full %.2e\n",
+              tmFull.omegaFrozen[0][0] / (2 * kPiD), tmFull.omegaFrozen[0][1] / (2 * kPiD),
+              tmFull.omegaFrozen[0][2] / (2 * kPiD), drift, redErr);
+  EXPECT_NEAR(tmFull.omegaFrozen[0][0] / (2 * kPiD), 17.05, 0.05);  // the static eigenanalysis' value
+  EXPECT_LT(drift, 1e-2);
+  // At t = 0 MODAL-3 spans the three guidance modes: the same frequencies (the load applied at
+  // t = 0 enters G, hence the small difference of the third). Along the run the reduced model's
+  // frozen spectrum departs further (measured up to ~11%, printed above, not understood yet:
+  // reported, not asserted).
+  EXPECT_LT(redErr0, 1e-2);
 }
