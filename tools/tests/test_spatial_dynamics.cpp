@@ -217,8 +217,9 @@ TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
   EXPECT_NEAR(tmFull.omegaFrozen[0][0] / (2 * kPiD), 17.05, 0.05);  // the static eigenanalysis' value
   EXPECT_LT(drift, 1e-2);
   // At t = 0 MODAL-3 spans the three guidance modes: the same frequencies (the load applied at
-  // t = 0 enters G, hence the small difference of the third). Along the run the reduced model's
-  // frozen spectrum departs further (measured up to ~11%, printed above, not understood yet:
-  // reported, not asserted).
+  // t = 0 enters G, hence the small difference of the third). Along the run the third (platform
+  // twist) of the reduced model rises to ~32 Hz while the full one stays at 28.8 Hz; the first two
+  // agree to 1e-4. Likely cause (not verified): the reduced model's stresses (S e of three modes)
+  // are not in equilibrium with the corner load, so its G differs. Printed, not asserted.
   EXPECT_LT(redErr0, 1e-2);
 }
