@@ -62,16 +62,15 @@ void SpatialHinge::evaluate(const ElemVec& xe, int order, Defs& D) const {
       e1.H = (0.5 * (e1.H + e1.H.transpose())).eval();  // exact Hessian is symmetric
     }
   }
-  prod(0, 2, a);
-  prod(2, 0, b);
+  // Tilts: the components of q's axis e_x^q across p's axis. Their Jacobian with respect to the
+  // two tilt rotations has determinant 1 at every angle e1 (the symmetric form
+  // (e_x^p.e_z^q - e_z^p.e_x^q)/2 scales with (1 + cos e1)/2 and is singular at a half turn).
+  prod(2, 0, a);
   D.e[1].clear(order);
-  D.e[1].add(0.5, a, order);
-  D.e[1].add(-0.5, b, order);
+  D.e[1].add(-1.0, a, order);
   prod(1, 0, a);
-  prod(0, 1, b);
   D.e[2].clear(order);
-  D.e[2].add(0.5, a, order);
-  D.e[2].add(-0.5, b, order);
+  D.e[2].add(1.0, a, order);
 }
 
 void SpatialHinge::deformations(const ElemVec& x, DefVec& e) const {

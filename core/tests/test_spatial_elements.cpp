@@ -7,7 +7,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <random>
+
+#include <Eigen/Dense>
 #include <string>
 
 #include "core/elements/Element.hpp"
@@ -387,4 +390,38 @@ TEST(SpatialElements, BeamInertia) {
   EXPECT_LT(worstH, 1e-6);
   EXPECT_LT(worstT, 1e-12);
   EXPECT_LT(worstG, 1e-12);
+}
+
+TEST(SpatialElements, HingeKeepsItsAxisThroughAFullTurn) {
+  // The two tilt constraints must keep rank 2 at every rotation about the axis, or a free hinge
+  // cannot turn through a half turn (the symmetric tilt form lost rank at e1 = pi). Jacobian with
+  // respect to global rotations of q (dlambda_q = E(lambda_q)^T dtheta / 2): the 3 x 3 block must
+  // be well conditioned at any angle, and e1 must equal the angle turned.
+  const ElementTypeInfo* t = findElementType("HINGE");
+  ASSERT_NE(t, nullptr);
+  const Vec3 axis = Vec3(0.3, -1.0, 0.6).normalized();
+  const Vec4 lp = Vec4(0.8, 0.1, -0.3, 0.5).normalized();
+  ElemVec x0(8);
+  x0 << lp, lp;
+  const std::unique_ptr<Element> h = t->createWithVector(x0, axis.data(), {});
+  const Vec3 globalAxis = axis;  // the HINGE vector is the axis in the initial configuration (global)
+  for (double phi : {0.0, 1.0, 2.5, 3.0, std::numbers::pi, 3.3, 4.5, 6.0}) {
+    const Vec4 turn(std::cos(phi / 2), std::sin(phi / 2) * globalAxis[0], std::sin(phi / 2) * globalAxis[1],
+                    std::sin(phi / 2) * globalAxis[2]);
+    const Mat3 Rq = euler::rotation(turn) * euler::rotation(lp);
+    const Vec4 lq = euler::fromRotation(Rq);
+    ElemVec x(8);
+    x << lp, lq;
+    DefVec e;
+    DefJac De;
+    h->deformations(x, e);
+    h->jacobian(x, De);
+    const Eigen::Matrix3d J = De.rightCols<4>() * (0.5 * euler::globalRateMatrix(lq).transpose());
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(J);
+    EXPECT_NEAR(std::remainder(e[0] - phi, 2 * std::numbers::pi), 0.0, 1e-12) << "phi " << phi;
+    EXPECT_NEAR(e[1], 0.0, 1e-12);
+    EXPECT_NEAR(e[2], 0.0, 1e-12);
+    EXPECT_NEAR(svd.singularValues().minCoeff(), 1.0, 1e-12) << "phi " << phi;  // J is a rotation
+    EXPECT_NEAR(svd.singularValues().maxCoeff(), 1.0, 1e-12) << "phi " << phi;
+  }
 }

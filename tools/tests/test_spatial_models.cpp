@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -286,6 +287,9 @@ TEST(SpatialModels, TangentStiffnessMatchesFiniteDifferences) {
   const core::Model m =
       io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_coarse.dat");
   core::Linearization lin(m);
+  // The file carries SPACAR Light's ITERSTEP tolerance 5e-7; finite differences need the positions
+  // far tighter than their step.
+  lin.kinematics().setRelativeTolerance(1e-14);
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   for (int i = 0; i < eta.size(); ++i) eta[i] = 1e-3 * std::sin(1.0 + i);
   lin.kinematics().solvePositions(0.0, eta);
@@ -391,4 +395,60 @@ TEST(SpatialModels, CrossSpringPivotRotationalStiffness) {
   std::printf("cross-spring pivot (2 x 20 BEAM): K = %.6f N m/rad, 2 EI/L = %.6f, difference %.3f%%\n", K, ref,
               100 * (K / ref - 1));
   EXPECT_LT(std::abs(K / ref - 1), 1e-3);
+}
+
+TEST(SpatialModels, SpaLightPivotFilesRunUnchangedWithTheirIterstep) {
+  // The SPACAR Light style pivot files carry SPACAR Light's own ITERSTEP line for incremental loads
+  // (ITERSTEP 10 9 5e-7 1 3 0). They must go through `check` and `static` unchanged, and the
+  // equilibria must not depend on that tolerance: the same file with 1e-12 gives the same states.
+  for (const char* name : {"cross_spring_pivot_coarse.dat", "cross_spring_pivot.dat"}) {
+    const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/" + name;
+    std::ifstream in(path);
+    std::ostringstream original, tight;
+    std::string line;
+    bool spalightIterstep = false;
+    while (std::getline(in, line)) {
+      original << line << "\n";
+      if (line.rfind("ITERSTEP", 0) == 0) {
+        std::istringstream ls(line);
+        std::string kw;
+        double f[6];
+        ls >> kw;
+        for (double& v : f) ls >> v;
+        spalightIterstep = ls && f[0] == 10 && f[1] == 9 && f[2] == 5e-7 && f[3] == 1 && f[4] == 3 && f[5] == 0;
+        line = "ITERSTEP 10 9 1e-12 1 3 0";
+      }
+      tight << line << "\n";
+    }
+    ASSERT_TRUE(spalightIterstep) << name << ": expected SPACAR Light's `ITERSTEP 10 9 5e-7 1 3 0`";
+    // The command line, on the file as it is.
+    const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / "spalight_pivot";
+    std::filesystem::create_directories(dir);
+    const std::string flexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+    const std::string log = (dir / (std::string(name) + ".log")).string();
+    ASSERT_EQ(std::system((flexmb + " check '" + path + "' > '" + log + "' 2>&1").c_str()), 0) << "see " << log;
+    std::ifstream checkOut(log);
+    const std::string checkText((std::istreambuf_iterator<char>(checkOut)), std::istreambuf_iterator<char>());
+    EXPECT_NE(checkText.find("kinematics: well posed"), std::string::npos) << checkText;
+    ASSERT_EQ(std::system((flexmb + " static '" + path + "' --out '" + (dir / (std::string(name) + ".csv")).string() + "' > '" +
+                           log + "' 2>&1")
+                              .c_str()),
+              0)
+        << "see " << log;
+    // In process: all nine load steps, the same equilibria as with a 1e-12 tolerance.
+    const core::Model a = io::readDatString(original.str(), name), b = io::readDatString(tight.str(), name);
+    const auto ra = analysis::staticAnalysis(a, 0), rb = analysis::staticAnalysis(b, 0);
+    ASSERT_TRUE(ra.completed) << ra.stopReason;
+    ASSERT_TRUE(rb.completed) << rb.stopReason;
+    ASSERT_EQ(ra.steps.size(), 9u);
+    ASSERT_EQ(rb.steps.size(), 9u);
+    double diff = 0;
+    for (size_t i = 0; i < ra.steps.size(); ++i)
+      diff = std::max(diff, (ra.steps[i].x - rb.steps[i].x).lpNorm<Eigen::Infinity>());
+    const Vec4 l = tipParameters(a, ra.steps.back().x, 4);
+    std::printf("%s with ITERSTEP 10 9 5e-7 1 3 0: check and static pass, 9 load steps, platform turned %.5f rad; "
+                "largest coordinate difference to the 1e-12 run %.1e\n",
+                name, 2 * std::atan2(l[3], l[0]), diff);
+    EXPECT_LT(diff, 1e-12);
+  }
 }
