@@ -23,11 +23,28 @@ void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eig
                                  Eigen::VectorXd& Q) {
   dofs(eta, q_);
   gtf_.solvePositions(t, q_);
-  gtf_.firstOrder(basis(), FqV_);
   stresses_.evaluate(t, gtf_.e(), nullptr, sigma_);
   r_ = f;
   gtf_.addTransposedJacobianProduct(sigma_, r_, -1.0);
-  Q.noalias() = FqV_.transpose() * r_;
+  generalizedForces(Q);
+}
+
+void Linearization::generalizedForces(Eigen::VectorXd& Q) {
+  // Q = (F_q V)^T r without F_q (one transposed solve instead of n_q): J^T lambda = r_c gives the
+  // DYNE components (lambda on their rows: F_q e_j solves J dx_c = e_j), r - D_x^T lambda the DYNX
+  // ones (their columns add the known-coordinate coupling).
+  lambda_.setZero(model_.ne);
+  gtf_.addConstraintStresses(r_, lambda_);
+  work_ = r_;
+  gtf_.addTransposedJacobianProduct(lambda_, work_, -1.0);
+  const int nq = model_.numDofs();
+  qf_.resize(nq);
+  for (int j = 0; j < nq; ++j) {
+    const auto& d = model_.dofs[j];
+    qf_[j] = d.isDeformation ? lambda_[d.index] : work_[d.index];
+  }
+  if (basis()) Q.noalias() = basis()->transpose() * qf_;
+  else Q = qf_;
 }
 
 void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
@@ -58,6 +75,7 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
 void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
                             Eigen::MatrixXd& T) {
   staticForces(t, eta, f, Q);
+  gtf_.firstOrder(basis(), FqV_);
   geometricStiffness(scratch_, false);
   KG_ = nodal_.K();
   Eigen::Map<Eigen::VectorXd>(KG_.valuePtr(), KG_.nonZeros()) +=
@@ -77,6 +95,7 @@ void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
 void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
                            LinearizedSystem& out, bool withMass) {
   staticForces(t, eta, f, out.Q);
+  gtf_.firstOrder(basis(), FqV_);
   geometricStiffness(out);
   project(nodal_.K(), out.K);
   if (nodal_.hasDamping()) project(nodal_.D(), out.D);

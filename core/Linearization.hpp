@@ -71,12 +71,12 @@ class Linearization {
   // The pencil above from the nodal matrices of the last atRest / nodalAtRest (withMass) and the
   // element Jacobians of that configuration. Full models only (throws with a basis).
   void constrainedPencil(ConstrainedPencil& out) const;
-  // F_q V at the last evaluation (nx x m).
+  // F_q V at the last atRest / tangent / inMotion (nx x m; staticForces does not form it).
   const Eigen::MatrixXd& transfer() const { return FqV_; }
   // Q and the static Newton tangent T = Kbar + Gbar only (one projection instead of atRest's four).
   void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
                Eigen::MatrixXd& T);
-  // Only Q (cheap: no second derivatives), for line searches.
+  // Only Q (cheap: no second derivatives, no F_q: one transposed kinematic solve), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
  private:
@@ -89,6 +89,8 @@ class Linearization {
   void geometricStiffness(LinearizedSystem& out, bool projectG = true);
   // out = A^T X A (symmetrised) for a sparse nodal X, A = F_q V.
   void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
+  // Q = (F_q V)^T r_ by one transposed kinematic solve.
+  void generalizedForces(Eigen::VectorXd& Q);
 
   const Model& model_;
   ReducedCoordinates coords_;
@@ -99,7 +101,7 @@ class Linearization {
   ElementSteps steps_;
   NodalMatrices nodal_;
   std::vector<char> active_;  // per deformation: carries a stress
-  Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_;
+  Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_;
   NodalMatrices::Sparse KG_;
   LinearizedSystem scratch_;
