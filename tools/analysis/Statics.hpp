@@ -38,9 +38,10 @@ Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev);
 // Which eigenanalysis: the dense independent-coordinate pencil (Kbar + Gbar, Mbar), or ARPACK
 // shift-invert on the sparse nodal pencil with the constraints (core::ConstrainedPencil, one sparse
 // LU of [K - sigma M, C^T; C, 0]; full models only). Auto: sparse from kSparseEigenFrom degrees of
-// freedom; the environment variable FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
+// freedom (below it the dense path is as fast and its q-space pencil is better conditioned: the nodal
+// pencil carries axial over bending stiffness, ~1e-7 relative on a 999-DOF chain); the environment variable FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
 enum class EigenPath { Auto, Dense, Sparse };
-constexpr int kSparseEigenFrom = 150;
+constexpr int kSparseEigenFrom = 400;
 EigenPath eigenPathFromEnvironment();
 // After lin.atRest(..., withMass = true) gave sys. The sparse path falls back to the dense one when
 // ARPACK does not converge on it.
