@@ -1,10 +1,15 @@
 #include "core/Linearization.hpp"
 
+#include <stdexcept>
+
 namespace flexmb::core {
 
 Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis)
     : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
-      gtf_(model), inertia_(model), stresses_(model), steps_(model) {}
+      gtf_(model), inertia_(model), stresses_(model), steps_(model), nodal_(model) {
+  active_.resize(model.ne);
+  for (int k = 0; k < model.ne; ++k) active_[k] = stresses_.isActive(k) ? 1 : 0;
+}
 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
 
@@ -18,11 +23,28 @@ void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eig
                                  Eigen::VectorXd& Q) {
   dofs(eta, q_);
   gtf_.solvePositions(t, q_);
-  gtf_.firstOrder(basis(), FqV_);
   stresses_.evaluate(t, gtf_.e(), nullptr, sigma_);
   r_ = f;
   gtf_.addTransposedJacobianProduct(sigma_, r_, -1.0);
-  Q.noalias() = FqV_.transpose() * r_;
+  generalizedForces(Q);
+}
+
+void Linearization::generalizedForces(Eigen::VectorXd& Q) {
+  // Q = (F_q V)^T r without F_q (one transposed solve instead of n_q): J^T lambda = r_c gives the
+  // DYNE components (lambda on their rows: F_q e_j solves J dx_c = e_j), r - D_x^T lambda the DYNX
+  // ones (their columns add the known-coordinate coupling).
+  lambda_.setZero(model_.ne);
+  gtf_.addConstraintStresses(r_, lambda_);
+  work_ = r_;
+  gtf_.addTransposedJacobianProduct(lambda_, work_, -1.0);
+  const int nq = model_.numDofs();
+  qf_.resize(nq);
+  for (int j = 0; j < nq; ++j) {
+    const auto& d = model_.dofs[j];
+    qf_[j] = d.isDeformation ? lambda_[d.index] : work_[d.index];
+  }
+  if (basis()) Q.noalias() = basis()->transpose() * qf_;
+  else Q = qf_;
 }
 
 void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
@@ -42,56 +64,60 @@ void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::M
   }
 }
 
-void Linearization::geometricStiffness(LinearizedSystem& out) {
+void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out) {
+  HF_.noalias() = X * FqV_;
+  // X symmetric: half a product (the lower triangle), mirrored.
+  out.resize(m_, m_);
+  out.triangularView<Eigen::Lower>() = FqV_.transpose() * HF_;
+  out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
+}
+
+void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
+                            Eigen::MatrixXd& T) {
+  staticForces(t, eta, f, Q);
+  gtf_.firstOrder(basis(), FqV_);
+  geometricStiffness(scratch_, false);
+  KG_ = nodal_.K();
+  Eigen::Map<Eigen::VectorXd>(KG_.valuePtr(), KG_.nonZeros()) +=
+      Eigen::Map<const Eigen::VectorXd>(nodal_.G().valuePtr(), nodal_.G().nonZeros());
+  project(KG_, T);
+}
+
+void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
   // Reaction stresses: D_x^T sigma~ = f on the calculable coordinates (r_ = f - D_x^T sigma).
   out.sigma = sigma_;
   gtf_.addConstraintStresses(r_, out.sigma);
-  // H F_q V with H = sum of element stress-weighted Hessians.
-  HF_.setZero(model_.nx, m_);
-  ElemVec xe;
-  DefVec se;
-  ElemMat He;
-  for (const auto& E : model_.elements) {
-    const int nd = E.impl->numDeformations(), nc = static_cast<int>(E.coords.size());
-    se.resize(nd);
-    bool any = false;
-    for (int i = 0; i < nd; ++i) {
-      se[i] = out.sigma[E.firstDef + i];
-      any |= se[i] != 0.0;
-    }
-    if (!any) continue;
-    E.gather(gtf_.x(), xe);
-    E.impl->stressWeightedHessian(xe, se, He);
-    for (int i = 0; i < nc; ++i)
-      for (int j = 0; j < nc; ++j)
-        if (He(i, j) != 0.0) HF_.row(E.coords[i]) += He(i, j) * FqV_.row(E.coords[j]);
-  }
-  // Load stiffness of gravity on distributed masses: -(dg/dx) F_q V.
-  if (model_.hasGravity || !model_.moments.empty()) {
-    Y_.setZero(model_.nx, m_);
-    inertia_.addGravityJacobian(gtf_.x(), FqV_, steps_, Y_);
-    addMomentLoadJacobian(model_, initialFactor_, loadFactor_, FqV_, Y_);  // spatial global moments
-    HF_ -= Y_;
-  }
-  out.G.noalias() = FqV_.transpose() * HF_;
-  out.G = 0.5 * (out.G + out.G.transpose()).eval();
+  nodal_.assembleGeometric(gtf_.x(), out.sigma, steps_, initialFactor_, loadFactor_);
+  nodal_.assembleStiffness(gtf_, active_);
+  if (projectG) project(nodal_.G(), out.G);
 }
 
 void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
                            LinearizedSystem& out, bool withMass) {
   staticForces(t, eta, f, out.Q);
+  gtf_.firstOrder(basis(), FqV_);
   geometricStiffness(out);
-  gtf_.deformationFirstOrder(FqV_, EqV_);
-  constitutiveProduct(EqV_, EqV_, false, out.K);
-  constitutiveProduct(EqV_, EqV_, true, out.D);
+  project(nodal_.K(), out.K);
+  if (nodal_.hasDamping()) project(nodal_.D(), out.D);
+  else out.D.setZero(m_, m_);
   out.C.setZero(m_, m_);  // Eq. 16a
   out.N.setZero(m_, m_);
   if (withMass) {
-    inertia_.update(gtf_.x());
-    inertia_.multiply(FqV_, MF_);
-    out.M.noalias() = FqV_.transpose() * MF_;
-    out.M = 0.5 * (out.M + out.M.transpose()).eval();
+    nodal_.assembleMass(gtf_.x());
+    project(nodal_.M(), out.M);
   }
+}
+
+void Linearization::nodalAtRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, bool withMass) {
+  dofs(eta, q_);
+  gtf_.solvePositions(t, q_);
+  stresses_.evaluate(t, gtf_.e(), nullptr, sigma_);
+  r_ = f;
+  gtf_.addTransposedJacobianProduct(sigma_, r_, -1.0);
+  gtf_.addConstraintStresses(r_, sigma_);
+  nodal_.assembleGeometric(gtf_.x(), sigma_, steps_, initialFactor_, loadFactor_);
+  nodal_.assembleStiffness(gtf_, active_);
+  if (withMass) nodal_.assembleMass(gtf_.x());
 }
 
 void Linearization::inMotion(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& etad,
@@ -121,8 +147,9 @@ void Linearization::inMotion(double t, const Eigen::VectorXd& eta, const Eigen::
   geometricStiffness(out);
 
   gtf_.deformationFirstOrder(A, EqV_);
-  constitutiveProduct(EqV_, EqV_, false, out.K);
-  constitutiveProduct(EqV_, EqV_, true, out.D);
+  project(nodal_.K(), out.K);
+  if (nodal_.hasDamping()) project(nodal_.D(), out.D);
+  else out.D.setZero(m_, m_);
   inertia_.multiply(A, MF_);
   out.M.noalias() = A.transpose() * MF_;
   out.M = 0.5 * (out.M + out.M.transpose()).eval();
@@ -159,6 +186,66 @@ void Linearization::inMotion(double t, const Eigen::VectorXd& eta, const Eigen::
     constitutiveProduct(EqV_, Ed_, true, Z_);
     out.N += Z_;
   }
+}
+
+void Linearization::constrainedPencil(ConstrainedPencil& out) const {
+  if (basis()) throw std::logic_error("Linearization::constrainedPencil: full models only (no basis)");
+  const int nx = model_.nx;
+  std::vector<int> fidx(nx, -1);
+  out.free.clear();
+  for (int i = 0; i < nx; ++i)
+    if (model_.xRole[i] == Role::Calculable || model_.xRole[i] == Role::Dynamic) {
+      fidx[i] = static_cast<int>(out.free.size());
+      out.free.push_back(i);
+    }
+  const int nf = static_cast<int>(out.free.size());
+  using T = Eigen::Triplet<double>;
+  std::vector<T> tk, tm;
+  auto restrict = [&](const NodalMatrices::Sparse& A, std::vector<T>& t, const NodalMatrices::Sparse* B) {
+    for (int c = 0; c < nx; ++c) {
+      if (fidx[c] < 0) continue;
+      for (NodalMatrices::Sparse::InnerIterator it(A, c); it; ++it)
+        if (fidx[it.row()] >= 0) t.emplace_back(fidx[it.row()], fidx[c], it.value());
+      if (B)
+        for (NodalMatrices::Sparse::InnerIterator it(*B, c); it; ++it)
+          if (fidx[it.row()] >= 0) t.emplace_back(fidx[it.row()], fidx[c], it.value());
+    }
+  };
+  restrict(nodal_.K(), tk, &nodal_.G());
+  restrict(nodal_.M(), tm, nullptr);
+  out.K.resize(nf, nf);
+  out.K.setFromTriplets(tk.begin(), tk.end());
+  out.M.resize(nf, nf);
+  out.M.setFromTriplets(tm.begin(), tm.end());
+  // Constraint rows and the DYNE rows of P from the element Jacobians.
+  std::vector<int> crow(model_.ne, -1), prow(model_.ne, -1);
+  int r = 0;
+  for (int k = 0; k < model_.ne; ++k)
+    if (model_.eRole[k] == Role::Fixed || model_.eRole[k] == Role::Input) crow[k] = r++;
+  std::vector<T> tc, tp;
+  for (int j = 0; j < model_.numDofs(); ++j) {
+    const auto& d = model_.dofs[j];
+    if (d.isDeformation) prow[d.index] = j;
+    else if (fidx[d.index] >= 0) tp.emplace_back(j, fidx[d.index], 1.0);
+  }
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    const DefJac& J = gtf_.elementJacobian(static_cast<int>(el));
+    for (int i = 0; i < J.rows(); ++i) {
+      const int k = E.firstDef + i;
+      if (crow[k] < 0 && prow[k] < 0) continue;
+      for (int c = 0; c < J.cols(); ++c) {
+        const int fc = fidx[E.coords[c]];
+        if (fc < 0 || J(i, c) == 0.0) continue;
+        if (crow[k] >= 0) tc.emplace_back(crow[k], fc, J(i, c));
+        else tp.emplace_back(prow[k], fc, J(i, c));
+      }
+    }
+  }
+  out.C.resize(r, nf);
+  out.C.setFromTriplets(tc.begin(), tc.end());
+  out.P.resize(model_.numDofs(), nf);
+  out.P.setFromTriplets(tp.begin(), tp.end());
 }
 
 }  // namespace flexmb::core

@@ -16,6 +16,7 @@
 
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
+#include "core/NodalMatrices.hpp"
 #include "core/Model.hpp"
 #include "core/ReducedCoordinates.hpp"
 #include "core/Stresses.hpp"
@@ -29,6 +30,17 @@ struct LinearizedSystem {
   // (F_q V)^T (f - M xdd - h - D_x^T sigma), which vanishes on a trajectory.
   Eigen::VectorXd Q;
   Eigen::VectorXd sigma;       // elastic + reaction stresses (ne)
+};
+
+// Eq. 21 of the full model on the free nodal coordinates (calculable and DYNX), for the sparse
+// eigenanalysis: (K_x + G_x) dx = lambda M_x dx + C^T mu, C dx = 0 has the eigenvalues of
+// (Kbar + Gbar, Mbar) because F_q spans null(C); the modes in q are P dx (P: the DYNE rows of D_x,
+// unit rows for DYNX), with the same mass normalisation (dx^T M_x dx = q^T Mbar q).
+struct ConstrainedPencil {
+  std::vector<int> free;             // x index of each free coordinate
+  Eigen::SparseMatrix<double> K, M;  // K_x + G_x and M_x on the free coordinates (nf x nf)
+  Eigen::SparseMatrix<double> C;     // Jacobian of the fixed and input deformations (r x nf)
+  Eigen::SparseMatrix<double> P;     // q = P dx (nq x nf)
 };
 
 class Linearization {
@@ -50,9 +62,21 @@ class Linearization {
   // ref. [13]). Throws KinematicsError.
   void inMotion(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& etad, const Eigen::VectorXd& etadd,
                 LinearizedSystem& out);
-  // F_q V at the last evaluation (nx x m).
+  // The sparse nodal matrices of the last atRest / inMotion / nodalAtRest (K_x, D_x, G_x; M_x when
+  // the mass was asked for).
+  const NodalMatrices& nodal() const { return nodal_; }
+  // The nodal matrices at rest without F_q (the sparse eigenanalysis): K_x, G_x with the reaction
+  // stresses of the residual f - D_x^T sigma, and M_x. Throws KinematicsError.
+  void nodalAtRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, bool withMass = true);
+  // The pencil above from the nodal matrices of the last atRest / nodalAtRest (withMass) and the
+  // element Jacobians of that configuration. Full models only (throws with a basis).
+  void constrainedPencil(ConstrainedPencil& out) const;
+  // F_q V at the last atRest / tangent / inMotion (nx x m; staticForces does not form it).
   const Eigen::MatrixXd& transfer() const { return FqV_; }
-  // Only Q (cheap: no second derivatives), for line searches.
+  // Q and the static Newton tangent T = Kbar + Gbar only (one projection instead of atRest's four).
+  void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
+               Eigen::MatrixXd& T);
+  // Only Q (cheap: no second derivatives, no F_q: one transposed kinematic solve), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
  private:
@@ -60,8 +84,13 @@ class Linearization {
   // out = L^T S R (S or S_d), on the active deformations.
   void constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
                            Eigen::MatrixXd& out) const;
-  // G = A^T H(sigma~) A - A^T (dg/dx) A; sigma~ = sigma_ + reaction stresses for the nodal residual r_.
-  void geometricStiffness(LinearizedSystem& out);
+  // G = A^T G_x A (H(sigma~) - dg/dx - dm/dx); sigma~ = sigma_ + reaction stresses for the nodal
+  // residual r_. Also assembles the nodal K_x (and D_x).
+  void geometricStiffness(LinearizedSystem& out, bool projectG = true);
+  // out = A^T X A (symmetrised) for a sparse nodal X, A = F_q V.
+  void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
+  // Q = (F_q V)^T r_ by one transposed kinematic solve.
+  void generalizedForces(Eigen::VectorXd& Q);
 
   const Model& model_;
   ReducedCoordinates coords_;
@@ -70,8 +99,12 @@ class Linearization {
   Inertia inertia_;
   Stresses stresses_;
   ElementSteps steps_;
-  Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_;
+  NodalMatrices nodal_;
+  std::vector<char> active_;  // per deformation: carries a stress
+  Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_;
+  NodalMatrices::Sparse KG_;
+  LinearizedSystem scratch_;
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms
 };
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <Eigen/UmfPackSupport>
 
 #include <arpack.hpp>
@@ -276,6 +277,100 @@ void SparseShiftInvert::diagonals(double* aDiag, double* bDiag) const {
 }
 
 // ---------------------------------------------------------------------------------------------------
+struct ConstrainedShiftInvert::Impl {
+  Eigen::SparseMatrix<double> A, B, C, W;  // W = [A - sigma B, C^T; C, 0]
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cct;  // C C^T, for the residual projection
+  bool factored = false;
+  mutable Eigen::VectorXd rhs, sol, mu;
+};
+
+ConstrainedShiftInvert::ConstrainedShiftInvert(const Eigen::SparseMatrix<double>& A,
+                                               const Eigen::SparseMatrix<double>& B,
+                                               const Eigen::SparseMatrix<double>& C)
+    : impl_(std::make_unique<Impl>()) {
+  if (A.rows() != A.cols() || B.rows() != B.cols() || A.rows() != B.rows() || C.cols() != A.rows())
+    throw std::invalid_argument("ConstrainedShiftInvert: A, B must be n x n and C r x n");
+  impl_->A = A;
+  impl_->B = B;
+  impl_->C = C;
+  impl_->A.makeCompressed();
+  impl_->B.makeCompressed();
+  impl_->C.makeCompressed();
+  if (C.rows() > 0) {
+    const Eigen::SparseMatrix<double> cct = impl_->C * impl_->C.transpose();
+    impl_->cct.compute(cct);
+    if (impl_->cct.info() != Eigen::Success)
+      throw std::invalid_argument("ConstrainedShiftInvert: C C^T is not positive definite (C rank deficient)");
+  }
+}
+
+ConstrainedShiftInvert::~ConstrainedShiftInvert() = default;
+
+int ConstrainedShiftInvert::size() const { return static_cast<int>(impl_->A.rows()); }
+
+bool ConstrainedShiftInvert::factorize(double sigma) {
+  Impl& m = *impl_;
+  m.factored = false;
+  if (!std::isfinite(sigma)) return false;
+  const Eigen::Index n = m.A.rows(), r = m.C.rows();
+  const Eigen::SparseMatrix<double> S = m.A - sigma * m.B;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<std::size_t>(S.nonZeros() + 2 * m.C.nonZeros()));
+  for (Eigen::Index c = 0; c < S.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(S, c); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
+  for (Eigen::Index c = 0; c < m.C.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m.C, c); it; ++it) {
+      t.emplace_back(n + it.row(), it.col(), it.value());
+      t.emplace_back(it.col(), n + it.row(), it.value());
+    }
+  m.W.resize(n + r, n + r);
+  m.W.setFromTriplets(t.begin(), t.end());
+  m.W.makeCompressed();
+  m.lu.compute(m.W);
+  if (m.lu.info() != Eigen::Success) return false;
+  m.rhs = Eigen::VectorXd::Ones(n + r);
+  m.sol = m.lu.solve(m.rhs);
+  if (m.lu.info() != Eigen::Success || !m.sol.allFinite()) return false;
+  m.factored = true;
+  return true;
+}
+
+void ConstrainedShiftInvert::solve(const double* in, double* out) const {
+  const Impl& m = *impl_;
+  if (!m.factored) throw std::logic_error("ConstrainedShiftInvert::solve before a successful factorize");
+  const Eigen::Index n = m.A.rows();
+  m.rhs.setZero(m.W.rows());
+  m.rhs.head(n) = Eigen::Map<const Eigen::VectorXd>(in, n);
+  m.sol = m.lu.solve(m.rhs);
+  Eigen::Map<Eigen::VectorXd>(out, n) = m.sol.head(n);
+}
+
+void ConstrainedShiftInvert::applyB(const double* in, double* out) const {
+  const Eigen::Index n = impl_->A.rows();
+  Eigen::Map<Eigen::VectorXd>(out, n).noalias() = impl_->B * Eigen::Map<const Eigen::VectorXd>(in, n);
+}
+
+void ConstrainedShiftInvert::applyA(const double* in, double* out) const {
+  const Eigen::Index n = impl_->A.rows();
+  Eigen::Map<Eigen::VectorXd>(out, n).noalias() = impl_->A * Eigen::Map<const Eigen::VectorXd>(in, n);
+}
+
+void ConstrainedShiftInvert::diagonals(double* aDiag, double* bDiag) const {
+  const Eigen::Index n = impl_->A.rows();
+  Eigen::Map<Eigen::VectorXd>(aDiag, n) = impl_->A.diagonal();
+  Eigen::Map<Eigen::VectorXd>(bDiag, n) = impl_->B.diagonal();
+}
+
+void ConstrainedShiftInvert::projectResidual(double* v) const {
+  const Impl& m = *impl_;
+  if (m.C.rows() == 0) return;
+  Eigen::Map<Eigen::VectorXd> x(v, m.A.rows());
+  m.mu = m.cct.solve(m.C * x);
+  x -= m.C.transpose() * m.mu;
+}
+
+// ---------------------------------------------------------------------------------------------------
 EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
   const int n = op.size();
   checkSizes(n, opt, /*allowAll=*/false, "solveArpack");
@@ -310,8 +405,35 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
     r.message = os.str();
     return r;
   }
+  if (opt.lowestShift && !opt.shift) {
+    // Inverse iteration at sigma, Rayleigh quotient rho, sigma <- -0.1 |rho| while it moves down.
+    Eigen::VectorXd x(n), t(n), y(n), ax(n);
+    for (int i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+    for (int round = 0; round < 12; ++round) {
+      for (int it = 0; it < 3; ++it) {
+        op.applyB(x.data(), t.data());
+        op.solve(t.data(), y.data());
+        const double nrm = y.norm();
+        if (!(nrm > 0.0) || !std::isfinite(nrm)) break;
+        x = y / nrm;
+      }
+      op.applyA(x.data(), ax.data());
+      op.applyB(x.data(), t.data());
+      const double bx = x.dot(t);
+      if (!(bx > 0.0)) break;
+      const double rho = std::abs(x.dot(ax) / bx);
+      const double next = -0.1 * rho;
+      if (!(rho > 1e-12 * s) || !std::isfinite(rho) || next <= 0.5 * sigma) break;  // no real progress
+      if (!op.factorize(next)) {
+        op.factorize(sigma);
+        break;
+      }
+      sigma = next;
+    }
+    r.shift = sigma;
+  }
   std::string note;
-  if (sigma != sigma0) {
+  if (sigma != sigma0 && !opt.lowestShift) {
     std::ostringstream os;
     os << "A - sigma B singular at sigma = " << sigma0 << "; shift moved to " << sigma << ". ";
     note = os.str();
@@ -380,8 +502,17 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
     r.vectors = Eigen::Map<const Eigen::MatrixXd>(z.data(), n, got);
   }
 
-  finalize(r, [&](const double* in, double* out) { op.applyA(in, out); },
-           [&](const double* in, double* out) { op.applyB(in, out); }, ds);
+  finalize(
+      r,
+      [&](const double* in, double* out) {
+        op.applyA(in, out);
+        op.projectResidual(out);
+      },
+      [&](const double* in, double* out) {
+        op.applyB(in, out);
+        op.projectResidual(out);
+      },
+      ds);
 
   if (info == 0 && r.lambda.size() >= nev && r.lambda.allFinite()) {
     r.status = EigenStatus::Converged;

@@ -51,6 +51,12 @@ struct EigenOptions {
   int maxIterations = 1000;     // ARPACK implicit restarts (iparam[2])
   double tolerance = 0.0;       // ARPACK tol (0 = machine precision)
   int denseBelow = 0;           // solveLowest: dense solver when n < max(denseBelow, 2*nev+2)
+  // Without a given shift: move the automatic shift towards the lowest eigenvalues first (a few
+  // rounds of inverse iteration and Rayleigh quotients, sigma = -0.1 * rho). For pencils whose
+  // diagonal ratios say little about the lowest eigenvalues (nodal coordinates: axial stiffness
+  // over nodal mass lies many decades above the bending modes), where the diagonal shift would cost
+  // accuracy and restarts.
+  bool lowestShift = false;
 };
 
 enum class EigenStatus { Converged, NotConverged, Singular };
@@ -85,6 +91,9 @@ class ShiftInvertOperator {
   // Diagonals of A and B (for the automatic shift and the spectrum scale). The default builds them
   // from size() applications of applyA / applyB to unit vectors; implementations override it.
   virtual void diagonals(double* aDiag, double* bDiag) const;
+  // Residuals are measured after this projection (constrained pencils: the part of A v - lambda B v
+  // that the constraint forces C^T mu cannot balance). Default: none.
+  virtual void projectResidual(double* /*v*/) const {}
 };
 
 // Dense A, B (copied); Eigen PartialPivLU of A - sigma B (indefinite allowed). Singular when a pivot is
@@ -120,6 +129,33 @@ class SparseShiftInvert final : public ShiftInvertOperator {
   void applyB(const double* in, double* out) const override;
   void applyA(const double* in, double* out) const override;
   void diagonals(double* aDiag, double* bDiag) const override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The pencil (A, B) on the null space of a constraint matrix C (r x n, full row rank): eigenpairs of
+//   A v = lambda B v + C^T mu,  C v = 0,
+// i.e. of (N^T A N, N^T B N) for any basis N of null(C), without forming N (paper Eq. 21 in nodal
+// coordinates: A = K_x + G_x, B = M_x, C the Jacobian of the fixed and input deformations). The
+// shift-invert solve is one sparse LU (UMFPACK) of the saddle-point matrix [A - sigma B, C^T; C, 0].
+// B needs to be positive definite only on null(C). Eigenvectors satisfy C v = 0, v^T B v = 1;
+// residuals are measured after projecting out range(C^T) (Euclidean projector, sparse Cholesky of C C^T).
+class ConstrainedShiftInvert final : public ShiftInvertOperator {
+ public:
+  ConstrainedShiftInvert(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>& B,
+                         const Eigen::SparseMatrix<double>& C);
+  ~ConstrainedShiftInvert() override;
+  ConstrainedShiftInvert(const ConstrainedShiftInvert&) = delete;
+  ConstrainedShiftInvert& operator=(const ConstrainedShiftInvert&) = delete;
+  int size() const override;
+  bool factorize(double sigma) override;
+  void solve(const double* in, double* out) const override;
+  void applyB(const double* in, double* out) const override;
+  void applyA(const double* in, double* out) const override;
+  void diagonals(double* aDiag, double* bDiag) const override;
+  void projectResidual(double* v) const override;
 
  private:
   struct Impl;

@@ -4,6 +4,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <stdexcept>
 #include <sstream>
 
 #include "core/ElementValidity.hpp"
@@ -28,9 +30,7 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
     place(e);
     lin.appliedForces(t, loadFactor, f, initialFactor);
     if (T) {
-      lin.atRest(t, e, f, sys, false);
-      Q = sys.Q;
-      *T = sys.K + sys.G;
+      lin.tangent(t, e, f, Q, *T);
     } else {
       lin.staticForces(t, e, f, Q);
     }
@@ -64,17 +64,78 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   return solvers::solveEquilibrium(problem, eta, scale, options);
 }
 
-Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
-  solvers::EigenOptions o;
-  o.nev = std::min<int>(nev, static_cast<int>(sys.M.rows()));
-  const solvers::EigenResult r = o.nev >= sys.M.rows() ? solvers::solveDense(sys.K + sys.G, sys.M, o)
-                                                       : solvers::solveLowest(sys.K + sys.G, sys.M, o);
+namespace {
+Frequencies fromResult(const solvers::EigenResult& r) {
   Frequencies out;
   out.lambda = r.lambda;
   out.omega.resize(r.lambda.size());
   for (Eigen::Index i = 0; i < r.lambda.size(); ++i)
     out.omega[i] = r.lambda[i] >= 0 ? std::sqrt(r.lambda[i]) : -std::sqrt(-r.lambda[i]);
+  out.method = r.method;
+  return out;
+}
+
+}  // namespace
+
+Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
+  solvers::EigenOptions o;
+  o.nev = std::min<int>(nev, static_cast<int>(sys.M.rows()));
+  const solvers::EigenResult r = o.nev >= sys.M.rows() ? solvers::solveDense(sys.K + sys.G, sys.M, o)
+                                                       : solvers::solveLowest(sys.K + sys.G, sys.M, o);
+  Frequencies out = fromResult(r);
   out.modes = r.vectors;
+  return out;
+}
+
+EigenPath eigenPathFromEnvironment() {
+  const char* v = std::getenv("FLEXMB_EIGEN");
+  if (!v) return EigenPath::Auto;
+  const std::string s(v);
+  if (s == "dense") return EigenPath::Dense;
+  if (s == "sparse") return EigenPath::Sparse;
+  return EigenPath::Auto;
+}
+
+namespace {
+// ARPACK on the constrained nodal pencil; eigenvectors back in q (P dx) and x (scattered dx).
+solvers::EigenResult sparseSolve(const core::Linearization& lin, int nev, Frequencies& out) {
+  core::ConstrainedPencil p;
+  lin.constrainedPencil(p);
+  solvers::ConstrainedShiftInvert op(p.K, p.M, p.C);
+  solvers::EigenOptions o;
+  o.nev = nev;
+  o.lowestShift = true;
+  const solvers::EigenResult r = solvers::solveArpack(op, o);
+  out = fromResult(r);
+  out.method = "sparse-constrained";
+  out.modes = p.P * r.vectors;
+  out.nodalModes.setZero(lin.model().nx, r.vectors.cols());
+  for (size_t i = 0; i < p.free.size(); ++i) out.nodalModes.row(p.free[i]) = r.vectors.row(static_cast<Eigen::Index>(i));
+  return r;
+}
+}  // namespace
+
+Frequencies naturalFrequencies(const core::Linearization& lin, const core::LinearizedSystem& sys, int nev,
+                               EigenPath path) {
+  const int m = lin.size();
+  nev = std::min(nev, m);
+  if (path == EigenPath::Auto) path = eigenPathFromEnvironment();
+  if (path == EigenPath::Auto) path = m >= kSparseEigenFrom ? EigenPath::Sparse : EigenPath::Dense;
+  if (path == EigenPath::Sparse && !lin.basis() && nev < m) {
+    Frequencies out;
+    const solvers::EigenResult r = sparseSolve(lin, nev, out);
+    if (r.status == solvers::EigenStatus::Converged) return out;
+  }
+  Frequencies out = naturalFrequencies(sys, nev);
+  out.nodalModes = lin.transfer() * out.modes;
+  return out;
+}
+
+Frequencies sparseFrequencies(const core::Linearization& lin, int nev) {
+  Frequencies out;
+  const solvers::EigenResult r = sparseSolve(lin, nev, out);
+  if (r.status != solvers::EigenStatus::Converged)
+    throw std::runtime_error("sparse eigenanalysis: " + r.message);
   return out;
 }
 
@@ -207,7 +268,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     st.e = lin.kinematics().e();
     st.sigma = sys.sigma;
     st.system = sys;
-    if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(sys, nev);
+    if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev);
     if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
     run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {

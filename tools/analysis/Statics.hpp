@@ -29,9 +29,27 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
 // Natural frequencies (rad/s, ascending) of (K + G) v = w^2 M v; negative eigenvalues give -sqrt(|l|).
 struct Frequencies {
   Eigen::VectorXd lambda, omega;
-  Eigen::MatrixXd modes;  // M-orthonormal columns in eta
+  Eigen::MatrixXd modes;       // M-orthonormal columns in eta
+  Eigen::MatrixXd nodalModes;  // the same modes in x (nx x k; F_q V modes); empty from the sys-only overload
+  std::string method;          // "dense" or "arpack-shift-invert" on the dense pencil, "sparse-constrained"
 };
 Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev);
+
+// Which eigenanalysis: the dense independent-coordinate pencil (Kbar + Gbar, Mbar), or ARPACK
+// shift-invert on the sparse nodal pencil with the constraints (core::ConstrainedPencil, one sparse
+// LU of [K - sigma M, C^T; C, 0]; full models only). Auto: sparse from kSparseEigenFrom degrees of
+// freedom (below it the dense path is as fast and its q-space pencil is better conditioned: the nodal
+// pencil carries axial over bending stiffness, ~1e-7 relative on a 999-DOF chain); the environment variable FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
+enum class EigenPath { Auto, Dense, Sparse };
+constexpr int kSparseEigenFrom = 400;
+EigenPath eigenPathFromEnvironment();
+// After lin.atRest(..., withMass = true) gave sys. The sparse path falls back to the dense one when
+// ARPACK does not converge on it.
+Frequencies naturalFrequencies(const core::Linearization& lin, const core::LinearizedSystem& sys, int nev,
+                               EigenPath path = EigenPath::Auto);
+// Sparse path only, after lin.nodalAtRest(..., withMass = true): no dense matrix of the model's size
+// is formed. Throws std::runtime_error when ARPACK fails.
+Frequencies sparseFrequencies(const core::Linearization& lin, int nev);
 
 // One point of the load schedule: mu (initial loads) and s (DEL* increments, 1 = the total).
 struct LoadPoint {

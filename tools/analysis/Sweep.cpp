@@ -183,7 +183,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
       res.stopReason = s.str();
       return res;
     }
-    const Frequencies fr = naturalFrequencies(sys, o.nev);
+    const Frequencies fr = naturalFrequencies(lin, sys, o.nev);
     SweepPoint pt;
     pt.value = v;
     pt.load = P;

@@ -497,6 +497,10 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
   return sxy / sxx;
 }
 
+}  // namespace
+namespace flexmb::bench { void eigenFigures(); }
+namespace {
+
 void usage() {
   std::cout << "usage: flexmb_bench [--quick] [--out DIR]\n"
                "  --quick    RelTol 1e-2..1e-5, cheaper references, element counts 5..40\n"
@@ -527,6 +531,8 @@ int main(int argc, char** argv) {
     std::cerr << "flexmb_bench: cannot create " << opt.out << ": " << e.what() << "\n";
     return 1;
   }
+  if (opt.only.empty() || opt.only == "eigen") flexmb::bench::eigenFigures();
+  if (opt.only == "eigen") return 0;
   const auto benchStart = Clock::now();
   const std::string loadBefore = loadAverage();
   std::setvbuf(stdout, nullptr, _IOLBF, 0);

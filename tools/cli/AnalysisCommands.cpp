@@ -83,7 +83,7 @@ int runModes(const std::vector<std::string>& args) {
     core::LinearizedSystem sys;
     if (!lin.basis()) eta = lin.kinematics().initialDofs();
     lin.atRest(model.settings.t0, eta, f, sys);
-    const analysis::Frequencies fr = analysis::naturalFrequencies(sys, std::min<int>(nev, lin.size()));
+    const analysis::Frequencies fr = analysis::naturalFrequencies(lin, sys, std::min<int>(nev, lin.size()));
     if (!fr.omega.allFinite() || fr.omega.size() == 0)
       throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
