@@ -41,6 +41,11 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
     hasDynamicCoords_ |= !d.isDeformation;
   }
 
+  periodic_.assign(ne, 0);
+  for (const auto& E : model.elements)
+    for (int i = 0; i < E.impl->numDeformations(); ++i)
+      if (E.impl->isPeriodicAngle(i)) periodic_[E.firstDef + i] = 1, hasPeriodic_ = true;
+
   // Pattern of J = dD_C/dx_calc, built once; every element entry gets its value slot.
   std::vector<std::tuple<int, int, int, int>> entries;  // col, row, element, local slot
   slot_.resize(model.elements.size());
@@ -154,7 +159,16 @@ void GeometricTransferFunctions::evaluateElements() {
     E.impl->jacobian(xe, De);
     const auto& slots = slot_[el];
     for (int i = 0; i < de.size(); ++i) {
-      e_[E.firstDef + i] = de[i];
+      const int k = E.firstDef + i;
+      if (hasPeriodic_ && periodic_[k]) {
+        // A principal-value angle: take the revolution nearest to the prescribed value (DOF or
+        // input) or, for a calculable angle, to the previous one, so e and the residual of Eq. 7
+        // stay continuous through pi.
+        const double ref = rowOfDef_[k] >= 0 ? target_[rowOfDef_[k]] : e_[k];
+        e_[k] = ref + std::remainder(de[i] - ref, 2.0 * M_PI);
+      } else {
+        e_[k] = de[i];
+      }
       for (int j = 0; j < nc; ++j)
         if (slots[i * nc + j] >= 0) values_[slots[i * nc + j]] = De(i, j);
     }

@@ -110,6 +110,8 @@ class GeometricTransferFunctions {
   std::vector<int> calcCoords_, constrainedDefs_;
   std::vector<int> colOfCoord_, rowOfDef_;
   std::vector<int> dofRow_, dofCoord_;  // per dof: J row (DYNE) or x index (DYNX), else -1
+  std::vector<char> periodic_;          // per deformation: an angle known modulo 2 pi
+  bool hasPeriodic_ = false;
   // Jacobian pattern (compressed column) and the map element entry -> value slot.
   std::vector<int> colPtr_, rowIdx_;
   std::vector<double> values_;

@@ -120,6 +120,9 @@ class Element {
   }
   // Reference (undeformed) length l0, 0 for an element without one (hinge). Written as LENGTH0.
   virtual double referenceLength() const { return 0.0; }
+  // True for a deformation that is an angle known only modulo 2 pi (a spatial hinge's rotation,
+  // a principal value): the kinematics keep it continuous along the motion.
+  virtual bool isPeriodicAngle(int /*i*/) const { return false; }
   // Restart reference (SPACAR95 LENGTH0): re-derives the reference geometry so that the element's
   // deformations at x are e, with reference length length0 when > 0. Throws std::invalid_argument
   // for an element type that does not support it.

@@ -8,7 +8,8 @@
 // symmetric (e_x^p.e_z^q - e_z^p.e_x^q)/2 of spatial-elements.md 5.1: that form loses rank at a half
 // turn about the axis (its tilt Jacobian scales with 1 + cos e1), so a hinge could not turn through
 // pi; these agree with it to first order at e1 = 0 and keep rank 2 at every angle. e1 is the principal value
-// in (-pi, pi] (no revolution counter: an element holds no state).
+// in (-pi, pi] (an element holds no state); GeometricTransferFunctions adds the revolutions, so
+// the angle (a DOF, an input or an output) runs on continuously through pi.
 #include <Eigen/Core>
 
 #include "core/elements/Element.hpp"
@@ -27,6 +28,7 @@ class SpatialHinge final : public Element {
   void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   // params = [St, (S2, S3)]: diagonal (rotational stiffness about the axis, optional tilts).
   void constitutive(std::span<const double> params, DefMat& S) const override;
+  bool isPeriodicAngle(int i) const override { return i == 0; }
 
  private:
   struct Defs;

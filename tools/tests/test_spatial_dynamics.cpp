@@ -55,16 +55,14 @@ struct DoublePendulum {
   }
 };
 
-}  // namespace
+// flexmb against the RK4 reference for the pendulum p over 1 s (51 outputs).
+struct PendulumComparison {
+  core::Trajectory trajectory;
+  double worst = 0.0, refErr = 0.0, travel = 0.0;
+  int secondHingeAngle = -1;  // index in e of the rotation of HINGE 3
+};
 
-TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) {
-  DoublePendulum p;
-  p.a1 = Vec3(0.0, 1.0, 0.2).normalized();
-  p.a2 = Vec3(1.0, 0.3, -0.4).normalized();
-  p.r1 = Vec3(0.2, 0.05, -0.2);
-  p.r2 = Vec3(0.1, 0.1, -0.15);
-  p.g = Vec3(0, 0, -9.81);
-  p.m1 = 1.5, p.m2 = 0.8;
+PendulumComparison compareDoublePendulum(const DoublePendulum& p) {
   const Vec3 P1 = p.r1, P2 = p.r1 + p.r2;
   std::ostringstream s;
   s.precision(17);
@@ -78,13 +76,19 @@ TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) 
     << "FIX 1\nFIX 2\nDYNE 1 1\nDYNE 3 1\nEND\nHALT\n"
     << "XM 3 " << p.m1 << "\nXM 5 " << p.m2 << "\nGRAVITY 0 0 -9.81\nTIMESTEP 1 50\nEND\nEND\n";
   const core::Model m = io::readDatString(s.str(), "double_pendulum.dat");
-  ASSERT_EQ(m.numDofs(), 2);
+  EXPECT_EQ(m.numDofs(), 2);
   analysis::SimulationOptions o;
   o.relTol = 1e-10;
   o.absTol = 1e-12;
-  const core::Trajectory tr = analysis::simulate(m, o);
-  ASSERT_TRUE(tr.completed) << tr.stopReason;
-  ASSERT_EQ(tr.time.size(), 51u);
+  PendulumComparison c;
+  c.secondHingeAngle = m.elements[m.elementByLabel.at(3)].firstDef;
+  c.trajectory = analysis::simulate(m, o);
+  const core::Trajectory& tr = c.trajectory;
+  EXPECT_TRUE(tr.completed) << tr.stopReason;
+  if (tr.time.size() != 51u) {
+    ADD_FAILURE() << "expected 51 outputs, got " << tr.time.size();
+    return c;
+  }
 
   // Reference: RK4 with h = 1e-4 s (error O(h^4), checked below against h = 2e-4).
   auto integrate = [&](double h, std::vector<Eigen::Vector2d>& out) {
@@ -109,24 +113,65 @@ TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) 
   integrate(1e-4, ref);
   integrate(2e-4, coarse);
   const int n3 = m.nodes[m.nodeByLabel.at(3)].firstCoord, n5 = m.nodes[m.nodeByLabel.at(5)].firstCoord;
-  double worst = 0.0, refErr = 0.0, travel = 0.0;
   for (size_t i = 0; i < tr.time.size(); ++i) {
     Vec3 q1, q2, c1, c2;
     p.positions(ref[i], q1, q2);
     p.positions(coarse[i], c1, c2);
     const Vec3 x1 = tr.states[i].x.segment<3>(n3), x2 = tr.states[i].x.segment<3>(n5);
-    worst = std::max({worst, (x1 - q1).norm(), (x2 - q2).norm()});
-    refErr = std::max({refErr, (c1 - q1).norm(), (c2 - q2).norm()});
-    travel = std::max(travel, (q2 - P2).norm());
+    c.worst = std::max({c.worst, (x1 - q1).norm(), (x2 - q2).norm()});
+    c.refErr = std::max({c.refErr, (c1 - q1).norm(), (c2 - q2).norm()});
+    c.travel = std::max(c.travel, (q2 - P2).norm());
   }
   std::printf("spatial double pendulum over 1 s (tip travels up to %.3f m): max position error %.2e m "
               "(reference RK4 h = 1e-4 vs 2e-4: %.1e m); %ld steps, %ld evaluations\n",
-              travel, worst, refErr, tr.nsteps, tr.nfevals);
-  ASSERT_GT(travel, 0.1);     // the motion is large
-  ASSERT_LT(refErr, 1e-9);    // the reference is far tighter than the bound below
+              c.travel, c.worst, c.refErr, tr.nsteps, tr.nfevals);
+  return c;
+}
+
+}  // namespace
+
+TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) {
+  DoublePendulum p;
+  p.a1 = Vec3(0.0, 1.0, 0.2).normalized();
+  p.a2 = Vec3(1.0, 0.3, -0.4).normalized();
+  p.r1 = Vec3(0.2, 0.05, -0.2);
+  p.r2 = Vec3(0.1, 0.1, -0.15);
+  p.g = Vec3(0, 0, -9.81);
+  p.m1 = 1.5, p.m2 = 0.8;
+  const PendulumComparison c = compareDoublePendulum(p);
+  ASSERT_GT(c.travel, 0.1);     // the motion is large
+  ASSERT_LT(c.refErr, 1e-9);    // the reference is far tighter than the bound below
   // ode45 at RelTol 1e-10 / AbsTol 1e-12 (kinematic tolerance 1e-5 of that): local errors of order
   // 1e-10 of the 0.5 m reach, accumulated over ~300 steps, stay below 1e-8 m.
-  EXPECT_LT(worst, 1e-8);
+  EXPECT_LT(c.worst, 1e-8);
+}
+
+// A hinge DOF turning through pi: its principal-value angle must not make the kinematic Newton
+// jump a revolution (it diverged at t = 0.52 s before the kinematics unwrapped periodic angles).
+TEST(SpatialDynamics, HingeAngleRunsOnThroughAHalfTurn) {
+  DoublePendulum p;
+  p.a1 = Vec3(0.0, 1.0, 0.2).normalized();
+  p.a2 = Vec3(1.0, 0.3, -0.4).normalized();
+  p.r1 = Vec3(0.3, 0.0, 0.0);
+  p.r2 = Vec3(0.05, 0.25, 0.1);
+  p.g = Vec3(0, 0, -9.81);
+  p.m1 = 1.5, p.m2 = 0.8;
+  const PendulumComparison c = compareDoublePendulum(p);
+  ASSERT_EQ(c.trajectory.time.size(), 51u);
+  ASSERT_LT(c.refErr, 1e-9);
+  EXPECT_LT(c.worst, 1e-8);
+  // The second hinge's angle passes pi continuously.
+  const int k = c.secondHingeAngle;
+  double maxAngle = 0.0, maxJump = 0.0;
+  for (size_t i = 0; i < c.trajectory.states.size(); ++i) {
+    const double a = c.trajectory.states[i].e[k];
+    maxAngle = std::max(maxAngle, std::abs(a));
+    if (i > 0) maxJump = std::max(maxJump, std::abs(a - c.trajectory.states[i - 1].e[k]));
+  }
+  std::printf("second hinge angle reaches %.3f rad; largest change between outputs %.3f rad\n", maxAngle,
+              maxJump);
+  EXPECT_GT(maxAngle, 3.3);
+  EXPECT_LT(maxJump, 1.0);
 }
 
 // Reduction on a spatial model (issue 11): the four-wire parallel guidance of
