@@ -13,6 +13,8 @@
 #include <string_view>
 #include <utility>
 
+#include "core/elements/EulerParameters.hpp"
+
 namespace flexmb::io {
 namespace {
 
@@ -28,16 +30,6 @@ void appendG17(std::string& out, double v) {
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
   out.append(buf, r.ptr);
-}
-
-// printf's "%.15E": d.ddddddddddddddd E+xx.
-std::string formatE15(double v) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, 15);
-  std::string s(buf, r.ptr);
-  for (char& c : s)
-    if (c == 'e') c = 'E';
-  return s;
 }
 
 std::string formatG17(double v) {
@@ -161,6 +153,26 @@ std::vector<std::pair<int, int>> deformationOwners(const Model& model) {
   return owner;
 }
 
+// Labels and first coordinates of the Euler-parameter nodes, in model order.
+std::vector<const core::Node*> eulerNodes(const Model& model) {
+  std::vector<const core::Node*> r;
+  for (const core::Node& n : model.nodes)
+    if (n.kind == core::NodeKind::EulerParameters) r.push_back(&n);
+  return r;
+}
+
+// Rotation matrix and rotation vector of the Euler parameters at x[first .. first+3], normalised
+// first (the integrator keeps |lambda| = 1 only to its tolerance).
+void orientation(const Eigen::VectorXd& x, int first, Eigen::Matrix3d& R, Eigen::Vector3d& rv) {
+  Eigen::Vector4d l = x.segment<4>(first);
+  l /= l.norm();
+  if (l[0] < 0.0) l = -l;  // the same rotation; angle in [0, pi]
+  R = core::euler::rotation(l);
+  const double s = l.tail<3>().norm();
+  const double angle = 2.0 * std::atan2(s, l[0]);
+  rv = s > 0.0 ? Eigen::Vector3d(l.tail<3>() * (angle / s)) : Eigen::Vector3d::Zero();
+}
+
 // ---------------------------------------------------------------------------------------------
 // matio.
 
@@ -267,6 +279,43 @@ std::vector<std::string> writeCsv(const std::string& prefix, const Model& model,
   return written;
 }
 
+bool hasOrientationNodes(const Model& model) { return !eulerNodes(model).empty(); }
+
+std::string writeOrientationCsv(const std::string& prefix, const Model& model, const Trajectory& traj) {
+  const auto nodes = eulerNodes(model);
+  if (nodes.empty()) return "";
+  const auto xNames = coordinateColumnNames(model);
+  const auto eNames = deformationColumnNames(model);
+  const std::string path = prefix + "_rot.csv";
+  checkTrajectory(traj, model, xNames, eNames, "CSV output '" + path + "'");
+  OutFile f(path);
+  std::string line = "time";
+  for (const core::Node* n : nodes) {
+    const std::string base = ",node" + std::to_string(n->label) + ".";
+    for (const char* c : {"rx", "ry", "rz"}) line += base + c;
+    for (int i = 1; i <= 3; ++i)
+      for (int j = 1; j <= 3; ++j) line += base + "R" + std::to_string(i) + std::to_string(j);
+  }
+  line += '\n';
+  f.write(line);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d rv;
+  for (std::size_t k = 0; k < traj.time.size(); ++k) {
+    line.clear();
+    appendG17(line, traj.time[k]);
+    for (const core::Node* n : nodes) {
+      orientation(traj.states[k].x, n->firstCoord, R, rv);
+      for (int c = 0; c < 3; ++c) line += ',', appendG17(line, rv[c]);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) line += ',', appendG17(line, R(i, j));
+    }
+    line += '\n';
+    f.write(line);
+  }
+  f.close();
+  return path;
+}
+
 void writeMat(const std::string& path, const Model& model, const Trajectory& traj) {
   const auto xNames = coordinateColumnNames(model);
   const auto eNames = deformationColumnNames(model);
@@ -292,6 +341,24 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
       for (std::size_t j = 0; j < n; ++j) data[j * nt + i] = v[static_cast<Eigen::Index>(j)];
     }
     writeMatVar(mf.mat, path, q.name, nt, n, data);
+  }
+
+  if (const auto nodes = eulerNodes(model); !nodes.empty()) {
+    const std::size_t nr = nodes.size();
+    data.clear();
+    for (const core::Node* n : nodes) data.push_back(n->label);
+    writeMatVar(mf.mat, path, "rotnodes", 1, nr, data);
+    std::vector<double> rv(nt * 3 * nr), rm(nt * 9 * nr);
+    Eigen::Matrix3d R;
+    Eigen::Vector3d v;
+    for (std::size_t i = 0; i < nt; ++i)
+      for (std::size_t a = 0; a < nr; ++a) {
+        orientation(traj.states[i].x, nodes[a]->firstCoord, R, v);
+        for (std::size_t c = 0; c < 3; ++c) rv[(3 * a + c) * nt + i] = v[static_cast<Eigen::Index>(c)];
+        for (std::size_t c = 0; c < 9; ++c) rm[(9 * a + c) * nt + i] = R.data()[c];  // column-major R(:)
+      }
+    writeMatVar(mf.mat, path, "rotvec", nt, 3 * nr, rv);
+    writeMatVar(mf.mat, path, "rotmat", nt, 9 * nr, rm);
   }
 
   const std::pair<const char*, long> stats[] = {

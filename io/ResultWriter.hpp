@@ -32,9 +32,20 @@ std::vector<std::string> deformationColumnNames(const core::Model& model);
 std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& model,
                                   const core::Trajectory& traj);
 
+// Orientations of the Euler-parameter nodes in user terms (spatial models; empty for planar ones):
+// <prefix>_rot.csv with, per orientation node n, the rotation vector node<n>.rx, .ry, .rz (axis
+// times angle in rad, angle in [0, pi]) and the rotation matrix node<n>.R11 ... R33 (row by row) from
+// the normalised Euler parameters. Returns the path written, or "" when the model has no such node.
+std::string writeOrientationCsv(const std::string& prefix, const core::Model& model,
+                                const core::Trajectory& traj);
+bool hasOrientationNodes(const core::Model& model);
+
 // MATLAB v5 .mat file (matio, MAT_FT_MAT5, uncompressed) with SPACAR's variable names:
 // time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1).
-// All double. Rows are output times (SPACAR layout).
+// All double. Rows are output times (SPACAR layout). Spatial models add the orientations of their
+// Euler-parameter nodes: rotnodes (1 x nr labels), rotvec (nt x 3 nr: rotation vectors, node by
+// node) and rotmat (nt x 9 nr: each node's R(:), column-major, so reshape(rotmat(k, 9*i-8:9*i), 3, 3)
+// is node i's rotation matrix at time k).
 void writeMat(const std::string& path, const core::Model& model, const core::Trajectory& traj);
 
 // Mode 3: the linearised matrices along a trajectory (Eq. 15) as m x m x nt arrays M0, K0, G0, C0,

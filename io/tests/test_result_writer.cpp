@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
 #include "io/ResultWriter.hpp"
@@ -407,4 +409,65 @@ TEST_F(ResultWriterTest, EmptyTrajectoryWritesHeadersAndEmptyMatrices) {
   EXPECT_EQ(lines(readFile(files[0])).size(), 1u);
   EXPECT_NO_THROW(flexmb::io::writeMat(path("empty.mat"), m, tr));
   EXPECT_TRUE(fs::exists(path("empty.mat")));
+}
+
+// Orientation output of spatial models: an Euler-parameter node turned by a known angle about a known
+// axis (lambda slightly off unit length, as after integration) gives back that rotation vector and
+// the rotation matrix of Rodrigues' formula, written independently here.
+TEST(ResultWriterOrientation, EulerNodeRotationVectorAndMatrix) {
+  Model m;
+  m.sourceFile = "spatial.dat";
+  Node pos, rot;
+  pos.label = 1, pos.kind = NodeKind::SpatialPosition, pos.firstCoord = 0;
+  rot.label = 2, rot.kind = NodeKind::EulerParameters, rot.firstCoord = 3;
+  m.nodes = {pos, rot};
+  m.nodeByLabel = {{1, 0}, {2, 1}};
+  m.nx = 7;
+  m.xOwnerNode = {0, 0, 0, 1, 1, 1, 1};
+  m.xRole.assign(7, Role::Calculable);
+  m.x0 = Eigen::VectorXd::Zero(7);
+  m.ne = 0;
+  EXPECT_TRUE(flexmb::io::hasOrientationNodes(m));
+
+  const Eigen::Vector3d axis = Eigen::Vector3d(1.0, -2.0, 0.5).normalized();
+  const double angles[] = {0.0, 0.7, 2.9};
+  Trajectory tr;
+  for (int k = 0; k < 3; ++k) {
+    StateOutputs s;
+    s.x = Eigen::VectorXd::Zero(7);
+    s.x[3] = std::cos(angles[k] / 2) * 1.001;
+    s.x.segment<3>(4) = axis * std::sin(angles[k] / 2) * 1.001;
+    s.xd = s.xdd = Eigen::VectorXd::Zero(7);
+    s.e = s.ed = s.edd = s.sig = Eigen::VectorXd::Zero(0);
+    tr.time.push_back(0.1 * k);
+    tr.states.push_back(s);
+  }
+  const fs::path dir = fs::temp_directory_path() / ("flexmb_rot_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = flexmb::io::writeOrientationCsv((dir / "r").string(), m, tr);
+  ASSERT_EQ(path, (dir / "r_rot.csv").string());
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "time,node2.rx,node2.ry,node2.rz,node2.R11,node2.R12,node2.R13,node2.R21,node2.R22,"
+                    "node2.R23,node2.R31,node2.R32,node2.R33");
+  for (int k = 0; k < 3; ++k) {
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    std::vector<double> v;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) v.push_back(std::stod(cell));
+    ASSERT_EQ(v.size(), 13u);
+    const Eigen::Matrix3d K = (Eigen::Matrix3d() << 0, -axis[2], axis[1], axis[2], 0, -axis[0], -axis[1],
+                               axis[0], 0).finished();
+    const Eigen::Matrix3d R =
+        Eigen::Matrix3d::Identity() + std::sin(angles[k]) * K + (1 - std::cos(angles[k])) * K * K;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[1 + c], angles[k] * axis[c], 1e-14) << "time " << k;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(v[4 + 3 * i + j], R(i, j), 1e-14) << "time " << k;
+  }
+  // A planar model has no orientation output.
+  EXPECT_FALSE(flexmb::io::hasOrientationNodes(makeModel()));
+  EXPECT_EQ(flexmb::io::writeOrientationCsv((dir / "p").string(), makeModel(), Trajectory{}), "");
+  fs::remove_all(dir);
 }

@@ -240,6 +240,10 @@ int runSimulate(const std::vector<std::string>& args) {
       if (format == "csv" || format == "both") {
         for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
         io::writeCsv(files.temporaryPrefix(), model, traj);
+        if (io::hasOrientationNodes(model)) {
+          files.temporaryFor("_rot.csv");
+          io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
+        }
       }
       if (format == "mat" || format == "both")  // through memory: matio does not report a full disk
         io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
