@@ -65,6 +65,8 @@ struct SpacarResults {
   long nsteps = 0, nfailed = 0, nfevals = 0;  // integrator statistics (mode 1, 3, 4)
   bool completed = true;
   std::string stopReason;
+  std::string warning;          // a completed run that is worth a remark (mode 0 of a model that
+                                // is not uniquely solvable: initial configuration and bigd only)
 };
 
 // Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm.
