@@ -415,6 +415,13 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   r.eRoleLine.assign(m.ne, 0);
   std::vector<int> inputXOrder, inputEOrder;
   for (const auto& st : in.xRoles) {
+    // SPACAR accepts FIX on a node no element uses (SPACAR Light writes one for the warping node
+    // of every fixed node, BEAMW or not): nothing to fix, so a note instead of an error.
+    if (st.role == Role::Fixed && st.comps.empty() && !m.nodeByLabel.count(st.id)) {
+      addNote("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) +
+              "): node " + std::to_string(st.id) + " is not used by any element; ignored");
+      continue;
+    }
     const int ni = r.node(st.id, st.line);
     const Node& n = m.nodes[ni];
     std::vector<int> comps = st.comps;

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/elements/SpatialBeam.hpp"
+
 namespace flexmb::io {
 namespace {
 
@@ -194,6 +196,19 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   return {lnp, ln, le, it, rl0};
 }
 
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows) {
+  if (!model.spatial) return Eigen::MatrixXd(0, 0);
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, 9);
+  for (const auto& el : model.elements) {
+    const auto* beam = dynamic_cast<const core::SpatialBeam*>(el.impl.get());
+    if (!beam || el.label < 1 || el.label > rows) continue;
+    const Eigen::Matrix3d& A = beam->triadP();
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) R(el.label - 1, 3 * c + r) = A(r, c);
+  }
+  return R;
+}
+
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& r) {
   const SpacarLayout L = spacarLayout(model);
@@ -252,7 +267,7 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.matrix("le", le);
     w.matrix("it", it);
     w.matrix("rl0", rl0);
-    w.write("rxyz", 0, 0, {});  // spatial element orientations: none in a planar model
+    w.matrix("rxyz", spacarElementTriads(model, le.rows()));
     w.matrix("x0", L.sortX(model.x0));
     // Per step: one row per stored step.
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));

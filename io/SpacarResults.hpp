@@ -43,6 +43,11 @@ struct SpacarTopology {
 };
 SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layout);
 
+// rxyz (io/results.md): row el = the initial triad of element el at its first orientation node,
+// in that node's frame (columns e_x, e_y, e_z, stored column-wise: reshape(rxyz(el, :), 3, 3));
+// zeros for elements without a triad; 0 x 0 for planar models.
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows);
+
 // Element type id written to `it`: the 1-based place of the element's type in the element table
 // (core::elementTypes()), listed in io/results.md.
 int elementTypeId(const core::ElementTypeInfo* type);
@@ -65,6 +70,8 @@ struct SpacarResults {
   long nsteps = 0, nfailed = 0, nfevals = 0;  // integrator statistics (mode 1, 3, 4)
   bool completed = true;
   std::string stopReason;
+  std::string warning;          // a completed run that is worth a remark (mode 0 of a model that
+                                // is not uniquely solvable: initial configuration and bigd only)
 };
 
 // Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm.

@@ -156,6 +156,22 @@ TEST(Spacar2013Light, SpacarLightStyleFile) {
   EXPECT_EQ(m.numDofs(), 6);
 }
 
+// SPACAR Light fixes the warping node ((i-1)*3+3) of every fixed node also when no BEAMW uses it,
+// and SPACAR runs those files: a whole-node FIX of an unused node is a note, not an error. A FIX
+// of a component of an unused node stays an error (no component to fix).
+TEST(Spacar2013Light, FixOfAnUnusedNodeIsANote) {
+  const std::string text = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nFIX 3  #warping\nDYNE 1 1\nEND\nHALT\n";
+  const core::Model m = io::readDatString(text, "t.dat");
+  const core::Model plain = io::readDatString("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\n", "t.dat");
+  EXPECT_EQ(m.numDofs(), plain.numDofs());
+  EXPECT_EQ(m.xRole, plain.xRole);
+  EXPECT_EQ(m.nodeByLabel.count(3), 0u);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_TRUE(contains(m.notes[0], "FIX 3 (line 4): node 3 is not used by any element; ignored")) << m.notes[0];
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nFIX 3 1\nDYNE 1 1\nEND\nHALT\n"),
+                       "node 3 is not used by any element"));
+}
+
 TEST(Spacar2013Light, IterstepFieldsAndWholeNumbersWithDecimals) {
   const std::string kin = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\n";
   const core::Model m = io::readDatString(kin + "ESTIFF 1 1\nITERSTEP 1000.000000 9 5e-7 1 3 0\nEND\nEND\n");

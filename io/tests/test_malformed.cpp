@@ -59,7 +59,7 @@ std::vector<Case> catalogue() {
        "node 2 is an orientation node"},
       {"beta_on_position_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "BETA 3 0.1"}), 3,
        "node 3 is a position node"},
-      {"undefined_node_fix", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "FIX 9"}), 3,
+      {"undefined_node_fix", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "FIX 9 1"}), 3,
        "FIX: node 9 is not used by any element"},
       {"undefined_node_mass", dyn({"XM 9 1.0"}), 8, "node 9 is not used by any element"},
       {"undefined_element_dyne", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "DYNE 7 1"}), 3,

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <matio.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -116,4 +118,28 @@ TEST(SpacarResults, UserFunctionNamesAreReadForTheGateway) {
     EXPECT_EQ(e.line(), 9);
     EXPECT_NE(std::string(e.what()).find("expected a MATLAB function name"), std::string::npos) << e.what();
   }
+}
+
+// rxyz of a spatial model: row el = element el's initial triad (e_x along the chord, e_y the given
+// cross-section direction made normal to it, e_z = e_x x e_y), column-wise, as SPACAR Light reads
+// it (reshape(rxyz(el, :), 3, 3)); rows of unused labels are zero; planar models store 0 x 0.
+TEST(SpacarResults, ElementTriadsOfSpatialBeams) {
+  const core::Model m = io::readDatString(
+      "BEAM 2 1 2 3 4 0 1 1\nX 1 0 0 0\nX 3 1 1 0\nFIX 1\nFIX 2\nDYNE 2 1 2 3 4 5 6\nEND\nHALT\nEND\nEND\n",
+      "b.dat");
+  const Eigen::MatrixXd R = io::spacarElementTriads(m, 3);
+  ASSERT_EQ(R.rows(), 3);
+  ASSERT_EQ(R.cols(), 9);
+  EXPECT_EQ(R.row(0).norm(), 0.0);
+  EXPECT_EQ(R.row(2).norm(), 0.0);
+  const Eigen::Vector3d ex = Eigen::Vector3d(1, 1, 0).normalized();
+  Eigen::Vector3d ey(0, 1, 1);
+  ey = (ey - ey.dot(ex) * ex).normalized();
+  const Eigen::Vector3d ez = ex.cross(ey);
+  Eigen::Matrix3d A;
+  A << ex, ey, ez;
+  Eigen::Matrix3d got;
+  for (int k = 0; k < 9; ++k) got(k % 3, k / 3) = R(1, k);
+  EXPECT_LT((got - A).norm(), 1e-14) << got;
+  EXPECT_EQ(io::spacarElementTriads(fourbar(), 7).size(), 0);
 }

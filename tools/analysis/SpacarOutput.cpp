@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/KinematicCheck.hpp"
 #include "core/ResultQuantities.hpp"
 
 namespace flexmb::analysis {
@@ -125,6 +126,46 @@ io::SpacarResults spacarKinematic(const core::Model& model) {
   io::SpacarResults r;
   r.mode = 0;
   const io::SpacarLayout L = io::spacarLayout(model);
+  // An over- or under-determined model has no transfer functions, but SPACAR's mode 0 still
+  // stores the topology and D = de/dx of the initial configuration: SPACAR Light finds the
+  // overconstraints of its models from them (the singular vectors of D's calculable block).
+  const core::KinematicReport check = core::checkKinematics(model);
+  if (!check.wellPosed()) {
+    r.warning = "the kinematic equations are not uniquely solvable (" + std::to_string(check.xCalculable) +
+                " calculable coordinates, rank " + std::to_string(check.rank) +
+                "): stored the initial configuration and D = de/dx only (no dx); `flexmb check` names the "
+                "over- and under-determined coordinates";
+    const double t = model.settings.t0;
+    Eigen::VectorXd x = model.x0;
+    for (const auto& in : model.inputX) {
+      double v, vd, vdd;
+      in.evaluate(t, v, vd, vdd);
+      x[in.index] = v;
+    }
+    io::SpacarStep st;
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(model.ne);
+    st.bigd = Eigen::MatrixXd::Zero(model.ne, model.nx);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(model.ne, model.nx);
+    for (const auto& el : model.elements) {
+      core::ElemVec xe;
+      el.gather(x, xe);
+      core::DefVec ee;
+      core::DefJac De;
+      el.impl->deformations(xe, ee);
+      el.impl->jacobian(xe, De);
+      for (int i = 0; i < ee.size(); ++i) e[el.firstDef + i] = ee[i];
+      for (int i = 0; i < De.rows(); ++i)
+        for (int j = 0; j < De.cols(); ++j) D(el.firstDef + i, el.coords[j]) += De(i, j);
+    }
+    for (int i = 0; i < model.ne; ++i)
+      for (int j = 0; j < model.nx; ++j) st.bigd(i, j) = D(L.eOrder[i], L.xOrder[j]);
+    st.x = L.sortX(x), st.e = L.sortE(e);
+    st.xd = st.xdd = st.fxt = Eigen::VectorXd::Zero(model.nx);
+    st.ed = st.edd = st.sig = Eigen::VectorXd::Zero(model.ne);
+    r.time.push_back(t);
+    r.steps.push_back(std::move(st));
+    return r;
+  }
   core::ResultQuantities rq(model);
   core::GeometricTransferFunctions probe(model);
   const double t = model.settings.t0;

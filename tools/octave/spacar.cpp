@@ -126,6 +126,8 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
   // (function, time, reason) is the stop reason.
   if (!results.completed) run.error = datFile + ": run stopped: " + results.stopReason;
   say(silent, out.str());
+  if (!results.warning.empty() && !silent)
+    mexWarnMsgIdAndTxt("flexmb:spacar:kinematics", "%s: %s", datFile.c_str(), results.warning.c_str());
   try {
     const auto written = io::writeSpacarResults(name, model, results);
     for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
