@@ -24,8 +24,9 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   const double t0 = s.t0, tEnd = opt.tEnd.value_or(s.tEnd);
   const int intervals = opt.intervals.value_or(s.outputIntervals);
 
-  core::EquationsOfMotion eom(model, opt.basis);
-  core::EquationsOfMotion probe(model, opt.basis);  // output quantities; keeps eom's warm start intact
+  core::EquationsOfMotion eom(model, opt.basis, opt.dynamics);
+  // Output quantities; keeps eom's warm start intact.
+  core::EquationsOfMotion probe(model, opt.basis, opt.dynamics);
   solvers::Ode45Options o;
   o.relTol = opt.relTol.value_or(s.relTol);
   o.absTol = Eigen::VectorXd::Constant(1, opt.absTol.value_or(s.absTol));
