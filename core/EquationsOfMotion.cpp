@@ -25,13 +25,14 @@ EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::Ma
   hn_.setZero(nx);
   rhsEta_.setZero(m_);
   etadd_.setZero(m_);
-  if (saddle_) {
-    d2_.setZero(ne);
-    std::vector<char> massive(model.elements.size(), 0);
-    for (int el : inertia_.massiveElements()) massive[el] = 1;
-    for (size_t el = 0; el < model.elements.size(); ++el)
-      if (!massive[el]) massless_.push_back(static_cast<int>(el));
-  } else {
+  d2_.setZero(ne);
+  etaPrev_.setZero(m_);
+  etadPrev_.setZero(m_);
+  std::vector<char> massive(model.elements.size(), 0);
+  for (int el : inertia_.massiveElements()) massive[el] = 1;
+  for (size_t el = 0; el < model.elements.size(); ++el)
+    if (!massive[el]) massless_.push_back(static_cast<int>(el));
+  if (!saddle_) {
     FqV_.setZero(nx, m_);
     MF_.setZero(nx, m_);
     Mbar_.setZero(m_, m_);
@@ -59,21 +60,43 @@ void EquationsOfMotion::kinematicState(double t, const Eigen::VectorXd& y) {
   const auto etad = y.tail(m_);
   coords_.toFull(eta, q_);
   coords_.toFull(etad, qd_);
+  predictorCurvature(eta);
   gtf_.solvePositions(t, q_);
   if (!saddle_) gtf_.firstOrder(basis(), FqV_);
   moving_ = rheonomic_ || !qd_.isZero(0.0);
   if (moving_) {
-    gtf_.velocities(t, qd_, xd_);
+    // xd = F_q V etad: a product where F_q V is at hand, else one solve (rheonomic rates need F_t).
+    if (!saddle_ && !rheonomic_) xd_.noalias() = FqV_ * etad;
+    else gtf_.velocities(t, qd_, xd_);
     moving_ = !xd_.isZero(0.0);
   } else {
     xd_.setZero();
   }
-  // The projected form needs g = xdd at etadd = 0; the saddle-point form has the convective and
-  // rheonomic terms in its constraint rows.
-  if (!saddle_) {
-    if (moving_ || rheonomic_) gtf_.accelerationOffset(t, xd_, g_);
-    else g_.setZero();
+}
+
+void EquationsOfMotion::predictorCurvature(const Eigen::Ref<const Eigen::VectorXd>& eta) {
+  // Second-order kinematic prediction when eta moved (nearly) along the last velocity, d eta = s
+  // etad, as between the stages of an explicit integrator; otherwise the linear one.
+  if (!curvatureSet_) return;
+  curvatureSet_ = false;
+  const double vv = etadPrev_.squaredNorm();
+  if (vv == 0.0) return;
+  double dv = 0.0, dd = 0.0;
+  for (int j = 0; j < m_; ++j) {
+    const double d = eta[j] - etaPrev_[j];
+    dv += d * etadPrev_[j];
+    dd += d * d;
   }
+  const double s = dv / vv;
+  // |d eta - s etad|^2 = dd - s dv: use the curvature when d eta is within ~25% of the direction.
+  if (dd > 0.0 && dd - s * dv <= 0.0625 * dd) gtf_.usePredictorCurvature(s);
+}
+
+void EquationsOfMotion::convectiveAccelerations(double t) {
+  // The projected form needs g = xdd at etadd = 0 (one solve with the convective terms of the mass
+  // pass); the saddle-point form has them in its constraint rows.
+  if (moving_ || rheonomic_) gtf_.accelerationOffsetFrom(t, d2_, g_);
+  else g_.setZero();
 }
 
 void EquationsOfMotion::nodalForces(double t, bool projected) {
@@ -111,14 +134,13 @@ void EquationsOfMotion::massState() {
   const Eigen::VectorXd& x = gtf_.x();
   if (!moving_) {
     inertia_.update(x);
-    if (saddle_) d2_.setZero();
+    d2_.setZero();
     return;
   }
   if (inertia_.hasMass()) {
     hn_.setZero();
-    inertia_.updateWithVelocityForces(x, xd_, hn_, saddle_ ? &d2_ : nullptr);
+    inertia_.updateWithVelocityForces(x, xd_, hn_, &d2_);
   }
-  if (!saddle_) return;
   // The convective D2e[xd, xd] of the elements without mass (the massive ones came with their mass).
   ElemVec xe, ve;
   DefVec d2;
@@ -137,6 +159,8 @@ void EquationsOfMotion::massState() {
 
 void EquationsOfMotion::accelerations(double t) {
   massState();
+
+  if (!saddle_) convectiveAccelerations(t);
   nodalForces(t, !saddle_);
   if (saddle_) {
     if (!saddle_->solve(t, gtf_, d2_, fn_, etadd_, xdd_))
@@ -155,6 +179,13 @@ void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd&
   ++evaluations_;
   kinematicState(t, y);
   accelerations(t);
+  // The convective terms of this state serve the next kinematic prediction (Eq. 8b).
+  curvatureSet_ = moving_;
+  if (moving_) {
+    gtf_.setPredictorCurvature(d2_);
+    etaPrev_ = y.head(m_);
+    etadPrev_ = y.tail(m_);
+  }
   dydt.resize(2 * m_);
   dydt.head(m_) = y.tail(m_);
   dydt.tail(m_) = etadd_;
@@ -164,14 +195,13 @@ void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen
                                  Eigen::VectorXd& R) {
   kinematicState(t, y);
   if (saddle_) {
-    // The residual is the projected Eq. 13: F_q and g on demand (the saddle-point form has neither).
+    // The residual is the projected Eq. 13: F_q on demand (the saddle-point form has none).
     MF_.resize(model_.nx, m_);
     Mbar_.resize(m_, m_);
     gtf_.firstOrder(basis(), FqV_);
-    if (moving_ || rheonomic_) gtf_.accelerationOffset(t, xd_, g_);
-    else g_.setZero();
   }
   massState();
+  convectiveAccelerations(t);
   nodalForces(t, true);
   projectedSystem();
   R.noalias() = Mbar_ * etadd;

@@ -63,14 +63,18 @@ class EquationsOfMotion {
   DynamicsForm form() const { return saddle_ ? DynamicsForm::SaddlePoint : DynamicsForm::Projected; }
 
  private:
-  // Positions, velocities, and for the projected form F_q V and g = (F_qq qd) qd + rheonomic terms.
+  // Positions, velocities, and for the projected form F_q V.
   void kinematicState(double t, const Eigen::VectorXd& y);
+  // Tells the kinematics how to use the last state's convective terms for predicting eta.
+  void predictorCurvature(const Eigen::Ref<const Eigen::VectorXd>& eta);
+  // g = (F_qq qd) qd + rheonomic terms (projected form), from the convective terms of massState.
+  void convectiveAccelerations(double t);
   // Nodal forces f - h - D_x^T sigma (fn_), and - M g for the projected form.
   void nodalForces(double t, bool projected);
   // Projected form: Mbar and (F_q V)^T (r - M g).
   void projectedSystem();
-  // Mass blocks at x and, when moving, the velocity forces h (hn_) in the same element pass, and for
-  // the saddle-point form the convective D2e[xd, xd] of every element (d2_).
+  // Mass blocks at x and, when moving, the velocity forces h (hn_) and the convective D2e[xd, xd]
+  // of every element (d2_) in the same element pass.
   void massState();
   // Accelerations etadd_ (and xdd_ in the saddle-point form) at the last kinematic state.
   void accelerations(double t);
@@ -85,6 +89,8 @@ class EquationsOfMotion {
   std::optional<SaddlePointAccelerations> saddle_;
   std::vector<int> massless_;  // elements without inertia (their D2e come from a pass of their own)
   bool moving_ = false;
+  bool curvatureSet_ = false;  // the kinematics hold the last rhs state's convective terms
+  Eigen::VectorXd etaPrev_, etadPrev_;
   long evaluations_ = 0;
   // Workspace (allocated once).
   Eigen::VectorXd q_, qd_, xd_, g_, xdd_, hn_, d2_, ed_, sigma_, fn_, Mg_, rhsEta_, etadd_, userSigma_, userForces_;

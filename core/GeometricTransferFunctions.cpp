@@ -97,6 +97,8 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   target_ = Eigen::VectorXd::Zero(numConstraints());
   rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
   work_ = Eigen::VectorXd::Zero(nx);
+  convectiveD2_ = Eigen::VectorXd::Zero(ne);
+  curvature_ = Eigen::VectorXd::Zero(numConstraints());
   previousX_ = model.x0;
   workE_ = Eigen::VectorXd::Zero(ne);
   elemJac_.resize(model.elements.size());
@@ -124,6 +126,14 @@ Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
 void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) {
   x_ = lastGood_ = x;
   consistent_ = false;
+  hasCurvature_ = false;
+}
+
+void GeometricTransferFunctions::setPredictorCurvature(const Eigen::VectorXd& d2) {
+  if (!consistent_) return;
+  for (int r = 0; r < numConstraints(); ++r) curvature_[r] = d2[constrainedDefs_[r]];
+  hasCurvature_ = true;
+  curvatureScale_ = 0.0;
 }
 
 void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek,
@@ -208,14 +218,21 @@ void GeometricTransferFunctions::solvePositions(double t, const Eigen::VectorXd&
 double GeometricTransferFunctions::predict() {
   // The first Newton step from the last solution reuses its factorisation and deformations: with
   // the known coordinates already moved by constraintTargets, J dx_c = target - e - D_k dx_k, which
-  // is the linear predictor x + F_q dq (+ F_t dt) of the transfer functions.
+  // is the linear predictor x + F_q dq (+ F_t dt) of the transfer functions. With the convective
+  // terms of the last evaluation, - s^2/2 D2_C[xd, xd] on the right adds the second-order term
+  // of the motion (dq ~ s qd between the stages of an integrator), at no extra solve.
   double res = 0.0;
+  const bool curved = hasCurvature_ && curvatureScale_ != 0.0;
+  const double half = 0.5 * curvatureScale_ * curvatureScale_;
+  hasCurvature_ = false;
+  curvatureScale_ = 0.0;
   for (int r = 0; r < numConstraints(); ++r) {
     const int k = constrainedDefs_[r];
     double d = target_[r] - e_[k];
     if (hasPeriodic_ && periodic_[k]) d = std::remainder(d, 2.0 * M_PI);
     rhs_[r] = d;
     res = std::max(res, std::abs(d));
+    if (curved) rhs_[r] -= half * curvature_[r];
   }
   if (knownMoved_) {
     for (int i = 0; i < nx(); ++i) work_[i] = colOfCoord_[i] < 0 ? x_[i] - previousX_[i] : 0.0;
@@ -230,6 +247,7 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   // Fixed coordinates keep x0; inputs and DYNX are set by constraintTargets.
   const bool warm = consistent_;
   consistent_ = false;
+  if (!warm) hasCurvature_ = false, curvatureScale_ = 0.0;
   if (warm && knownMoved_) previousX_ = x_;
   constraintTargets(t, q);
   const int maxIt = std::max(1, model_.settings.maxIterations);
@@ -325,19 +343,9 @@ void GeometricTransferFunctions::velocities(double t, const Eigen::VectorXd& qd,
   for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = rhs_[c];
 }
 
-void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::VectorXd& xd,
-                                                    Eigen::VectorXd& g) {
-  g.setZero(nx());
+void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::VectorXd& xd, Eigen::VectorXd& g) {
+  // Convective part D2[xd, xd] of every deformation, then the solve.
   workE_.setZero();
-  inputRates(t, g, workE_, 2);
-  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = 0.0;
-  for (int j = 0; j < nq(); ++j)
-    if (dofCoord_[j] >= 0) g[dofCoord_[j]] = 0.0;
-  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
-  for (int j = 0; j < nq(); ++j)
-    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = 0.0;
-  if (knownMoved_) knownCoupling(g, rhs_.data());
-  // Convective part: - D2_C[xd, xd] (Eq. 8b with qdd = 0; F_qq is never formed).
   ElemVec xe, ve;
   DefVec d2;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
@@ -346,11 +354,25 @@ void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::Vecto
     if (ve.isZero(0.0)) continue;
     E.gather(x_, xe);
     E.impl->secondDerivative(xe, ve, d2);
-    for (int i = 0; i < d2.size(); ++i) {
-      const int row = rowOfDef_[E.firstDef + i];
-      if (row >= 0) rhs_[row] -= d2[i];
-    }
+    for (int i = 0; i < d2.size(); ++i) workE_[E.firstDef + i] = d2[i];
   }
+  convectiveD2_ = workE_;
+  accelerationOffsetFrom(t, convectiveD2_, g);
+}
+
+void GeometricTransferFunctions::accelerationOffsetFrom(double t, const Eigen::VectorXd& d2, Eigen::VectorXd& g) {
+  g.setZero(nx());
+  workE_.setZero();
+  inputRates(t, g, workE_, 2);
+  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = 0.0;
+  for (int j = 0; j < nq(); ++j)
+    if (dofCoord_[j] >= 0) g[dofCoord_[j]] = 0.0;
+  // J g_c = edd_input - D_k g_k - D2_C[xd, xd] (Eq. 8b with qdd = 0; F_qq is never formed).
+  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
+  for (int j = 0; j < nq(); ++j)
+    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = 0.0;  // qdd = 0
+  if (knownMoved_) knownCoupling(g, rhs_.data());
+  for (int r = 0; r < numConstraints(); ++r) rhs_[r] -= d2[constrainedDefs_[r]];
   lu_.solve(rhs_.data(), 1);
   for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = rhs_[c];
 }

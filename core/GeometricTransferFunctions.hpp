@@ -48,6 +48,12 @@ class GeometricTransferFunctions {
 
   // Sets a new warm start (e.g. to restart from the initial configuration).
   void setConfiguration(const Eigen::VectorXd& x);
+  // Second-order predictor (Eq. 8b): d2 = D2[xd, xd] (ne) of the configuration just solved, with
+  // xd = F_q qd. When the next change of q is s qd (as between the stages of an integrator),
+  // usePredictorCurvature(s) before the next solvePositions adds s^2/2 F_qq[qd, qd] to the linear
+  // predictor x + F_q dq, in the same solve. Both are used once, by the next solve only.
+  void setPredictorCurvature(const Eigen::VectorXd& d2);
+  void usePredictorCurvature(double s) { curvatureScale_ = s; }
 
   // After solvePositions: F_q V (nx x m) for a basis V (nq x m); V = nullptr means identity.
   void firstOrder(const Eigen::MatrixXd* V, Eigen::MatrixXd& FqV);
@@ -55,6 +61,9 @@ class GeometricTransferFunctions {
   void velocities(double t, const Eigen::VectorXd& qd, Eigen::VectorXd& xd);
   // g = xdd at qdd = 0: (F_qq qd) qd plus the rheonomic acceleration terms. One solve.
   void accelerationOffset(double t, const Eigen::VectorXd& xd, Eigen::VectorXd& g);
+  // The same from the convective terms d2 = D2[xd, xd] of every deformation (ne), computed by the
+  // caller (the equations of motion get them with the element masses).
+  void accelerationOffsetFrom(double t, const Eigen::VectorXd& d2, Eigen::VectorXd& g);
   // Prescribed accelerations at t: xk[i] for input coordinates, ek[k] for input deformations;
   // other entries are left as they are.
   void prescribedAccelerations(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek) const {
@@ -129,13 +138,18 @@ class GeometricTransferFunctions {
   Eigen::VectorXd lastGood_;  // last converged configuration: the restart point after a failure
   void newton(double t, const Eigen::VectorXd& q);
   double predict();  // returns the residual it started from
-  // A chord (simplified Newton) step is kept while the residual falls at least this much per step.
-  static constexpr double kChordContraction = 0.1;
+  // A chord (simplified Newton) step is kept while the residual falls at least this much per step;
+  // slower contraction refactorises (measured on the paper's models: 0.1 and 0.01 cost more
+  // element evaluations than a refactorisation saves).
+  static constexpr double kChordContraction = 1e-3;
   // x_, e_ and the factorisation belong to one converged configuration (the predictor may start).
   bool consistent_ = false;
   bool knownMoved_ = false;  // inputs or DYNX coordinates: the known coordinates move with (t, q)
+  bool hasCurvature_ = false;  // curvature_ belongs to the consistent configuration
+  double curvatureScale_ = 0.0;
+  Eigen::VectorXd curvature_;  // D2_C[xd, xd] on the constrained rows
   Eigen::VectorXd previousX_;
-  Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_;
+  Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_, convectiveD2_;
   Eigen::MatrixXd rhsMat_;
   std::vector<DefJac> elemJac_;
   double inputLoadFactor_ = 0.0;

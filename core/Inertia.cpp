@@ -41,33 +41,53 @@ void Inertia::updateWithVelocityForces(const Eigen::VectorXd& x, const Eigen::Ve
 
 void Inertia::multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const {
   y = lumped_.cwiseProduct(v);
+  ElemVec ve, ye;
+  Eigen::Matrix<double, 6, 1> v6, y6;
   for (size_t k = 0; k < massive_.size(); ++k) {
     const auto& E = model_.elements[massive_[k]];
-    const ElemMat& Me = blocks_[k];
-    const int n = static_cast<int>(E.coords.size());
-    for (int i = 0; i < n; ++i) {
-      double s = 0.0;
-      for (int j = 0; j < n; ++j) s += Me(i, j) * v[E.coords[j]];
-      y[E.coords[i]] += s;
+    const int* c = E.coords.data();
+    if (E.coords.size() == 6) {  // planar beams: a fixed-size product
+      for (int b = 0; b < 6; ++b) v6[b] = v[c[b]];
+      y6.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(blocks_[k].data()) * v6;
+      for (int a = 0; a < 6; ++a) y[c[a]] += y6[a];
+      continue;
     }
+    E.gather(v, ve);
+    ye.noalias() = blocks_[k] * ve;
+    for (size_t a = 0; a < E.coords.size(); ++a) y[c[a]] += ye[a];
   }
 }
 
 void Inertia::multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const {
-  // Per element: gather its rows of F (n x m), one small fixed-size product, scatter-add.
+  // Per element: gather its rows of F (n x m), one small product, scatter-add. Plain loops: an
+  // Eigen indexed view copies the index list (an allocation per element).
   Y.resize(F.rows(), F.cols());
   Y.noalias() = lumped_.asDiagonal() * F;
+  const Eigen::Index m = F.cols();
   for (size_t k = 0; k < massive_.size(); ++k) {
     const auto& E = model_.elements[massive_[k]];
     const ElemMat& Me = blocks_[k];
-    if (E.coords.size() == 6) {
-      Fe_ = F(E.coords, Eigen::all);
-      Ye_.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(Me.data()) * Fe_;
-      Y(E.coords, Eigen::all) += Ye_;
-    } else {
-      FeD_ = F(E.coords, Eigen::all);
-      YeD_.noalias() = Me * FeD_;
-      Y(E.coords, Eigen::all) += YeD_;
+    const int n = static_cast<int>(E.coords.size());
+    const int* c = E.coords.data();
+    if (n == 6) {  // planar beams: fixed-size (vectorised) products
+      const Eigen::Map<const Eigen::Matrix<double, 6, 6>> M6(Me.data());
+      Eigen::Matrix<double, 6, 1> fe, ye;
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double* f = F.col(j).data();
+        double* y = Y.col(j).data();
+        for (int b = 0; b < 6; ++b) fe[b] = f[c[b]];
+        ye.noalias() = M6 * fe;
+        for (int a = 0; a < 6; ++a) y[c[a]] += ye[a];
+      }
+      continue;
+    }
+    ElemVec fe(n), ye(n);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const double* f = F.col(j).data();
+      double* y = Y.col(j).data();
+      for (int b = 0; b < n; ++b) fe[b] = f[c[b]];
+      ye.noalias() = Me * fe;
+      for (int a = 0; a < n; ++a) y[c[a]] += ye[a];
     }
   }
 }

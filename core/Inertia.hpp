@@ -51,8 +51,6 @@ class Inertia {
   std::vector<int> massive_;      // elements with distributed inertia
   std::vector<ElemMat> blocks_;   // per massive element
   Eigen::VectorXd lumped_;        // diagonal lumped masses (nx)
-  mutable Eigen::Matrix<double, 6, Eigen::Dynamic> Fe_, Ye_;  // scratch for multiply
-  mutable Eigen::MatrixXd FeD_, YeD_;
 };
 
 // Applied nodal loads at (t, x): initialFactor * XF + loadFactor * DELXF + XFT(t) + gravity

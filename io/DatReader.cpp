@@ -691,12 +691,18 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       set.relTol = positive(real(s, 1), "the relative tolerance");
       break;
     case Action::HMax: set.hmax = positive(real(s, 0), "the maximum step size"); break;
-    case Action::EpsKin: set.kinematicTol = positive(real(s, 0), "the kinematic tolerance"); break;
+    case Action::EpsKin:
+      set.kinematicTol = positive(real(s, 0), "the kinematic tolerance");
+      set.kinematicTolGiven = true;
+      break;
     case Action::MaxIterat: set.maxIterations = integer(s, 0); break;
     case Action::IterStep:
       set.maxIterations = integer(s, 0);
       set.loadSteps = integer(s, 1);
-      if (auto tol = optReal(s, 2)) set.kinematicTol = positive(*tol, "the tolerance");
+      if (auto tol = optReal(s, 2)) {
+        set.kinematicTol = positive(*tol, "the tolerance");
+        set.kinematicTolGiven = true;
+      }
       // Fields 4 and 5 (control fields) are read and not used; field 6: initial-load steps.
       set.initialLoadSteps = s.args.size() > 5 ? integer(s, 5) : 0;
       break;

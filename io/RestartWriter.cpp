@@ -203,7 +203,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
   if (w.s95) {
     if (set.relTol == set.absTol) w.line("EPSINT " + num(set.relTol));
     if (set.hmax > 0.0) w.line("HMAX " + num(set.hmax));
-    w.line("EPSKIN " + num(set.kinematicTol));
+    if (set.kinematicTolGiven) w.line("EPSKIN " + num(set.kinematicTol));
     w.line("MAXITERAT " + std::to_string(set.maxIterations));
     w.line("END");
     w.line("EOF");

@@ -11,6 +11,10 @@
 
 namespace flexmb::analysis {
 
+double kinematicTolerance(const core::AnalysisSettings& s, double relTol) {
+  return s.kinematicTolGiven ? std::min(s.kinematicTol, 1e-5 * relTol) : 1e-5 * relTol;
+}
+
 namespace {
 
 // The continuation of a stage: the state y = [q; qd] and the configuration x where it ended.
@@ -126,8 +130,7 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     if (opt.progress) printProgress(t);
     return true;
   };
-  // Kinematic residuals must stay far below the integration tolerance (else they are RHS noise).
-  const double kinTol = std::min(s.kinematicTol, 1e-5 * o.relTol);
+  const double kinTol = kinematicTolerance(s, o.relTol);
   eom.kinematics().setRelativeTolerance(kinTol);
   probe.kinematics().setRelativeTolerance(kinTol);
   solvers::Ode45 ode(o);

@@ -26,6 +26,11 @@ struct SimulationOptions {
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
 
+// The kinematic Newton tolerance (relative to the model size) of a simulation at relTol: residuals
+// must stay far below the integration tolerance (else they are RHS noise) and need be no smaller:
+// 1e-5 relTol, or the file's EPSKIN / ITERSTEP tolerance where that is tighter.
+double kinematicTolerance(const core::AnalysisSettings& settings, double relTol);
+
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts
 // from the state (q, qd) and configuration where the previous one ended, at its own start time

@@ -36,6 +36,7 @@
 #include "io/SvgPlot.hpp"
 #include "solvers/Ode45.hpp"
 #include "tools/analysis/Reduction.hpp"
+#include "tools/analysis/Simulation.hpp"
 
 #ifndef FLEXMB_SOURCE_DIR
 #define FLEXMB_SOURCE_DIR "."
@@ -134,6 +135,7 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
   Run r;
   const auto start = Clock::now();
   core::EquationsOfMotion eom(*p.model, p.basis);
+  eom.kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));  // as simulate
   solvers::Ode45Options o;
   o.relTol = relTol;
   o.absTol = VectorXd::Constant(1, absTol);
@@ -217,6 +219,7 @@ Run runCvode(const Problem& p, double relTol, double absTol, double capSeconds) 
   Run r;
   const auto start = Clock::now();
   core::EquationsOfMotion eom(*p.model, p.basis);
+  eom.kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));
   const VectorXd y0 = eom.initialState();
   const long n = y0.size();
   CvUser u;
