@@ -19,7 +19,10 @@ struct BdfOptions {
   double absTol = 1e-6;      // scalar
   double maxStep = 0.0;      // 0 -> 0.1*|tf - t0| (as Ode45); a user value is clipped to |tf - t0|
   double initialStep = 0.0;  // 0 -> CVODE's estimate
-  int maxOrder = 5;          // 1 ... 5
+  // 1 ... 5. Orders 1 and 2 are A-stable; 3-5 are not, and lightly damped stiff oscillations
+  // (eigenvalues near the imaginary axis, as a flexible model's high-frequency modes) then bound the
+  // step as they bound an explicit method's (measured on the paper's full models: tools/bench/README.md).
+  int maxOrder = 5;
 };
 
 // J (n x n, preallocated) = df/dy at (t, y); fy = f(t, y) is given (the caller need not re-evaluate
