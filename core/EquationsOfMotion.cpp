@@ -5,24 +5,37 @@
 
 namespace flexmb::core {
 
-EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis)
+EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis, DynamicsForm form)
     : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
       gtf_(model), inertia_(model), stresses_(model),
       rheonomic_(!model.inputX.empty() || !model.inputE.empty()), llt_(m_) {
   const int nq = model.numDofs(), nx = model.nx, ne = model.ne;
+  const bool full = coords_.basis() == nullptr;
+  if (full && (form == DynamicsForm::SaddlePoint || (form == DynamicsForm::Automatic && nq >= kSaddlePointDofs)))
+    saddle_.emplace(model, inertia_);
   q_.setZero(nq);
   qd_.setZero(nq);
   xd_.setZero(nx);
   g_.setZero(nx);
+  xdd_.setZero(nx);
   ed_.setZero(ne);
   sigma_.setZero(ne);
   fn_.setZero(nx);
   Mg_.setZero(nx);
+  hn_.setZero(nx);
   rhsEta_.setZero(m_);
   etadd_.setZero(m_);
-  FqV_.setZero(nx, m_);
-  MF_.setZero(nx, m_);
-  Mbar_.setZero(m_, m_);
+  if (saddle_) {
+    d2_.setZero(ne);
+    std::vector<char> massive(model.elements.size(), 0);
+    for (int el : inertia_.massiveElements()) massive[el] = 1;
+    for (size_t el = 0; el < model.elements.size(); ++el)
+      if (!massive[el]) massless_.push_back(static_cast<int>(el));
+  } else {
+    FqV_.setZero(nx, m_);
+    MF_.setZero(nx, m_);
+    Mbar_.setZero(m_, m_);
+  }
 }
 
 void EquationsOfMotion::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
@@ -47,37 +60,38 @@ void EquationsOfMotion::kinematicState(double t, const Eigen::VectorXd& y) {
   coords_.toFull(eta, q_);
   coords_.toFull(etad, qd_);
   gtf_.solvePositions(t, q_);
-  gtf_.firstOrder(basis(), FqV_);
-  if (rheonomic_ || !qd_.isZero(0.0)) {
+  if (!saddle_) gtf_.firstOrder(basis(), FqV_);
+  moving_ = rheonomic_ || !qd_.isZero(0.0);
+  if (moving_) {
     gtf_.velocities(t, qd_, xd_);
-    gtf_.accelerationOffset(t, xd_, g_);
+    moving_ = !xd_.isZero(0.0);
   } else {
     xd_.setZero();
-    g_.setZero();
+  }
+  // The projected form needs g = xdd at etadd = 0; the saddle-point form has the convective and
+  // rheonomic terms in its constraint rows.
+  if (!saddle_) {
+    if (moving_ || rheonomic_) gtf_.accelerationOffset(t, xd_, g_);
+    else g_.setZero();
   }
 }
 
-void EquationsOfMotion::generalisedForces(double t, Eigen::VectorXd& rhsEta) {
+void EquationsOfMotion::nodalForces(double t, bool projected) {
   const Eigen::VectorXd& x = gtf_.x();
-  const bool moving = !xd_.isZero(0.0);
-  // Nodal force vector f - h - M g - D_x^T sigma (Eq. 13 before projection).
+  // Nodal force vector f - h - D_x^T sigma (Eq. 13 before projection).
   appliedLoads(model_, inertia_, t, 0.0, x, fn_);
   // USERSIG: the user's stresses and nodal forces at this state, added where XFT and ESIGT are
   // (same order of additions, so that the same loads give the same bits).
   UserFunctions* user = model_.userFunctions && model_.userFunctions->hasLoads() ? model_.userFunctions.get() : nullptr;
-  if ((stresses_.hasDamping() || user) && moving) gtf_.deformationRates(xd_, ed_);
+  if ((stresses_.hasDamping() || user) && moving_) gtf_.deformationRates(xd_, ed_);
   else ed_.setZero();
   if (user) {
     user->loads(t, x, xd_, gtf_.e(), ed_, userSigma_, userForces_);
     fn_ += userForces_;
   }
   if (inertia_.hasMass()) {
-    if (moving) {
-      Mg_.setZero();
-      inertia_.addVelocityForces(x, xd_, Mg_);
-      fn_ -= Mg_;
-    }
-    if (!g_.isZero(0.0)) {
+    if (moving_) fn_ -= hn_;  // h from the mass pass (accelerations)
+    if (projected && !g_.isZero(0.0)) {  // projected form: - M g (Eq. 13's M (F_qq qd) qd)
       inertia_.multiply(g_, Mg_);
       fn_ -= Mg_;
     }
@@ -85,21 +99,62 @@ void EquationsOfMotion::generalisedForces(double t, Eigen::VectorXd& rhsEta) {
   stresses_.evaluate(t, gtf_.e(), stresses_.hasDamping() ? &ed_ : nullptr, sigma_);
   if (user) sigma_ += userSigma_;
   gtf_.addTransposedJacobianProduct(sigma_, fn_, -1.0);
-  rhsEta.noalias() = FqV_.transpose() * fn_;
 }
 
-void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
-  ++evaluations_;
-  kinematicState(t, y);
-  inertia_.update(gtf_.x());
+void EquationsOfMotion::projectedSystem() {
   inertia_.multiply(FqV_, MF_);
   Mbar_.noalias() = FqV_.transpose() * MF_;
-  generalisedForces(t, rhsEta_);
+  rhsEta_.noalias() = FqV_.transpose() * fn_;
+}
+
+void EquationsOfMotion::massState() {
+  const Eigen::VectorXd& x = gtf_.x();
+  if (!moving_) {
+    inertia_.update(x);
+    if (saddle_) d2_.setZero();
+    return;
+  }
+  if (inertia_.hasMass()) {
+    hn_.setZero();
+    inertia_.updateWithVelocityForces(x, xd_, hn_, saddle_ ? &d2_ : nullptr);
+  }
+  if (!saddle_) return;
+  // The convective D2e[xd, xd] of the elements without mass (the massive ones came with their mass).
+  ElemVec xe, ve;
+  DefVec d2;
+  for (int el : massless_) {
+    const auto& E = model_.elements[el];
+    E.gather(xd_, ve);
+    if (ve.isZero(0.0)) {
+      d2_.segment(E.firstDef, E.impl->numDeformations()).setZero();
+      continue;
+    }
+    E.gather(x, xe);
+    E.impl->secondDerivative(xe, ve, d2);
+    for (int i = 0; i < d2.size(); ++i) d2_[E.firstDef + i] = d2[i];
+  }
+}
+
+void EquationsOfMotion::accelerations(double t) {
+  massState();
+  nodalForces(t, !saddle_);
+  if (saddle_) {
+    if (!saddle_->solve(t, gtf_, d2_, fn_, etadd_, xdd_))
+      throw KinematicsError(t, 0, 0.0, "singular mass matrix on the degrees of freedom (massless degree of freedom?)");
+    return;
+  }
+  projectedSystem();
   llt_.compute(Mbar_);
   if (llt_.info() != Eigen::Success)
     throw KinematicsError(t, 0, 0.0, "reduced mass matrix is not positive definite (massless degree of freedom?)");
   etadd_ = rhsEta_;
   llt_.solveInPlace(etadd_);
+}
+
+void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
+  ++evaluations_;
+  kinematicState(t, y);
+  accelerations(t);
   dydt.resize(2 * m_);
   dydt.head(m_) = y.tail(m_);
   dydt.tail(m_) = etadd_;
@@ -108,10 +163,17 @@ void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd&
 void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd,
                                  Eigen::VectorXd& R) {
   kinematicState(t, y);
-  inertia_.update(gtf_.x());
-  inertia_.multiply(FqV_, MF_);
-  Mbar_.noalias() = FqV_.transpose() * MF_;
-  generalisedForces(t, rhsEta_);
+  if (saddle_) {
+    // The residual is the projected Eq. 13: F_q and g on demand (the saddle-point form has neither).
+    MF_.resize(model_.nx, m_);
+    Mbar_.resize(m_, m_);
+    gtf_.firstOrder(basis(), FqV_);
+    if (moving_ || rheonomic_) gtf_.accelerationOffset(t, xd_, g_);
+    else g_.setZero();
+  }
+  massState();
+  nodalForces(t, true);
+  projectedSystem();
   R.noalias() = Mbar_ * etadd;
   R -= rhsEta_;
 }
@@ -122,8 +184,12 @@ void EquationsOfMotion::outputs(double t, const Eigen::VectorXd& y, StateOutputs
   --evaluations_;  // output evaluations are not integrator evaluations
   out.x = gtf_.x();
   out.xd = xd_;
-  out.xdd = g_;
-  out.xdd.noalias() += FqV_ * etadd_;
+  if (saddle_) {
+    out.xdd = xdd_;
+  } else {
+    out.xdd = g_;
+    out.xdd.noalias() += FqV_ * etadd_;
+  }
   out.e = gtf_.e();
   gtf_.deformationRates(xd_, out.ed);
   gtf_.deformationAccelerations(xd_, out.xdd, out.edd);

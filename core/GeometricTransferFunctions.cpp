@@ -40,6 +40,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
     dofCoord_.push_back(d.isDeformation ? -1 : d.index);
     hasDynamicCoords_ |= !d.isDeformation;
   }
+  knownMoved_ = hasDynamicCoords_ || !model.inputX.empty();
 
   periodic_.assign(ne, 0);
   for (const auto& E : model.elements)
@@ -78,6 +79,8 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   }
   for (int c = 0; c < n; ++c) colPtr_[c + 1] += colPtr_[c];
   values_.assign(rowIdx_.size(), 0.0);
+  // Rows of J are deformation gradients of order 1 (lengths and unit vectors): no row scaling.
+  lu_.disableScaling();
   if (isSquare() && n > 0) lu_.analyze(n, colPtr_.data(), rowIdx_.data());
 
   // Length scale for the Newton tolerance: the model's extent (at least the longest element).
@@ -94,6 +97,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   target_ = Eigen::VectorXd::Zero(numConstraints());
   rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
   work_ = Eigen::VectorXd::Zero(nx);
+  previousX_ = model.x0;
   workE_ = Eigen::VectorXd::Zero(ne);
   elemJac_.resize(model.elements.size());
 }
@@ -117,7 +121,10 @@ Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
   return q;
 }
 
-void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) { x_ = lastGood_ = x; }
+void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) {
+  x_ = lastGood_ = x;
+  consistent_ = false;
+}
 
 void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek,
                                             int order) const {
@@ -154,9 +161,8 @@ void GeometricTransferFunctions::evaluateElements() {
     const auto& E = model_.elements[el];
     const int nc = static_cast<int>(E.coords.size());
     E.gather(x_, xe);
-    E.impl->deformations(xe, de);
     DefJac& De = elemJac_[el];
-    E.impl->jacobian(xe, De);
+    E.impl->deformationsAndJacobian(xe, de, De);
     const auto& slots = slot_[el];
     for (int i = 0; i < de.size(); ++i) {
       const int k = E.firstDef + i;
@@ -199,12 +205,45 @@ void GeometricTransferFunctions::solvePositions(double t, const Eigen::VectorXd&
   lastGood_ = x_;
 }
 
+double GeometricTransferFunctions::predict() {
+  // The first Newton step from the last solution reuses its factorisation and deformations: with
+  // the known coordinates already moved by constraintTargets, J dx_c = target - e - D_k dx_k, which
+  // is the linear predictor x + F_q dq (+ F_t dt) of the transfer functions.
+  double res = 0.0;
+  for (int r = 0; r < numConstraints(); ++r) {
+    const int k = constrainedDefs_[r];
+    double d = target_[r] - e_[k];
+    if (hasPeriodic_ && periodic_[k]) d = std::remainder(d, 2.0 * M_PI);
+    rhs_[r] = d;
+    res = std::max(res, std::abs(d));
+  }
+  if (knownMoved_) {
+    for (int i = 0; i < nx(); ++i) work_[i] = colOfCoord_[i] < 0 ? x_[i] - previousX_[i] : 0.0;
+    knownCoupling(work_, rhs_.data());
+  }
+  lu_.solve(rhs_.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
+  return res;
+}
+
 void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   // Fixed coordinates keep x0; inputs and DYNX are set by constraintTargets.
+  const bool warm = consistent_;
+  consistent_ = false;
+  if (warm && knownMoved_) previousX_ = x_;
   constraintTargets(t, q);
   const int maxIt = std::max(1, model_.settings.maxIterations);
+  int steps = 0;
+  double previous = std::numeric_limits<double>::infinity();
+  if (warm) {
+    previous = predict();
+    ++steps;
+  }
+  // Simplified Newton: the factorisation is reused while the residual contracts quickly, and
+  // refreshed where it does not; the converged configuration always gets its own factorisation
+  // (velocities, F_q and the saddle-point rows need the exact Jacobian).
   double res = 0.0;
-  for (int it = 0; it <= maxIt; ++it) {
+  for (int it = steps; it <= maxIt; ++it) {
     evaluateElements();
     res = 0.0;
     for (int r = 0; r < numConstraints(); ++r) {
@@ -212,15 +251,21 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
       res = std::max(res, std::abs(rhs_[r]));
     }
     if (!std::isfinite(res)) throw KinematicsError(t, it, res, "non-finite residual");
-    if (!lu_.factorize(values_.data()))
-      throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");
-    if (res <= tolerance_) {
+    const bool converged = res <= tolerance_;
+    const bool slow = !warm || res > kChordContraction * previous;
+    if (converged || slow) {
+      if (!lu_.factorize(values_.data()))
+        throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");
+    }
+    if (converged) {
       lastIterations_ = it;
       totalIterations_ += it;
+      consistent_ = true;
       return;
     }
     if (it == maxIt) break;
     if (res > 1e3 * lengthScale_) throw KinematicsError(t, it, res, "Newton iteration diverged");
+    previous = res;
     lu_.solve(rhs_.data(), 1);
     for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
   }
@@ -275,7 +320,7 @@ void GeometricTransferFunctions::velocities(double t, const Eigen::VectorXd& qd,
     else xd[dofCoord_[j]] = qd[j];
   }
   for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = 0.0;
-  knownCoupling(xd, rhs_.data());
+  if (knownMoved_) knownCoupling(xd, rhs_.data());  // else every known coordinate is at rest
   lu_.solve(rhs_.data(), 1);
   for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = rhs_[c];
 }
@@ -291,7 +336,7 @@ void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::Vecto
   for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
   for (int j = 0; j < nq(); ++j)
     if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = 0.0;
-  knownCoupling(g, rhs_.data());
+  if (knownMoved_) knownCoupling(g, rhs_.data());
   // Convective part: - D2_C[xd, xd] (Eq. 8b with qdd = 0; F_qq is never formed).
   ElemVec xe, ve;
   DefVec d2;

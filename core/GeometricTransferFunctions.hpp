@@ -55,6 +55,11 @@ class GeometricTransferFunctions {
   void velocities(double t, const Eigen::VectorXd& qd, Eigen::VectorXd& xd);
   // g = xdd at qdd = 0: (F_qq qd) qd plus the rheonomic acceleration terms. One solve.
   void accelerationOffset(double t, const Eigen::VectorXd& xd, Eigen::VectorXd& g);
+  // Prescribed accelerations at t: xk[i] for input coordinates, ek[k] for input deformations;
+  // other entries are left as they are.
+  void prescribedAccelerations(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek) const {
+    inputRates(t, xk, ek, 2);
+  }
   // ed = D_x xd (all deformations).
   void deformationRates(const Eigen::VectorXd& xd, Eigen::VectorXd& ed) const;
   // edd = D_x xdd + D2[xd, xd] (all deformations).
@@ -123,6 +128,13 @@ class GeometricTransferFunctions {
   bool hasDynamicCoords_ = false;
   Eigen::VectorXd lastGood_;  // last converged configuration: the restart point after a failure
   void newton(double t, const Eigen::VectorXd& q);
+  double predict();  // returns the residual it started from
+  // A chord (simplified Newton) step is kept while the residual falls at least this much per step.
+  static constexpr double kChordContraction = 0.1;
+  // x_, e_ and the factorisation belong to one converged configuration (the predictor may start).
+  bool consistent_ = false;
+  bool knownMoved_ = false;  // inputs or DYNX coordinates: the known coordinates move with (t, q)
+  Eigen::VectorXd previousX_;
   Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_;
   Eigen::MatrixXd rhsMat_;
   std::vector<DefJac> elemJac_;

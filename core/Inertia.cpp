@@ -19,6 +19,26 @@ void Inertia::update(const Eigen::VectorXd& x) {
   }
 }
 
+void Inertia::updateWithVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y,
+                                       Eigen::VectorXd* d2) {
+  ElemVec xe, ve, he;
+  DefVec de;
+  for (size_t k = 0; k < massive_.size(); ++k) {
+    const auto& E = model_.elements[massive_[k]];
+    E.gather(x, xe);
+    E.gather(xd, ve);
+    if (ve.isZero(0.0)) {
+      E.impl->mass(xe, E.inertia, blocks_[k]);
+      if (d2) d2->segment(E.firstDef, E.impl->numDeformations()).setZero();
+      continue;
+    }
+    E.impl->dynamicTerms(xe, ve, E.inertia, blocks_[k], he, de);
+    for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += he[j];
+    if (d2)
+      for (int i = 0; i < de.size(); ++i) (*d2)[E.firstDef + i] = de[i];
+  }
+}
+
 void Inertia::multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const {
   y = lumped_.cwiseProduct(v);
   for (size_t k = 0; k < massive_.size(); ++k) {

@@ -17,6 +17,10 @@ class Inertia {
   bool hasMass() const { return !massive_.empty() || !model_.lumpedMasses.empty(); }
   // Element mass blocks at configuration x.
   void update(const Eigen::VectorXd& x);
+  // The same, and y += h(x, xd) in the same element pass (one geometry evaluation per element);
+  // with d2, also the convective D2e[xd, xd] of these elements' deformations (the rows of e).
+  void updateWithVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y,
+                                Eigen::VectorXd* d2 = nullptr);
   // y = M v (nx), y = M F (nx x m).
   void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const;
   void multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const;
@@ -34,6 +38,10 @@ class Inertia {
   // Y += (dg/dx) A: gravity on distributed masses turns with the elements (a load stiffness).
   void addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
                           Eigen::MatrixXd& Y) const;
+  // The element blocks of the last update (for sparse assembly): element index and its block.
+  const std::vector<int>& massiveElements() const { return massive_; }
+  const ElemMat& block(size_t k) const { return blocks_[k]; }
+  const Eigen::VectorXd& lumped() const { return lumped_; }  // diagonal lumped masses (nx)
   // Dense M (tests, linearisation of small models).
   Eigen::MatrixXd dense() const;
   double kineticEnergy(const Eigen::VectorXd& xd) const;

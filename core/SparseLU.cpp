@@ -21,6 +21,10 @@ struct SparseLU::Impl {
 SparseLU::SparseLU() : impl_(std::make_unique<Impl>()) { klu_defaults(&impl_->common); }
 SparseLU::~SparseLU() = default;
 
+// scale = -1: no scale factors and no per-call pattern check (klu_scale's scan of every entry,
+// which the fixed pattern does not need).
+void SparseLU::disableScaling() { impl_->common.scale = -1; }
+
 void SparseLU::analyze(int n, const int* colPtr, const int* rowIdx) {
   auto& m = *impl_;
   if (m.numeric) klu_free_numeric(&m.numeric, &m.common);
@@ -64,5 +68,7 @@ void SparseLU::solveTransposed(double* b, int nrhs) const {
 }
 
 double SparseLU::reciprocalCondition() const { return impl_->common.rcond; }
+
+long SparseLU::factorNonzeros() const { return impl_->numeric ? impl_->numeric->lnz + impl_->numeric->unz : 0; }
 
 }  // namespace flexmb::core

@@ -15,6 +15,9 @@ class SparseLU {
   SparseLU(const SparseLU&) = delete;
   SparseLU& operator=(const SparseLU&) = delete;
 
+  // Without KLU's own row scaling (for a matrix the caller has equilibrated: saves a pass per
+  // factorisation). Call before factorize.
+  void disableScaling();
   // Compressed-column pattern (n x n); the arrays must stay alive and keep their pattern.
   void analyze(int n, const int* colPtr, const int* rowIdx);
   // Factorise with the values ax (same pattern). Returns false when singular.
@@ -24,6 +27,7 @@ class SparseLU {
   // Solves A^T X = B in place.
   void solveTransposed(double* b, int nrhs) const;
   double reciprocalCondition() const;  // crude estimate from the last factorisation
+  long factorNonzeros() const;         // entries of L + U of the last factorisation (0 before one)
   int size() const { return n_; }
 
  private:

@@ -85,6 +85,13 @@ class Element {
   // H = sum_i sigma_i d^2 D_i / dx^2 (geometric stiffness, Eq. 16c).
   virtual void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const = 0;
 
+  // e and De together: the kinematics need both at every iterate, and an element whose two share
+  // their geometry (chord, sines of the node angles) computes it once. Same values as the two calls.
+  virtual void deformationsAndJacobian(const ElemVec& x, DefVec& e, DefJac& De) const {
+    deformations(x, e);
+    jacobian(x, De);
+  }
+
   // Constitutive matrix from ESTIFF/EDAMP parameters (same layout for stiffness and damping).
   virtual void constitutive(std::span<const double> params, DefMat& S) const = 0;
 
@@ -98,6 +105,14 @@ class Element {
                               ElemVec& h) const {
     (void)xd, (void)inertia;
     h.setZero(x.size());
+  }
+  // M_e, h_e and the convective D2e[xd, xd] together (the equations of motion need all three at
+  // every evaluation); same values as mass(), velocityForces() and secondDerivative().
+  virtual void dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M,
+                            ElemVec& h, DefVec& d2) const {
+    mass(x, inertia, M);
+    velocityForces(x, xd, inertia, h);
+    secondDerivative(x, xd, d2);
   }
   // Nodal forces of gravity g = (gx, gy) acting on the distributed mass.
   virtual void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,

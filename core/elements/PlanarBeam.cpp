@@ -112,6 +112,23 @@ void PlanarBeam::geometry(const ElemVec& x, Geometry& g) const {
 void PlanarBeam::deformations(const ElemVec& x, DefVec& e) const {
   Geometry g;
   geometry(x, g);
+  deformationsAt(g, e);
+}
+
+void PlanarBeam::jacobian(const ElemVec& x, DefJac& De) const {
+  Geometry g;
+  geometry(x, g);
+  jacobianAt(g, De);
+}
+
+void PlanarBeam::deformationsAndJacobian(const ElemVec& x, DefVec& e, DefJac& De) const {
+  Geometry g;
+  geometry(x, g);
+  deformationsAt(g, e);
+  jacobianAt(g, De);
+}
+
+void PlanarBeam::deformationsAt(const Geometry& g, DefVec& e) const {
   e.resize(3);
   e[0] = g.l - l0_;
   if (elongation_ == ElongationDefinition::BendingCorrected)
@@ -120,9 +137,7 @@ void PlanarBeam::deformations(const ElemVec& x, DefVec& e) const {
   e[2] = g.D3;
 }
 
-void PlanarBeam::jacobian(const ElemVec& x, DefJac& De) const {
-  Geometry g;
-  geometry(x, g);
+void PlanarBeam::jacobianAt(const Geometry& g, DefJac& De) const {
   Vec4 G1(g.ex, g.ey, 0.0, 0.0);
   if (elongation_ == ElongationDefinition::BendingCorrected) {
     const double c = 1.0 / (30.0 * l0_);
@@ -137,6 +152,10 @@ void PlanarBeam::jacobian(const ElemVec& x, DefJac& De) const {
 void PlanarBeam::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const {
   Geometry g;
   geometry(x, g);
+  secondDerivativeAt(g, v, d2);
+}
+
+void PlanarBeam::secondDerivativeAt(const Geometry& g, const ElemVec& v, DefVec& d2) const {
   const Vec4 vz = reduce(v);
   const double tv = g.ex * vz[0] + g.ey * vz[1];  // t . delta d
   const double nv = g.nx * vz[0] + g.ny * vz[1];  // n . delta d
@@ -254,6 +273,35 @@ void PlanarBeam::mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& 
   }
   Geometry g;
   geometry(x, g);
+  massAt(g, inertia, M);
+}
+
+void PlanarBeam::velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
+                                ElemVec& h) const {
+  if (!inertia.any()) {
+    h.setZero(6);
+    return;
+  }
+  Geometry g;
+  geometry(x, g);
+  velocityForcesAt(g, xd, inertia, h);
+}
+
+void PlanarBeam::dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M,
+                              ElemVec& h, DefVec& d2) const {
+  Geometry g;
+  geometry(x, g);
+  secondDerivativeAt(g, xd, d2);
+  if (!inertia.any()) {
+    M.setZero(6, 6);
+    h.setZero(6);
+    return;
+  }
+  massAt(g, inertia, M);
+  velocityForcesAt(g, xd, inertia, h);
+}
+
+void PlanarBeam::massAt(const Geometry& g, const ElementInertia& inertia, ElemMat& M) const {
   InertiaRows R;
   inertiaRows(g.G2, g.G3, g.nx, g.ny, 1.0 / g.l, R);
   const double rA = inertia.rhoA, rI = inertia.rhoI, il02 = 1.0 / (l0_ * l0_);
@@ -305,14 +353,8 @@ void PlanarBeam::mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& 
   M = l0_ * Mf;
 }
 
-void PlanarBeam::velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                                ElemVec& h) const {
-  if (!inertia.any()) {
-    h.setZero(6);
-    return;
-  }
-  Geometry g;
-  geometry(x, g);
+void PlanarBeam::velocityForcesAt(const Geometry& g, const ElemVec& xd, const ElementInertia& inertia,
+                                  ElemVec& h) const {
   const double il = 1.0 / g.l;
   InertiaRows R;
   inertiaRows(g.G2, g.G3, g.nx, g.ny, il, R);

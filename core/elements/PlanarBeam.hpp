@@ -34,6 +34,7 @@ class PlanarBeam final : public Element {
 
   void deformations(const ElemVec& x, DefVec& e) const override;
   void jacobian(const ElemVec& x, DefJac& De) const override;
+  void deformationsAndJacobian(const ElemVec& x, DefVec& e, DefJac& De) const override;
   void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
   void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   // params = [EA, EI]: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]]). Missing entries count as 0.
@@ -42,6 +43,8 @@ class PlanarBeam final : public Element {
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
   void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
                       ElemVec& h) const override;
+  void dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M, ElemVec& h,
+                    DefVec& d2) const override;
   void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
                      ElemVec& f) const override;
   // Valid while both node rotations against the chord, theta_p and theta_q, keep cos theta > 0:
@@ -63,6 +66,11 @@ class PlanarBeam final : public Element {
  private:
   struct Geometry;
   void geometry(const ElemVec& x, Geometry& g) const;
+  void deformationsAt(const Geometry& g, DefVec& e) const;
+  void jacobianAt(const Geometry& g, DefJac& De) const;
+  void secondDerivativeAt(const Geometry& g, const ElemVec& v, DefVec& d2) const;
+  void massAt(const Geometry& g, const ElementInertia& inertia, ElemMat& M) const;
+  void velocityForcesAt(const Geometry& g, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const;
 
   double l0_ = 0.0;
   double beta0_ = 0.0;

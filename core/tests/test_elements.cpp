@@ -428,3 +428,40 @@ TEST(Elements, ZeroLengthRejected) {
   xt << 1, 1, 1, 1;
   EXPECT_THROW(findElementType("PLTRUSS")->create(xt, {}), std::invalid_argument);
 }
+
+TEST(Elements, FusedKernelsEqualTheSeparateCalls) {
+  // deformationsAndJacobian and dynamicTerms (one geometry evaluation) give exactly what
+  // the separate calls give.
+  std::mt19937 rng(11);
+  ElementOptions opt;
+  for (const auto& c : cases()) {
+    const ElementTypeInfo* t = findElementType(c.keyword);
+    ASSERT_NE(t, nullptr);
+    opt.elongation = c.elongation;
+    ElementInertia inertia;
+    inertia.rhoA = 1.3;
+    inertia.rhoI = 2e-3;
+    for (int k = 0; k < 5; ++k) {
+      const ElemVec x0 = randomInitial(*t, rng);
+      const auto el = t->create(x0, opt);
+      const ElemVec x = randomConfiguration(*t, x0, rng), v = randomVector(t->numCoords(), rng);
+      DefVec e1, e2;
+      DefJac J1, J2;
+      el->deformations(x, e1);
+      el->jacobian(x, J1);
+      el->deformationsAndJacobian(x, e2, J2);
+      EXPECT_EQ(e1, e2) << c.label;
+      EXPECT_EQ(J1, J2) << c.label;
+      ElemMat M1, M2;
+      ElemVec h1, h2;
+      DefVec d1, d2;
+      el->mass(x, inertia, M1);
+      el->velocityForces(x, v, inertia, h1);
+      el->secondDerivative(x, v, d1);
+      el->dynamicTerms(x, v, inertia, M2, h2, d2);
+      EXPECT_EQ(M1, M2) << c.label;
+      EXPECT_EQ(h1, h2) << c.label;
+      EXPECT_EQ(d1, d2) << c.label;
+    }
+  }
+}

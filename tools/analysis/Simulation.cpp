@@ -35,8 +35,9 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   const double t0 = s.t0, tEnd = opt.tEnd.value_or(s.tEnd);
   const int intervals = opt.intervals.value_or(s.outputIntervals);
 
-  core::EquationsOfMotion eom(model, opt.basis);
-  core::EquationsOfMotion probe(model, opt.basis);  // output quantities; keeps eom's warm start intact
+  core::EquationsOfMotion eom(model, opt.basis, opt.dynamics);
+  // Output quantities; keeps eom's warm start intact.
+  core::EquationsOfMotion probe(model, opt.basis, opt.dynamics);
   const bool bdf = opt.integrator == Integrator::Bdf;
   const double relTol = opt.relTol.value_or(s.relTol), absTol = opt.absTol.value_or(s.absTol);
   const double maxStep = opt.maxStep.value_or(s.hmax);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "core/EquationsOfMotion.hpp"
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
 
@@ -30,6 +31,8 @@ struct SimulationOptions {
   std::optional<double> tEnd, relTol, absTol, maxStep;
   std::optional<int> intervals;     // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
+  // How Eq. 13 is solved for the accelerations (core::DynamicsForm); reduced models always project.
+  core::DynamicsForm dynamics = core::DynamicsForm::Automatic;
   bool progress = false;            // progress line on stderr for runs longer than a second
   bool keepStates = true;           // false: only statistics (benchmarks)
   // Set asynchronously (Ctrl-C): the run stops at its next check (every 64 right-hand sides) with

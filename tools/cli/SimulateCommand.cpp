@@ -89,7 +89,7 @@ int runSimulate(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
-  std::string out, format = "both", echo, basisFile, integrator = "ode45";
+  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
   bool matrices = false, vtk = false, html = false;
   int linearize = 0, bdfOrder = 0;
   d.add_options()("t-end", po::value(&tEnd)->notifier(positive("t-end")), "end time (overrides TIMESTEP)")(
@@ -111,6 +111,9 @@ int runSimulate(const std::vector<std::string>& args) {
       "write the end-of-run state as a .dat input that continues the run (SPACAR95 restart: elements, XY/BETA, "
       "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
+      "dynamics", po::value(&dynamics),
+      "how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), saddle-point "
+      "(sparse nodal form, full models) or auto (saddle-point from 40 DOF; reduced models always project)")(
       "linearize", po::value(&linearize)->notifier(atLeast("linearize", 0)),
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
       "matrices", po::bool_switch(&matrices),
@@ -137,6 +140,13 @@ int runSimulate(const std::vector<std::string>& args) {
     std::cerr << "flexmb: --bdf-order needs --integrator bdf\n";
     return kUsageError;
   }
+  core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
+  if (dynamics == "projected") dynamicsForm = core::DynamicsForm::Projected;
+  else if (dynamics == "saddle-point") dynamicsForm = core::DynamicsForm::SaddlePoint;
+  else if (dynamics != "auto") {
+    std::cerr << "flexmb: --dynamics must be auto, projected or saddle-point, not '" << dynamics << "'\n";
+    return kUsageError;
+  }
   std::vector<io::AnalysisStage> stages;
   if (!loadStages(m, stages, true)) return kInputError;
   // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
@@ -156,6 +166,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (absTol > 0) opt.absTol = absTol;
   if (maxStep > 0) opt.maxStep = maxStep;
   if (intervals >= 0) opt.intervals = intervals;
+  opt.dynamics = dynamicsForm;
   opt.progress = !m.quiet;
   try {
     opt.basis = readBasisFor(basisFile, model);
@@ -242,6 +253,7 @@ int runSimulate(const std::vector<std::string>& args) {
       << opt.relTol.value_or(model.settings.relTol) << ", abstol " << opt.absTol.value_or(model.settings.absTol)
       << ", max step " << h;
     files.setting("integration", s.str());
+    files.setting("dynamics", dynamics);
   }
 
   installInterruptHandler();

@@ -117,8 +117,10 @@ analysis::ReductionOptions modal(int r) {
 }  // namespace
 
 // J = [[0, I], [-M^-1 (K + N + G), -M^-1 (C + D)]] at moving states under load. Central-difference
-// steps 1e-5 (eta) and 1e-3 (etad) of the state's scale: the truncation error falls 100x per decade
-// of step and round-off takes over below them (measured: at best 1e-10 ... 5e-8 in every block).
+// steps 1e-5 of the state's scale for eta: the truncation error falls 100x per decade of step and
+// round-off takes over below (measured: 1e-10 ... 5e-8). etadd is quadratic in etad (xd is linear in
+// it, the convective terms and h quadratic), so central differences along etad are exact but for
+// round-off, and a large step (0.1 of the scale) keeps that small (measured: 9e-12 ... 1e-8).
 // N and G are 5e-4 ... 4e-2 of K + N + G here, so leaving either out fails the 1e-6 bound.
 TEST(BdfDynamics, AnalyticJacobianMatchesDifferencesOfTheRhs) {
   const std::vector<JacobianCase> cases = {
@@ -128,7 +130,7 @@ TEST(BdfDynamics, AnalyticJacobianMatchesDifferencesOfTheRhs) {
       {"manipulator MODAL-2", "manipulator.dat", 0.1, modal(2)},
   };
   for (const auto& c : cases) {
-    const Blocks b = compare(c, 1e-5, 1e-3);
+    const Blocks b = compare(c, 1e-5, 1e-1);
     EXPECT_LT(b.stiffness, 1e-6) << c.name;
     EXPECT_LT(b.damping, 1e-6) << c.name;
     EXPECT_LT(b.upper, 1e-12) << c.name;
