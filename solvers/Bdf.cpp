@@ -264,7 +264,8 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     try {
       accepted(t, state);
     } catch (const RhsError& e) {
-      fail(OdeStatus::RhsFailed, "at the accepted state t = " + num(t) + ": " + e.what());
+      fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + num(t) + ": " + e.what() +
+                                     "; results up to there are kept");
       return false;
     }
     return true;

@@ -117,7 +117,7 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     try {
       anchored->accept(t, y);
     } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(std::string("kinematics failed at an accepted state: ") + e.what());
+      throw solvers::RhsError(e.what());
     }
   };
   auto observer = [&](double t, const Eigen::VectorXd& y) {
