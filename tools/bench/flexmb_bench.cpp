@@ -987,7 +987,7 @@ int main(int argc, char** argv) {
   };
   for (const CvodeVariant& v : kCvode) {
     std::string fe, sp, acc, failedAt, steps, perStep, jac;
-    bool moreSteps = true;
+    bool moreSteps = true, fewerSteps = true;
     double slowMin = INFINITY, slowMax = 0;  // CVODE time / reduced-model time at RelTol 1e-3
     for (const CaseSpec& cs : cases) {
       const Point* fd = find(cs.key, "full", "ode45", 1e-3);
@@ -1004,11 +1004,12 @@ int main(int argc, char** argv) {
                                                                : fmt("%.1f", cd->wall / fd->wall) + "x slower");
       acc += (acc.empty() ? "" : ", ") + name + " " + sci(cd->error, 1) + " against " + sci(fd->error, 1);
       moreSteps = moreSteps && cd->nsteps >= 0.9 * fd->nsteps;
+      fewerSteps = fewerSteps && cd->nsteps < 0.9 * fd->nsteps;
       steps += (steps.empty() ? "" : " / ") + withThousands(cd->nsteps) + " against " + withThousands(fd->nsteps);
       perStep += (perStep.empty() ? "" : " / ") + fmt("%.1f", double(cd->fevals) / cd->nsteps) + " against " +
                  fmt("%.1f", double(fd->fevals) / fd->nsteps);
-      jac += (jac.empty() ? "" : " / ") + withThousands(cd->njac) + " Jacobians (" + withThousands(cd->jacFevals) +
-             " evaluations)";
+      jac += (jac.empty() ? "" : " / ") + withThousands(cd->njac) + " Jacobians" +
+             (cd->jacFevals > 0 ? " taking " + withThousands(cd->jacFevals) + " of the evaluations" : std::string());
     }
     for (const Point& p : points)
       if (p.integrator == v.name && p.status == "failed")
@@ -1017,7 +1018,7 @@ int main(int argc, char** argv) {
     for (const CaseSpec& cs : cases) names += (names.empty() ? "" : " / ") + cs.title.substr(0, cs.title.find(" ("));
     if (fe.empty()) continue;
     md << "- **" << v.name << "** (" << names << ", RelTol 1e-3) needs " << fe << " fewer evaluations than ode45 on the full "
-       << "model (" << jac << ") and is " << sp << (moreSteps ? ": it takes as many steps or more (" : ": it takes (")
+       << "model (" << jac << ") and is " << sp << (moreSteps ? ": it takes as many steps or more (" : fewerSteps ? ": it takes fewer steps (" : ": it takes (")
        << steps << " steps) with fewer evaluations per step (" << perStep << "); its error at equal tolerance is " << acc
        << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
        << reducedComparison(slowMin, slowMax)
