@@ -203,12 +203,13 @@ int runSimulate(const std::vector<std::string>& args) {
       return kInputError;
     }
   }
+  // The explicit integrator's stability limit; an implicit integrator's step is not bounded by it.
   Stiffness stiff;
   try {
-    stiff = highestFrequency(model, opt.basis);
+    if (!bdf) stiff = highestFrequency(model, opt.basis);
   } catch (const std::exception&) {
   }
-  if (stiff.omegaMax > 0 && !bdf) {  // an implicit integrator's step is not bounded by stability
+  if (stiff.omegaMax > 0) {
     const double steps = span * stiff.omegaMax / 3.3;
     // Warn when the stability limit, not the output or the accuracy, sets the step: many more steps
     // than output intervals.
