@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "core/elements/EulerParameters.hpp"
 
@@ -361,8 +362,12 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
     writeMatVar(mf.mat, path, "rotmat", nt, 9 * nr, rm);
   }
 
-  const std::pair<const char*, long> stats[] = {
+  std::vector<std::pair<const char*, long>> stats = {
       {"nsteps", traj.nsteps}, {"nfailed", traj.nfailed}, {"nfevals", traj.nfevals}};
+  if (traj.integrator == "bdf") {  // the implicit integrator's own counts
+    stats.emplace_back("njacevals", traj.njacevals);
+    stats.emplace_back("nlinsetups", traj.nlinsetups);
+  }
   for (const auto& [name, value] : stats) {
     data.assign(1, static_cast<double>(value));
     writeMatVar(mf.mat, path, name, 1, 1, data);

@@ -41,7 +41,8 @@ std::string writeOrientationCsv(const std::string& prefix, const core::Model& mo
 bool hasOrientationNodes(const core::Model& model);
 
 // MATLAB v5 .mat file (matio, MAT_FT_MAT5, uncompressed) with SPACAR's variable names:
-// time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1).
+// time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1);
+// after a bdf run also njacevals, nlinsetups (1 x 1).
 // All double. Rows are output times (SPACAR layout). Spatial models add the orientations of their
 // Euler-parameter nodes: rotnodes (1 x nr labels), rotvec (nt x 3 nr: rotation vectors, node by
 // node) and rotmat (nt x 9 nr: each node's R(:), column-major, so reshape(rotmat(k, 9*i-8:9*i), 3, 3)

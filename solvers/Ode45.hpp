@@ -4,10 +4,10 @@
 
 #include <Eigen/Core>
 
-#include <functional>
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "solvers/OdeTypes.hpp"
 
 namespace flexmb::solvers {
 
@@ -18,30 +18,6 @@ struct Ode45Options {
   double initialStep = 0.0;      // 0 -> automatic rule of ode45.md
   int refine = 4;                // used when tspan has exactly 2 entries
 };
-
-struct OdeStats {
-  long nsteps = 0, nfailed = 0, nfevals = 0;
-};
-
-enum class OdeStatus { Success, StepSizeUnderflow, RhsFailed, Stopped };
-
-struct OdeResult {
-  OdeStatus status = OdeStatus::Success;
-  std::string message;  // empty on success, else the time and the reason
-  double tLast = 0.0;   // last time reached (end of the last successful step)
-  OdeStats stats;
-};
-
-// Thrown by a right-hand side to report failure; Ode45 catches it and stops cleanly.
-class RhsError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-// dydt is preallocated with the size of y.
-using OdeRhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt)>;
-// Called for every output point in order of integration, including t0; return false to stop.
-using OdeObserver = std::function<bool(double t, const Eigen::VectorXd& y)>;
 
 class Ode45 {
  public:

@@ -7,12 +7,23 @@
 
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
+#include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
+#include "tools/analysis/AnchoredDynamics.hpp"
+#include "tools/analysis/StateJacobian.hpp"
 
 namespace flexmb::analysis {
 
 double kinematicTolerance(const core::AnalysisSettings& s, double relTol) {
   return s.kinematicTolGiven ? std::min(s.kinematicTol, 1e-5 * relTol) : 1e-5 * relTol;
+}
+
+const char* integratorName(Integrator i) { return i == Integrator::Bdf ? "bdf" : "ode45"; }
+
+std::optional<Integrator> parseIntegrator(const std::string& name) {
+  if (name == "ode45") return Integrator::Ode45;
+  if (name == "bdf") return Integrator::Bdf;
+  return std::nullopt;
 }
 
 namespace {
@@ -31,10 +42,9 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   core::EquationsOfMotion eom(model, opt.basis, opt.dynamics);
   // Output quantities; keeps eom's warm start intact.
   core::EquationsOfMotion probe(model, opt.basis, opt.dynamics);
-  solvers::Ode45Options o;
-  o.relTol = opt.relTol.value_or(s.relTol);
-  o.absTol = Eigen::VectorXd::Constant(1, opt.absTol.value_or(s.absTol));
-  o.maxStep = opt.maxStep.value_or(s.hmax);
+  const bool bdf = opt.integrator == Integrator::Bdf;
+  const double relTol = opt.relTol.value_or(s.relTol), absTol = opt.absTol.value_or(s.absTol);
+  const double maxStep = opt.maxStep.value_or(s.hmax);
   std::vector<double> tspan;
   if (intervals <= 0) {
     tspan = {t0, tEnd};
@@ -49,7 +59,7 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
   bool printed = false;
   // Progress between output times and Ctrl-C: looked at every 64 right-hand sides only, so the
   // clock costs nothing measurable in the RHS loop.
-  long calls = 0;
+  long calls = 0, accepted = 0;  // accepted: BDF steps (ode45's are estimated from the evaluations)
   bool stoppedByUser = false, warnedSlow = false;
   double tReached = t0;
   auto printProgress = [&](double t) {
@@ -57,8 +67,9 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     if (now - start < std::chrono::seconds(1) || now - lastPrint < std::chrono::milliseconds(250)) return;
     const double elapsed = std::chrono::duration<double>(now - start).count();
     const double share = (t - t0) / (tEnd - t0);
-    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), ~%ld steps, %ld evaluations (%.0f/s)", t, tEnd,
-                 100.0 * share, eom.evaluations() / 6, eom.evaluations(), eom.evaluations() / elapsed);
+    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), %s%ld steps, %ld evaluations (%.0f/s)", t, tEnd,
+                 100.0 * share, bdf ? "" : "~", bdf ? accepted : eom.evaluations() / 6, eom.evaluations(),
+                 eom.evaluations() / elapsed);
     const double left = share > 1e-6 ? elapsed * (1 - share) / share : 1e300;
     if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", left);
     // A run that will not finish in any reasonable time says so once (and how to stop it).
@@ -72,21 +83,44 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     lastPrint = now;
     printed = true;
   };
+  // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
+  std::optional<StateJacobian> jacobian;
+  std::optional<AnchoredDynamics> anchored;
+  if (bdf) {
+    jacobian.emplace(model, opt.basis);
+    anchored.emplace(eom, &*jacobian);
+  }
   auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
     if ((++calls & 63) == 0) {
       if (opt.interrupt && opt.interrupt->load(std::memory_order_relaxed)) {
         stoppedByUser = true;
-        throw solvers::RhsError("interrupted");
+        throw solvers::RhsAbort("interrupted");
       }
       if (opt.progress) printProgress(t);
     }
     userError.clear();  // only the evaluation that ended the run counts
     try {
-      eom.rhs(t, y, dy);
+      if (anchored) anchored->rhs(t, y, dy);
+      else eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());
+      throw solvers::RhsError(e.what());  // BDF: a trial state; retried with a smaller step
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
       userError = e.what();
+      throw solvers::RhsAbort(e.what());
+    }
+  };
+  auto jac = [&](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
+    try {
+      anchored->jacobian(t, y, fy, J);
+    } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());
+    }
+  };
+  auto acceptStep = [&](double t, const Eigen::VectorXd& y) {
+    ++accepted;
+    try {
+      anchored->accept(t, y);
+    } catch (const core::KinematicsError& e) {
       throw solvers::RhsError(e.what());
     }
   };
@@ -130,20 +164,38 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     if (opt.progress) printProgress(t);
     return true;
   };
-  const double kinTol = kinematicTolerance(s, o.relTol);
+  const double kinTol = kinematicTolerance(s, relTol);
   eom.kinematics().setRelativeTolerance(kinTol);
   probe.kinematics().setRelativeTolerance(kinTol);
-  solvers::Ode45 ode(o);
+  if (jacobian) jacobian->kinematics().setRelativeTolerance(kinTol);
   if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
     eom.kinematics().setConfiguration(from->x);
     probe.kinematics().setConfiguration(from->x);
+    if (jacobian) jacobian->kinematics().setConfiguration(from->x);
   }
   const Eigen::VectorXd y0 = from ? from->y : eom.initialState();
-  const solvers::OdeResult r = ode.integrate(f, tspan, y0, observer);
+  solvers::OdeResult r;
+  if (bdf) {
+    solvers::BdfOptions o;
+    o.relTol = relTol;
+    o.absTol = absTol;
+    o.maxStep = maxStep;
+    o.maxOrder = opt.bdfMaxOrder;
+    r = solvers::Bdf(o).integrate(f, jac, tspan, y0, observer, acceptStep);
+  } else {
+    solvers::Ode45Options o;
+    o.relTol = relTol;
+    o.absTol = Eigen::VectorXd::Constant(1, absTol);
+    o.maxStep = maxStep;
+    r = solvers::Ode45(o).integrate(f, tspan, y0, observer);
+  }
   if (printed) std::fprintf(stderr, "\n");
+  traj.integrator = integratorName(opt.integrator);
   traj.nsteps = r.stats.nsteps;
   traj.nfailed = r.stats.nfailed;
   traj.nfevals = r.stats.nfevals;
+  traj.njacevals = r.stats.njacevals;
+  traj.nlinsetups = r.stats.nlinsetups;
   if (stoppedByUser) {
     traj.completed = false;
     traj.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached) + "; results before it are kept";
@@ -184,9 +236,12 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
       all.time.push_back(part.time[i]);
       all.states.push_back(std::move(part.states[i]));
     }
+    all.integrator = part.integrator;
     all.nsteps += part.nsteps;
     all.nfailed += part.nfailed;
     all.nfevals += part.nfevals;
+    all.njacevals += part.njacevals;
+    all.nlinsetups += part.nlinsetups;
     if (!part.completed || end.y.size() == 0) {
       all.completed = false;
       all.stopReason = part.stopReason.empty() ? "analysis block " + std::to_string(k + 1) + " produced no state"

@@ -1,9 +1,12 @@
 #pragma once
-// Mode 1: forward dynamics of a model (full or reduced) with the ode45-equivalent integrator.
+// Mode 1: forward dynamics of a model (full or reduced) with the ode45-equivalent integrator or,
+// for stiff models, the implicit BDF integrator (SUNDIALS CVODE) with the analytic Jacobian of
+// analysis::StateJacobian (Eq. 15).
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "core/EquationsOfMotion.hpp"
 #include "core/Model.hpp"
@@ -11,7 +14,20 @@
 
 namespace flexmb::analysis {
 
+enum class Integrator {
+  Ode45,  // explicit, MATLAB's ode45 step by step (solvers::Ode45)
+  Bdf     // implicit: CVODE BDF + Newton with the analytic Jacobian (solvers::Bdf), anchored kinematics
+};
+// "ode45" or "bdf" (the command line's names); parseIntegrator returns nothing for other text.
+const char* integratorName(Integrator i);
+std::optional<Integrator> parseIntegrator(const std::string& name);
+
 struct SimulationOptions {
+  Integrator integrator = Integrator::Ode45;
+  // Bdf: the highest BDF order. 2 (A-stable) by default: with orders 3-5 the undamped high-frequency
+  // modes of a full model bound CVODE's step (manipulator, RelTol 1e-3: 57,356 steps at order <= 5,
+  // 463 at order <= 2; tools/bench/README.md).
+  int bdfMaxOrder = 2;
   std::optional<double> tEnd, relTol, absTol, maxStep;
   std::optional<int> intervals;     // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model

@@ -1,16 +1,12 @@
 // flexmb_bench: benchmarks of the paper's two models (Boer et al. 2013, Section 4).
 //   1. Work-precision diagrams: wall time against error for the full and the reduced models with the
-//      ode45-equivalent integrator, and for SUNDIALS CVODE (BDF, dense LU, difference-quotient
-//      Jacobian) on the full models, all on the same right-hand side EquationsOfMotion::rhs.
+//      ode45-equivalent integrator, and for SUNDIALS CVODE (solvers::Bdf: BDF, dense LU; the
+//      difference-quotient Jacobian and the analytic one of analysis::StateJacobian, orders <= 5 and
+//      <= 2) on the full models, all on the same right-hand side EquationsOfMotion::rhs.
 //   2. Cost of one right-hand-side evaluation of the straight guidance against the number of
 //      elements per flexure (5 ... 160), with the log-log slope.
 //   3. CSV + SVG + a Markdown fragment bench.md for the report.
 // Usage: flexmb_bench [--quick] [--out DIR]   (see tools/bench/README.md)
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_config.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 #include <unistd.h>
 
 #include <Eigen/Core>
@@ -34,9 +30,12 @@
 #include "core/GeometricTransferFunctions.hpp"
 #include "io/DatReader.hpp"
 #include "io/SvgPlot.hpp"
+#include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
+#include "tools/analysis/AnchoredDynamics.hpp"
 #include "tools/analysis/Reduction.hpp"
 #include "tools/analysis/Simulation.hpp"
+#include "tools/analysis/StateJacobian.hpp"
 
 #ifndef FLEXMB_SOURCE_DIR
 #define FLEXMB_SOURCE_DIR "."
@@ -117,7 +116,7 @@ struct Run {
   std::string reason;  // why it stopped (failed runs)
   long fevals = 0;     // every right-hand-side evaluation (CVODE: including the DQ Jacobian ones)
   long jacFevals = 0;  // CVODE: evaluations spent on difference-quotient Jacobians
-  long nsteps = 0, nfailed = 0, njac = 0;
+  long nsteps = 0, nfailed = 0, njac = 0;  // njac: CVODE's Jacobian evaluations (analytic or DQ)
   double wall = 0.0;   // seconds, model set-up + integration (EquationsOfMotion construction included)
   std::vector<double> t;
   std::vector<VectorXd> y;
@@ -171,155 +170,75 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
   return r;
 }
 
-// ---- SUNDIALS CVODE (6.4 API: SUNContext) ------------------------------------------------------
-struct CvUser {
-  core::EquationsOfMotion* eom = nullptr;
-  VectorXd y, dy;
-  Clock::time_point start;
-  double cap = kNoCap;
-  long calls = 0;
-  bool capped = false;
-  std::string rhsError, cvError;
-  VectorXd anchorX;  // kinematic configuration of the last accepted step: every evaluation starts there
-};
-
-int cvRhs(realtype t, N_Vector y, N_Vector ydot, void* user) {
-  auto* u = static_cast<CvUser*>(user);
-  const long n = static_cast<long>(NV_LENGTH_S(y));
-  std::copy(NV_DATA_S(y), NV_DATA_S(y) + n, u->y.data());
-  if ((++u->calls & 255) == 0 && since(u->start) > u->cap) {
-    u->capped = true;
-    return -1;  // unrecoverable: CVode returns CV_RHSFUNC_FAIL
-  }
-  // The kinematic Newton solve normally warm-starts from the previous evaluation. CVODE evaluates at
-  // trial states far from the solution (diverging corrector iterates, difference-quotient columns);
-  // from such a warm start Newton can fail at a good state or land on another assembly branch, and
-  // the right-hand side stops being a function of y alone. So every evaluation starts from the
-  // configuration of the last accepted step.
-  u->eom->kinematics().setConfiguration(u->anchorX);
-  try {
-    u->eom->rhs(t, u->y, u->dy);
-  } catch (const core::KinematicsError& e) {
-    u->rhsError = e.what();
-    return 1;  // recoverable: CVODE retries with a smaller step
-  }
-  if (!u->dy.allFinite()) {
-    u->rhsError = "non-finite right-hand side";
-    return 1;
-  }
-  std::copy(u->dy.data(), u->dy.data() + n, NV_DATA_S(ydot));
-  return 0;
-}
-
-void cvErr(int, const char* module, const char* function, char* msg, void* user) {
-  static_cast<CvUser*>(user)->cvError = std::string(module) + "/" + function + ": " + msg;
-}
-
-Run runCvode(const Problem& p, double relTol, double absTol, double capSeconds) {
+// ---- SUNDIALS CVODE through solvers::Bdf, as `flexmb simulate --integrator bdf` runs it ---------------
+// analytic: the Jacobian from the linearisation (analysis::StateJacobian, Eq. 15); otherwise CVODE's
+// difference quotients (2m right-hand sides per Jacobian). maxOrder: the highest BDF order. Every
+// evaluation starts the kinematics from the last accepted state (analysis::AnchoredDynamics; README
+// "Warm start anchor"), part of the timed work.
+Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bool analytic, int maxOrder) {
   Run r;
   const auto start = Clock::now();
   core::EquationsOfMotion eom(*p.model, p.basis);
   eom.kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));
-  const VectorXd y0 = eom.initialState();
-  const long n = y0.size();
-  CvUser u;
-  u.eom = &eom;
-  u.y.resize(n);
-  u.dy.resize(n);
-  u.start = start;
-  u.cap = capSeconds;
-
-  SUNContext ctx = nullptr;
-  if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
-  N_Vector y = N_VNew_Serial(n, ctx);
-  std::copy(y0.data(), y0.data() + n, NV_DATA_S(y));
-  void* mem = CVodeCreate(CV_BDF, ctx);
-  SUNMatrix A = SUNDenseMatrix(n, n, ctx);
-  SUNLinearSolver LS = SUNLinSol_Dense(y, A, ctx);
-  auto check = [&](int flag, const char* what) {
-    if (flag < 0) throw std::runtime_error(std::string("CVODE set-up: ") + what + " failed (" + std::to_string(flag) + ")");
-  };
-  check(CVodeInit(mem, cvRhs, p.tspan.front(), y), "CVodeInit");
-  check(CVodeSStolerances(mem, relTol, absTol), "CVodeSStolerances");
-  check(CVodeSetUserData(mem, &u), "CVodeSetUserData");
-  check(CVodeSetErrHandlerFn(mem, cvErr, &u), "CVodeSetErrHandlerFn");
-  check(CVodeSetLinearSolver(mem, LS, A), "CVodeSetLinearSolver");  // no Jacobian function: DQ
-  check(CVodeSetMaxNumSteps(mem, 50000000L), "CVodeSetMaxNumSteps");
-  if (p.model->settings.hmax > 0) check(CVodeSetMaxStep(mem, p.model->settings.hmax), "CVodeSetMaxStep");
-
-  // Anchor: the configuration of the current accepted state (start: the initial state).
-  const int m = eom.size();
-  VectorXd q(p.model->numDofs()), yout(n);
-  auto& gtf = eom.kinematics();
-  auto setAnchor = [&](double t, const VectorXd& state) {
-    eom.dofs(state.head(m), q);
-    if (u.anchorX.size()) gtf.setConfiguration(u.anchorX);
-    gtf.solvePositions(t, q);
-    u.anchorX = gtf.x();
-  };
-  auto fail = [&](int flag, double tret) {
-    r.ok = false;
-    char* name = CVodeGetReturnFlagName(flag);
-    r.reason = std::string(name ? name : "CVODE error") + " at t = " + fmt("%.6g", tret);
-    std::free(name);
-    if (u.capped) r.reason += ": wall-time cap of " + fmt("%.0f", capSeconds) + " s reached";
-    else if (!u.cvError.empty()) r.reason += ": " + u.cvError;
-    if (!u.capped && !u.rhsError.empty()) r.reason += " (last right-hand-side error: " + u.rhsError + ")";
-  };
-  setAnchor(p.tspan.front(), y0);
-  r.t.push_back(p.tspan.front());
-  r.y.push_back(y0);
-  const double tEnd = p.tspan.back();
-  check(CVodeSetStopTime(mem, tEnd), "CVodeSetStopTime");
-  N_Vector dky = N_VNew_Serial(n, ctx);
-  size_t next = 1;
-  realtype tcur = p.tspan.front();
-  // One step at a time: interpolate the output times passed (CVodeGetDky), then move the anchor.
-  while (next < p.tspan.size()) {
-    const int flag = CVode(mem, tEnd, y, &tcur, CV_ONE_STEP);
-    if (flag < 0) {
-      fail(flag, tcur);
-      break;
-    }
-    while (next < p.tspan.size() && p.tspan[next] <= tcur) {
-      const double tout = next + 1 == p.tspan.size() ? tcur : p.tspan[next];  // the stop time exactly
-      if (CVodeGetDky(mem, tout, 0, dky) < 0) break;
-      std::copy(NV_DATA_S(dky), NV_DATA_S(dky) + n, yout.data());
-      r.t.push_back(p.tspan[next]);
-      r.y.push_back(yout);
-      ++next;
-    }
-    std::copy(NV_DATA_S(y), NV_DATA_S(y) + n, yout.data());
-    try {
-      setAnchor(tcur, yout);
-    } catch (const core::KinematicsError& e) {
-      r.ok = false;
-      r.reason = std::string("kinematics failed at an accepted state: ") + e.what();
-      break;
-    }
+  std::optional<analysis::StateJacobian> jacobian;
+  if (analytic) {
+    jacobian.emplace(*p.model, p.basis);
+    jacobian->kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));
   }
-  N_VDestroy(dky);
+  analysis::AnchoredDynamics dynamics(eom, analytic ? &*jacobian : nullptr);
+  long calls = 0;
+  auto f = [&](double t, const VectorXd& y, VectorXd& dy) {
+    if ((++calls & 255) == 0 && since(start) > capSeconds)
+      throw solvers::RhsAbort("wall-time cap of " + fmt("%.0f", capSeconds) + " s reached");
+    try {
+      dynamics.rhs(t, y, dy);
+    } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());  // a trial state: CVODE retries with a smaller step
+    }
+  };
+  solvers::OdeJacobian J;
+  if (analytic)
+    J = [&](double t, const VectorXd& y, const VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> out) {
+      try {
+        dynamics.jacobian(t, y, fy, out);
+      } catch (const core::KinematicsError& e) {
+        throw solvers::RhsError(e.what());
+      }
+    };
+  auto accept = [&](double t, const VectorXd& y) {
+    try {
+      dynamics.accept(t, y);
+    } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());
+    }
+  };
+  r.t.reserve(p.tspan.size());
+  r.y.reserve(p.tspan.size());
+  auto observer = [&](double t, const VectorXd& y) {
+    r.t.push_back(t);
+    r.y.push_back(y);
+    return true;
+  };
+  solvers::BdfOptions o;
+  o.relTol = relTol;
+  o.absTol = absTol;
+  o.maxStep = p.model->settings.hmax;  // as analysis::simulate (0: 0.1 of the span)
+  o.maxOrder = maxOrder;
+  const VectorXd y0 = eom.initialState();
+  const solvers::OdeResult res = solvers::Bdf(o).integrate(f, J, p.tspan, y0, observer, accept);
   r.wall = since(start);
-  long nfe = 0, nfeLS = 0, nst = 0, netf = 0, nje = 0, ncfn = 0;
-  CVodeGetNumRhsEvals(mem, &nfe);
-  CVodeGetNumLinRhsEvals(mem, &nfeLS);
-  CVodeGetNumSteps(mem, &nst);
-  CVodeGetNumErrTestFails(mem, &netf);
-  CVodeGetNumJacEvals(mem, &nje);
-  CVodeGetNumNonlinSolvConvFails(mem, &ncfn);
-  r.fevals = nfe + nfeLS;
-  r.jacFevals = nfeLS;
-  r.nsteps = nst;
-  r.nfailed = netf + ncfn;  // failed attempts: error test or corrector convergence
-  r.njac = nje;
+  r.fevals = res.stats.nfevals;
+  r.jacFevals = res.stats.njacfevals;
+  r.njac = res.stats.njacevals;
+  r.nsteps = res.stats.nsteps;
+  r.nfailed = res.stats.nfailed;  // error-test plus corrector-convergence failures
+  if (res.status != solvers::OdeStatus::Success) {
+    r.ok = false;
+    r.reason = res.message.empty() ? "integrator stopped" : res.message;
+  }
   // Our own count (every call) must agree with CVODE's.
-  if (u.calls != nfe + nfeLS && r.ok)
-    std::fprintf(stderr, "warning: CVODE counted %ld evaluations, the right-hand side saw %ld\n", nfe + nfeLS, u.calls);
-  CVodeFree(&mem);
-  SUNLinSolFree(LS);
-  SUNMatDestroy(A);
-  N_VDestroy(y);
-  SUNContext_Free(&ctx);
+  if (calls != r.fevals && r.ok)
+    std::fprintf(stderr, "warning: CVODE counted %ld evaluations, the right-hand side saw %ld\n", r.fevals, calls);
   return r;
 }
 
@@ -365,17 +284,30 @@ struct Point {
   double relTol = 0, absTol = 0;
   std::string status;  // "ok", "failed", "skipped"
   std::string note;    // failure reason or prediction
-  long fevals = 0, jacFevals = 0, nsteps = 0, nfailed = 0;
+  long fevals = 0, jacFevals = 0, nsteps = 0, nfailed = 0, njac = 0;
   double wall = NAN, error = NAN;
   int runs = 0;
 };
 
 struct Method {
   std::string label;       // "full", "MODAL-3", ...
-  std::string integrator;  // "ode45" or "CVODE-BDF"
+  std::string integrator;  // "ode45" or one of the CVODE variants (kCvode)
   std::optional<Eigen::MatrixXd> basis;
   std::string basisNote;   // size and build time
+  int bdfOrder = 0;        // CVODE: the highest BDF order (0: ode45)
+  bool analytic = false;   // CVODE: the analytic Jacobian (else difference quotients)
 };
+
+// The CVODE variants on the full models: CVODE's defaults with its difference-quotient Jacobian, the
+// same with the analytic Jacobian, and `simulate --integrator bdf` (analytic, orders <= 2).
+struct CvodeVariant {
+  const char* name;
+  int order;
+  bool analytic;
+};
+constexpr CvodeVariant kCvode[] = {{"CVODE-BDF DQ J", 5, false},
+                                   {"CVODE-BDF analytic J", 5, true},
+                                   {"CVODE-BDF2 analytic J", 2, true}};
 
 struct Options {
   bool quick = false;
@@ -651,13 +583,13 @@ int main(int argc, char** argv) {
       ro.modes = 2;
       addBasis("MODAL-2", ro);
     }
-    methods.push_back({"full", "CVODE-BDF", std::nullopt, ""});
+    for (const CvodeVariant& v : kCvode) methods.push_back({"full", v.name, std::nullopt, "", v.order, v.analytic});
 
     // ---- sweeps
     for (const Method& m : methods) {
       if (!opt.only.empty() && (cs.key + " " + m.label + " " + m.integrator).find(opt.only) == std::string::npos) continue;
       const Problem prob{&model, m.basis, full.tspan};
-      const bool cv = m.integrator == "CVODE-BDF";
+      const bool cv = m.bdfOrder > 0;
       double lastWall = NAN, lastFe = NAN, prevFe = NAN;
       bool stop = false;
       double predicted = NAN;
@@ -688,7 +620,8 @@ int main(int argc, char** argv) {
         }
         auto once = [&]() {
           try {
-            return cv ? runCvode(prob, tol, tol * absFactor, hardCap) : runOde45(prob, tol, tol * absFactor, hardCap);
+            return cv ? runBdf(prob, tol, tol * absFactor, hardCap, m.analytic, m.bdfOrder)
+                      : runOde45(prob, tol, tol * absFactor, hardCap);
           } catch (const std::exception& e) {  // set-up or initial kinematics: a failed run, not a crash
             Run bad;
             bad.ok = false;
@@ -705,6 +638,7 @@ int main(int argc, char** argv) {
         pt.wall = median(walls);
         pt.fevals = r.fevals;
         pt.jacFevals = r.jacFevals;
+        pt.njac = r.njac;
         pt.nsteps = r.nsteps;
         pt.nfailed = r.nfailed;
         if (r.ok) {
@@ -722,7 +656,10 @@ int main(int argc, char** argv) {
         }
         if (pt.status == "ok") {
           std::printf("%s: %ld fevals%s, %s s (%s), error %s\n", tag.c_str(), pt.fevals,
-                      cv ? (" (" + std::to_string(pt.jacFevals) + " for Jacobians)").c_str() : "", secText(pt.wall).c_str(),
+                      cv ? (" (" + std::to_string(pt.njac) + " Jacobians, " + std::to_string(pt.jacFevals) +
+                            " evaluations in them)").c_str()
+                         : "",
+                      secText(pt.wall).c_str(),
                       pt.runs > 1 ? "median of 3" : "1 run", sci(pt.error).c_str());
           prevFe = lastFe;
           lastFe = static_cast<double>(pt.fevals);
@@ -844,11 +781,13 @@ int main(int argc, char** argv) {
   // ---------------------------------------------------------------- CSV
   {
     std::ofstream f(opt.out + "/workprecision.csv");
-    f << "model,method,integrator,reltol,abstol,status,fevals,jacobian_fevals,steps,failed_steps,wall_s,runs,error,note\n";
+    f << "model,method,integrator,reltol,abstol,status,fevals,jacobian_fevals,jacobians,steps,failed_steps,wall_s,runs,error,"
+         "note\n";
     for (const Point& p : points) {
       f << p.model << ',' << p.method << ',' << p.integrator << ',' << sci(p.relTol, 1) << ',' << sci(p.absTol, 1) << ','
         << p.status << ',' << (p.status == "skipped" ? "" : std::to_string(p.fevals)) << ','
         << (p.status == "skipped" || p.integrator == "ode45" ? "" : std::to_string(p.jacFevals)) << ','
+        << (p.status == "skipped" || p.integrator == "ode45" ? "" : std::to_string(p.njac)) << ','
         << (p.status == "skipped" ? "" : std::to_string(p.nsteps)) << ','
         << (p.status == "skipped" ? "" : std::to_string(p.nfailed)) << ','
         << (std::isfinite(p.wall) ? fmt("%.6g", p.wall) : "") << ',' << (p.runs ? std::to_string(p.runs) : "") << ','
@@ -875,8 +814,8 @@ int main(int argc, char** argv) {
 #ifdef NDEBUG
      << " (NDEBUG)"
 #endif
-     << "; Eigen " << EIGEN_WORLD_VERSION << '.' << EIGEN_MAJOR_VERSION << '.' << EIGEN_MINOR_VERSION << ", SUNDIALS "
-     << SUNDIALS_VERSION << ". Load average before/after: " << loadBefore << " / " << loadAverage()
+     << "; Eigen " << EIGEN_WORLD_VERSION << '.' << EIGEN_MAJOR_VERSION << '.' << EIGEN_MINOR_VERSION << ", "
+     << solvers::Bdf::library() << ". Load average before/after: " << loadBefore << " / " << loadAverage()
      << " (the machine may be shared; single-threaded runs).\n\n";
   md << "**Set-up.** Tolerances RelTol " << tolText(tols.front()) << " ... " << tolText(tols.back())
      << " per decade, AbsTol = RelTol x 1e-3 (scalar), for every method. Wall time = model set-up "
@@ -890,13 +829,16 @@ int main(int argc, char** argv) {
         "divided by the reach for the manipulator. Reduced models are measured against the full model's "
         "reference, so their curves level off at their reduction error.\n\n";
   md << "- ode45: flexmb's ode45-equivalent (Dormand-Prince 5(4), MATLAB's step control), same counting rule as MATLAB.\n";
-  md << "- CVODE-BDF: SUNDIALS CVODE " << SUNDIALS_VERSION
-     << ", BDF (variable order 1-5, default settings), Newton with the dense direct linear solver and CVODE's "
-        "difference-quotient Jacobian, on the same right-hand side; its evaluation count includes the Jacobian ones "
-        "(shown as J); its failed steps are error-test plus corrector-convergence failures. Every evaluation starts the "
-        "kinematic Newton solve from the configuration of the last accepted step (tools/bench/README.md: without this "
-        "anchor CVODE's trial states spoil the warm start). Note CVODE's error test uses a weighted RMS norm, ode45 a "
-        "max norm.\n";
+  md << "- CVODE: " << solvers::Bdf::library()
+     << " through solvers::Bdf (as `flexmb simulate --integrator bdf`): BDF, Newton with the dense direct linear solver, "
+        "on the same right-hand side, in three variants: **CVODE-BDF DQ J** (orders 1-5, CVODE's difference-quotient "
+        "Jacobian), **CVODE-BDF analytic J** (orders 1-5, the Jacobian [[0, I], [-M^-1 (K+N+G), -M^-1 (C+D)]] from the "
+        "linearisation of Eq. 15, analysis::StateJacobian) and **CVODE-BDF2 analytic J** (the same with orders 1-2, "
+        "A-stable: simulate's default). Counts: fevals includes the difference-quotient evaluations; (J n: m) gives the "
+        "Jacobian evaluations n and the right-hand sides m spent on them; failed steps are error-test plus "
+        "corrector-convergence failures. Every evaluation starts the kinematic Newton solve from the configuration of the "
+        "last accepted step (tools/bench/README.md: without this anchor CVODE's trial states spoil the warm start). "
+        "Note CVODE's error test uses a weighted RMS norm, ode45 a max norm.\n";
   for (const CaseSpec& cs : cases) {
     md << "- Reference " << cs.key << ": " << refNotes[cs.key] << ".\n";
     md << "- Bases " << cs.key << ": " << basisNotes[cs.key] << ".\n";
@@ -940,7 +882,7 @@ int main(int argc, char** argv) {
         continue;
       }
       md << withThousands(p.fevals);
-      if (p.integrator != "ode45") md << " (J " << withThousands(p.jacFevals) << ")";
+      if (p.integrator != "ode45") md << " (J " << withThousands(p.njac) << ": " << withThousands(p.jacFevals) << ")";
       md << " | " << withThousands(p.nsteps) << " (" << withThousands(p.nfailed) << ") | " << secText(p.wall) << " | "
          << p.runs << " | " << (p.fevals > 0 ? fmt("%.1f", p.wall / p.fevals * 1e6) : std::string("-")) << " | "
          << (p.status == "ok" ? sci(p.error) : std::string("-")) << " |\n";
@@ -1025,23 +967,37 @@ int main(int argc, char** argv) {
     if (std::isfinite(bestFloor)) {
       const Point* rp = cheapest(cs.key, best, "ode45", 1.5 * bestFloor);
       const Point* fp = cheapest(cs.key, "full", "ode45", 1.5 * bestFloor);
-      const Point* cp = cheapest(cs.key, "full", "CVODE-BDF", 1.5 * bestFloor);
+      const Point* cp = nullptr;  // the cheapest CVODE variant there
+      for (const CvodeVariant& v : kCvode)
+        if (const Point* c = cheapest(cs.key, "full", v.name, 1.5 * bestFloor); c && (!cp || c->wall < cp->wall)) cp = c;
       o << "; for any error above " << sci(bestFloor, 1) << " " << best << " (" << secText(rp->wall) << " s) is ";
       if (fp) o << fmt("%.0f", fp->wall / rp->wall) << "x faster than the full model with ode45";
       else o << "the only method within the sweep's budget";
-      if (cp) o << " and " << fmt("%.0f", cp->wall / rp->wall) << "x faster than with CVODE";
+      if (cp)
+        o << " and " << (cp->wall >= rp->wall ? fmt("%.0f", cp->wall / rp->wall) + "x faster than"
+                                               : fmt("%.1f", rp->wall / cp->wall) + "x slower than")
+          << " the full model with the cheapest CVODE variant there (" << cp->integrator << ", " << secText(cp->wall)
+          << " s)";
       o << ", and only below that error does the full model win.";
     }
     md << o.str() << "\n";
   }
-  {
-    // CVODE against ode45 on the full models at RelTol 1e-3.
-    std::string fe, sp, acc, failedAt, steps, perStep;
-    bool moreSteps = true;
+  // Each CVODE variant against ode45 on the full models at RelTol 1e-3, and its time against the
+  // reduced models' (ratio range lo ... hi of CVODE time / reduced time).
+  auto reducedComparison = [](double lo, double hi) -> std::string {
+    if (!std::isfinite(lo)) return "";
+    const std::string tail = " the reduced models (ode45) at the same tolerance";
+    if (lo > 1) return ", and it remains " + fmt("%.0f", lo) + "-" + fmt("%.0f", hi) + "x slower than" + tail;
+    if (hi < 1) return ", and it is " + fmt("%.1f", 1 / hi) + "-" + fmt("%.1f", 1 / lo) + "x faster than" + tail;
+    return ", and it takes " + fmt("%.2f", lo) + "-" + fmt("%.1f", hi) + " times the time of" + tail;
+  };
+  for (const CvodeVariant& v : kCvode) {
+    std::string fe, sp, acc, failedAt, steps, perStep, jac;
+    bool moreSteps = true, fewerSteps = true;
     double slowMin = INFINITY, slowMax = 0;  // CVODE time / reduced-model time at RelTol 1e-3
     for (const CaseSpec& cs : cases) {
       const Point* fd = find(cs.key, "full", "ode45", 1e-3);
-      const Point* cd = find(cs.key, "full", "CVODE-BDF", 1e-3);
+      const Point* cd = find(cs.key, "full", v.name, 1e-3);
       if (!fd || !cd) continue;
       for (const Point& p : points)
         if (p.model == cs.key && p.method != "full" && p.relTol == 1e-3 && p.status == "ok") {
@@ -1054,25 +1010,25 @@ int main(int argc, char** argv) {
                                                                : fmt("%.1f", cd->wall / fd->wall) + "x slower");
       acc += (acc.empty() ? "" : ", ") + name + " " + sci(cd->error, 1) + " against " + sci(fd->error, 1);
       moreSteps = moreSteps && cd->nsteps >= 0.9 * fd->nsteps;
+      fewerSteps = fewerSteps && cd->nsteps < 0.9 * fd->nsteps;
       steps += (steps.empty() ? "" : " / ") + withThousands(cd->nsteps) + " against " + withThousands(fd->nsteps);
       perStep += (perStep.empty() ? "" : " / ") + fmt("%.1f", double(cd->fevals) / cd->nsteps) + " against " +
                  fmt("%.1f", double(fd->fevals) / fd->nsteps);
+      jac += (jac.empty() ? "" : " / ") + withThousands(cd->njac) + " Jacobians" +
+             (cd->jacFevals > 0 ? " taking " + withThousands(cd->jacFevals) + " of the evaluations" : std::string());
     }
     for (const Point& p : points)
-      if (p.integrator == "CVODE-BDF" && p.status == "failed")
+      if (p.integrator == v.name && p.status == "failed")
         failedAt += (failedAt.empty() ? "" : ", ") + p.model + " RelTol " + tolText(p.relTol);
     std::string names;
     for (const CaseSpec& cs : cases) names += (names.empty() ? "" : " / ") + cs.title.substr(0, cs.title.find(" ("));
-    if (!fe.empty())
-      md << "- **CVODE-BDF** (" << names << ", RelTol 1e-3) needs " << fe
-         << " fewer evaluations than ode45 on the full model, Jacobian columns included, and is " << sp
-         << (moreSteps ? ": it takes as many steps or more (" : ": it takes (") << steps << " steps), but fewer evaluations per step (" << perStep
-         << "); its error at equal tolerance is " << acc
-         << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
-         << (std::isfinite(slowMin) ? ", and it remains " + fmt("%.0f", slowMin) + "-" + fmt("%.0f", slowMax) +
-                                          "x slower than the reduced models at the same tolerance"
-                                    : std::string())
-         << ".\n";
+    if (fe.empty()) continue;
+    md << "- **" << v.name << "** (" << names << ", RelTol 1e-3) needs " << fe << " fewer evaluations than ode45 on the full "
+       << "model (" << jac << ") and is " << sp << (moreSteps ? ": it takes as many steps or more (" : fewerSteps ? ": it takes fewer steps (" : ": it takes (")
+       << steps << " steps) with fewer evaluations per step (" << perStep << "); its error at equal tolerance is " << acc
+       << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
+       << reducedComparison(slowMin, slowMax)
+       << ".\n";
   }
   md << "- One rhs evaluation of the full model (sparse nodal saddle-point form, core/SaddlePointAccelerations) grows "
      << "with a log-log slope of " << fmt("%.2f", slopeAll) << " in the number of elements per flexure ("

@@ -15,6 +15,7 @@
 #include "io/OutputFile.hpp"
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
+#include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
 #include "io/SpacarResults.hpp"
 #include "tools/analysis/Simulation.hpp"
@@ -88,15 +89,21 @@ int runSimulate(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1;
-  std::string out, format = "both", echo, basisFile, dynamics = "auto";
+  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
   bool matrices = false, vtk = false, html = false;
-  int linearize = 0;
+  int linearize = 0, bdfOrder = 0;
   d.add_options()("t-end", po::value(&tEnd)->notifier(positive("t-end")), "end time (overrides TIMESTEP)")(
       "reltol", po::value(&relTol)->notifier(positive("reltol")), "relative tolerance (default from the file or 1e-3)")(
       "abstol", po::value(&absTol)->notifier(positive("abstol")), "absolute tolerance (default from the file or 1e-6)")(
       "max-step", po::value(&maxStep)->notifier(positive("max-step")), "maximum step size")(
       "intervals", po::value(&intervals)->notifier(atLeast("intervals", 0)),
-      "output intervals (0: every step, Refine 4)")(
+      "output intervals (0: every step; ode45 adds Refine 4's 3 points inside each)")(
+      "integrator", po::value(&integrator),
+      "ode45 (default: explicit, MATLAB's ode45 step by step) or bdf (implicit: SUNDIALS CVODE's BDF with the "
+      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step)")(
+      "bdf-order", po::value(&bdfOrder)->notifier(atLeast("bdf-order", 1)),
+      "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
+      "step but let undamped stiff modes bound the step)")(
       "out", po::value(&out),
       "output prefix or folder (default: the model's name in the current folder; with --basis the basis name is "
       "appended)")("format", po::value(&format), "csv, mat, both or none")(
@@ -119,6 +126,20 @@ int runSimulate(const std::vector<std::string>& args) {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
     return kUsageError;
   }
+  const std::optional<analysis::Integrator> chosen = analysis::parseIntegrator(integrator);
+  if (!chosen) {
+    std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << integrator << "'\n";
+    return kUsageError;
+  }
+  const bool bdf = *chosen == analysis::Integrator::Bdf;
+  if (bdfOrder > 5) {
+    std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << bdfOrder << "\n";
+    return kUsageError;
+  }
+  if (bdfOrder > 0 && !bdf) {
+    std::cerr << "flexmb: --bdf-order needs --integrator bdf\n";
+    return kUsageError;
+  }
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
   if (dynamics == "projected") dynamicsForm = core::DynamicsForm::Projected;
   else if (dynamics == "saddle-point") dynamicsForm = core::DynamicsForm::SaddlePoint;
@@ -138,6 +159,8 @@ int runSimulate(const std::vector<std::string>& args) {
   if (matrices && linearize <= 0) linearize = 6;
 
   analysis::SimulationOptions opt;
+  opt.integrator = *chosen;
+  if (bdfOrder > 0) opt.bdfMaxOrder = bdfOrder;
   if (tEnd > 0) opt.tEnd = tEnd;
   if (relTol > 0) opt.relTol = relTol;
   if (absTol > 0) opt.absTol = absTol;
@@ -180,9 +203,10 @@ int runSimulate(const std::vector<std::string>& args) {
       return kInputError;
     }
   }
+  // The explicit integrator's stability limit; an implicit integrator's step is not bounded by it.
   Stiffness stiff;
   try {
-    stiff = highestFrequency(model, opt.basis);
+    if (!bdf) stiff = highestFrequency(model, opt.basis);
   } catch (const std::exception&) {
   }
   if (stiff.omegaMax > 0) {
@@ -194,12 +218,12 @@ int runSimulate(const std::vector<std::string>& args) {
                 << " Hz, limits the explicit integrator's step to about " << 3.3 / stiff.omegaMax
                 << " s: at least " << steps << " steps for " << span << " s. It lives in ";
       for (size_t i = 0; i < stiff.where.size(); ++i) std::cerr << (i ? ", " : "") << stiff.where[i];
-      std::cerr << ". A reduced model removes it (flexmb reduce, then simulate --basis), or make those "
-                   "deformations rigid.\n";
+      std::cerr << ". A reduced model removes it (flexmb reduce, then simulate --basis), the implicit "
+                   "--integrator bdf steps over it, or make those deformations rigid.\n";
     }
     if (steps > kMaxSteps) {
       std::cerr << "flexmb: " << steps << " steps are more than the limit " << kMaxSteps
-                << ": reduce the model or shorten the run\n";
+                << ": reduce the model, shorten the run or use --integrator bdf\n";
       return kInputError;
     }
   }
@@ -219,6 +243,10 @@ int runSimulate(const std::vector<std::string>& args) {
   files.setting("command", "simulate");
   files.setting("model", m.file);
   if (!basisFile.empty()) files.setting("basis", basisFile);
+  files.setting("integrator", bdf ? "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" +
+                                        std::to_string(opt.bdfMaxOrder) +
+                                        ", Newton, dense LU, analytic Jacobian of Eq. 15)"
+                                  : std::string("ode45 (Dormand-Prince 5(4), MATLAB's step control)"));
   {
     std::ostringstream s;
     s.precision(17);
@@ -242,7 +270,9 @@ int runSimulate(const std::vector<std::string>& args) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solvers::OdeStats st{traj.nsteps, traj.nfailed, traj.nfevals};
-  std::cout << solvers::Ode45::formatStats(st);
+  st.njacevals = traj.njacevals;
+  st.nlinsetups = traj.nlinsetups;
+  std::cout << (bdf ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
   if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
 

@@ -150,6 +150,21 @@ check(m["modeq"].shape == (6, 3) and m["modex"].shape == (9, 3), f"modes: shapes
 # Mode shapes in x are F_q times those in q: the fixed coordinates do not move.
 check(np.abs(m["modex"][:3, :]).max() == 0.0, "modes: fixed coordinates move in modex")
 
+# 3. The integrator statistics in <out>.mat: bdf adds njacevals and nlinsetups, ode45 has none.
+guid = os.path.join(src, "datfiles", "straight_guidance.dat")
+for integ in ("ode45", "bdf"):
+    run(["simulate", guid, "--t-end", "0.02", "--intervals", "4", "--integrator", integ, "--out", "sgi_" + integ])
+    d = sio.loadmat(os.path.join(work, f"sgi_{integ}.mat"))
+    check(d["nsteps"][0, 0] > 0 and d["nfevals"][0, 0] >= d["nsteps"][0, 0], f"{integ}: nsteps/nfevals in .mat")
+    if integ == "bdf":
+        check("njacevals" in d and d["njacevals"][0, 0] > 0, "bdf: njacevals missing or 0 in .mat")
+        check("nlinsetups" in d and d["nlinsetups"][0, 0] >= d["njacevals"][0, 0], "bdf: nlinsetups in .mat")
+    else:
+        check("njacevals" not in d, "ode45: njacevals in .mat")
+    check(np.array_equal(sio.loadmat(os.path.join(work, f"sgi_{integ}.sbd"))["nfevals"], d["nfevals"]),
+          f"{integ}: nfevals of .sbd and .mat differ")
+print("integrator statistics in <out>.mat: ode45 and bdf as documented")
+
 if failures:
     print(f"{len(failures)} failures")
     sys.exit(1)

@@ -383,6 +383,76 @@ TEST_F(Cli, ReducedRunKeepsTheFullRunsFiles) {
   EXPECT_NE(slurp(dir_ / "portal_v_run.txt").find("basis: v.csv"), std::string::npos);
 }
 
+// --integrator bdf (issue 13): the same file set as ode45, the integrator in the manifest and its
+// statistics on stdout; bad values and --bdf-order without bdf are usage errors.
+TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
+  fs::create_directories(dir_ / "a");
+  fs::create_directories(dir_ / "b");
+  const std::string run = "simulate " + kData + "straight_guidance.dat -q --t-end 0.02 --intervals 10";
+  Result r = flexmb(run + " --out a/");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = flexmb(run + " --integrator bdf --out b/");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Jacobian evaluations"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("linear-solver set-ups"), std::string::npos) << r.out;
+  auto names = [&](const char* sub) {
+    std::vector<std::string> v;
+    for (const auto& e : fs::directory_iterator(dir_ / sub)) v.push_back(e.path().filename().string());
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  EXPECT_EQ(names("a"), names("b"));
+  EXPECT_GE(names("b").size(), 9u) << joined(names("b"));
+  const std::string manifest = slurp(dir_ / "b/straight_guidance_run.txt");
+  EXPECT_NE(manifest.find("status: complete"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("integrator: bdf (SUNDIALS CVODE"), std::string::npos) << manifest;
+  EXPECT_NE(slurp(dir_ / "a/straight_guidance_run.txt").find("integrator: ode45"), std::string::npos);
+  // Same output times, 11 rows each.
+  const auto rows = [&](const char* file) {
+    std::ifstream in(dir_ / file);
+    std::string line;
+    std::vector<std::string> times;
+    std::getline(in, line);
+    while (std::getline(in, line)) times.push_back(line.substr(0, line.find(',')));
+    return times;
+  };
+  EXPECT_EQ(rows("a/straight_guidance_x.csv"), rows("b/straight_guidance_x.csv"));
+  EXPECT_EQ(rows("b/straight_guidance_x.csv").size(), 11u);
+
+  for (const std::string bad : {"--integrator foo", "--integrator BDF", "--integrator ''", "--integrator bdf --bdf-order 6",
+                                "--integrator bdf --bdf-order 0", "--bdf-order 3"}) {
+    r = flexmb("simulate " + kData + "portal.dat -q --format none " + bad);
+    EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
+    EXPECT_NE(r.err.find(bad.find("order") != std::string::npos ? "bdf-order" : "integrator"), std::string::npos)
+        << bad << ": " << r.err;
+    EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << "ran anyway with " << bad;
+  }
+  r = flexmb("simulate --help");
+  EXPECT_NE(r.out.find("--integrator"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bdf"), std::string::npos) << r.out;
+  // SPACAR95 analysis blocks run in sequence with bdf too, with the same output times.
+  r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --out s45");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --integrator bdf --bdf-order 5 --out sbdf");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(rows("s45_x.csv"), rows("sbdf_x.csv"));
+}
+
+// Ctrl-C during a bdf run writes the results so far, as with ode45.
+TEST_F(Cli, InterruptKeepsTheResultsSoFarWithBdf) {
+  const Result r = sh("flexmb simulate " + kData + "manipulator.dat -q --integrator bdf --t-end 500 --max-step 0.001 "
+                      "--intervals 10000 --out m & pid=$!; sleep 3; kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  std::ifstream in(dir_ / "m_x.csv");
+  ASSERT_TRUE(in) << joined(files());
+  std::string line;
+  int rows = -1;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_GT(rows, 1);
+  EXPECT_NE(slurp(dir_ / "m_run.txt").find("status: stopped: interrupted"), std::string::npos);
+}
+
 // The tutorial models: the cantilever's tip deflection against beam theory, the loop's DOF count.
 TEST_F(Cli, TutorialModels) {
   Result r = flexmb("check " + kData + "cantilever.dat");

@@ -1,0 +1,56 @@
+// What the time integrators (Ode45, Bdf) share: the right-hand side and observer callables, the
+// statistics, the outcome of a run and the exceptions a right-hand side reports failure with.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace flexmb::solvers {
+
+struct OdeStats {
+  long nsteps = 0, nfailed = 0, nfevals = 0;
+  // Implicit integrators only (0 for Ode45): Jacobian evaluations (analytic or difference quotients),
+  // the right-hand-side evaluations among nfevals spent on difference-quotient Jacobians, and the
+  // linear-solver set-ups (LU factorisations of I - gamma J).
+  long njacevals = 0, njacfevals = 0, nlinsetups = 0;
+};
+
+enum class OdeStatus {
+  Success,
+  StepSizeUnderflow,   // the tolerance cannot be met: the step fell to the minimum step size
+  RhsFailed,           // the right-hand side failed (repeatedly, for an implicit integrator)
+  Stopped,             // the observer (or an abort from the right-hand side) asked to stop
+  ConvergenceFailure,  // implicit: the corrector (Newton) did not converge, even at the minimum step
+  JacobianFailed,      // implicit: the Jacobian or the linear solver failed (singular matrix)
+  SolverFailure        // implicit: any other failure the integrator reported (the message says which)
+};
+
+struct OdeResult {
+  OdeStatus status = OdeStatus::Success;
+  std::string message;  // empty on success, else the time and the reason
+  double tLast = 0.0;   // last time reached (end of the last successful step)
+  OdeStats stats;
+};
+
+// Thrown by a right-hand side (or a Jacobian) to report failure. Ode45 stops cleanly; an implicit
+// integrator treats it as recoverable (it retries with a smaller step: a trial state far from the
+// solution may fail where the solution does not) and stops when the failures repeat.
+class RhsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+// A failure that must stop every integrator at once (Ctrl-C, a failing user function).
+class RhsAbort : public RhsError {
+ public:
+  using RhsError::RhsError;
+};
+
+// dydt is preallocated with the size of y.
+using OdeRhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt)>;
+// Called for every output point in order of integration, including t0; return false to stop.
+using OdeObserver = std::function<bool(double t, const Eigen::VectorXd& y)>;
+
+}  // namespace flexmb::solvers
