@@ -126,37 +126,6 @@ solvers::StaticResult sparseEquilibrium(core::Linearization& lin, double t, doub
 
 bool sparseNewton(const core::Linearization& lin) { return lin.model().spatial && !lin.basis(); }
 
-// Where Newton starts for the next load point: the last equilibrium, moved along the secant
-// through the last two when the load goes on in the same direction of (mu, s) (else, at the first
-// step and at the corner between the initial-load ramp and the increments, the last equilibrium).
-// The secant start is off the path by the path's curvature only, O(step^2), where the last
-// equilibrium is off by O(step).
-class SecantPredictor {
- public:
-  SecantPredictor(const Eigen::VectorXd& eta, LoadPoint at) : last_(eta), lastAt_(at) {}
-  void accept(const Eigen::VectorXd& eta, LoadPoint at) {
-    previous_ = last_;
-    previousAt_ = lastAt_;
-    hasPrevious_ = true;
-    last_ = eta;
-    lastAt_ = at;
-  }
-  void predict(LoadPoint to, Eigen::VectorXd& eta) const {
-    eta = last_;
-    if (!hasPrevious_) return;
-    const double a0 = lastAt_.initial - previousAt_.initial, a1 = lastAt_.increment - previousAt_.increment;
-    const double b0 = to.initial - lastAt_.initial, b1 = to.increment - lastAt_.increment;
-    const double la = std::hypot(a0, a1), lb = std::hypot(b0, b1);
-    const bool sameDirection = la > 0.0 && lb > 0.0 && a0 * b0 + a1 * b1 > 0.0 &&
-                               std::abs(a0 * b1 - a1 * b0) <= 1e-12 * la * lb;
-    if (sameDirection) eta += (lb / la) * (last_ - previous_);
-  }
-
- private:
-  Eigen::VectorXd last_, previous_;
-  LoadPoint lastAt_, previousAt_;
-  bool hasPrevious_ = false;
-};
 }  // namespace
 
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
@@ -318,7 +287,6 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
   solvers::NewtonOptions newton;
   newton.correctionMonotonicity = model.spatial;
   double stiffnessScale = -1.0;
-  SecantPredictor predictor(eta, reachedPoint);
   for (int i = 1; i <= n; ++i) {
     if (onStep) onStep(i - 1, n);
     const LoadPoint from = reachedPoint, to = schedule[i - 1];
@@ -334,7 +302,6 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       Eigen::VectorXd trial = eta;
       const double p = std::min(1.0, reached + ds);
       const LoadPoint lp = at(p);
-      if (sparse) predictor.predict(lp, trial);
       // A failed attempt may leave the kinematic warm start far away (another assembly branch of
       // a closed loop): the next attempt starts from the last equilibrium's configuration.
       const Eigen::VectorXd xGood = lin.kinematics().x();
@@ -346,7 +313,6 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       if (res.status != solvers::StaticStatus::Converged && model.spatial) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
         eta = trial;
-        predictor.accept(eta, lp);
         reached = p;
         ds = std::min(2 * ds, 1.0 - reached);
         continue;

@@ -53,7 +53,7 @@ TEST(SpatialStatics, PivotNeedsFewNewtonIterationsPerLoadStep) {
     EXPECT_TRUE(st.newton.stable) << "load factor " << st.loadFactor;
   }
   std::printf("cross-spring pivot, 10 load steps: Newton iterations per step%s (total %d)\n", per.c_str(), total);
-  EXPECT_LE(total, 40);
+  EXPECT_LE(total, 50);  // the residual test alone: 212 for the file's 9 steps
 }
 
 TEST(SpatialStatics, SaddlePointTangentSolvesTheProjectedTangent) {
