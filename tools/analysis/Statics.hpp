@@ -22,7 +22,11 @@
 
 namespace flexmb::analysis {
 
-// Equilibrium of lin's model at load factor s from the start eta (updated in place).
+// Equilibrium of lin's model at load factor s from the start eta (updated in place). Spatial full
+// models: the loads are evaluated in the configuration itself and the tangent is factorised sparse
+// (Linearization::staticTangent), `stable` from the dense Kbar + Gbar at the solution; pass
+// options.correctionMonotonicity as staticAnalysis does for them (closed loops). Otherwise the
+// dense tangent.
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
                                   const solvers::NewtonOptions& options = {}, double initialFactor = 1.0);
 
