@@ -23,10 +23,36 @@ void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eig
                                  Eigen::VectorXd& Q) {
   dofs(eta, q_);
   gtf_.solvePositions(t, q_);
+  forcesInPlace(t, f, Q);
+}
+
+void Linearization::forcesInPlace(double t, const Eigen::VectorXd& f, Eigen::VectorXd& Q) {
   stresses_.evaluate(t, gtf_.e(), nullptr, sigma_);
   r_ = f;
   gtf_.addTransposedJacobianProduct(sigma_, r_, -1.0);
   generalizedForces(Q);
+}
+
+void Linearization::staticResidual(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
+                                   Eigen::VectorXd& Q) {
+  dofs(eta, q_);
+  gtf_.solvePositions(t, q_);
+  appliedForces(t, loadFactor, f_, initialFactor);
+  forcesInPlace(t, f_, Q);
+}
+
+bool Linearization::staticTangent(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
+                                  Eigen::VectorXd& Q) {
+  if (basis()) throw std::logic_error("Linearization::staticTangent: full models only (no basis)");
+  staticResidual(t, eta, loadFactor, initialFactor, Q);
+  geometricStiffness(scratch_, false);  // K_x and G_x (Eq. 16) with the reaction stresses of r_
+  if (!constrainedTangent_) constrainedTangent_ = std::make_unique<ConstrainedTangent>(model_, nodal_.K());
+  return constrainedTangent_->factorize(nodal_, gtf_);
+}
+
+void Linearization::solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  if (!constrainedTangent_) throw std::logic_error("Linearization::solveStaticTangent before staticTangent");
+  constrainedTangent_->solve(b, x);
 }
 
 void Linearization::generalizedForces(Eigen::VectorXd& Q) {
@@ -64,18 +90,29 @@ void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::M
   }
 }
 
+void Linearization::updateTransfer() {
+  gtf_.firstOrder(basis(), FqV_);
+  FqVrows_ = FqV_;
+}
+
 void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out) {
-  HF_.noalias() = X * FqV_;
+  // X A by rows: entry X(r, c) adds X(r, c) A(c, :) to row r, a contiguous axpy of length m in
+  // the row-major copies (the column-major sparse-dense product strides through A per entry).
+  XArows_.setZero(FqV_.rows(), m_);
+  const double* v = X.valuePtr();
+  for (int c = 0; c < X.outerSize(); ++c)
+    for (int p = X.outerIndexPtr()[c]; p < X.outerIndexPtr()[c + 1]; ++p)
+      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
   // X symmetric: half a product (the lower triangle), mirrored.
   out.resize(m_, m_);
-  out.triangularView<Eigen::Lower>() = FqV_.transpose() * HF_;
+  out.triangularView<Eigen::Lower>() = FqV_.transpose() * XArows_;
   out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
 }
 
 void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
                             Eigen::MatrixXd& T) {
   staticForces(t, eta, f, Q);
-  gtf_.firstOrder(basis(), FqV_);
+  updateTransfer();
   geometricStiffness(scratch_, false);
   KG_ = nodal_.K();
   Eigen::Map<Eigen::VectorXd>(KG_.valuePtr(), KG_.nonZeros()) +=
@@ -95,7 +132,7 @@ void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
 void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
                            LinearizedSystem& out, bool withMass) {
   staticForces(t, eta, f, out.Q);
-  gtf_.firstOrder(basis(), FqV_);
+  updateTransfer();
   geometricStiffness(out);
   project(nodal_.K(), out.K);
   if (nodal_.hasDamping()) project(nodal_.D(), out.D);
@@ -125,7 +162,7 @@ void Linearization::inMotion(double t, const Eigen::VectorXd& eta, const Eigen::
   dofs(eta, q_);
   dofs(etad, qd_);
   gtf_.solvePositions(t, q_);
-  gtf_.firstOrder(basis(), FqV_);
+  updateTransfer();
   const Eigen::VectorXd& x = gtf_.x();
   const Eigen::MatrixXd& A = FqV_;
   // The state: xd = F_q qd + F_t, xdd = A etadd + g (Eq. 8), stresses with their rates.

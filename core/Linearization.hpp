@@ -12,8 +12,10 @@
 //   N = A^T (M dxdd/dq + d(M xdd + h)/dx A + dh/dxd dxd/dq) + (E_q V)^T S_d de_d/dq.
 // Both G variants include the load stiffness of gravity on distributed masses.
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 
+#include "core/ConstrainedTangent.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/NodalMatrices.hpp"
@@ -79,6 +81,19 @@ class Linearization {
   // Only Q (cheap: no second derivatives, no F_q: one transposed kinematic solve), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
+  // The static Newton iteration of a full model with configuration-dependent loads and a sparse
+  // tangent. staticResidual places the model at eta (one kinematic solve), evaluates the loads
+  // of (loadFactor, initialFactor) there (gravity on distributed masses and moments follow the
+  // configuration) and Q. staticTangent adds Kbar + Gbar, factorised without F_q in the nodal
+  // saddle-point form (ConstrainedTangent); false when singular. Full models only (throws with
+  // a basis). Both throw KinematicsError.
+  void staticResidual(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
+                      Eigen::VectorXd& Q);
+  bool staticTangent(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
+                     Eigen::VectorXd& Q);
+  // x = (Kbar + Gbar)^-1 b with the last staticTangent.
+  void solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+
  private:
   mutable double loadFactor_ = 0.0, initialFactor_ = 1.0;  // of the last appliedForces
   // out = L^T S R (S or S_d), on the active deformations.
@@ -87,10 +102,14 @@ class Linearization {
   // G = A^T G_x A (H(sigma~) - dg/dx - dm/dx); sigma~ = sigma_ + reaction stresses for the nodal
   // residual r_. Also assembles the nodal K_x (and D_x).
   void geometricStiffness(LinearizedSystem& out, bool projectG = true);
-  // out = A^T X A (symmetrised) for a sparse nodal X, A = F_q V.
+  // F_q V (and its row-major copy) at the current configuration.
+  void updateTransfer();
+  // out = A^T X A for a sparse symmetric nodal X, A = F_q V (after updateTransfer).
   void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
   // Q = (F_q V)^T r_ by one transposed kinematic solve.
   void generalizedForces(Eigen::VectorXd& Q);
+  // sigma_, r_ = f - D_x^T sigma and Q at the current kinematic configuration.
+  void forcesInPlace(double t, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
   const Model& model_;
   ReducedCoordinates coords_;
@@ -103,7 +122,10 @@ class Linearization {
   std::vector<char> active_;  // per deformation: carries a stress
   Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> FqVrows_, XArows_;
   NodalMatrices::Sparse KG_;
+  std::unique_ptr<ConstrainedTangent> constrainedTangent_;  // made at the first staticTangent
+  Eigen::VectorXd f_;
   LinearizedSystem scratch_;
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms
 };

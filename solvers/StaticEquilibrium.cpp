@@ -1,19 +1,46 @@
 #include "solvers/StaticEquilibrium.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <cmath>
+#include <stdexcept>
 #include <sstream>
 
 namespace flexmb::solvers {
 
 namespace {
-bool evaluate(const StaticProblem& p, const Eigen::VectorXd& eta, Eigen::VectorXd& Q, Eigen::MatrixXd* T,
+bool positiveDefinite(const Eigen::LDLT<Eigen::MatrixXd>& ldlt) {
+  return ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+         ldlt.vectorD().minCoeff() > 1e-14 * ldlt.vectorD().cwiseAbs().maxCoeff();
+}
+}  // namespace
+
+bool isPositiveDefinite(const Eigen::MatrixXd& T) { return positiveDefinite(Eigen::LDLT<Eigen::MatrixXd>(T)); }
+
+TangentKind DenseStaticProblem::linearize(const Eigen::VectorXd& eta, Eigen::VectorXd& Q) {
+  f_(eta, Q, &T_);
+  if (!T_.allFinite()) throw std::runtime_error("non-finite tangent");
+  ldlt_.compute(T_);
+  spd_ = positiveDefinite(ldlt_);
+  if (spd_) return TangentKind::PositiveDefinite;
+  lu_.compute(T_);
+  return lu_.isInvertible() ? TangentKind::Indefinite : TangentKind::Singular;
+}
+
+void DenseStaticProblem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (spd_) x = ldlt_.solve(b);
+  else x = lu_.solve(b);
+}
+
+namespace {
+enum class Evaluation { Residual, Tangent };
+
+// Evaluates; false (with the reason) when the problem throws or returns non-finite values.
+bool evaluate(StaticProblem& p, Evaluation what, const Eigen::VectorXd& eta, Eigen::VectorXd& Q, TangentKind& kind,
               std::string& error) {
   try {
-    p(eta, Q, T);
-    if (!Q.allFinite() || (T && !T->allFinite())) {
-      error = "non-finite residual or tangent";
+    if (what == Evaluation::Tangent) kind = p.linearize(eta, Q);
+    else p.residual(eta, Q);
+    if (!Q.allFinite()) {
+      error = "non-finite residual";
       return false;
     }
     return true;
@@ -24,14 +51,14 @@ bool evaluate(const StaticProblem& p, const Eigen::VectorXd& eta, Eigen::VectorX
 }
 }  // namespace
 
-StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta, double forceScale,
+StaticResult solveEquilibrium(StaticProblem& problem, Eigen::VectorXd& eta, double forceScale,
                               const NewtonOptions& o) {
   StaticResult r;
   const int n = static_cast<int>(eta.size());
-  Eigen::VectorXd Q(n), Qtrial(n), step(n), trial(n);
-  Eigen::MatrixXd T(n, n);
+  Eigen::VectorXd Q(n), Qtrial(n), step(n), trial(n), next(n);
   std::string error;
-  if (!evaluate(problem, eta, Q, &T, error)) {
+  TangentKind kind = TangentKind::Unknown;
+  if (!evaluate(problem, Evaluation::Tangent, eta, Q, kind, error)) {
     r.status = StaticStatus::Failed;
     r.message = "cannot evaluate the starting configuration: " + error;
     return r;
@@ -39,55 +66,38 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
   const double scale = std::max(forceScale, 1e-300);
   for (r.iterations = 0; r.iterations <= o.maxIterations; ++r.iterations) {
     r.residual = Q.lpNorm<Eigen::Infinity>();
-    Eigen::LDLT<Eigen::MatrixXd> ldlt(T);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu;
-    const bool spd = ldlt.info() == Eigen::Success && ldlt.isPositive() &&
-                     ldlt.vectorD().minCoeff() > 1e-14 * ldlt.vectorD().cwiseAbs().maxCoeff();
-    if (spd) {
-      step = ldlt.solve(Q);
-    } else {
-      lu.compute(T);
-      if (!lu.isInvertible()) {
-        r.status = StaticStatus::SingularTangent;
-        std::ostringstream s;
-        s << "singular tangent stiffness after " << r.iterations << " iterations (residual " << r.residual
-          << "): a limit point or a mechanism; reduce the load step or check the supports";
-        r.message = s.str();
-        return r;
-      }
-      step = lu.solve(Q);
+    if (kind == TangentKind::Singular) {
+      r.status = StaticStatus::SingularTangent;
+      std::ostringstream s;
+      s << "singular tangent stiffness after " << r.iterations << " iterations (residual " << r.residual
+        << "): a limit point or a mechanism; reduce the load step or check the supports";
+      r.message = s.str();
+      return r;
     }
-    r.stable = spd;
+    problem.solve(Q, step);
+    if (kind != TangentKind::Unknown) r.stable = kind == TangentKind::PositiveDefinite;
     if (r.residual <= o.relativeTolerance * scale ||
         step.lpNorm<Eigen::Infinity>() <= o.stepTolerance * std::max(1.0, eta.lpNorm<Eigen::Infinity>())) {
       r.status = StaticStatus::Converged;
       return r;
     }
     if (r.iterations == o.maxIterations) break;
-    // Step cutting: accept the first fraction that reduces ||Q|| (and evaluates).
+    // Step cutting: accept the first fraction that passes the residual test or, when asked, the
+    // correction test (NewtonOptions); the latter linearises at the trial, which is then kept.
+    const Evaluation atTrial = o.correctionMonotonicity ? Evaluation::Tangent : Evaluation::Residual;
+    const double stepNorm = step.norm();
     double alpha = 1.0;
     bool accepted = false;
+    TangentKind trialKind = TangentKind::Unknown;
     for (int cut = 0; cut <= o.maxCuts; ++cut, alpha *= 0.5) {
       trial = eta + alpha * step;
-      if (evaluate(problem, trial, Qtrial, nullptr, error) && Qtrial.lpNorm<Eigen::Infinity>() < r.residual) {
-        accepted = true;
-        break;
+      if (!evaluate(problem, atTrial, trial, Qtrial, trialKind, error)) continue;
+      accepted = Qtrial.lpNorm<Eigen::Infinity>() < r.residual;
+      if (!accepted && o.correctionMonotonicity && trialKind != TangentKind::Singular) {
+        problem.solve(Qtrial, next);
+        accepted = next.allFinite() && next.norm() <= (1.0 - 0.25 * alpha) * stepNorm;
       }
-    }
-    if (!accepted && spd && o.energyFallback) {
-      // Fallback merit: the energy norm Q^T T^-1 Q. In a closed loop of axially stiff members
-      // (spatial leaf springs) the predictor's second-order axial forces dominate ||Q||_inf
-      // for any useful step; weighted by the compliance they are small against the bending
-      // residual, so a fraction of the step still makes progress.
-      const double merit = Q.dot(step);
-      alpha = 1.0;
-      for (int cut = 0; cut <= 3 * o.maxCuts; ++cut, alpha *= 0.5) {
-        trial = eta + alpha * step;
-        if (evaluate(problem, trial, Qtrial, nullptr, error) && Qtrial.dot(ldlt.solve(Qtrial)) < merit) {
-          accepted = true;
-          break;
-        }
-      }
+      if (accepted) break;
     }
     if (!accepted) {
       r.status = StaticStatus::NotConverged;
@@ -99,7 +109,10 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
       return r;
     }
     eta = trial;
-    if (!evaluate(problem, eta, Q, &T, error)) {
+    if (atTrial == Evaluation::Tangent) {
+      Q = Qtrial;
+      kind = trialKind;
+    } else if (!evaluate(problem, Evaluation::Tangent, eta, Q, kind, error)) {
       r.status = StaticStatus::Failed;
       r.message = error;
       return r;
@@ -110,6 +123,12 @@ StaticResult solveEquilibrium(const StaticProblem& problem, Eigen::VectorXd& eta
   s << "Newton did not converge in " << o.maxIterations << " iterations (residual " << r.residual << ")";
   r.message = s.str();
   return r;
+}
+
+StaticResult solveEquilibrium(const DenseStaticProblem::Function& problem, Eigen::VectorXd& eta, double forceScale,
+                              const NewtonOptions& options) {
+  DenseStaticProblem p(problem);
+  return solveEquilibrium(p, eta, forceScale, options);
 }
 
 }  // namespace flexmb::solvers

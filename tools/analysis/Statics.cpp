@@ -13,16 +13,40 @@
 
 namespace flexmb::analysis {
 
-solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
-                                  const solvers::NewtonOptions& options, double initialFactor) {
-  lin.kinematics().setInputLoadFactor(loadFactor, initialFactor);
+namespace {
+// The model's extent: the largest |x0| of a position coordinate.
+double modelLength(const core::Model& m) {
+  double L = 0.0;
+  for (int i = 0; i < m.nx; ++i) {
+    const auto kind = m.nodes[m.xOwnerNode[i]].kind;
+    if (kind == core::NodeKind::Position || kind == core::NodeKind::SpatialPosition) L = std::max(L, std::abs(m.x0[i]));
+  }
+  return L;
+}
+
+// Force scale of the residual test: a stiffness times a small motion of the model.
+double stiffnessForce(const core::Model& m, const Eigen::MatrixXd& K) {
+  return K.size() ? 1e-6 * std::max(modelLength(m), 1e-3) * K.diagonal().cwiseAbs().maxCoeff() : 0.0;
+}
+
+solvers::StaticResult failed(const std::string& message) {
+  solvers::StaticResult r;
+  r.status = solvers::StaticStatus::Failed;
+  r.message = message;
+  return r;
+}
+
+// Planar models and models with a basis: the dense tangent Kbar + Gbar, loads evaluated where the
+// kinematics were last (planar: the load path as before; gravity turns little).
+solvers::StaticResult denseEquilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
+                                       const solvers::NewtonOptions& options, double initialFactor) {
   Eigen::VectorXd f;
   core::LinearizedSystem sys;
-  // Loads that depend on the configuration (gravity on distributed masses, spatial moments on
-  // Euler parameters) are evaluated where the generalised forces are: place the model first.
+  // Spatial models with a basis: configuration-dependent loads (gravity on distributed masses,
+  // moments on Euler parameters) are evaluated where the generalised forces are.
   Eigen::VectorXd q;
   auto place = [&](const Eigen::VectorXd& e) {
-    if (!lin.model().spatial) return;  // planar: the load path as before (gravity turns little)
+    if (!lin.model().spatial) return;
     lin.dofs(e, q);
     lin.kinematics().solvePositions(t, q);
   };
@@ -49,19 +73,80 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
     Eigen::VectorXd Qf, Q0;
     lin.staticForces(t, eta, f, Qf);
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
-    double L = 0.0;
-    for (int i = 0; i < lin.model().nx; ++i)
-      if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position || lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition)
-        L = std::max(L, std::abs(lin.model().x0[i]));
     scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(),
-                      1e-6 * std::max(L, 1e-3) * sys.K.diagonal().cwiseAbs().maxCoeff()});
+                      stiffnessForce(lin.model(), sys.K)});
   } catch (const std::exception& e) {
-    solvers::StaticResult r;
-    r.status = solvers::StaticStatus::Failed;
-    r.message = e.what();
-    return r;
+    return failed(e.what());
   }
   return solvers::solveEquilibrium(problem, eta, scale, options);
+}
+
+// Spatial full models: loads follow the configuration, the tangent is factorised sparse in the
+// nodal saddle-point form (Linearization::staticTangent: no F_q, no dense projection).
+class SparseStaticProblem final : public solvers::StaticProblem {
+ public:
+  SparseStaticProblem(core::Linearization& lin, double t, double loadFactor, double initialFactor)
+      : lin_(lin), t_(t), s_(loadFactor), mu_(initialFactor) {}
+  void residual(const Eigen::VectorXd& eta, Eigen::VectorXd& Q) override { lin_.staticResidual(t_, eta, s_, mu_, Q); }
+  solvers::TangentKind linearize(const Eigen::VectorXd& eta, Eigen::VectorXd& Q) override {
+    return lin_.staticTangent(t_, eta, s_, mu_, Q) ? solvers::TangentKind::Unknown : solvers::TangentKind::Singular;
+  }
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override { lin_.solveStaticTangent(b, x); }
+
+ private:
+  core::Linearization& lin_;
+  const double t_, s_, mu_;
+};
+
+// stiffnessScale: stiffnessForce of Kbar near eta (< 0: computed here, one dense projection, and
+// returned). The result's `stable` is left for the caller (the sparse factorisation does not know it).
+solvers::StaticResult sparseEquilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
+                                        const solvers::NewtonOptions& options, double initialFactor,
+                                        double& stiffnessScale) {
+  if (lin.size() == 0) return {};
+  double scale = 0.0;
+  try {
+    Eigen::VectorXd Q, Qf, Q0, f;
+    lin.staticResidual(t, eta, loadFactor, initialFactor, Q);
+    lin.appliedForces(t, loadFactor, f, initialFactor);
+    if (stiffnessScale < 0.0) {
+      core::LinearizedSystem sys;
+      lin.atRest(t, eta, f, sys, false);
+      stiffnessScale = stiffnessForce(lin.model(), sys.K);
+    }
+    lin.staticForces(t, eta, f, Qf);
+    lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
+    scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), Q.lpNorm<Eigen::Infinity>(), stiffnessScale});
+  } catch (const std::exception& e) {
+    return failed(e.what());
+  }
+  SparseStaticProblem problem(lin, t, loadFactor, initialFactor);
+  return solvers::solveEquilibrium(problem, eta, scale, options);
+}
+
+bool sparseNewton(const core::Linearization& lin) { return lin.model().spatial && !lin.basis(); }
+
+}  // namespace
+
+solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
+                                  const solvers::NewtonOptions& options, double initialFactor) {
+  lin.kinematics().setInputLoadFactor(loadFactor, initialFactor);
+  if (!sparseNewton(lin)) return denseEquilibrium(lin, t, loadFactor, eta, options, initialFactor);
+  double stiffnessScale = -1.0;
+  solvers::StaticResult r = sparseEquilibrium(lin, t, loadFactor, eta, options, initialFactor, stiffnessScale);
+  if (r.status == solvers::StaticStatus::Converged && lin.size() > 0) {
+    try {  // stability: the dense tangent at the solution
+      Eigen::VectorXd Q, f;
+      Eigen::MatrixXd T;
+      lin.staticResidual(t, eta, loadFactor, initialFactor, Q);
+      lin.appliedForces(t, loadFactor, f, initialFactor);
+      lin.tangent(t, eta, f, Q, T);
+      r.stable = solvers::isPositiveDefinite(T);
+    } catch (const std::exception& e) {
+      return failed(e.what());
+    }
+  }
+  return r;
 }
 
 namespace {
@@ -77,9 +162,10 @@ Frequencies fromResult(const solvers::EigenResult& r) {
 
 }  // namespace
 
-Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev) {
+Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev, bool lowestShift) {
   solvers::EigenOptions o;
   o.nev = std::min<int>(nev, static_cast<int>(sys.M.rows()));
+  o.lowestShift = lowestShift;
   const solvers::EigenResult r = o.nev >= sys.M.rows() ? solvers::solveDense(sys.K + sys.G, sys.M, o)
                                                        : solvers::solveLowest(sys.K + sys.G, sys.M, o);
   Frequencies out = fromResult(r);
@@ -126,7 +212,7 @@ Frequencies naturalFrequencies(const core::Linearization& lin, const core::Linea
     const solvers::EigenResult r = sparseSolve(lin, nev, out);
     if (r.status == solvers::EigenStatus::Converged) return out;
   }
-  Frequencies out = naturalFrequencies(sys, nev);
+  Frequencies out = naturalFrequencies(sys, nev, lin.model().spatial);
   out.nodalModes = lin.transfer() * out.modes;
   return out;
 }
@@ -195,11 +281,18 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
   // Every path starts unloaded (mu = s = 0): initial loads applied "at once" are reached within
   // the first step, sub-stepped like any other when Newton needs it.
   LoadPoint reachedPoint{0.0, 0.0};
+  // Spatial full models: Newton accepts steps by the correction test and factorises the tangent
+  // sparse; its residual scale takes Kbar's diagonal from the last equilibrium (the start).
+  const bool sparse = sparseNewton(lin);
+  solvers::NewtonOptions newton;
+  newton.correctionMonotonicity = model.spatial;
+  double stiffnessScale = -1.0;
   for (int i = 1; i <= n; ++i) {
     if (onStep) onStep(i - 1, n);
     const LoadPoint from = reachedPoint, to = schedule[i - 1];
     // Sub-steps in the fraction p of this step: halve it when Newton fails, down to 2^-6.
     double reached = 0.0, ds = 1.0;
+    int iterations = 0;
     solvers::StaticResult res;
     auto at = [&](double p) {
       return LoadPoint{from.initial + p * (to.initial - from.initial),
@@ -212,9 +305,10 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       // A failed attempt may leave the kinematic warm start far away (another assembly branch of
       // a closed loop): the next attempt starts from the last equilibrium's configuration.
       const Eigen::VectorXd xGood = lin.kinematics().x();
-      solvers::NewtonOptions newton;
-      newton.energyFallback = model.spatial;
-      res = equilibrium(lin, t, lp.increment, trial, newton, lp.initial);
+      lin.kinematics().setInputLoadFactor(lp.increment, lp.initial);
+      res = sparse ? sparseEquilibrium(lin, t, lp.increment, trial, newton, lp.initial, stiffnessScale)
+                   : denseEquilibrium(lin, t, lp.increment, trial, newton, lp.initial);
+      iterations += res.iterations;
       // (Spatial models only: planar load paths, e.g. onto a post-buckled branch, stay as they were.)
       if (res.status != solvers::StaticStatus::Converged && model.spatial) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
@@ -243,6 +337,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     st.initialFactor = reachedMu;
     st.eta = eta;
     st.newton = res;
+    st.iterations = iterations;
     Eigen::VectorXd f;
     core::LinearizedSystem sys;
     lin.kinematics().setInputLoadFactor(reachedS, reachedMu);
@@ -264,6 +359,10 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       run.completed = false;
       run.stopReason = msg.str();
       return run;
+    }
+    if (sparse) {
+      st.newton.stable = solvers::isPositiveDefinite(sys.K + sys.G);
+      stiffnessScale = stiffnessForce(model, sys.K);  // for the next step, which starts here
     }
     st.e = lin.kinematics().e();
     st.sigma = sys.sigma;

@@ -22,7 +22,11 @@
 
 namespace flexmb::analysis {
 
-// Equilibrium of lin's model at load factor s from the start eta (updated in place).
+// Equilibrium of lin's model at load factor s from the start eta (updated in place). Spatial full
+// models: the loads are evaluated in the configuration itself and the tangent is factorised sparse
+// (Linearization::staticTangent), `stable` from the dense Kbar + Gbar at the solution; pass
+// options.correctionMonotonicity as staticAnalysis does for them (closed loops). Otherwise the
+// dense tangent.
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
                                   const solvers::NewtonOptions& options = {}, double initialFactor = 1.0);
 
@@ -33,7 +37,10 @@ struct Frequencies {
   Eigen::MatrixXd nodalModes;  // the same modes in x (nx x k; F_q V modes); empty from the sys-only overload
   std::string method;          // "dense" or "arpack-shift-invert" on the dense pencil, "sparse-constrained"
 };
-Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev);
+// lowestShift: ARPACK's shift found by inverse iteration instead of the diagonal ratios
+// (solvers::EigenOptions), for pencils whose diagonals are axial (spatial beams: EA over bending,
+// ~1e8 in the cross-spring pivot, where the diagonal shift costs ten times the restarts).
+Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev, bool lowestShift = false);
 
 // Which eigenanalysis: the dense independent-coordinate pencil (Kbar + Gbar, Mbar), or ARPACK
 // shift-invert on the sparse nodal pencil with the constraints (core::ConstrainedPencil, one sparse
@@ -44,7 +51,7 @@ enum class EigenPath { Auto, Dense, Sparse };
 constexpr int kSparseEigenFrom = 400;
 EigenPath eigenPathFromEnvironment();
 // After lin.atRest(..., withMass = true) gave sys. The sparse path falls back to the dense one when
-// ARPACK does not converge on it.
+// ARPACK does not converge on it. Spatial models take the lowest shift on the dense path.
 Frequencies naturalFrequencies(const core::Linearization& lin, const core::LinearizedSystem& sys, int nev,
                                EigenPath path = EigenPath::Auto);
 // Sparse path only, after lin.nodalAtRest(..., withMass = true): no dense matrix of the model's size
@@ -69,7 +76,8 @@ struct StaticStep {
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
   Eigen::VectorXd buckling;  // load factors (only when asked for)
-  solvers::StaticResult newton;
+  solvers::StaticResult newton;  // of the last (sub-)step
+  int iterations = 0;            // Newton iterations of this load step, failed and sub-step attempts included
   core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };
 

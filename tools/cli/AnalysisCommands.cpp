@@ -167,7 +167,7 @@ int runStatic(const std::vector<std::string>& args) {
     csv << "\n";
     for (const auto& st : run.steps) {
       std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
-                << ", DEL* increments x " << st.loadFactor << "): " << st.newton.iterations << " Newton iterations"
+                << ", DEL* increments x " << st.loadFactor << "): " << st.iterations << " Newton iterations"
                 << (st.newton.stable ? "" : " (UNSTABLE equilibrium)") << "\n";
       if (st.frequencies.omega.size()) printFrequencies(std::cout, st.frequencies.omega);
       csv << st.loadFactor;
