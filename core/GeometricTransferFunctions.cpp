@@ -91,6 +91,8 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   lengthScale_ = scale > 0.0 ? scale : 1.0;
   setRelativeTolerance(model.settings.kinematicTol);
 
+  analysePlacements();
+
   x_ = model.x0;
   lastGood_ = model.x0;
   e_ = Eigen::VectorXd::Zero(ne);
@@ -102,6 +104,73 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   previousX_ = model.x0;
   workE_ = Eigen::VectorXd::Zero(ne);
   elemJac_.resize(model.elements.size());
+}
+
+void GeometricTransferFunctions::analysePlacements() {
+  // Repeatedly place an element whose deformations are all prescribed (fixed, input, dynamic) and
+  // of whose two ends one is known and the other unknown; the chain is sequential when this places
+  // every calculable coordinate and uses every such element exactly once (a closed loop leaves an
+  // element with both ends known: its equations are not a placement).
+  if (!isSquare() || numCalculable() == 0) return;
+  const auto& els = model_.elements;
+  std::vector<char> known(nx()), done(els.size(), 0);
+  for (int i = 0; i < nx(); ++i) known[i] = colOfCoord_[i] < 0;
+  int pending = 0;
+  for (size_t el = 0; el < els.size(); ++el) {
+    const auto& E = els[el];
+    int constrained = 0;
+    for (int i = 0; i < E.impl->numDeformations(); ++i) constrained += rowOfDef_[E.firstDef + i] >= 0;
+    if (constrained == 0) {
+      done[el] = 1;  // no equations of its own
+    } else if (constrained < E.impl->numDeformations() || E.impl->endOfCoordinate(0) < 0) {
+      return;  // partly released, or no closed form: Newton
+    } else {
+      ++pending;
+    }
+  }
+  std::vector<Placement> order;
+  for (bool progress = true; progress && pending > 0;) {
+    progress = false;
+    for (size_t el = 0; el < els.size(); ++el) {
+      if (done[el]) continue;
+      const auto& E = els[el];
+      bool endKnown[2] = {true, true}, endUnknown[2] = {true, true};
+      for (size_t j = 0; j < E.coords.size(); ++j) {
+        const int end = E.impl->endOfCoordinate(static_cast<int>(j));
+        (known[E.coords[j]] ? endUnknown : endKnown)[end] = false;
+      }
+      if (endKnown[0] && endKnown[1]) return;  // redundant equations: a closed loop
+      for (int to = 0; to < 2; ++to)
+        if (endKnown[1 - to] && endUnknown[to]) {
+          order.push_back({static_cast<int>(el), to});
+          for (size_t j = 0; j < E.coords.size(); ++j)
+            if (E.impl->endOfCoordinate(static_cast<int>(j)) == to) known[E.coords[j]] = 1;
+          done[el] = 1;
+          --pending;
+          progress = true;
+          break;
+        }
+    }
+  }
+  if (pending > 0) return;
+  for (int i = 0; i < nx(); ++i)
+    if (!known[i]) return;
+  placements_ = std::move(order);
+}
+
+bool GeometricTransferFunctions::placeSequentially() {
+  ElemVec xe;
+  DefVec e;
+  for (const Placement& p : placements_) {
+    const auto& E = model_.elements[p.element];
+    E.gather(x_, xe);
+    e.resize(E.impl->numDeformations());
+    for (int i = 0; i < e.size(); ++i) e[i] = target_[rowOfDef_[E.firstDef + i]];
+    if (!E.impl->place(e, p.to, xe)) return false;
+    for (size_t j = 0; j < E.coords.size(); ++j)
+      if (E.impl->endOfCoordinate(static_cast<int>(j)) == p.to) x_[E.coords[j]] = xe[j];
+  }
+  return true;
 }
 
 void GeometricTransferFunctions::setRelativeTolerance(double tol) {
@@ -234,10 +303,17 @@ double GeometricTransferFunctions::predict() {
     res = std::max(res, std::abs(d));
     if (curved) rhs_[r] -= half * curvature_[r];
   }
+  bool moved = false;
   if (knownMoved_) {
-    for (int i = 0; i < nx(); ++i) work_[i] = colOfCoord_[i] < 0 ? x_[i] - previousX_[i] : 0.0;
-    knownCoupling(work_, rhs_.data());
+    for (int i = 0; i < nx(); ++i) {
+      work_[i] = colOfCoord_[i] < 0 ? x_[i] - previousX_[i] : 0.0;
+      moved |= work_[i] != 0.0;
+    }
+    if (moved) knownCoupling(work_, rhs_.data());
   }
+  // Nothing moved and the last solution still satisfies the equations: keep it as it is (the same
+  // state gives the same configuration, bit for bit).
+  if (!moved && !curved && res <= tolerance_) return res;
   lu_.solve(rhs_.data(), 1);
   for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
   return res;
@@ -253,7 +329,15 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   const int maxIt = std::max(1, model_.settings.maxIterations);
   int steps = 0;
   double previous = std::numeric_limits<double>::infinity();
-  if (warm) {
+  bool chord = warm;
+  if (!placements_.empty()) {
+    // Open chain: one pass of closed-form placements gives the solution (checked below); where an
+    // element has none on its valid branch, Newton continues from the last solution.
+    hasCurvature_ = false;
+    chord = false;
+    if (!placeSequentially())
+      for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] = lastGood_[calcCoords_[c]];
+  } else if (warm) {
     previous = predict();
     ++steps;
   }
@@ -270,7 +354,7 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
     }
     if (!std::isfinite(res)) throw KinematicsError(t, it, res, "non-finite residual");
     const bool converged = res <= tolerance_;
-    const bool slow = !warm || res > kChordContraction * previous;
+    const bool slow = !chord || res > kChordContraction * previous;
     if (converged || slow) {
       if (!lu_.factorize(values_.data()))
         throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");

@@ -107,6 +107,8 @@ class GeometricTransferFunctions {
   // Element Jacobian at the current configuration (cached by solvePositions).
   const DefJac& elementJacobian(int element) const { return elemJac_[element]; }
   int lastIterations() const { return lastIterations_; }
+  // The kinematic equations form an open chain solved in one pass (no Newton iteration).
+  bool isSequential() const { return !placements_.empty(); }
   long totalIterations() const { return totalIterations_; }
 
   // Index maps (for diagnostics and the kinematic check).
@@ -137,6 +139,15 @@ class GeometricTransferFunctions {
   bool hasDynamicCoords_ = false;
   Eigen::VectorXd lastGood_;  // last converged configuration: the restart point after a failure
   void newton(double t, const Eigen::VectorXd& q);
+  // Open chains (design: no iteration where the topology allows): the elements in placement order,
+  // each placing one end from the other with its closed form (Element::place). Empty when the
+  // kinematic equations are not sequential (a closed loop, an element without a closed form).
+  struct Placement {
+    int element, to;
+  };
+  std::vector<Placement> placements_;
+  void analysePlacements();
+  bool placeSequentially();  // false when an element had no solution: Newton takes over
   double predict();  // returns the residual it started from
   // A chord (simplified Newton) step is kept while the residual falls at least this much per step;
   // slower contraction refactorises (measured on the paper's models: 0.1 and 0.01 cost more

@@ -86,7 +86,7 @@ struct AnalysisSettings {
   double hmax = 0.0;         // 0: ode45 default 0.1*|tf - t0|
   double kinematicTol = 1e-12;  // Newton tolerance, relative to the model size (below ode tolerances)
   // EPSKIN or the ITERSTEP tolerance was given. Without it a simulation sets the kinematic
-  // tolerance from the integrator's (1e-5 RelTol): far below the integration error, no tighter.
+  // tolerance from the integrator's (1e-5 RelTol, at most 1e-10): far below the integration error, no tighter.
   bool kinematicTolGiven = false;
   int maxIterations = 50;
   int loadSteps = 1;            // ITERSTEP field 2: steps of the DEL* increments (total at the last)

@@ -92,6 +92,19 @@ class Element {
     jacobian(x, De);
   }
 
+  // Closed-form inverse of e = D(x) for open chains (solved in one pass, without iteration): the
+  // coordinates form two ends; given one end and all deformations e, place() writes the other end
+  // (`to`: 0 or 1) into x and returns false where e has no solution on the element's valid branch.
+  // endOfCoordinate(i): the end of local coordinate i, -1 for an element without a closed form.
+  virtual int endOfCoordinate(int i) const {
+    (void)i;
+    return -1;
+  }
+  virtual bool place(const DefVec& e, int to, ElemVec& x) const {
+    (void)e, (void)to, (void)x;
+    return false;
+  }
+
   // Constitutive matrix from ESTIFF/EDAMP parameters (same layout for stiffness and damping).
   virtual void constitutive(std::span<const double> params, DefMat& S) const = 0;
 

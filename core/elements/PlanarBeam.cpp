@@ -149,6 +149,29 @@ void PlanarBeam::jacobianAt(const Geometry& g, DefJac& De) const {
   De.row(2) = expand(g.G3).transpose();
 }
 
+bool PlanarBeam::place(const DefVec& e, int to, ElemVec& x) const {
+  const double sp = e[1] / l0_, sq = -e[2] / l0_;
+  if (!(std::abs(sp) < 1.0 && std::abs(sq) < 1.0)) return false;
+  const double thetaP = std::asin(sp), thetaQ = std::asin(sq);
+  double l = l0_ + e[0];
+  if (elongation_ == ElongationDefinition::BendingCorrected)
+    l -= (2.0 * e[1] * e[1] + e[1] * e[2] + 2.0 * e[2] * e[2]) / (30.0 * l0_);
+  if (!(l > 0.0)) return false;
+  // Node angles a = phi - phi0 + beta0 measured from the chord angle alpha: theta = a - alpha.
+  if (to == 1) {
+    const double alpha = x[2] - phi0p_ + beta0_ - thetaP;
+    x[3] = x[0] + l * std::cos(alpha);
+    x[4] = x[1] + l * std::sin(alpha);
+    x[5] = alpha + thetaQ + phi0q_ - beta0_;
+  } else {
+    const double alpha = x[5] - phi0q_ + beta0_ - thetaQ;
+    x[0] = x[3] - l * std::cos(alpha);
+    x[1] = x[4] - l * std::sin(alpha);
+    x[2] = alpha + thetaP + phi0p_ - beta0_;
+  }
+  return true;
+}
+
 void PlanarBeam::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const {
   Geometry g;
   geometry(x, g);

@@ -36,6 +36,11 @@ class PlanarBeam final : public Element {
   void jacobian(const ElemVec& x, DefJac& De) const override;
   void deformationsAndJacobian(const ElemVec& x, DefVec& e, DefJac& De) const override;
   void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
+  // Ends: (xp, yp, phip) and (xq, yq, phiq). From e: theta_p = asin(e2/l0), theta_q = asin(-e3/l0)
+  // (|theta| < 90 degrees, the valid branch), the chord angle from the known end's angle, the
+  // length from Eq. 3a.
+  int endOfCoordinate(int i) const override { return i < 3 ? 0 : 1; }
+  bool place(const DefVec& e, int to, ElemVec& x) const override;
   void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   // params = [EA, EI]: S = diag(EA/l0, EI/l0^3 [[4, -2], [-2, 4]]). Missing entries count as 0.
   void constitutive(std::span<const double> params, DefMat& S) const override;

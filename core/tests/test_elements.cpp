@@ -465,3 +465,43 @@ TEST(Elements, FusedKernelsEqualTheSeparateCalls) {
     }
   }
 }
+
+TEST(Elements, PlacementInvertsTheDeformations) {
+  // Element::place (open chains in one pass): from one end and e = D(x), the other end is x's.
+  std::mt19937 rng(5);
+  ElementOptions opt;
+  for (const auto& c : cases()) {
+    const ElementTypeInfo* t = findElementType(c.keyword);
+    opt.elongation = c.elongation;
+    const auto probe = t->create(randomInitial(*t, rng), opt);
+    if (probe->endOfCoordinate(0) < 0) continue;  // no closed form (PLTRUSS)
+    for (int k = 0; k < 10; ++k) {
+      const ElemVec x0 = randomInitial(*t, rng);
+      const auto el = t->create(x0, opt);
+      const ElemVec x = randomConfiguration(*t, x0, rng);
+      DefVec e;
+      el->deformations(x, e);
+      for (int to = 0; to < 2; ++to) {
+        ElemVec y = x;
+        for (int i = 0; i < y.size(); ++i)
+          if (el->endOfCoordinate(i) == to) y[i] = 1e3;  // unknown
+        if (!el->place(e, to, y)) {
+          // Only a configuration off the valid branch (a node turned past 90 degrees) has none.
+          EXPECT_FALSE(el->validity(x).valid) << c.label;
+          continue;
+        }
+        DefVec e2;
+        el->deformations(y, e2);
+        EXPECT_LT((e2 - e).cwiseAbs().maxCoeff(), 1e-12) << c.label << ", to " << to;
+        if (el->validity(x).valid) {
+          // On the valid branch the placement is the configuration itself (angles modulo 2 pi).
+          for (int i = 0; i < y.size(); ++i) {
+            const double d = t->slots[0] == NodeKind::Orientation || (i == 2 || i == 5) ? std::remainder(y[i] - x[i], 2 * kPi)
+                                                                                        : y[i] - x[i];
+            EXPECT_LT(std::abs(d), 1e-10) << c.label << ", to " << to << ", coordinate " << i;
+          }
+        }
+      }
+    }
+  }
+}

@@ -44,7 +44,7 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
 
 // The kinematic Newton tolerance (relative to the model size) of a simulation at relTol: residuals
 // must stay far below the integration tolerance (else they are RHS noise) and need be no smaller:
-// 1e-5 relTol, or the file's EPSKIN / ITERSTEP tolerance where that is tighter.
+// 1e-5 relTol but at most 1e-10, or the file's EPSKIN / ITERSTEP tolerance where that is tighter.
 double kinematicTolerance(const core::AnalysisSettings& settings, double relTol);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing

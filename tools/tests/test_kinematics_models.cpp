@@ -166,3 +166,32 @@ TEST(GeometricTransferFunctions, SingularOrUnsquareKinematicsAreReportedNotIgnor
     EXPECT_NE(std::string(e.what()).find("t = 0.25"), std::string::npos) << e.what();
   }
 }
+
+TEST(GeometricTransferFunctions, OpenChainsArePlacedInOnePassWithoutIteration) {
+  // The manipulator is an open chain of PLHINGEs and PLBEAMs: every calculable coordinate follows
+  // from the element before it in closed form (Element::place), so a solve needs no Newton
+  // correction, even far from the last configuration. Closed loops keep Newton.
+  const core::Model m = io::readDatFile(dat("manipulator.dat"));
+  core::GeometricTransferFunctions gtf(m);
+  ASSERT_TRUE(gtf.isSequential());
+  for (const char* f : {"straight_guidance.dat", "slider_crank_s95.dat", "tests/fourbar.dat", "portal.dat"})
+    EXPECT_FALSE(core::GeometricTransferFunctions(io::readDatFile(dat(f))).isSequential()) << f;
+  EXPECT_TRUE(core::GeometricTransferFunctions(io::readDatFile(dat("cantilever.dat"))).isSequential());
+  Eigen::VectorXd q = gtf.initialDofs();
+  for (int trial = 0; trial < 5; ++trial) {
+    for (int j = 0; j < q.size(); ++j) {
+      const auto& d = m.dofs[j];
+      const bool hinge = m.elements[m.eOwnerElement[d.index]].impl->numDeformations() == 1;
+      q[j] = hinge ? 1.3 * std::sin(3.0 * trial + j) : 2e-3 * std::cos(5.0 * trial + j);  // large turns
+    }
+    gtf.solvePositions(0.0, q);
+    EXPECT_EQ(gtf.lastIterations(), 0) << "trial " << trial;
+    double residual = 0.0;
+    for (int j = 0; j < q.size(); ++j) residual = std::max(residual, std::abs(gtf.e()[m.dofs[j].index] - q[j]));
+    for (size_t k = 0; k < gtf.constrainedDeformations().size(); ++k) {
+      const int e = gtf.constrainedDeformations()[k];
+      if (m.eRole[e] == core::Role::Fixed) residual = std::max(residual, std::abs(gtf.e()[e]));
+    }
+    EXPECT_LT(residual, 1e-14) << "trial " << trial;
+  }
+}

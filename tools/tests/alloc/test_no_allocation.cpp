@@ -1,0 +1,107 @@
+// No heap allocation per right-hand side (design: hot paths allocate nothing per call). malloc,
+// calloc and realloc are interposed (glibc) and counted while the equations of motion are
+// evaluated at changing states, after warm-up calls that size every workspace. Built without
+// sanitizers only (they interpose the allocator themselves).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "core/EquationsOfMotion.hpp"
+#include "io/DatReader.hpp"
+
+extern "C" void* __libc_malloc(size_t);
+extern "C" void* __libc_calloc(size_t, size_t);
+extern "C" void* __libc_realloc(void*, size_t);
+
+namespace {
+bool counting = false;
+long allocations = 0;
+}  // namespace
+
+extern "C" void* malloc(size_t n) {
+  if (counting) ++allocations;
+  return __libc_malloc(n);
+}
+extern "C" void* calloc(size_t n, size_t s) {
+  if (counting) ++allocations;
+  return __libc_calloc(n, s);
+}
+extern "C" void* realloc(void* p, size_t n) {
+  if (counting) ++allocations;
+  return __libc_realloc(p, n);
+}
+
+using namespace flexmb;
+
+namespace {
+
+std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
+
+// A flexible arm swung by a prescribed hinge angle (rheonomic input), with damping, gravity,
+// lumped and distributed mass and a time-dependent tip force: every optional term of Eq. 13.
+std::string swungArm() {
+  std::ostringstream s;
+  s << "PLHINGE 10  100 101\n";
+  for (int k = 1; k <= 3; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
+  for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
+  s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
+  for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
+  s << "END\nHALT\n";
+  s << "INPUTET 10 1 \"0.3 + 2*t\" \"2\" \"0\"\n";
+  for (int k = 1; k <= 3; ++k) s << "EM " << k << " 1.7 2e-4\nESTIFF " << k << " 4e4 30\nEDAMP " << k << " 2 0.05\n";
+  s << "XM 4 0.3\nXFT 4 2 \"-2*sin(5*t)\"\nGRAVITY 0 -9.81\nEND\nEND\n";
+  return s.str();
+}
+
+// Allocations during `calls` right-hand sides at slowly changing states.
+long allocationsPerRun(const core::Model& m, std::optional<Eigen::MatrixXd> V, core::DynamicsForm form, int calls) {
+  core::EquationsOfMotion eom(m, std::move(V), form);
+  Eigen::VectorXd y = eom.initialState(), dy(y.size());
+  y.tail(eom.size()).setConstant(1e-3);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto step = [&](int i) {
+    for (int j = 0; j < eom.size(); ++j) y[j] += 1e-7 * u(rng), y[eom.size() + j] += 1e-5 * u(rng);
+    eom.rhs(1e-4 * i, y, dy);
+  };
+  for (int i = 0; i < 5; ++i) step(i);  // warm-up: workspaces sized, factorisations analysed
+  allocations = 0;
+  counting = true;
+  for (int i = 5; i < 5 + calls; ++i) step(i);
+  counting = false;
+  return allocations;
+}
+
+}  // namespace
+
+TEST(NoAllocation, RightHandSidesAllocateNothing) {
+  struct Case {
+    std::string name;
+    core::Model model;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"straight_guidance", io::readDatFile(dat("straight_guidance.dat"))});
+  cases.push_back({"manipulator", io::readDatFile(dat("manipulator.dat"))});
+  cases.push_back({"swung arm", io::readDatString(swungArm(), "swung_arm.dat")});
+  cases.push_back({"wire_guidance (spatial)", io::readDatFile(dat("spatial/wire_guidance.dat"))});
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const int nq = c.model.numDofs();
+    EXPECT_EQ(allocationsPerRun(c.model, std::nullopt, core::DynamicsForm::SaddlePoint, 50), 0) << "saddle point";
+    EXPECT_EQ(allocationsPerRun(c.model, std::nullopt, core::DynamicsForm::Projected, 50), 0) << "projected";
+    const int m = std::min(nq, 4);
+    Eigen::MatrixXd V = Eigen::MatrixXd::Identity(nq, m);
+    V.col(0).setConstant(1.0 / std::sqrt(double(nq)));  // a dense column: every q moves
+    EXPECT_EQ(allocationsPerRun(c.model, V, core::DynamicsForm::Automatic, 50), 0) << "reduced, " << m << " columns";
+  }
+  // The counter itself works.
+  counting = true;
+  allocations = 0;
+  void* p = std::malloc(64);
+  counting = false;
+  std::free(p);
+  EXPECT_EQ(allocations, 1);
+}
