@@ -287,6 +287,10 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
   solvers::NewtonOptions newton;
   newton.correctionMonotonicity = model.spatial;
   double stiffnessScale = -1.0;
+  bool lastStable = true;  // the last accepted equilibrium (dense path: Newton reports it)
+  const bool loadControl =
+      std::none_of(model.inputX.begin(), model.inputX.end(), [](const core::Rheonomic& r) { return r.delta != 0.0; });
+  const double minStep = std::ldexp(1.0, -6);
   for (int i = 1; i <= n; ++i) {
     if (onStep) onStep(i - 1, n);
     const LoadPoint from = reachedPoint, to = schedule[i - 1];
@@ -312,13 +316,25 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       // (Spatial models only: planar load paths, e.g. onto a post-buckled branch, stay as they were.)
       if (res.status != solvers::StaticStatus::Converged && model.spatial) lin.kinematics().setConfiguration(xGood);
       if (res.status == solvers::StaticStatus::Converged) {
+        // Under load control, from a stable equilibrium onto an unstable one: the step jumped
+        // across a limit or bifurcation point onto another branch (an imperfect column's
+        // complementary branch). Smaller steps follow the stable path where there is one; where
+        // halving no longer helps the unstable equilibrium is kept (and reported as such). Under
+        // prescribed motion (DELINPX) the motion parametrises the path: an unstable equilibrium
+        // there (a dead point approached) is part of it.
+        if (!sparse && loadControl && lastStable && !res.stable && ds >= 2 * minStep) {
+          lin.kinematics().setConfiguration(xGood);
+          ds *= 0.5;
+          continue;
+        }
+        if (!sparse) lastStable = res.stable;
         eta = trial;
         reached = p;
         ds = std::min(2 * ds, 1.0 - reached);
         continue;
       }
       ds *= 0.5;
-      if (ds < std::ldexp(1.0, -6)) {
+      if (ds < minStep) {
         const LoadPoint lr = at(reached);
         std::ostringstream msg;
         msg << "no equilibrium beyond load factor " << lr.increment;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -360,16 +361,44 @@ TEST_F(Cli, MasslessDofFreeAndOverflowingModels) {
   }
 }
 
-// Item 10: a start that folds onto another assembly branch is named as such.
+// Item 10: a start that folds onto another assembly branch is named as such. A closed loop (the
+// four-bar with its crank started 3 rad from the file's configuration): Newton from the file's
+// coordinates lands on a folded branch. An open chain (a pendulum started at 3 rad) is placed in
+// closed form on the valid branch and runs.
 TEST_F(Cli, FoldedInitialAssemblyIsDetected) {
-  std::ofstream(dir_ / "pendulum.dat") << "PLHINGE 1 100 101\nPLBEAM 2 1 101 2 102\nX 1 0 0\nX 2 1 0\nFIX 1\n"
-                                          "FIX 100\nDYNE 1 1\nEND\nHALT\nEM 2 1.0 0.0\nSTARTDE 1 1 3.0 0.0\n"
-                                          "GRAVITY 0 -9.81\nTIMESTEP 1 10\nEND\nEND\n";
+  std::ifstream in(kData + "tests/fourbar.dat");
+  std::string fourbar((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string start = "STARTDE 4 1  0.0  6.283185307179586";
+  ASSERT_NE(fourbar.find(start), std::string::npos);
+  fourbar.replace(fourbar.find(start), start.size(), "STARTDE 4 1 3.0 0.0");
+  std::ofstream(dir_ / "fourbar_folded.dat") << fourbar;
   for (const std::string c : {"check", "simulate"}) {
-    const Result r = flexmb(c + " pendulum.dat -q");
+    const Result r = flexmb(c + " fourbar_folded.dat -q");
     EXPECT_EQ(r.code, 1) << c << "\n" << r.out << r.err;
     EXPECT_NE((r.out + r.err).find("another assembly branch"), std::string::npos) << r.out << r.err;
   }
+  std::ofstream(dir_ / "pendulum.dat") << "PLHINGE 1 100 101\nPLBEAM 2 1 101 2 102\nX 1 0 0\nX 2 1 0\nFIX 1\n"
+                                          "FIX 100\nDYNE 1 1\nEND\nHALT\nEM 2 1.0 0.0\nSTARTDE 1 1 3.0 0.0\n"
+                                          "GRAVITY 0 -9.81\nTIMESTEP 1 10\nEND\nEND\n";
+  const Result r = flexmb("simulate pendulum.dat -q --format csv --out pend");
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  std::ifstream x(dir_ / "pend_x.csv");
+  std::string header, first;
+  std::getline(x, header);
+  std::getline(x, first);
+  // Row at t = 0: node 2 at (cos 3, sin 3).
+  std::stringstream row(first);
+  std::vector<double> v;
+  for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+  const std::string names = "," + header + ",";
+  auto column = [&](const std::string& n) {
+    int k = 0;
+    for (size_t p = 0; p < names.find("," + n + ","); ++p) k += names[p] == ',';
+    return k;
+  };
+  ASSERT_NE(names.find(",node2.x,"), std::string::npos) << header;
+  EXPECT_NEAR(v[column("node2.x")], std::cos(3.0), 1e-12);
+  EXPECT_NEAR(v[column("node2.y")], std::sin(3.0), 1e-12);
 }
 
 // A reduced run does not overwrite the full run's files.
@@ -427,7 +456,20 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
         << bad << ": " << r.err;
     EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << "ran anyway with " << bad;
   }
+  // --dynamics (issue 13): the saddle-point and projected forms run the same model; a bad value is a
+  // usage error.
+  for (const std::string form : {"projected", "saddle-point", "auto"}) {
+    r = flexmb("simulate " + kData + "portal.dat -q --format none --out d_" + form + " --dynamics " + form);
+    EXPECT_EQ(r.code, 0) << form << "\n" << r.err;
+    EXPECT_NE(r.out.find("successful steps"), std::string::npos) << form;
+  }
+  for (const std::string bad : {"--dynamics foo", "--dynamics Projected", "--dynamics ''"}) {
+    r = flexmb("simulate " + kData + "portal.dat -q --format none " + bad);
+    EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
+    EXPECT_NE(r.err.find("dynamics"), std::string::npos) << bad << ": " << r.err;
+  }
   r = flexmb("simulate --help");
+  EXPECT_NE(r.out.find("--dynamics"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("--integrator"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("bdf"), std::string::npos) << r.out;
   // SPACAR95 analysis blocks run in sequence with bdf too, with the same output times.
