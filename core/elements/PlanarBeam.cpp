@@ -11,7 +11,7 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Jac36 = Eigen::Matrix<double, 3, 6>;
 
 // Moments of the lateral shapes H2, H3 (see Inertia below), as products instead of divisions.
-constexpr double k12 = 1.0 / 12.0, k15 = 2.0 / 15.0, k20 = 1.0 / 20.0, k30 = 1.0 / 30.0;
+constexpr double k12 = 1.0 / 12.0, k15 = 1.0 / 15.0, k20 = 1.0 / 20.0, k30 = 1.0 / 30.0;
 constexpr double k105 = 1.0 / 105.0, k140 = 1.0 / 140.0;
 
 }  // namespace
@@ -223,18 +223,18 @@ void PlanarBeam::constitutive(std::span<const double> params, DefMat& S) const {
 
 // ---------------------------------------------------------------------------------------------
 // Inertia. The field velocity and the cross-section's angular velocity are linear in the seven rates
-//   w = (t.vp, t.vq, n.vp, n.vq, D2d, D3d, alphad),  alphad = n.(vq - vp)/l,
+//   s = (t.vp, t.vq, n.vp, n.vq, D2d, D3d, alphad),  alphad = n.(vq - vp)/l,
 //   D2d = k2 (phipd - alphad), D3d = k3 (phiqd - alphad):
 //   rd = t ((1-xi) t.vp + xi t.vq - alphad w) + n ((1-xi) n.vp + xi n.vq + H2 D2d + H3 D3d),
 //   psid = alphad + (H2' D2d + H3' D3d)/l0,
-// so T = l0/2 w^T B w with B from the closed-form integrals over xi in [0, 1]
+// so T = l0/2 s^T B s with B from the closed-form integrals over xi in [0, 1]
 //   int (1-xi)^2 = int xi^2 = 1/3, int xi(1-xi) = 1/6,
 //   int (1-xi) H2 = int xi H3 = 1/20, int xi H2 = int (1-xi) H3 = 1/30,
 //   int H2^2 = int H3^2 = 1/105, int H2 H3 = 1/140,
 //   int H2'^2 = int H3'^2 = 2/15, int H2' H3' = 1/30, int H2' = int H3' = 0.
-// M = l0 (dw/dx)^T B (dw/dx) is written entry by entry in the chord frame: the position blocks are
+// M = l0 (ds/dx)^T B (ds/dx) is written entry by entry in the chord frame: the position blocks are
 // combinations of I, t n^T, n t^T and n n^T, the position-angle entries multiples of n.
-// h = l0 (dw/dx)^T b with b = int (rhoA (drd/dw)^T r'' + rhoI (dpsid/dw)^T psi'') over xi and the
+// h = l0 (ds/dx)^T b with b = int (rhoA (drd/ds)^T r'' + rhoI (dpsid/ds)^T psi'') over xi and the
 // convective accelerations (xdd = 0)
 //   r'' = t (-alphadd w - 2 alphad wd) + n (-alphad^2 w + wdd),  psi'' = alphadd + (H2' D2dd + H3' D3dd)/l0,
 // alphadd = -xd^T (d2 theta) xd.
@@ -257,7 +257,7 @@ inline void PlanarBeam::inertial(const Geometry& g, const ElementInertia& inerti
   c.W2 = a105 * g.D2 + a140 * g.D3;
   c.W3 = a140 * g.D2 + a105 * g.D3;
   c.cA = g.D2 * c.W2 + g.D3 * c.W3 + c.rI;
-  c.c22 = a105 + k15 * rIl;
+  c.c22 = a105 + 2.0 * k15 * rIl;
   c.c23 = a140 + k30 * rIl;
 }
 
@@ -307,7 +307,7 @@ void PlanarBeam::dynamicTerms(const ElemVec& x, const ElemVec& xd, const Element
 }
 
 inline void PlanarBeam::massAt(const Geometry& g, const Inertial& c, ElemMat& M) const {
-  // dw/dx: alphad has gradient (-n/l, 0, n/l, 0); with delta = (n, 0, -n, 0) in x,
+  // ds/dx: alphad has gradient (-n/l, 0, n/l, 0); with delta = (n, 0, -n, 0) in x,
   // dD2d/dx = k2/l delta + k2 e_phip, dD3d/dx = k3/l delta + k3 e_phiq, dalphad/dx = -delta/l.
   // The D2d, D3d, alphad part of B gives sig delta delta^T + sym(delta (pi2 e_phip + pi3 e_phiq)^T) + ...
   const double il = g.il, k2l = g.k2 * il, k3l = g.k3 * il;
@@ -353,7 +353,7 @@ inline void PlanarBeam::velocityForcesAt(const Geometry& g, const Inertial& c, c
   const double bad = c.rI * add - (t2 * c.W2 + t3 * c.W3);
   const double bD2 = c.c22 * r.D2dd + c.c23 * r.D3dd - ad2 * c.W2;
   const double bD3 = c.c23 * r.D2dd + c.c22 * r.D3dd - ad2 * c.W3;
-  // through dw/dx (see massAt): -gam n at p, gam n at q
+  // through ds/dx (see massAt): -gam n at p, gam n at q
   const double gam = g.il * (bad - g.k2 * bD2 - g.k3 * bD3);
   const double uP = c.a20 * t2 + c.a30 * t3, vP = c.a20 * n2 + c.a30 * n3 - gam;
   const double uQ = c.a30 * t2 + c.a20 * t3, vQ = c.a30 * n2 + c.a20 * n3 + gam;
