@@ -69,15 +69,22 @@ class PlanarBeam final : public Element {
   ElongationDefinition elongation() const { return elongation_; }
 
  private:
-  struct Geometry;
+  struct Geometry;  // chord and node angles at x, shared by every kernel
+  struct Rates;     // velocity terms at (x, xd): shared by D2e[xd, xd] and h_e
+  struct Inertial;  // moments of the lateral field and inertia coefficients at x: shared by M_e and h_e
+  void setLength(double l0);
   void geometry(const ElemVec& x, Geometry& g) const;
+  void rates(const Geometry& g, const ElemVec& xd, Rates& r) const;
+  void inertial(const Geometry& g, const ElementInertia& inertia, Inertial& c) const;
   void deformationsAt(const Geometry& g, DefVec& e) const;
   void jacobianAt(const Geometry& g, DefJac& De) const;
-  void secondDerivativeAt(const Geometry& g, const ElemVec& v, DefVec& d2) const;
-  void massAt(const Geometry& g, const ElementInertia& inertia, ElemMat& M) const;
-  void velocityForcesAt(const Geometry& g, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const;
+  void secondDerivativeAt(const Geometry& g, const Rates& r, DefVec& d2) const;
+  void massAt(const Geometry& g, const Inertial& c, ElemMat& M) const;
+  void velocityForcesAt(const Geometry& g, const Inertial& c, const Rates& r, ElemVec& h) const;
 
   double l0_ = 0.0;
+  double c_ = 0.0;     // Eq. 3a correction factor: 1/(30 l0) bending-corrected, 0 plain (no branch)
+  double il02_ = 0.0;  // 1/l0^2 (rotary inertia of w'/l0)
   double beta0_ = 0.0;
   double phi0p_ = 0.0;
   double phi0q_ = 0.0;
