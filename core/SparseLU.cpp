@@ -3,8 +3,364 @@
 #include <klu.h>
 
 #include <stdexcept>
+#include <vector>
 
 namespace flexmb::core {
+
+namespace {
+
+// Diagonal blocks up to this size are kept dense and solved by unrolled code: the BTF
+// blocks of a kinematic Jacobian are a few coordinates each (3 for a planar beam's end node, 7 for
+// a spatial one with its Euler parameters), where per-row loop overhead costs more than the flops.
+constexpr int kDenseBlock = 8;
+constexpr double kZero = 0.0;
+
+// Two right-hand sides side by side (one SSE2 register): a pair shares each factor entry's index
+// and value load. Lane = double solves one column, Pair two.
+using Pair = double __attribute__((vector_size(16)));
+
+template <class Lane>
+Lane gather(const double* b, int n, int i) {
+  if constexpr (sizeof(Lane) == sizeof(double)) return b[i];
+  else return Lane{b[i], b[n + i]};
+}
+template <class Lane>
+void scatter(double* b, int n, int i, Lane v) {
+  if constexpr (sizeof(Lane) == sizeof(double)) {
+    b[i] = v;
+  } else {
+    b[i] = v[0];
+    b[n + i] = v[1];
+  }
+}
+
+enum class Part { Off, L, U };
+
+// KLU keeps each block's columns of L and U in LUbx[block] as Llen[k] row indices (local to the
+// block, padded to whole doubles) followed by as many values, starting Lip[k] doubles in (klu.h's
+// numeric object; the layout klu_extract decodes).
+void columnOf(const void* lu, const int* ip, const int* len, int k, const int*& rows, const double*& values,
+              int& count) {
+  const double* start = static_cast<const double*>(lu) + ip[k];
+  count = len[k];
+  rows = reinterpret_cast<const int*>(start);
+  values = start + (count * sizeof(int) + sizeof(double) - 1) / sizeof(double);
+}
+
+// Calls visit(part, row, col, value) for every entry of the factors off their diagonals, in
+// pivot order (the unit diagonal of L and the diagonal of U, Udiag, are not visited).
+template <class Visit>
+void forEachEntry(const klu_symbolic& s, const klu_numeric& f, Visit&& visit) {
+  const double* off = static_cast<const double*>(f.Offx);
+  for (int block = 0; block < s.nblocks; ++block) {
+    const int k1 = s.R[block], k2 = s.R[block + 1];
+    for (int k = k1; k < k2; ++k) {
+      for (int p = f.Offp[k]; p < f.Offp[k + 1]; ++p) visit(Part::Off, f.Offi[p], k, off + p);
+      if (k2 - k1 == 1) continue;  // a singleton's L and U hold no entries
+      const int* rows;
+      const double* values;
+      int count;
+      columnOf(f.LUbx[block], f.Lip + k1, f.Llen + k1, k - k1, rows, values, count);
+      for (int p = 0; p < count; ++p) visit(Part::L, k1 + rows[p], k, values + p);
+      columnOf(f.LUbx[block], f.Uip + k1, f.Ulen + k1, k - k1, rows, values, count);
+      for (int p = 0; p < count; ++p) visit(Part::U, k1 + rows[p], k, values + p);
+    }
+  }
+}
+
+}  // namespace
+
+// The factors of the last factorisation rearranged for the solve. Blocks are visited last to
+// first; each row of a block starts from b_P(i) less F(i,:) x, F the off-diagonal blocks, whose x
+// is final, then the block's own LU is solved. Two forms:
+// - small blocks (up to kDenseBlock rows) keep their LU dense (row-major, L below the diagonal,
+//   U on and above) and are solved in registers by unrolled code; their F is dense by columns
+//   (the distinct columns its rows use, one unrolled update each) or, where that would be mostly
+//   zeros, by rows as below;
+// - larger blocks are solved by rows as dot products (loads only; KLU's column sweeps store into
+//   x per entry): forward rows x_i = b_P(i) - F(i,:) x - L(i,:) x first to last (the last also
+//   divided by U(i,i)), then backward rows up, x_i = (x_i - U(i,:) x) / U(i,i).
+// Each value keeps its address in KLU's numeric object: klu_refactor refills those in place and
+// refresh() copies them.
+class SolvePlan {
+ public:
+  void build(const klu_symbolic& s, const klu_numeric& f);
+  void refresh();
+  // A X = B in place, nrhs columns of leading dimension n.
+  void solve(double* b, int nrhs) const;
+
+ private:
+  struct Block {
+    int first, size;
+    bool small;  // dense LU, solved by unrolled code; else by rows
+    int rows;    // first row entry (col_, val_) of its rows
+    int lu;      // small: offset of its dense LU in val_ (F by columns just before)
+    int cols;    // small, F by columns: its first column in offCol_
+    int count;   // small, F by columns: number of columns; -1: F by rows
+  };
+  // Solves consecutive small blocks of one size.
+  template <class Lane>
+  using SmallSolve = void (*)(const SolvePlan&, const Block* begin, const Block* end, const double* b, Lane* x);
+  // Consecutive blocks in visiting order solved alike: small ones of one size, or one large.
+  struct Run {
+    int begin, end;  // in blocks_
+    SmallSolve<double> one;
+    SmallSolve<Pair> two;
+  };
+
+  template <class Lane>
+  void solveLanes(double* b, Lane* x) const;
+  template <class Lane>
+  void forwardRows(const Block& blk, const double* b, Lane* x) const;
+  template <class Lane>
+  void backwardRows(const Block& blk, Lane* x) const;
+  template <int NK, class Lane>
+  static void smallBlocks(const SolvePlan& plan, const Block* begin, const Block* end, const double* b, Lane* x);
+  template <class Lane>
+  static SmallSolve<Lane> smallSolve(int nk);
+
+  int n_ = 0;
+  std::vector<Block> blocks_;        // in visiting order
+  std::vector<Run> runs_;            // in visiting order
+  std::vector<int> forwardEnd_;      // per row: end of its forward row entries
+  std::vector<int> backwardEnd_;     // per row of a large block: end of its backward row entries
+  std::vector<int> col_;             // per row entry: column (pivot order)
+  std::vector<int> offCol_;          // columns of the F blocks kept by columns
+  std::vector<double> val_;          // row entries, then the small blocks' F by columns and LU
+  std::vector<const double*> src_;   // per value: its address in KLU's numeric object
+  const int* pnum_ = nullptr;        // pivot row permutation
+  const int* q_ = nullptr;           // column permutation
+  const double* udiag_ = nullptr;    // diagonal of U
+  const double* rs_ = nullptr;       // row scale factors in pivot order, or null
+  mutable std::vector<double> x1_;   // workspace, one column
+  mutable std::vector<Pair> x2_;     // workspace, two columns
+};
+
+void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f) {
+  const int n = n_ = s.n;
+  pnum_ = f.Pnum;
+  q_ = s.Q;
+  udiag_ = static_cast<const double*>(f.Udiag);
+  rs_ = f.Rs;
+  x1_.assign(n, 0.0);
+  x2_.assign(n, Pair{0.0, 0.0});
+
+  // Blocks in visiting order, each row's block, and per block its F entries and distinct F
+  // columns (the visit is by ascending column).
+  blocks_.clear();
+  std::vector<int> blockOf(n);
+  for (int block = s.nblocks - 1; block >= 0; --block) {
+    const int k1 = s.R[block], nk = s.R[block + 1] - k1;
+    for (int k = k1; k < k1 + nk; ++k) blockOf[k] = static_cast<int>(blocks_.size());
+    blocks_.push_back({k1, nk, nk <= kDenseBlock, 0, 0, 0, 0});
+  }
+  const int nb = static_cast<int>(blocks_.size());
+  std::vector<int> offEntries(nb, 0), lastCol(nb, -1);
+  forEachEntry(s, f, [&](Part part, int row, int c, const double*) {
+    if (part != Part::Off) return;
+    const int b = blockOf[row];
+    ++offEntries[b];
+    if (lastCol[b] != c) lastCol[b] = c, ++blocks_[b].count;
+  });
+  for (int b = 0; b < nb; ++b) {
+    Block& blk = blocks_[b];
+    const bool byColumns = blk.small && blk.count * blk.size <= 2 * offEntries[b] + blk.size;
+    if (!byColumns) blk.count = -1;
+  }
+  runs_.clear();
+  for (int b = 0; b < nb; ++b) {
+    const Block& blk = blocks_[b];
+    if (blk.small && !runs_.empty() && runs_.back().one && blocks_[runs_.back().begin].size == blk.size)
+      ++runs_.back().end;
+    else if (blk.small)
+      runs_.push_back({b, b + 1, smallSolve<double>(blk.size), smallSolve<Pair>(blk.size)});
+    else
+      runs_.push_back({b, b + 1, nullptr, nullptr});
+  }
+  // Entries by rows (F by rows; L and U of large blocks): count per forward and backward row.
+  auto inRows = [&](Part part, int row) {
+    const Block& b = blocks_[blockOf[row]];
+    return part == Part::Off ? b.count < 0 : !b.small;
+  };
+  std::vector<int> forward(n, 0), backward(n, 0);
+  forEachEntry(s, f, [&](Part part, int row, int, const double*) {
+    if (inRows(part, row)) ++(part == Part::U ? backward : forward)[row];
+  });
+
+  // Each row's first entry in visiting order, then the small blocks' values.
+  forwardEnd_.assign(n, 0);
+  backwardEnd_.assign(n, 0);
+  int next = 0;
+  auto place = [&](std::vector<int>& count, std::vector<int>& end, int i) {
+    const int c = count[i];
+    count[i] = next;
+    end[i] = next += c;
+  };
+  for (Block& b : blocks_) {
+    b.rows = next;
+    for (int i = b.first; i < b.first + b.size; ++i) place(forward, forwardEnd_, i);
+    if (!b.small)
+      for (int i = b.first + b.size - 2; i >= b.first; --i) place(backward, backwardEnd_, i);
+  }
+  col_.resize(next);
+  int cols = 0;
+  for (Block& b : blocks_) {
+    if (!b.small) continue;
+    if (b.count > 0) {
+      b.cols = cols;
+      cols += b.count;
+      next += b.count * b.size;
+    }
+    b.lu = next;
+    next += b.size * b.size;
+  }
+  offCol_.resize(cols);
+  val_.resize(next);
+  src_.assign(next, &kZero);  // the structural zeros of dense parts stay 0
+
+  std::vector<int> column(nb, -1);  // per F by columns: index of the column being filled
+  lastCol.assign(nb, -1);
+  forEachEntry(s, f, [&](Part part, int row, int c, const double* v) {
+    const int bi = blockOf[row];
+    const Block& b = blocks_[bi];
+    if (inRows(part, row)) {
+      const int p = (part == Part::U ? backward : forward)[row]++;
+      col_[p] = c;
+      src_[p] = v;
+    } else if (part == Part::Off) {
+      if (lastCol[bi] != c) lastCol[bi] = c, offCol_[b.cols + ++column[bi]] = c;
+      src_[b.lu - (b.count - column[bi]) * b.size + (row - b.first)] = v;
+    } else {
+      src_[b.lu + (row - b.first) * b.size + (c - b.first)] = v;
+    }
+  });
+  for (const Block& b : blocks_)
+    if (b.small)
+      for (int k = 0; k < b.size; ++k) src_[b.lu + k * (b.size + 1)] = udiag_ + b.first + k;
+  refresh();
+}
+
+void SolvePlan::refresh() {
+  const double* const* from = src_.data();
+  double* to = val_.data();
+  const size_t e = val_.size();
+  size_t p = 0;
+  for (; p + 4 <= e; p += 4) {  // unrolled: it runs per factorisation, often for one solve
+    to[p] = *from[p];
+    to[p + 1] = *from[p + 1];
+    to[p + 2] = *from[p + 2];
+    to[p + 3] = *from[p + 3];
+  }
+  for (; p < e; ++p) to[p] = *from[p];
+}
+
+// Forward rows: x_i = b_P(i) - F(i,:) x (- L(i,:) x in a large block).
+template <class Lane>
+void SolvePlan::forwardRows(const Block& blk, const double* b, Lane* x) const {
+  const int* c = col_.data();
+  const double* v = val_.data();
+  int p = blk.rows;
+  for (int i = blk.first; i < blk.first + blk.size; ++i) {
+    Lane t = gather<Lane>(b, n_, pnum_[i]);
+    for (const int e = forwardEnd_[i]; p < e; ++p) t -= v[p] * x[c[p]];
+    x[i] = t;
+  }
+}
+
+// The rest of a large block after its forward rows: backward rows up from the last.
+template <class Lane>
+void SolvePlan::backwardRows(const Block& blk, Lane* x) const {
+  const int* c = col_.data();
+  const double* v = val_.data();
+  const int last = blk.first + blk.size - 1;
+  x[last] /= udiag_[last];
+  int p = forwardEnd_[last];
+  for (int i = last - 1; i >= blk.first; --i) {
+    Lane t = x[i];
+    for (const int e = backwardEnd_[i]; p < e; ++p) t -= v[p] * x[c[p]];
+    x[i] = t / udiag_[i];
+  }
+}
+
+// Small blocks of size NK, each in registers: b_P less F x (by columns or by rows), then its LU
+// unrolled.
+template <int NK, class Lane>
+void SolvePlan::smallBlocks(const SolvePlan& plan, const Block* blk, const Block* end, const double* b, Lane* x) {
+  const double* v = plan.val_.data();
+  for (; blk < end; ++blk) {
+    const int* pnum = plan.pnum_ + blk->first;
+    Lane t[NK];
+#pragma GCC unroll 8
+    for (int i = 0; i < NK; ++i) t[i] = gather<Lane>(b, plan.n_, pnum[i]);
+    if (blk->count >= 0) {
+      const double* f = v + blk->lu - blk->count * NK;
+      for (const int *c = plan.offCol_.data() + blk->cols, *e = c + blk->count; c < e; ++c, f += NK) {
+        const Lane xc = x[*c];
+#pragma GCC unroll 8
+        for (int i = 0; i < NK; ++i) t[i] -= f[i] * xc;
+      }
+    } else {
+      const int* c = plan.col_.data();
+      const int* rowEnd = plan.forwardEnd_.data() + blk->first;
+      int p = blk->rows;
+#pragma GCC unroll 8
+      for (int i = 0; i < NK; ++i)
+        for (const int e = rowEnd[i]; p < e; ++p) t[i] -= v[p] * x[c[p]];
+    }
+    const double* a = v + blk->lu;
+#pragma GCC unroll 8
+    for (int i = 1; i < NK; ++i)
+#pragma GCC unroll 8
+      for (int j = 0; j < i; ++j) t[i] -= a[i * NK + j] * t[j];
+#pragma GCC unroll 8
+    for (int i = NK - 1; i >= 0; --i) {
+#pragma GCC unroll 8
+      for (int j = i + 1; j < NK; ++j) t[i] -= a[i * NK + j] * t[j];
+      t[i] /= a[i * NK + i];
+    }
+#pragma GCC unroll 8
+    for (int i = 0; i < NK; ++i) x[blk->first + i] = t[i];
+  }
+}
+
+template <class Lane>
+SolvePlan::SmallSolve<Lane> SolvePlan::smallSolve(int nk) {
+  static constexpr SmallSolve<Lane> kBySize[kDenseBlock + 1] = {
+      nullptr,               smallBlocks<1, Lane>, smallBlocks<2, Lane>, smallBlocks<3, Lane>, smallBlocks<4, Lane>,
+      smallBlocks<5, Lane>, smallBlocks<6, Lane>, smallBlocks<7, Lane>, smallBlocks<8, Lane>};
+  return kBySize[nk];
+}
+
+// One or two right-hand sides (columns of b, leading dimension n_).
+template <class Lane>
+void SolvePlan::solveLanes(double* b, Lane* x) const {
+  for (const Run& run : runs_) {
+    const Block* blk = blocks_.data() + run.begin;
+    if (!run.one) {
+      forwardRows(*blk, b, x);
+      backwardRows(*blk, x);
+    } else if constexpr (sizeof(Lane) == sizeof(double)) {
+      run.one(*this, blk, blocks_.data() + run.end, b, x);
+    } else {
+      run.two(*this, blk, blocks_.data() + run.end, b, x);
+    }
+  }
+  int k = 0;
+  for (; k + 2 <= n_; k += 2) {
+    scatter(b, n_, q_[k], x[k]);
+    scatter(b, n_, q_[k + 1], x[k + 1]);
+  }
+  if (k < n_) scatter(b, n_, q_[k], x[k]);
+}
+
+void SolvePlan::solve(double* b, int nrhs) const {
+  if (rs_)  // KLU's row scaling: A = R^-1 (L U + F) with R = diag(Rs) in pivot order
+    for (int r = 0; r < nrhs; ++r)
+      for (int k = 0; k < n_; ++k) b[static_cast<size_t>(r) * n_ + pnum_[k]] /= rs_[k];
+  int r = 0;
+  for (; r + 2 <= nrhs; r += 2) solveLanes(b + static_cast<size_t>(r) * n_, x2_.data());
+  if (r < nrhs) solveLanes(b + static_cast<size_t>(r) * n_, x1_.data());
+}
 
 struct SparseLU::Impl {
   klu_common common{};
@@ -12,6 +368,7 @@ struct SparseLU::Impl {
   klu_numeric* numeric = nullptr;
   const int* colPtr = nullptr;
   const int* rowIdx = nullptr;
+  SolvePlan plan;
   ~Impl() {
     if (numeric) klu_free_numeric(&numeric, &common);
     if (symbolic) klu_free_symbolic(&symbolic, &common);
@@ -47,19 +404,22 @@ bool SparseLU::factorize(const double* ax) {
     // Reuse the pivot order; accept unless the pivots degraded (cheap diagonal estimate of U),
     // then pivot afresh below.
     if (klu_refactor(ap, ai, x, m.symbolic, m.numeric, &m.common) &&
-        klu_rcond(m.symbolic, m.numeric, &m.common) && m.common.rcond > 1e-10)
+        klu_rcond(m.symbolic, m.numeric, &m.common) && m.common.rcond > 1e-10) {
+      m.plan.refresh();
       return true;
+    }
     klu_free_numeric(&m.numeric, &m.common);
   }
   m.numeric = klu_factor(ap, ai, x, m.symbolic, &m.common);
   if (!m.numeric) return false;
+  m.plan.build(*m.symbolic, *m.numeric);
   klu_rcond(m.symbolic, m.numeric, &m.common);
   return m.common.status == KLU_OK && m.common.rcond > 1e-14;
 }
 
 void SparseLU::solve(double* b, int nrhs) const {
-  if (n_ == 0 || nrhs == 0) return;
-  klu_solve(impl_->symbolic, impl_->numeric, n_, nrhs, b, &impl_->common);
+  if (n_ == 0 || nrhs == 0 || !impl_->numeric) return;
+  impl_->plan.solve(b, nrhs);
 }
 
 void SparseLU::solveTransposed(double* b, int nrhs) const {
