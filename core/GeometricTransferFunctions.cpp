@@ -79,6 +79,20 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   }
   for (int c = 0; c < n; ++c) colPtr_[c + 1] += colPtr_[c];
   values_.assign(rowIdx_.size(), 0.0);
+  // Flat (value slot, entry of D_e) lists per element for evaluateElements: no branches there.
+  slotRange_.assign(1, 0);
+  for (size_t el = 0; el < model.elements.size(); ++el) {
+    const auto& E = model.elements[el];
+    const int nd = E.impl->numDeformations(), nc = E.impl->numCoords();
+    for (int i = 0; i < nd; ++i)
+      for (int j = 0; j < nc; ++j)
+        if (slot_[el][i * nc + j] >= 0) {
+          slotFlat_.push_back(slot_[el][i * nc + j]);
+          slotLocal_.push_back(i + j * nd);  // DefJac is column-major with leading dimension nd
+        }
+    slotRange_.push_back(static_cast<int>(slotFlat_.size()));
+  }
+  slot_.clear();
   // Rows of J are deformation gradients of order 1 (lengths and unit vectors): no row scaling.
   lu_.disableScaling();
   if (isSquare() && n > 0) lu_.analyze(n, colPtr_.data(), rowIdx_.data());
@@ -238,11 +252,9 @@ void GeometricTransferFunctions::evaluateElements() {
   DefVec de;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
-    const int nc = static_cast<int>(E.coords.size());
     E.gather(x_, xe);
     DefJac& De = elemJac_[el];
     E.impl->deformationsAndJacobian(xe, de, De);
-    const auto& slots = slot_[el];
     for (int i = 0; i < de.size(); ++i) {
       const int k = E.firstDef + i;
       if (hasPeriodic_ && periodic_[k]) {
@@ -254,9 +266,9 @@ void GeometricTransferFunctions::evaluateElements() {
       } else {
         e_[k] = de[i];
       }
-      for (int j = 0; j < nc; ++j)
-        if (slots[i * nc + j] >= 0) values_[slots[i * nc + j]] = De(i, j);
     }
+    const double* d = De.data();
+    for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
   }
 }
 

@@ -131,7 +131,8 @@ class GeometricTransferFunctions {
   // Jacobian pattern (compressed column) and the map element entry -> value slot.
   std::vector<int> colPtr_, rowIdx_;
   std::vector<double> values_;
-  std::vector<std::vector<int>> slot_;  // per element: ndef*ncoord slots (row-major), -1 if unused
+  std::vector<std::vector<int>> slot_;  // construction only: per element ndef*ncoord slots (row-major)
+  std::vector<int> slotRange_, slotFlat_, slotLocal_;  // per element: (value slot, entry of D_e)
   SparseLU lu_;
   double tolerance_ = 1e-10;
   double lengthScale_ = 1.0;
