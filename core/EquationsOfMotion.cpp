@@ -34,7 +34,6 @@ EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::Ma
     if (!massive[el]) massless_.push_back(static_cast<int>(el));
   if (!saddle_) {
     FqV_.setZero(nx, m_);
-    MF_.setZero(nx, m_);
     Mbar_.setZero(m_, m_);
   }
 }
@@ -125,8 +124,7 @@ void EquationsOfMotion::nodalForces(double t, bool projected) {
 }
 
 void EquationsOfMotion::projectedSystem() {
-  inertia_.multiply(FqV_, MF_);
-  Mbar_.noalias() = FqV_.transpose() * MF_;
+  inertia_.projectedMass(FqV_, Mbar_);
   rhsEta_.noalias() = FqV_.transpose() * fn_;
 }
 
@@ -196,7 +194,6 @@ void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen
   kinematicState(t, y);
   if (saddle_) {
     // The residual is the projected Eq. 13: F_q on demand (the saddle-point form has none).
-    MF_.resize(model_.nx, m_);
     Mbar_.resize(m_, m_);
     gtf_.firstOrder(basis(), FqV_);
   }

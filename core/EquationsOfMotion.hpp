@@ -94,7 +94,7 @@ class EquationsOfMotion {
   long evaluations_ = 0;
   // Workspace (allocated once).
   Eigen::VectorXd q_, qd_, xd_, g_, xdd_, hn_, d2_, ed_, sigma_, fn_, Mg_, rhsEta_, etadd_, userSigma_, userForces_;
-  Eigen::MatrixXd FqV_, MF_, Mbar_;
+  Eigen::MatrixXd FqV_, Mbar_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
 };
 

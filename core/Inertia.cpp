@@ -8,6 +8,8 @@ Inertia::Inertia(const Model& model) : model_(model) {
   blocks_.resize(massive_.size());
   lumped_ = Eigen::VectorXd::Zero(model.nx);
   for (const auto& m : model.lumpedMasses) lumped_[m.coord] += m.value;
+  for (int i = 0; i < model.nx; ++i)
+    if (lumped_[i] != 0.0) lumpedCoords_.push_back(i);
 }
 
 void Inertia::update(const Eigen::VectorXd& x) {
@@ -55,6 +57,64 @@ void Inertia::multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const {
     E.gather(v, ve);
     ye.noalias() = blocks_[k] * ve;
     for (size_t a = 0; a < E.coords.size(); ++a) y[c[a]] += ye[a];
+  }
+}
+
+namespace {
+// Sum over the massive elements of Fe^T Me Fe, Fe the element's rows of F (n x m): per element small
+// products, M columns fixed at compile time where the basis is narrow (unrolled and vectorised),
+// else dynamic with fixed maximum sizes (no allocation, no packing).
+template <int M>
+void addElementProjections(const Model& model, const std::vector<int>& massive, const std::vector<ElemMat>& blocks,
+                           const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar) {
+  constexpr int MaxM = M == Eigen::Dynamic ? Inertia::kMaxProjectedColumns : M;
+  const int m = static_cast<int>(F.cols());
+  using Acc = Eigen::Matrix<double, M, M, 0, MaxM, MaxM>;
+  using Rows6 = Eigen::Matrix<double, 6, M, 0, 6, MaxM>;
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, M, 0, kMaxElemCoords, MaxM>;
+  Acc acc = Acc::Zero(m, m);
+  Rows6 Fe6(6, m), T6(6, m);
+  Rows Fe, T;
+  for (size_t k = 0; k < massive.size(); ++k) {
+    const auto& E = model.elements[massive[k]];
+    const int n = static_cast<int>(E.coords.size());
+    const int* c = E.coords.data();
+    if (n == 6) {  // planar beams
+      for (int j = 0; j < m; ++j)
+        for (int b = 0; b < 6; ++b) Fe6(b, j) = F(c[b], j);
+      T6.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(blocks[k].data()).lazyProduct(Fe6);
+      acc.noalias() += Fe6.transpose().lazyProduct(T6);
+      continue;
+    }
+    Fe.resize(n, m);
+    for (int j = 0; j < m; ++j)
+      for (int b = 0; b < n; ++b) Fe(b, j) = F(c[b], j);
+    T.noalias() = blocks[k].lazyProduct(Fe);
+    acc.noalias() += Fe.transpose().lazyProduct(T);
+  }
+  Mbar += acc;
+}
+}  // namespace
+
+void Inertia::projectedMass(const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar) {
+  const int m = static_cast<int>(F.cols());
+  if (m > kMaxProjectedColumns) {  // wide bases (the projected full model): through M F
+    multiply(F, wide_);
+    Mbar.noalias() = F.transpose() * wide_;
+    return;
+  }
+  Mbar.setZero(m, m);
+  for (int i : lumpedCoords_)
+    for (int b = 0; b < m; ++b)
+      for (int a = 0; a < m; ++a) Mbar(a, b) += lumped_[i] * F(i, a) * F(i, b);
+  switch (m) {
+    case 1: return addElementProjections<1>(model_, massive_, blocks_, F, Mbar);
+    case 2: return addElementProjections<2>(model_, massive_, blocks_, F, Mbar);
+    case 3: return addElementProjections<3>(model_, massive_, blocks_, F, Mbar);
+    case 4: return addElementProjections<4>(model_, massive_, blocks_, F, Mbar);
+    case 5: return addElementProjections<5>(model_, massive_, blocks_, F, Mbar);
+    case 6: return addElementProjections<6>(model_, massive_, blocks_, F, Mbar);
+    default: return addElementProjections<Eigen::Dynamic>(model_, massive_, blocks_, F, Mbar);
   }
 }
 

@@ -24,6 +24,10 @@ class Inertia {
   // y = M v (nx), y = M F (nx x m).
   void multiply(const Eigen::VectorXd& v, Eigen::VectorXd& y) const;
   void multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const;
+  // Mbar = F^T M F (m x m) element by element, without the nx x m product M F (Eq. 19's reduced
+  // mass; for m up to kMaxProjectedColumns without allocation).
+  void projectedMass(const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar);
+  static constexpr int kMaxProjectedColumns = 16;
   // y += h(x, xd) (velocity dependent inertia forces; the inertia force is M xdd + h).
   void addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y) const;
   // y += gravity loads (lumped and distributed masses).
@@ -51,6 +55,8 @@ class Inertia {
   std::vector<int> massive_;      // elements with distributed inertia
   std::vector<ElemMat> blocks_;   // per massive element
   Eigen::VectorXd lumped_;        // diagonal lumped masses (nx)
+  std::vector<int> lumpedCoords_; // coordinates with a lumped mass
+  Eigen::MatrixXd wide_;          // M F of projectedMass for wide F
 };
 
 // Applied nodal loads at (t, x): initialFactor * XF + loadFactor * DELXF + XFT(t) + gravity

@@ -1,5 +1,7 @@
 #include "core/elements/PlanarBeam.hpp"
 
+#include "core/elements/SinCos.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -33,7 +35,7 @@ PlanarBeam::PlanarBeam(const ElemVec& x0, ElongationDefinition elongation)
   const double dx = x0[3] - x0[0], dy = x0[4] - x0[1];
   setLength(std::hypot(dx, dy));
   if (!(l0_ > 0.0)) throw std::invalid_argument("planar beam: end nodes coincide (zero length)");
-  beta0_ = std::atan2(dy, dx);
+  setChordAngle(std::atan2(dy, dx));
   phi0p_ = x0[2];
   phi0q_ = x0[5];
 }
@@ -42,6 +44,12 @@ void PlanarBeam::setLength(double l0) {
   l0_ = l0;
   c_ = elongation_ == ElongationDefinition::BendingCorrected ? 1.0 / (30.0 * l0) : 0.0;
   il02_ = 1.0 / (l0 * l0);
+}
+
+void PlanarBeam::setChordAngle(double beta0) {
+  beta0_ = beta0;
+  cb0_ = std::cos(beta0);
+  sb0_ = std::sin(beta0);
 }
 
 void PlanarBeam::setReference(const ElemVec& x, const DefVec& e, double length0) {
@@ -60,7 +68,7 @@ void PlanarBeam::setReference(const ElemVec& x, const DefVec& e, double length0)
   if (std::abs(e[1]) > l0 || std::abs(e[2]) > l0)
     throw std::invalid_argument("planar beam: a bending deformation larger than the reference length");
   setLength(l0);
-  beta0_ = std::atan2(dy, dx);
+  setChordAngle(std::atan2(dy, dx));
   phi0p_ = x[2] - std::asin(e[1] / l0);
   phi0q_ = x[5] + std::asin(e[2] / l0);
 }
@@ -74,19 +82,23 @@ std::unique_ptr<Element> PlanarBeam::createNonlinear(const ElemVec& x0, const El
 }
 
 inline void PlanarBeam::geometry(const ElemVec& x, Geometry& g) const {
-  // theta = a - alpha: one sincos per node (the compiler pairs sin and cos of one argument); called
-  // first, so that nothing else is live across the calls
-  const double ap = x[2] - phi0p_ + beta0_, aq = x[5] - phi0q_ + beta0_;
-  const double sap = std::sin(ap), cap = std::cos(ap), saq = std::sin(aq), caq = std::cos(aq);
+  // theta = a - alpha with the node angles a taken from the reference chord direction beta0: small
+  // in a flexure, wherever it points, so that sinCos takes its polynomial path.
+  const double ap = x[2] - phi0p_, aq = x[5] - phi0q_;
+  double sap, cap, saq, caq;
+  sinCos(ap, sap, cap);
+  sinCos(aq, saq, caq);
   const double dx = x[3] - x[0], dy = x[4] - x[1];
   g.l = std::sqrt(dx * dx + dy * dy);
   g.il = 1.0 / g.l;
   g.ex = dx * g.il;
   g.ey = dy * g.il;
-  g.sp = sap * g.ex - cap * g.ey;
-  g.cp = cap * g.ex + sap * g.ey;
-  g.sq = saq * g.ex - caq * g.ey;
-  g.cq = caq * g.ex + saq * g.ey;
+  // The chord in the reference chord's frame: (cos, sin) of alpha - beta0.
+  const double cg = g.ex * cb0_ + g.ey * sb0_, sg = g.ey * cb0_ - g.ex * sb0_;
+  g.sp = sap * cg - cap * sg;
+  g.cp = cap * cg + sap * sg;
+  g.sq = saq * cg - caq * sg;
+  g.cq = caq * cg + saq * sg;
   g.D2 = l0_ * g.sp;
   g.D3 = -l0_ * g.sq;
   g.k2 = l0_ * g.cp;

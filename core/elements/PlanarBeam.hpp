@@ -73,6 +73,7 @@ class PlanarBeam final : public Element {
   struct Rates;     // velocity terms at (x, xd): shared by D2e[xd, xd] and h_e
   struct Inertial;  // moments of the lateral field and inertia coefficients at x: shared by M_e and h_e
   void setLength(double l0);
+  void setChordAngle(double beta0);
   void geometry(const ElemVec& x, Geometry& g) const;
   void rates(const Geometry& g, const ElemVec& xd, Rates& r) const;
   void inertial(const Geometry& g, const ElementInertia& inertia, Inertial& c) const;
@@ -86,6 +87,7 @@ class PlanarBeam final : public Element {
   double c_ = 0.0;     // Eq. 3a correction factor: 1/(30 l0) bending-corrected, 0 plain (no branch)
   double il02_ = 0.0;  // 1/l0^2 (rotary inertia of w'/l0)
   double beta0_ = 0.0;
+  double cb0_ = 1.0, sb0_ = 0.0;  // cos, sin beta0
   double phi0p_ = 0.0;
   double phi0q_ = 0.0;
   ElongationDefinition elongation_ = ElongationDefinition::BendingCorrected;

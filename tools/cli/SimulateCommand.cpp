@@ -112,8 +112,9 @@ int runSimulate(const std::vector<std::string>& args) {
       "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
       "dynamics", po::value(&dynamics),
-      "how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), saddle-point "
-      "(sparse nodal form, full models) or auto (saddle-point from 40 DOF; reduced models always project)")(
+      (std::string("how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), "
+                   "saddle-point (sparse nodal form, full models) or auto (saddle-point from ") +
+       std::to_string(flexmb::core::kSaddlePointDofs) + " DOF; reduced models always project)").c_str())(
       "linearize", po::value(&linearize)->notifier(atLeast("linearize", 0)),
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
       "matrices", po::bool_switch(&matrices),
