@@ -407,12 +407,19 @@ void GeometricTransferFunctions::firstOrder(const Eigen::MatrixXd* V, Eigen::Mat
   const int n = numCalculable();
   FqV.setZero(nx(), m);
   rhsMat_.setZero(n, m);
+  const int* row = dofRow_.data();
   for (int c = 0; c < m; ++c) {
-    for (int j = 0; j < nq(); ++j) {
-      const double vj = V ? (*V)(j, c) : (j == c ? 1.0 : 0.0);
-      if (vj == 0.0) continue;
-      if (dofRow_[j] >= 0) rhsMat_(dofRow_[j], c) += vj;
-      else FqV(dofCoord_[j], c) = vj;
+    if (V) {  // every dof's entry (no test for zeros: the loop is branch-predictable)
+      const double* v = V->col(c).data();
+      double* r = rhsMat_.col(c).data();
+      for (int j = 0; j < nq(); ++j) {
+        if (row[j] >= 0) r[row[j]] += v[j];
+        else FqV(dofCoord_[j], c) = v[j];
+      }
+    } else if (row[c] >= 0) {
+      rhsMat_(row[c], c) = 1.0;
+    } else {
+      FqV(dofCoord_[c], c) = 1.0;
     }
     if (hasDynamicCoords_) {
       work_ = FqV.col(c);

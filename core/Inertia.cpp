@@ -83,15 +83,19 @@ void addElementProjections(const Model& model, const std::vector<int>& massive, 
       for (int j = 0; j < m; ++j)
         for (int b = 0; b < 6; ++b) Fe6(b, j) = F(c[b], j);
       T6.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(blocks[k].data()).lazyProduct(Fe6);
-      acc.noalias() += Fe6.transpose().lazyProduct(T6);
+      for (int b = 0; b < m; ++b)  // the upper triangle (Mbar is symmetric)
+        for (int a = 0; a <= b; ++a) acc(a, b) += Fe6.col(a).dot(T6.col(b));
       continue;
     }
     Fe.resize(n, m);
     for (int j = 0; j < m; ++j)
       for (int b = 0; b < n; ++b) Fe(b, j) = F(c[b], j);
     T.noalias() = blocks[k].lazyProduct(Fe);
-    acc.noalias() += Fe.transpose().lazyProduct(T);
+    for (int b = 0; b < m; ++b)
+      for (int a = 0; a <= b; ++a) acc(a, b) += Fe.col(a).dot(T.col(b));
   }
+  for (int b = 0; b < m; ++b)
+    for (int a = 0; a < b; ++a) acc(b, a) = acc(a, b);
   Mbar += acc;
 }
 }  // namespace
@@ -106,7 +110,7 @@ void Inertia::projectedMass(const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar) {
   Mbar.setZero(m, m);
   for (int i : lumpedCoords_)
     for (int b = 0; b < m; ++b)
-      for (int a = 0; a < m; ++a) Mbar(a, b) += lumped_[i] * F(i, a) * F(i, b);
+      for (int a = 0; a < m; ++a) Mbar(a, b) += lumped_[i] * (F(i, a) * F(i, b));  // symmetric bits
   switch (m) {
     case 1: return addElementProjections<1>(model_, massive_, blocks_, F, Mbar);
     case 2: return addElementProjections<2>(model_, massive_, blocks_, F, Mbar);

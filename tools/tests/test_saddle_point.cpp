@@ -137,3 +137,31 @@ TEST(SaddlePointDynamics, SimulationsAgreeAndChooseTheFormBySize) {
   EXPECT_EQ(core::EquationsOfMotion(m, Eigen::MatrixXd::Identity(m.numDofs(), 3), core::DynamicsForm::SaddlePoint).form(),
             core::DynamicsForm::Projected);
 }
+
+TEST(ProjectedMass, ElementByElementEqualsTheDenseProduct) {
+  // Mbar = F^T M F of Inertia::projectedMass (fixed-size kernels for narrow F, dynamic ones up to
+  // kMaxProjectedColumns, M F beyond) against the dense M: lumped and distributed, planar and spatial.
+  const std::vector<core::Model> models = {io::readDatFile(dat("straight_guidance.dat")),
+                                           io::readDatString(cartPendulum(false), "cart.dat"),
+                                           io::readDatFile(dat("spatial/cross_spring_pivot_coarse.dat"))};
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const core::Model& m : models) {
+    core::GeometricTransferFunctions gtf(m);
+    gtf.solvePositions(0.0, gtf.initialDofs());
+    core::Inertia inertia(m);
+    inertia.update(gtf.x());
+    const Eigen::MatrixXd M = inertia.dense();
+    for (int cols : {1, 3, 5, 6, 7, core::Inertia::kMaxProjectedColumns, core::Inertia::kMaxProjectedColumns + 3}) {
+      Eigen::MatrixXd F(m.nx, cols);
+      for (Eigen::Index k = 0; k < F.size(); ++k) F.data()[k] = u(rng);
+      Eigen::MatrixXd Mbar;
+      inertia.projectedMass(F, Mbar);
+      const Eigen::MatrixXd expected = F.transpose() * M * F;
+      const double err = (Mbar - expected).lpNorm<Eigen::Infinity>() / expected.lpNorm<Eigen::Infinity>();
+      EXPECT_LT(err, 1e-14) << m.nx << " coordinates, " << cols << " columns";
+      if (cols <= core::Inertia::kMaxProjectedColumns)  // the kernels fill one triangle and mirror it
+        EXPECT_EQ((Mbar - Mbar.transpose()).lpNorm<Eigen::Infinity>(), 0.0);
+    }
+  }
+}
