@@ -247,14 +247,15 @@ void GeometricTransferFunctions::constraintTargets(double t, const Eigen::Vector
   }
 }
 
-void GeometricTransferFunctions::evaluateElements() {
+void GeometricTransferFunctions::evaluateElements(bool withJacobian) {
   ElemVec xe;
   DefVec de;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
     E.gather(x_, xe);
     DefJac& De = elemJac_[el];
-    E.impl->deformationsAndJacobian(xe, de, De);
+    if (withJacobian) E.impl->deformationsAndJacobian(xe, de, De);
+    else E.impl->deformations(xe, de);
     for (int i = 0; i < de.size(); ++i) {
       const int k = E.firstDef + i;
       if (hasPeriodic_ && periodic_[k]) {
@@ -267,6 +268,19 @@ void GeometricTransferFunctions::evaluateElements() {
         e_[k] = de[i];
       }
     }
+    if (!withJacobian) continue;
+    const double* d = De.data();
+    for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
+  }
+}
+
+void GeometricTransferFunctions::evaluateJacobians() {
+  ElemVec xe;
+  for (size_t el = 0; el < model_.elements.size(); ++el) {
+    const auto& E = model_.elements[el];
+    E.gather(x_, xe);
+    DefJac& De = elemJac_[el];
+    E.impl->jacobian(xe, De);
     const double* d = De.data();
     for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
   }
@@ -356,9 +370,13 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   // Simplified Newton: the factorisation is reused while the residual contracts quickly, and
   // refreshed where it does not; the converged configuration always gets its own factorisation
   // (velocities, F_q and the saddle-point rows need the exact Jacobian).
+  // The check of a prediction that missed last time evaluates the deformations only: a chord step
+  // needs no Jacobian, and it would be thrown away (the reduced models' larger steps miss most
+  // predictions); the Jacobian follows where this x is kept or refactorised.
   double res = 0.0;
   for (int it = steps; it <= maxIt; ++it) {
-    evaluateElements();
+    const bool withJacobian = !(chord && it == 1 && predictionMissed_);
+    evaluateElements(withJacobian);
     res = 0.0;
     for (int r = 0; r < numConstraints(); ++r) {
       rhs_[r] = target_[r] - e_[constrainedDefs_[r]];
@@ -367,7 +385,9 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
     if (!std::isfinite(res)) throw KinematicsError(t, it, res, "non-finite residual");
     const bool converged = res <= tolerance_;
     const bool slow = !chord || res > kChordContraction * previous;
+    if (chord && it == 1) predictionMissed_ = !converged;
     if (converged || slow) {
+      if (!withJacobian) evaluateJacobians();
       if (!lu_.factorize(values_.data()))
         throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");
     }

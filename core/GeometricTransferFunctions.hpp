@@ -116,7 +116,8 @@ class GeometricTransferFunctions {
   const std::vector<int>& constrainedDeformations() const { return constrainedDefs_; }
 
  private:
-  void evaluateElements();  // e, element Jacobians, J values at x_
+  void evaluateElements(bool withJacobian = true);  // e, element Jacobians, J values at x_
+  void evaluateJacobians();  // element Jacobians and J values only
   void constraintTargets(double t, const Eigen::VectorXd& q);
   void inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek, int order) const;
   // rhs_r = b_r - (D_x v)_r for constrained rows; v holds known-coordinate values.
@@ -158,6 +159,7 @@ class GeometricTransferFunctions {
   bool consistent_ = false;
   bool knownMoved_ = false;  // inputs or DYNX coordinates: the known coordinates move with (t, q)
   bool hasCurvature_ = false;  // curvature_ belongs to the consistent configuration
+  bool predictionMissed_ = false;  // the last predicted configuration needed a correction
   double curvatureScale_ = 0.0;
   Eigen::VectorXd curvature_;  // D2_C[xd, xd] on the constrained rows
   Eigen::VectorXd previousX_;
