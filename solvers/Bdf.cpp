@@ -171,8 +171,11 @@ std::string Bdf::library() { return std::string("SUNDIALS CVODE ") + SUNDIALS_VE
 std::string Bdf::formatStats(const OdeStats& s) {
   std::string out = std::to_string(s.nsteps) + " successful steps\n" + std::to_string(s.nfailed) +
                     " failed attempts\n" + std::to_string(s.nfevals) + " function evaluations\n";
-  if (s.njacfevals > 0)
-    out += "(" + std::to_string(s.njacfevals) + " of them for difference-quotient Jacobians)\n";
+  if (s.njacfevals > 0) {  // appended piecewise: "(" + std::string trips GCC 12's -Wrestrict
+    out += '(';
+    out += std::to_string(s.njacfevals);
+    out += " of them for difference-quotient Jacobians)\n";
+  }
   out += std::to_string(s.njacevals) + " Jacobian evaluations\n" + std::to_string(s.nlinsetups) +
          " linear-solver set-ups\n";
   return out;
