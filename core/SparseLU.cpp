@@ -154,6 +154,7 @@ class SolvePlan {
   std::vector<int> aBegin_, aSrc_, aRow_;  // per column k: entries of the diagonal block in ax
   std::vector<int> uBegin_, uRow_, uDst_;  // per column k: U(:,k) off the diagonal, KLU's order
   std::vector<int> lBegin_, lRow_, lDst_;  // per column k: L(:,k) below the diagonal
+  std::vector<double> lx_;           // L(:,k)'s values also by columns (the update's operand)
   std::vector<int> diagDst_;         // per k: place of u_kk in val_ (small blocks), else -1
   mutable std::vector<double> work_; // dense column of a block, zero between uses
   mutable std::vector<double> x1_;   // workspace, one column
@@ -299,6 +300,7 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
   lBegin_.assign(n + 1, 0);
   diagDst_.assign(n, -1);
   work_.assign(s.maxblock, 0.0);
+  lx_.clear();
   const double* offx = static_cast<const double*>(f.Offx);
   int poff = 0;
   for (int block = 0; block < s.nblocks; ++block) {
@@ -333,6 +335,8 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
       if (const auto it = placeOf.find(kluUdiag + k); it != placeOf.end()) diagDst_[k] = it->second;
     }
   }
+  lx_.resize(lRow_.size());
+  for (size_t p = 0; p < lx_.size(); ++p) lx_[p] = val_[lDst_[p]];
 }
 
 // klu_refactor's numeric loop (SuiteSparse 5.12, KLU/Source/klu_refactor.c), with KLU's numeric
@@ -364,6 +368,7 @@ double SolvePlan::refactor(const double* ax) {
   const int *aBegin = aBegin_.data(), *aSrc = aSrc_.data(), *aRow = aRow_.data();
   const int *uBegin = uBegin_.data(), *uRow = uRow_.data(), *uDst = uDst_.data();
   const int *lBegin = lBegin_.data(), *lRow = lRow_.data(), *lDst = lDst_.data();
+  double* lx = lx_.data();
   const int* diagDst = diagDst_.data();
   double* x = work_.data();
   double umin = std::numeric_limits<double>::infinity(), umax = 0.0;
@@ -380,7 +385,7 @@ double SolvePlan::refactor(const double* ax) {
         const double ujk = x[j];
         x[j] = 0.0;
         v[uDst[up]] = ujk;
-        for (int p = lBegin[k1 + j]; p < lBegin[k1 + j + 1]; ++p) x[lRow[p]] -= v[lDst[p]] * ujk;
+        for (int p = lBegin[k1 + j]; p < lBegin[k1 + j + 1]; ++p) x[lRow[p]] -= lx[p] * ujk;
       }
       const double ukk = x[k - k1];
       x[k - k1] = 0.0;
@@ -392,7 +397,7 @@ double SolvePlan::refactor(const double* ax) {
       umax = std::max(umax, a);
       for (int p = lBegin[k]; p < lBegin[k + 1]; ++p) {
         const int i = lRow[p];
-        v[lDst[p]] = x[i] / ukk;
+        v[lDst[p]] = lx[p] = x[i] / ukk;
         x[i] = 0.0;
       }
     }
