@@ -2,6 +2,7 @@
 
 #include <klu.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -71,6 +72,39 @@ void forEachEntry(const klu_symbolic& s, const klu_numeric& f, Visit&& visit) {
   }
 }
 
+// LU without pivoting (the rows and columns already in KLU's pivot order) of a dense NK x NK block
+// in place, row-major: L below the diagonal (unit diagonal not stored), U on and above, u_kk also
+// to ud. Right-looking, unrolled; the same operations as KLU's left-looking column loop for the
+// entries of its patterns, summed in another order (round-off), exact zeros elsewhere. False on a
+// zero or non-finite pivot; umin, umax take in the pivots' magnitudes.
+template <int NK>
+bool denseLU(double* a, double* ud, double& umin, double& umax) {
+  bool regular = true;
+#pragma GCC unroll 8
+  for (int k = 0; k < NK; ++k) {
+    const double ukk = a[k * NK + k];
+    ud[k] = ukk;
+    const double m = std::fabs(ukk);
+    regular &= m > 0.0 && m <= std::numeric_limits<double>::max();
+    umin = std::min(umin, m);
+    umax = std::max(umax, m);
+#pragma GCC unroll 8
+    for (int i = k + 1; i < NK; ++i) {
+      const double lik = a[i * NK + k] /= ukk;
+#pragma GCC unroll 8
+      for (int j = k + 1; j < NK; ++j) a[i * NK + j] -= lik * a[k * NK + j];
+    }
+  }
+  return regular;
+}
+
+using DenseLUFn = bool (*)(double*, double*, double&, double&);
+DenseLUFn denseLU(int nk) {
+  static constexpr DenseLUFn kBySize[kDenseBlock + 1] = {nullptr,     denseLU<1>, denseLU<2>, denseLU<3>, denseLU<4>,
+                                                         denseLU<5>, denseLU<6>, denseLU<7>, denseLU<8>};
+  return kBySize[nk];
+}
+
 }  // namespace
 
 // The factors of the last factorisation rearranged for the solve. Blocks are visited last to
@@ -84,10 +118,12 @@ void forEachEntry(const klu_symbolic& s, const klu_numeric& f, Visit&& visit) {
 //   x per entry): forward rows x_i = b_P(i) - F(i,:) x - L(i,:) x first to last (the last also
 //   divided by U(i,i)), then backward rows up, x_i = (x_i - U(i,:) x) / U(i,i).
 // KLU's factorisation fills the plan once (build copies each value from its address in KLU's
-// numeric object). Refactorisations with the same pivot order are the plan's own (refactor):
-// KLU's left-looking algorithm (klu_refactor's loops, same operations in the same order) over
-// index maps made at build time, writing each factor value straight to its place in the plan.
-// KLU's numeric object is then stale; writeBack restores it where KLU itself must solve (A^T).
+// numeric object). Refactorisations with the same pivot order are the plan's own (refactor), over
+// index maps made at build time, writing each factor value straight to its place in the plan:
+// large blocks by KLU's left-looking algorithm (klu_refactor's loops, same operations in the same
+// order), small blocks by a dense unrolled LU in place in their dense form (same pivots, sums in
+// another order). KLU's numeric object is then stale; writeBack restores it where KLU itself must
+// solve (A^T).
 class SolvePlan {
  public:
   void build(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai);
@@ -149,13 +185,20 @@ class SolvePlan {
   int nnz_ = 0;
   const int* ai_ = nullptr;          // the caller's row indices (for the scale factors)
   std::vector<double> rsRow_;        // scale factors by original row
-  std::vector<int> offSrc_, offDst_; // off-diagonal block entries: index in ax -> index in val_
-  std::vector<int> blockEnd_;        // KLU's blocks in KLU's order: first pivot of the next
+  std::vector<int> offSrc_, offDst_; // entries copied: index in ax -> index in val_ (those of the
+                                     // off-diagonal blocks and of the small blocks' dense LU)
+  using DenseLU = bool (*)(double* a, double* ud, double& umin, double& umax);
+  struct Dense {
+    int lu, first, size;  // its dense LU in val_, its first pivot, its size
+    DenseLU factor;
+  };
+  std::vector<Dense> dense_;         // small blocks: factorised densely in place
+  std::vector<int> largeFirst_;      // large blocks (sparse, left-looking): first pivot, then the
+                                     // next block's (pairs)
   std::vector<int> aBegin_, aSrc_, aRow_;  // per column k: entries of the diagonal block in ax
   std::vector<int> uBegin_, uRow_, uDst_;  // per column k: U(:,k) off the diagonal, KLU's order
   std::vector<int> lBegin_, lRow_, lDst_;  // per column k: L(:,k) below the diagonal
   std::vector<double> lx_;           // L(:,k)'s values also by columns (the update's operand)
-  std::vector<int> diagDst_;         // per k: place of u_kk in val_ (small blocks), else -1
   mutable std::vector<double> work_; // dense column of a block, zero between uses
   mutable std::vector<double> x1_;   // workspace, one column
   mutable std::vector<Pair> x2_;     // workspace, two columns
@@ -288,7 +331,8 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
   rsRow_.assign(f.Rs ? n : 0, 0.0);
   offSrc_.clear();
   offDst_.clear();
-  blockEnd_.clear();
+  dense_.clear();
+  largeFirst_.clear();
   aSrc_.clear();
   aRow_.clear();
   uRow_.clear();
@@ -298,14 +342,19 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
   aBegin_.assign(n + 1, 0);
   uBegin_.assign(n + 1, 0);
   lBegin_.assign(n + 1, 0);
-  diagDst_.assign(n, -1);
   work_.assign(s.maxblock, 0.0);
   lx_.clear();
   const double* offx = static_cast<const double*>(f.Offx);
   int poff = 0;
   for (int block = 0; block < s.nblocks; ++block) {
-    const int k1 = s.R[block], k2 = s.R[block + 1];
-    blockEnd_.push_back(k2);
+    const int k1 = s.R[block], k2 = s.R[block + 1], nk = k2 - k1;
+    const Block& blk = blocks_[nb - 1 - block];  // blocks_ is in visiting order, last to first
+    if (blk.small) {
+      dense_.push_back({blk.lu, k1, nk, denseLU(nk)});
+    } else {
+      largeFirst_.push_back(k1);
+      largeFirst_.push_back(k2);
+    }
     for (int k = k1; k < k2; ++k) {
       const int oldcol = s.Q[k];
       for (int p = ap[oldcol]; p < ap[oldcol + 1]; ++p) {
@@ -315,13 +364,16 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
             throw std::logic_error("SparseLU: KLU's off-diagonal entries not in klu_refactor's order");
           offSrc_.push_back(p);
           offDst_.push_back(placeIn(offx + poff++));
+        } else if (blk.small) {
+          offSrc_.push_back(p);
+          offDst_.push_back(blk.lu + newrow * nk + (k - k1));
         } else {
           aSrc_.push_back(p);
           aRow_.push_back(newrow);
         }
       }
       aBegin_[k + 1] = static_cast<int>(aSrc_.size());
-      if (k2 - k1 > 1) {
+      if (!blk.small) {
         const int* rows;
         const double* values;
         int count;
@@ -332,13 +384,13 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
       }
       uBegin_[k + 1] = static_cast<int>(uRow_.size());
       lBegin_[k + 1] = static_cast<int>(lRow_.size());
-      if (const auto it = placeOf.find(kluUdiag + k); it != placeOf.end()) diagDst_[k] = it->second;
     }
   }
   lx_.resize(lRow_.size());
   for (size_t p = 0; p < lx_.size(); ++p) lx_[p] = val_[lDst_[p]];
 }
 
+// Small blocks: A's entries copied into their zeroed dense LU, then denseLU in place. Large blocks:
 // klu_refactor's numeric loop (SuiteSparse 5.12, KLU/Source/klu_refactor.c), with KLU's numeric
 // object replaced by the plan's places: per block, per column k, scatter the block's part of
 // A(P, Q(k)) into the dense X, for each j of U(:,k) in KLU's (topological) order take u_jk = X_j
@@ -357,6 +409,8 @@ double SolvePlan::refactor(const double* ax) {
   const double* rs = rsRow_.empty() ? nullptr : rsRow_.data();
   double* v = val_.data();
   double* ud = ud_.data();
+  for (const Dense& d : dense_)  // the dense LUs' structural zeros (the copies below fill the rest)
+    std::fill(v + d.lu, v + d.lu + d.size * d.size, 0.0);
   const int* src = offSrc_.data();
   const int* dst = offDst_.data();
   const int nOff = static_cast<int>(offSrc_.size());
@@ -369,12 +423,12 @@ double SolvePlan::refactor(const double* ax) {
   const int *uBegin = uBegin_.data(), *uRow = uRow_.data(), *uDst = uDst_.data();
   const int *lBegin = lBegin_.data(), *lRow = lRow_.data(), *lDst = lDst_.data();
   double* lx = lx_.data();
-  const int* diagDst = diagDst_.data();
   double* x = work_.data();
   double umin = std::numeric_limits<double>::infinity(), umax = 0.0;
   bool regular = true;
-  int k1 = 0;
-  for (const int k2 : blockEnd_) {
+  for (const Dense& d : dense_) regular &= d.factor(v + d.lu, ud + d.first, umin, umax);
+  for (size_t b = 0; b < largeFirst_.size(); b += 2) {
+    const int k1 = largeFirst_[b], k2 = largeFirst_[b + 1];
     for (int k = k1; k < k2; ++k) {
       if (!rs)
         for (int p = aBegin[k]; p < aBegin[k + 1]; ++p) x[aRow[p]] = ax[aSrc[p]];
@@ -390,7 +444,6 @@ double SolvePlan::refactor(const double* ax) {
       const double ukk = x[k - k1];
       x[k - k1] = 0.0;
       ud[k] = ukk;
-      if (diagDst[k] >= 0) v[diagDst[k]] = ukk;
       const double a = std::fabs(ukk);
       if (!(a > 0.0 && a <= std::numeric_limits<double>::max())) regular = false;  // zero, NaN, Inf
       umin = std::min(umin, a);
@@ -401,7 +454,6 @@ double SolvePlan::refactor(const double* ax) {
         x[i] = 0.0;
       }
     }
-    k1 = k2;
   }
   if (!regular || n_ == 0) return 0.0;
   const double rcond = umin / umax;

@@ -6,9 +6,11 @@
 // Solves do not call klu_solve: the factors live in a layout made for solving (rows as dot
 // products, small diagonal blocks dense and unrolled, two right-hand sides per vector register),
 // about 3x fewer instructions on kinematic Jacobians. Refactorisations with the old pivot order do
-// not call klu_refactor either: the same left-looking algorithm over index maps made when KLU
-// pivots writes the factor values straight into that layout (no copy, no allocation; KLU's
-// numeric object is brought up to date only for solveTransposed). See SparseLU.cpp.
+// not call klu_refactor either (it and copying its factors over were the largest single cost of a
+// full-model evaluation): klu_refactor's left-looking loop over index maps made when KLU pivots,
+// small blocks as dense unrolled LUs, writes the factor values straight into that layout (no copy,
+// no allocation; KLU's numeric object is brought up to date only for solveTransposed). ~27% fewer
+// instructions per factorisation on the full guidance model, ~50% on the kinematic Jacobian alone.
 #include <memory>
 #include <vector>
 
