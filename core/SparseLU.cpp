@@ -2,7 +2,11 @@
 
 #include <klu.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 namespace flexmb::core {
@@ -68,6 +72,39 @@ void forEachEntry(const klu_symbolic& s, const klu_numeric& f, Visit&& visit) {
   }
 }
 
+// LU without pivoting (the rows and columns already in KLU's pivot order) of a dense NK x NK block
+// in place, row-major: L below the diagonal (unit diagonal not stored), U on and above, u_kk also
+// to ud. Right-looking, unrolled; the same operations as KLU's left-looking column loop for the
+// entries of its patterns, summed in another order (round-off), exact zeros elsewhere. False on a
+// zero or non-finite pivot; umin, umax take in the pivots' magnitudes.
+template <int NK>
+bool denseLU(double* a, double* ud, double& umin, double& umax) {
+  bool regular = true;
+#pragma GCC unroll 8
+  for (int k = 0; k < NK; ++k) {
+    const double ukk = a[k * NK + k];
+    ud[k] = ukk;
+    const double m = std::fabs(ukk);
+    regular &= m > 0.0 && m <= std::numeric_limits<double>::max();
+    umin = std::min(umin, m);
+    umax = std::max(umax, m);
+#pragma GCC unroll 8
+    for (int i = k + 1; i < NK; ++i) {
+      const double lik = a[i * NK + k] /= ukk;
+#pragma GCC unroll 8
+      for (int j = k + 1; j < NK; ++j) a[i * NK + j] -= lik * a[k * NK + j];
+    }
+  }
+  return regular;
+}
+
+using DenseLUFn = bool (*)(double*, double*, double&, double&);
+DenseLUFn denseLU(int nk) {
+  static constexpr DenseLUFn kBySize[kDenseBlock + 1] = {nullptr,     denseLU<1>, denseLU<2>, denseLU<3>, denseLU<4>,
+                                                         denseLU<5>, denseLU<6>, denseLU<7>, denseLU<8>};
+  return kBySize[nk];
+}
+
 }  // namespace
 
 // The factors of the last factorisation rearranged for the solve. Blocks are visited last to
@@ -80,12 +117,21 @@ void forEachEntry(const klu_symbolic& s, const klu_numeric& f, Visit&& visit) {
 // - larger blocks are solved by rows as dot products (loads only; KLU's column sweeps store into
 //   x per entry): forward rows x_i = b_P(i) - F(i,:) x - L(i,:) x first to last (the last also
 //   divided by U(i,i)), then backward rows up, x_i = (x_i - U(i,:) x) / U(i,i).
-// Each value keeps its address in KLU's numeric object: klu_refactor refills those in place and
-// refresh() copies them.
+// KLU's factorisation fills the plan once (build copies each value from its address in KLU's
+// numeric object). Refactorisations with the same pivot order are the plan's own (refactor), over
+// index maps made at build time, writing each factor value straight to its place in the plan:
+// large blocks by KLU's left-looking algorithm (klu_refactor's loops, same operations in the same
+// order), small blocks by a dense unrolled LU in place in their dense form (same pivots, sums in
+// another order). KLU's numeric object is then stale; writeBack restores it where KLU itself must
+// solve (A^T).
 class SolvePlan {
  public:
-  void build(const klu_symbolic& s, const klu_numeric& f);
-  void refresh();
+  void build(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai);
+  // Factor values for new matrix values ax (same pattern) in the pivot order of the last build.
+  // Returns min |u_kk| / max |u_kk| (KLU's klu_rcond), 0 for a zero or non-finite pivot.
+  double refactor(const double* ax);
+  // Copies the plan's factor values back into KLU's numeric object f (the one of the last build).
+  void writeBack(klu_numeric& f) const;
   // A X = B in place, nrhs columns of leading dimension n.
   void solve(double* b, int nrhs) const;
 
@@ -130,18 +176,48 @@ class SolvePlan {
   std::vector<const double*> src_;   // per value: its address in KLU's numeric object
   const int* pnum_ = nullptr;        // pivot row permutation
   const int* q_ = nullptr;           // column permutation
-  const double* udiag_ = nullptr;    // diagonal of U
-  const double* rs_ = nullptr;       // row scale factors in pivot order, or null
+  const double* udiag_ = nullptr;    // diagonal of U (ud_)
+  const double* rs_ = nullptr;       // row scale factors in pivot order (rsPivot_), or null
+  std::vector<double> ud_;           // diagonal of U
+  std::vector<double> rsPivot_;      // row scale factors in pivot order (KLU's scaling only)
+
+  // Refactorisation maps (pivot order k; rows local to the block in X):
+  int nnz_ = 0;
+  const int* ai_ = nullptr;          // the caller's row indices (for the scale factors)
+  std::vector<double> rsRow_;        // scale factors by original row
+  std::vector<int> offSrc_, offDst_; // entries copied: index in ax -> index in val_ (those of the
+                                     // off-diagonal blocks and of the small blocks' dense LU)
+  using DenseLU = bool (*)(double* a, double* ud, double& umin, double& umax);
+  struct Dense {
+    int lu, first, size;  // its dense LU in val_, its first pivot, its size
+    DenseLU factor;
+  };
+  std::vector<Dense> dense_;         // small blocks: factorised densely in place
+  std::vector<int> largeFirst_;      // large blocks (sparse, left-looking): first pivot, then the
+                                     // next block's (pairs)
+  std::vector<int> aBegin_, aSrc_, aRow_;  // per column k: entries of the diagonal block in ax
+  std::vector<int> uBegin_, uRow_, uDst_;  // per column k: U(:,k) off the diagonal, KLU's order
+  std::vector<int> lBegin_, lRow_, lDst_;  // per column k: L(:,k) below the diagonal
+  std::vector<double> lx_;           // L(:,k)'s values also by columns (the update's operand)
+  mutable std::vector<double> work_; // dense column of a block, zero between uses
   mutable std::vector<double> x1_;   // workspace, one column
   mutable std::vector<Pair> x2_;     // workspace, two columns
 };
 
-void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f) {
+void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai) {
   const int n = n_ = s.n;
   pnum_ = f.Pnum;
   q_ = s.Q;
-  udiag_ = static_cast<const double*>(f.Udiag);
-  rs_ = f.Rs;
+  const double* kluUdiag = static_cast<const double*>(f.Udiag);
+  ud_.assign(kluUdiag, kluUdiag + n);
+  udiag_ = ud_.data();
+  if (f.Rs) {
+    rsPivot_.assign(f.Rs, f.Rs + n);
+    rs_ = rsPivot_.data();
+  } else {
+    rsPivot_.clear();
+    rs_ = nullptr;
+  }
   x1_.assign(n, 0.0);
   x2_.assign(n, Pair{0.0, 0.0});
 
@@ -236,22 +312,159 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f) {
   });
   for (const Block& b : blocks_)
     if (b.small)
-      for (int k = 0; k < b.size; ++k) src_[b.lu + k * (b.size + 1)] = udiag_ + b.first + k;
-  refresh();
+      for (int k = 0; k < b.size; ++k) src_[b.lu + k * (b.size + 1)] = kluUdiag + b.first + k;
+  for (size_t p = 0; p < val_.size(); ++p) val_[p] = *src_[p];
+
+  // Refactorisation maps: klu_refactor's traversal (blocks first to last, columns in pivot order,
+  // each column's entries of A in stored order), each factor value's address in KLU's numeric
+  // object translated to its place in val_.
+  std::unordered_map<const double*, int> placeOf;
+  for (size_t p = 0; p < src_.size(); ++p)
+    if (src_[p] != &kZero) placeOf[src_[p]] = static_cast<int>(p);
+  auto placeIn = [&](const double* v) {
+    const auto it = placeOf.find(v);
+    if (it == placeOf.end()) throw std::logic_error("SparseLU: a factor value without a place in the solve layout");
+    return it->second;
+  };
+  nnz_ = ap[n];
+  ai_ = ai;
+  rsRow_.assign(f.Rs ? n : 0, 0.0);
+  offSrc_.clear();
+  offDst_.clear();
+  dense_.clear();
+  largeFirst_.clear();
+  aSrc_.clear();
+  aRow_.clear();
+  uRow_.clear();
+  uDst_.clear();
+  lRow_.clear();
+  lDst_.clear();
+  aBegin_.assign(n + 1, 0);
+  uBegin_.assign(n + 1, 0);
+  lBegin_.assign(n + 1, 0);
+  work_.assign(s.maxblock, 0.0);
+  lx_.clear();
+  const double* offx = static_cast<const double*>(f.Offx);
+  int poff = 0;
+  for (int block = 0; block < s.nblocks; ++block) {
+    const int k1 = s.R[block], k2 = s.R[block + 1], nk = k2 - k1;
+    const Block& blk = blocks_[nb - 1 - block];  // blocks_ is in visiting order, last to first
+    if (blk.small) {
+      dense_.push_back({blk.lu, k1, nk, denseLU(nk)});
+    } else {
+      largeFirst_.push_back(k1);
+      largeFirst_.push_back(k2);
+    }
+    for (int k = k1; k < k2; ++k) {
+      const int oldcol = s.Q[k];
+      for (int p = ap[oldcol]; p < ap[oldcol + 1]; ++p) {
+        const int newrow = f.Pinv[ai[p]] - k1;
+        if (newrow < 0) {
+          if (poff >= f.nzoff || f.Offi[poff] != newrow + k1)
+            throw std::logic_error("SparseLU: KLU's off-diagonal entries not in klu_refactor's order");
+          offSrc_.push_back(p);
+          offDst_.push_back(placeIn(offx + poff++));
+        } else if (blk.small) {
+          offSrc_.push_back(p);
+          offDst_.push_back(blk.lu + newrow * nk + (k - k1));
+        } else {
+          aSrc_.push_back(p);
+          aRow_.push_back(newrow);
+        }
+      }
+      aBegin_[k + 1] = static_cast<int>(aSrc_.size());
+      if (!blk.small) {
+        const int* rows;
+        const double* values;
+        int count;
+        columnOf(f.LUbx[block], f.Uip + k1, f.Ulen + k1, k - k1, rows, values, count);
+        for (int p = 0; p < count; ++p) uRow_.push_back(rows[p]), uDst_.push_back(placeIn(values + p));
+        columnOf(f.LUbx[block], f.Lip + k1, f.Llen + k1, k - k1, rows, values, count);
+        for (int p = 0; p < count; ++p) lRow_.push_back(rows[p]), lDst_.push_back(placeIn(values + p));
+      }
+      uBegin_[k + 1] = static_cast<int>(uRow_.size());
+      lBegin_[k + 1] = static_cast<int>(lRow_.size());
+    }
+  }
+  lx_.resize(lRow_.size());
+  for (size_t p = 0; p < lx_.size(); ++p) lx_[p] = val_[lDst_[p]];
 }
 
-void SolvePlan::refresh() {
-  const double* const* from = src_.data();
-  double* to = val_.data();
-  const size_t e = val_.size();
-  size_t p = 0;
-  for (; p + 4 <= e; p += 4) {  // unrolled: it runs per factorisation, often for one solve
-    to[p] = *from[p];
-    to[p + 1] = *from[p + 1];
-    to[p + 2] = *from[p + 2];
-    to[p + 3] = *from[p + 3];
+// Small blocks: A's entries copied into their zeroed dense LU, then denseLU in place. Large blocks:
+// klu_refactor's numeric loop (SuiteSparse 5.12, KLU/Source/klu_refactor.c), with KLU's numeric
+// object replaced by the plan's places: per block, per column k, scatter the block's part of
+// A(P, Q(k)) into the dense X, for each j of U(:,k) in KLU's (topological) order take u_jk = X_j
+// and subtract L(:,j) u_jk, then u_kk = X_k and L(:,k) = X(L's rows) / u_kk. Off-diagonal block
+// entries are A's, permuted. With KLU's scaling (scale = 2, the default) every entry of A is
+// divided by the largest magnitude of its row first, as klu_scale does.
+double SolvePlan::refactor(const double* ax) {
+  if (!rsRow_.empty()) {
+    double* rs = rsRow_.data();
+    std::fill(rsRow_.begin(), rsRow_.end(), 0.0);
+    for (int p = 0; p < nnz_; ++p) rs[ai_[p]] = std::max(rs[ai_[p]], std::fabs(ax[p]));
+    for (int i = 0; i < n_; ++i)
+      if (rs[i] == 0.0) rs[i] = 1.0;
+    for (int k = 0; k < n_; ++k) rsPivot_[k] = rs[pnum_[k]];
   }
-  for (; p < e; ++p) to[p] = *from[p];
+  const double* rs = rsRow_.empty() ? nullptr : rsRow_.data();
+  double* v = val_.data();
+  double* ud = ud_.data();
+  for (const Dense& d : dense_)  // the dense LUs' structural zeros (the copies below fill the rest)
+    std::fill(v + d.lu, v + d.lu + d.size * d.size, 0.0);
+  const int* src = offSrc_.data();
+  const int* dst = offDst_.data();
+  const int nOff = static_cast<int>(offSrc_.size());
+  if (!rs)
+    for (int e = 0; e < nOff; ++e) v[dst[e]] = ax[src[e]];
+  else
+    for (int e = 0; e < nOff; ++e) v[dst[e]] = ax[src[e]] / rs[ai_[src[e]]];
+
+  const int *aBegin = aBegin_.data(), *aSrc = aSrc_.data(), *aRow = aRow_.data();
+  const int *uBegin = uBegin_.data(), *uRow = uRow_.data(), *uDst = uDst_.data();
+  const int *lBegin = lBegin_.data(), *lRow = lRow_.data(), *lDst = lDst_.data();
+  double* lx = lx_.data();
+  double* x = work_.data();
+  double umin = std::numeric_limits<double>::infinity(), umax = 0.0;
+  bool regular = true;
+  for (const Dense& d : dense_) regular &= d.factor(v + d.lu, ud + d.first, umin, umax);
+  for (size_t b = 0; b < largeFirst_.size(); b += 2) {
+    const int k1 = largeFirst_[b], k2 = largeFirst_[b + 1];
+    for (int k = k1; k < k2; ++k) {
+      if (!rs)
+        for (int p = aBegin[k]; p < aBegin[k + 1]; ++p) x[aRow[p]] = ax[aSrc[p]];
+      else
+        for (int p = aBegin[k]; p < aBegin[k + 1]; ++p) x[aRow[p]] = ax[aSrc[p]] / rs[ai_[aSrc[p]]];
+      for (int up = uBegin[k]; up < uBegin[k + 1]; ++up) {
+        const int j = uRow[up];
+        const double ujk = x[j];
+        x[j] = 0.0;
+        v[uDst[up]] = ujk;
+        for (int p = lBegin[k1 + j]; p < lBegin[k1 + j + 1]; ++p) x[lRow[p]] -= lx[p] * ujk;
+      }
+      const double ukk = x[k - k1];
+      x[k - k1] = 0.0;
+      ud[k] = ukk;
+      const double a = std::fabs(ukk);
+      if (!(a > 0.0 && a <= std::numeric_limits<double>::max())) regular = false;  // zero, NaN, Inf
+      umin = std::min(umin, a);
+      umax = std::max(umax, a);
+      for (int p = lBegin[k]; p < lBegin[k + 1]; ++p) {
+        const int i = lRow[p];
+        v[lDst[p]] = lx[p] = x[i] / ukk;
+        x[i] = 0.0;
+      }
+    }
+  }
+  if (!regular || n_ == 0) return 0.0;
+  const double rcond = umin / umax;
+  return std::isfinite(rcond) ? rcond : 0.0;
+}
+
+void SolvePlan::writeBack(klu_numeric& f) const {
+  for (size_t p = 0; p < val_.size(); ++p)
+    if (src_[p] != &kZero) *const_cast<double*>(src_[p]) = val_[p];
+  std::copy(ud_.begin(), ud_.end(), static_cast<double*>(f.Udiag));
+  if (f.Rs && rs_) std::copy(rsPivot_.begin(), rsPivot_.end(), f.Rs);
 }
 
 // Forward rows: x_i = b_P(i) - F(i,:) x (- L(i,:) x in a large block).
@@ -369,6 +582,7 @@ struct SparseLU::Impl {
   const int* colPtr = nullptr;
   const int* rowIdx = nullptr;
   SolvePlan plan;
+  bool kluStale = false;  // the plan's refactorisation is newer than KLU's numeric object
   ~Impl() {
     if (numeric) klu_free_numeric(&numeric, &common);
     if (symbolic) klu_free_symbolic(&symbolic, &common);
@@ -401,18 +615,18 @@ bool SparseLU::factorize(const double* ax) {
   int* ai = const_cast<int*>(m.rowIdx);
   double* x = const_cast<double*>(ax);
   if (m.numeric) {
-    // Reuse the pivot order; accept unless the pivots degraded (cheap diagonal estimate of U),
-    // then pivot afresh below.
-    if (klu_refactor(ap, ai, x, m.symbolic, m.numeric, &m.common) &&
-        klu_rcond(m.symbolic, m.numeric, &m.common) && m.common.rcond > 1e-10) {
-      m.plan.refresh();
-      return true;
-    }
+    // Reuse the pivot order (the plan's own refactorisation); accept unless the pivots degraded
+    // (KLU's cheap diagonal estimate of U, min |u_kk| / max |u_kk|), then pivot afresh below.
+    m.common.rcond = m.plan.refactor(ax);
+    m.kluStale = true;
+    if (m.common.rcond > 1e-10) return true;
     klu_free_numeric(&m.numeric, &m.common);
   }
+  m.kluStale = false;
   m.numeric = klu_factor(ap, ai, x, m.symbolic, &m.common);
+  ++pivotings_;
   if (!m.numeric) return false;
-  m.plan.build(*m.symbolic, *m.numeric);
+  m.plan.build(*m.symbolic, *m.numeric, m.colPtr, m.rowIdx);
   klu_rcond(m.symbolic, m.numeric, &m.common);
   return m.common.status == KLU_OK && m.common.rcond > 1e-14;
 }
@@ -423,7 +637,11 @@ void SparseLU::solve(double* b, int nrhs) const {
 }
 
 void SparseLU::solveTransposed(double* b, int nrhs) const {
-  if (n_ == 0 || nrhs == 0) return;
+  if (n_ == 0 || nrhs == 0 || !impl_->numeric) return;
+  if (impl_->kluStale) {  // KLU solves A^T on its own numeric object: bring it up to date
+    impl_->plan.writeBack(*impl_->numeric);
+    impl_->kluStale = false;
+  }
   klu_tsolve(impl_->symbolic, impl_->numeric, n_, nrhs, b, &impl_->common);
 }
 

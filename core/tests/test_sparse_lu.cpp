@@ -2,6 +2,8 @@
 // random nonsymmetric matrices with block triangular (BTF) structure and without, saddle-point
 // matrices with a zero (2,2) block, one to many right-hand sides, refactorisation with new values
 // on the same pattern, the fresh-pivoting fallback, singular matrices and transposed solves.
+// SparseLU refactorises with the old pivots by its own code (not klu_refactor): many
+// refactorisations are checked against the dense LU and against klu_refactor + klu_solve.
 #include <gtest/gtest.h>
 #include <klu.h>
 
@@ -171,6 +173,11 @@ class Klu {
   }
   int blocks() const { return symbolic_->nblocks; }
   int largestBlock() const { return symbolic_->maxblock; }
+  // klu_refactor with new values of the same pattern (the pivots of the first factorisation).
+  bool refactor(const Csc& a) {
+    return klu_refactor(const_cast<int*>(a.colPtr.data()), const_cast<int*>(a.rowIdx.data()),
+                        const_cast<double*>(a.values.data()), symbolic_, numeric_, &common_);
+  }
   MatrixXd solve(MatrixXd b) {
     klu_solve(symbolic_, numeric_, static_cast<int>(b.rows()), static_cast<int>(b.cols()), b.data(), &common_);
     return b;
@@ -295,6 +302,85 @@ TEST(SparseLU, RefactorisationWithNewValuesSolvesTheNewMatrix) {
   }
 }
 
+// Normwise backward error of X for A X = B: ||A X - B|| / (||A|| ||X|| + ||B||), infinity norms.
+double backwardError(const MatrixXd& a, const MatrixXd& x, const MatrixXd& b) {
+  const double na = a.cwiseAbs().rowwise().sum().maxCoeff();
+  const double nx = x.cwiseAbs().maxCoeff();
+  return (a * x - b).cwiseAbs().maxCoeff() / (na * nx + b.cwiseAbs().maxCoeff());
+}
+
+// Factorise once, then refactorise with new values (same pattern, moved by up to 30%) many
+// times: every solve against the dense LU (backward error ~1e-16) and against the old path,
+// klu_refactor + klu_solve in the first pivot order, to round-off; transposed solves too.
+// No fresh pivoting may happen (else the own refactorisation would not be what is tested).
+void expectRefactorisations(const Entries& e, bool scaling, int steps, std::mt19937& rng, const char* what) {
+  Csc a(size(e), e);
+  const std::vector<double> first = a.values;
+  SparseLU lu;
+  if (!scaling) lu.disableScaling();
+  lu.analyze(a.n, a.colPtr.data(), a.rowIdx.data());
+  ASSERT_TRUE(lu.factorize(a.values.data()));
+  Klu old(a, scaling);
+  for (int step = 0; step < steps; ++step) {
+    SCOPED_TRACE(::testing::Message() << what << ", n = " << a.n << ", step " << step
+                                      << (scaling ? ", KLU scaling" : ", no scaling"));
+    for (size_t p = 0; p < a.values.size(); ++p) a.values[p] = first[p] * (1.0 + uniform(rng, -0.3, 0.3));
+    ASSERT_TRUE(lu.factorize(a.values.data()));
+    ASSERT_TRUE(old.refactor(a));
+    const MatrixXd dense = a.dense();
+    const int nrhs = 1 + step % 3;
+    MatrixXd b(a.n, nrhs);
+    for (int i = 0; i < b.size(); ++i) b.data()[i] = uniform(rng, -1, 1);
+    MatrixXd x = b;
+    lu.solve(x.data(), nrhs);
+    EXPECT_LT(backwardError(dense, x, b), 1e-14);
+    EXPECT_LT(relative(x, Eigen::PartialPivLU<MatrixXd>(dense).solve(b)), 1e-10);
+    EXPECT_LT(relative(x, old.solve(b)), 1e-13);
+    if (step % 5 == 0) {  // A^T through KLU's numeric object, brought up to date from the plan
+      MatrixXd y = b;
+      lu.solveTransposed(y.data(), nrhs);
+      EXPECT_LT(backwardError(dense.transpose(), y, b), 1e-14);
+    }
+  }
+  EXPECT_EQ(lu.pivotings(), 1);
+  EXPECT_GT(lu.reciprocalCondition(), 1e-10);
+}
+
+TEST(SparseLU, OwnRefactorisationAgreesWithDenseLUAndKluRefactor) {
+  std::mt19937 rng(19);
+  for (const bool scaling : {false, true}) {
+    // Kinematic-Jacobian-like: many blocks of 1 to 7 rows (dense LU in the plan), coupled
+    // upwards; then larger blocks (solved by rows) as well.
+    for (const int n : {1, 5, 30, 31, 120}) {
+      expectRefactorisations(blockTriangular(n, 3, rng), scaling, 40, rng, "block triangular, blocks <= 3");
+      expectRefactorisations(blockTriangular(n, 7, rng), scaling, 40, rng, "block triangular, blocks <= 7");
+      expectRefactorisations(blockTriangular(n, 14, rng), scaling, 40, rng, "block triangular, blocks <= 14");
+    }
+    for (const int n : {2, 9, 40, 300}) expectRefactorisations(irreducible(n, rng), scaling, 20, rng, "irreducible");
+    for (const auto& [nh, m] : std::vector<std::pair<int, int>>{{2, 1}, {6, 2}, {30, 13}, {200, 70}})
+      expectRefactorisations(saddlePoint(nh, m, rng), scaling, 20, rng, "saddle point");
+  }
+}
+
+TEST(SparseLU, SingularRefactorisationOfALargerMatrix) {
+  // A block of a block triangular matrix made singular by new values (a column of zeros): false,
+  // and the next regular values are factorised and solved again.
+  std::mt19937 rng(20);
+  for (const bool scaling : {false, true}) {
+    Csc a(60, blockTriangular(60, 7, rng));
+    const std::vector<double> regular = a.values;
+    SparseLU lu;
+    if (!scaling) lu.disableScaling();
+    lu.analyze(a.n, a.colPtr.data(), a.rowIdx.data());
+    ASSERT_TRUE(lu.factorize(a.values.data()));
+    for (int p = a.colPtr[17]; p < a.colPtr[18]; ++p) a.values[p] = 0.0;
+    EXPECT_FALSE(lu.factorize(a.values.data()));
+    a.values = regular;
+    ASSERT_TRUE(lu.factorize(a.values.data()));
+    expectSolves(lu, a, {1, 2}, scaling, rng, "regular again");
+  }
+}
+
 TEST(SparseLU, PivotsAfreshWhenTheOldPivotsDegrade) {
   // [[10, 1], [1, 10]] pivots on the diagonal; with A(0,0) = 1e-20 that pivot order gives
   // U(1,1) = 10 - 1e20 (the 10 is lost), so the refactorisation must be rejected and redone.
@@ -307,7 +393,9 @@ TEST(SparseLU, PivotsAfreshWhenTheOldPivotsDegrade) {
     a.values = {10.0, 1.0, 1.0, 10.0};
     ASSERT_TRUE(lu.factorize(a.values.data()));
     a.values = {1e-20, 1.0, 1.0, 10.0};
+    EXPECT_EQ(lu.pivotings(), 1);
     ASSERT_TRUE(lu.factorize(a.values.data()));
+    EXPECT_EQ(lu.pivotings(), 2);  // the old pivots were rejected
     EXPECT_GT(lu.reciprocalCondition(), 1e-10);
     expectSolves(lu, a, {1, 2}, scaling, rng, "after the fallback");
   }
@@ -323,7 +411,15 @@ TEST(SparseLU, PivotsAfreshWhenTheOldPivotsDegrade) {
   ASSERT_TRUE(lu.factorize(b.values.data()));
   b.values[p00] = 1e-20;
   ASSERT_TRUE(lu.factorize(b.values.data()));
+  EXPECT_EQ(lu.pivotings(), 2);
   EXPECT_GT(lu.reciprocalCondition(), 1e-10);
+  // Refactorised with these new pivots many times over (the plan's maps follow the new order).
+  const std::vector<double> pivoted = b.values;
+  for (int step = 0; step < 10; ++step) {
+    for (size_t p = 0; p < b.values.size(); ++p) b.values[p] = pivoted[p] * (1.0 + uniform(rng, -0.2, 0.2));
+    ASSERT_TRUE(lu.factorize(b.values.data()));
+  }
+  EXPECT_EQ(lu.pivotings(), 2);
   expectSolves(lu, b, {3}, true, rng, "the 2 x 2 block in a larger matrix");
 }
 
