@@ -268,10 +268,13 @@ void GeometricTransferFunctions::evaluateElements(bool withJacobian) {
         e_[k] = de[i];
       }
     }
-    if (!withJacobian) continue;
-    const double* d = De.data();
-    for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
+    if (withJacobian) storeJacobian(el);
   }
+}
+
+void GeometricTransferFunctions::storeJacobian(size_t el) {
+  const double* d = elemJac_[el].data();
+  for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
 }
 
 void GeometricTransferFunctions::evaluateJacobians() {
@@ -279,10 +282,8 @@ void GeometricTransferFunctions::evaluateJacobians() {
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
     E.gather(x_, xe);
-    DefJac& De = elemJac_[el];
-    E.impl->jacobian(xe, De);
-    const double* d = De.data();
-    for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
+    E.impl->jacobian(xe, elemJac_[el]);
+    storeJacobian(el);
   }
 }
 

@@ -118,6 +118,7 @@ class GeometricTransferFunctions {
  private:
   void evaluateElements(bool withJacobian = true);  // e, element Jacobians, J values at x_
   void evaluateJacobians();  // element Jacobians and J values only
+  void storeJacobian(size_t el);  // element el's Jacobian into J's value slots
   void constraintTargets(double t, const Eigen::VectorXd& q);
   void inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek, int order) const;
   // rhs_r = b_r - (D_x v)_r for constrained rows; v holds known-coordinate values.

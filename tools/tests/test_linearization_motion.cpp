@@ -18,31 +18,15 @@
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
 #include "io/DatReader.hpp"
+#include "tools/tests/TestModels.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using test::dat;
+using test::swungArm;
 
 namespace {
-
-// A flexible arm of three PLBEAMs (elongation and bending free) swung by a prescribed hinge angle
-// (rheonomic input), with distributed and lumped mass, damping, gravity and a tip load.
-std::string swungArm() {
-  std::ostringstream s;
-  s << "PLHINGE 10  100 101\n";
-  for (int k = 1; k <= 3; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
-  for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
-  s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
-  for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
-  s << "END\nHALT\n";
-  s << "INPUTET 10 1 \"0.3 + 2*t + 0.75*t^2\" \"2 + 1.5*t\" \"1.5\"\n";
-  for (int k = 1; k <= 3; ++k)
-    s << "EM " << k << " 1.7 2e-4\nESTIFF " << k << " 4e4 30\nEDAMP " << k << " 2 0.05\n";
-  s << "XM 4 0.3\nXF 4 0.5 -2\nGRAVITY 0 -9.81\nEND\nEND\n";
-  return s.str();
-}
-
-std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
 
 // The pieces of the equations of motion at (eta, etad, etadd), computed the plain way.
 struct Pieces {

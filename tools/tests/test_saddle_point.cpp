@@ -12,29 +12,14 @@
 #include "core/EquationsOfMotion.hpp"
 #include "io/DatReader.hpp"
 #include "tools/analysis/Simulation.hpp"
+#include "tools/tests/TestModels.hpp"
 
 using namespace flexmb;
 using Eigen::VectorXd;
+using test::dat;
+using test::swungArm;
 
 namespace {
-
-std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
-
-// A flexible arm swung by a prescribed hinge angle (INPUTE), damping, gravity, lumped and
-// distributed mass, a tip load.
-std::string swungArm() {
-  std::ostringstream s;
-  s << "PLHINGE 10  100 101\n";
-  for (int k = 1; k <= 3; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
-  for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
-  s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
-  for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
-  s << "END\nHALT\n";
-  s << "INPUTET 10 1 \"0.3 + 2*t + 0.75*t^2\" \"2 + 1.5*t\" \"1.5\"\n";
-  for (int k = 1; k <= 3; ++k) s << "EM " << k << " 1.7 2e-4\nESTIFF " << k << " 4e4 30\nEDAMP " << k << " 2 0.05\n";
-  s << "XM 4 0.3\nXF 4 0.5 -2\nGRAVITY 0 -9.81\nEND\nEND\n";
-  return s.str();
-}
 
 // A flexible pendulum on a cart: the cart's x is a DYNX coordinate (or, with `driven`, prescribed
 // in time by INPUTXT), the pendulum hangs from a free hinge.

@@ -11,6 +11,7 @@
 
 #include "core/EquationsOfMotion.hpp"
 #include "io/DatReader.hpp"
+#include "tools/tests/TestModels.hpp"
 
 extern "C" void* __libc_malloc(size_t);
 extern "C" void* __libc_calloc(size_t, size_t);
@@ -35,26 +36,12 @@ extern "C" void* realloc(void* p, size_t n) {
 }
 
 using namespace flexmb;
+using test::dat;
 
 namespace {
 
-std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
-
-// A flexible arm swung by a prescribed hinge angle (rheonomic input), with damping, gravity,
-// lumped and distributed mass and a time-dependent tip force: every optional term of Eq. 13.
-std::string swungArm() {
-  std::ostringstream s;
-  s << "PLHINGE 10  100 101\n";
-  for (int k = 1; k <= 3; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
-  for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
-  s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
-  for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
-  s << "END\nHALT\n";
-  s << "INPUTET 10 1 \"0.3 + 2*t\" \"2\" \"0\"\n";
-  for (int k = 1; k <= 3; ++k) s << "EM " << k << " 1.7 2e-4\nESTIFF " << k << " 4e4 30\nEDAMP " << k << " 2 0.05\n";
-  s << "XM 4 0.3\nXFT 4 2 \"-2*sin(5*t)\"\nGRAVITY 0 -9.81\nEND\nEND\n";
-  return s.str();
-}
+// The swung arm with a time-dependent tip force (XFT): every optional term of Eq. 13.
+std::string swungArm() { return test::swungArm("\"0.3 + 2*t\" \"2\" \"0\"", "XFT 4 2 \"-2*sin(5*t)\"\n"); }
 
 // Allocations during `calls` right-hand sides at slowly changing states.
 long allocationsPerRun(const core::Model& m, std::optional<Eigen::MatrixXd> V, core::DynamicsForm form, int calls) {
