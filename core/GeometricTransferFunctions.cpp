@@ -108,8 +108,8 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   analysePlacements();
 
   x_ = model.x0;
-  lastGood_ = model.x0;
-  e_ = Eigen::VectorXd::Zero(ne);
+  lastGood_ = anchor_ = model.x0;
+  e_ = lastGoodE_ = anchorE_ = Eigen::VectorXd::Zero(ne);
   target_ = Eigen::VectorXd::Zero(numConstraints());
   rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
   work_ = Eigen::VectorXd::Zero(nx);
@@ -208,6 +208,22 @@ Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
 
 void GeometricTransferFunctions::setConfiguration(const Eigen::VectorXd& x) {
   x_ = lastGood_ = x;
+  lastGoodE_ = e_;
+  consistent_ = false;
+  hasCurvature_ = false;
+}
+
+void GeometricTransferFunctions::setAnchor() {
+  if (!consistent_) return;
+  anchor_ = x_;
+  anchorE_ = e_;
+  hasAnchor_ = true;
+}
+
+void GeometricTransferFunctions::restartFromAnchor() {
+  if (!hasAnchor_) return;
+  x_ = lastGood_ = anchor_;
+  e_ = lastGoodE_ = anchorE_;
   consistent_ = false;
   hasCurvature_ = false;
 }
@@ -293,22 +309,37 @@ void GeometricTransferFunctions::solvePositions(double t, const Eigen::VectorXd&
                           "the kinematic equations are not square (" + std::to_string(numCalculable()) +
                               " calculable coordinates, " + std::to_string(numConstraints()) +
                               " constraints); run `flexmb check`");
-  // A failed solve from a warm start far away (a trial state of the integrator) is retried once
-  // from the last converged configuration; a diverged iterate is never kept as the next start.
+  // A failed solve from a warm start far away (a trial state of the integrator) is retried from the
+  // last converged configuration, then from the anchor (that converged configuration may itself be
+  // a far trial state); a diverged iterate is never kept as the next start.
   const bool warmIsLastGood = x_ == lastGood_;
   try {
     newton(t, q);
-  } catch (const KinematicsError&) {
-    x_ = lastGood_;
-    if (warmIsLastGood) throw;
-    try {
-      newton(t, q);
-    } catch (const KinematicsError&) {
+  } catch (const KinematicsError& first) {
+    KinematicsError error = first;
+    const bool solved = (!warmIsLastGood && retryNewton(t, q, lastGood_, lastGoodE_, error)) ||
+                        (hasAnchor_ && anchor_ != lastGood_ && retryNewton(t, q, anchor_, anchorE_, error));
+    if (!solved) {
       x_ = lastGood_;
-      throw;
+      e_ = lastGoodE_;
+      throw error;
     }
   }
   lastGood_ = x_;
+  lastGoodE_ = e_;
+}
+
+bool GeometricTransferFunctions::retryNewton(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& x,
+                                             const Eigen::VectorXd& e, KinematicsError& error) {
+  x_ = x;
+  e_ = e;  // the reference of calculable periodic angles
+  try {
+    newton(t, q);
+    return true;
+  } catch (const KinematicsError& again) {
+    error = again;
+    return false;
+  }
 }
 
 double GeometricTransferFunctions::predict() {

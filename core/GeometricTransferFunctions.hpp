@@ -48,6 +48,13 @@ class GeometricTransferFunctions {
 
   // Sets a new warm start (e.g. to restart from the initial configuration).
   void setConfiguration(const Eigen::VectorXd& x);
+  // The anchor: the configuration of the integrator's last accepted state. setAnchor() makes the
+  // configuration just solved the anchor (ignored when the last solve failed); a solve that fails
+  // from its warm start and from the last converged configuration is retried from the anchor, and
+  // restartFromAnchor() makes it the next warm start (before an integrator retries a rejected step,
+  // whose trial states may have converged far away or on another assembly branch).
+  void setAnchor();
+  void restartFromAnchor();
   // Second-order predictor (Eq. 8b): d2 = D2[xd, xd] (ne) of the configuration just solved, with
   // xd = F_q qd. When the next change of q is s qd (as between the stages of an integrator),
   // usePredictorCurvature(s) before the next solvePositions adds s^2/2 F_qq[qd, qd] to the linear
@@ -140,7 +147,11 @@ class GeometricTransferFunctions {
   double lengthScale_ = 1.0;
 
   bool hasDynamicCoords_ = false;
-  Eigen::VectorXd lastGood_;  // last converged configuration: the restart point after a failure
+  Eigen::VectorXd lastGood_, lastGoodE_;  // last converged configuration: the restart point after a failure
+  Eigen::VectorXd anchor_, anchorE_;      // the integrator's last accepted configuration (setAnchor)
+  bool hasAnchor_ = false;
+  bool retryNewton(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& x, const Eigen::VectorXd& e,
+                   KinematicsError& error);
   void newton(double t, const Eigen::VectorXd& q);
   // Open chains (design: no iteration where the topology allows): the elements in placement order,
   // each placing one end from the other with its closed form (Element::place). Empty when the

@@ -29,9 +29,6 @@ struct BdfOptions {
 // it). Throw RhsError when it cannot be evaluated there (CVODE retries with a smaller step).
 using OdeJacobian = std::function<void(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy,
                                        Eigen::Ref<Eigen::MatrixXd> J)>;
-// Called with (t0, y0) before the first step and with every accepted state (t, y) from which the
-// integration continues. Throwing RhsError stops the run (status RhsFailed) with its message.
-using OdeStepHook = std::function<void(double t, const Eigen::VectorXd& y)>;
 
 class Bdf {
  public:
@@ -46,7 +43,7 @@ class Bdf {
   // (the outputs before it have been observed); invalid arguments throw std::invalid_argument.
   OdeResult integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std::vector<double>& tspan,
                       const Eigen::VectorXd& y0, const OdeObserver& observer,
-                      const OdeStepHook& accepted = {}) const;
+                      const OdeStepHook& accepted = {}) const;  // (t0, y0) first, then every accepted state
 
   // Ode45's three lines, then "12 Jacobian evaluations\n40 linear-solver set-ups\n" (and the
   // evaluations spent on difference-quotient Jacobians when there were any).

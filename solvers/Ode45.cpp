@@ -58,12 +58,16 @@ Ode45::Ode45(Ode45Options options) : opt_(std::move(options)) {
 }
 
 std::string Ode45::formatStats(const OdeStats& s) {
-  return std::to_string(s.nsteps) + " successful steps\n" + std::to_string(s.nfailed) +
-         " failed attempts\n" + std::to_string(s.nfevals) + " function evaluations\n";
+  std::string out = std::to_string(s.nsteps) + " successful steps\n" + std::to_string(s.nfailed) +
+                    " failed attempts\n" + std::to_string(s.nfevals) + " function evaluations\n";
+  if (s.nrhsfailed > 0)
+    out += "(" + std::to_string(s.nrhsfailed) + " of the failed attempts: the right-hand side failed at a trial state)\n";
+  return out;
 }
 
 OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
-                           const OdeObserver& observer) const {
+                           const OdeObserver& observer, const OdeStepHook& accepted,
+                           const OdeStepHook& retry) const {
   using Eigen::VectorXd;
   const Eigen::Index n = y0.size();
   const std::size_t ntspan = tspan.size();
@@ -99,6 +103,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   res.tLast = t0;
   OdeStats& st = res.stats;
   std::string failure;  // reason of a failed rhs evaluation
+  bool aborted = false;  // the failure was an RhsAbort: stop at once
 
   // One rhs evaluation; false (with `failure` set) on RhsError or a non-finite input or value.
   auto eval = [&](double tt, const VectorXd& yy, VectorXd& dy) -> bool {
@@ -109,6 +114,10 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
     ++st.nfevals;
     try {
       f(tt, yy, dy);
+    } catch (const RhsAbort& e) {
+      failure = "right-hand side failed at t = " + num(tt) + ": " + e.what();
+      aborted = true;
+      return false;
     } catch (const RhsError& e) {
       failure = "right-hand side failed at t = " + num(tt) + ": " + e.what();
       return false;
@@ -125,13 +134,23 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
     res.message = std::move(msg);
     return res;
   };
-  // A failure inside the stages of a trial step: MATLAB's ode45 has no such outcome (its rhs cannot
-  // fail), so the run stops as SPACAR's does, saying where and what usually helps.
-  auto inTrialStep = [&](double tt, double hh) {
-    return " (inside a trial step of size " + num(hh) + " from the accepted state at t = " + num(tt) +
-           "; results up to there are kept. A step far too large for the stiffest mode fails like this: "
-           "limit the step size (a maximum step or more output intervals). If the step is already small, "
-           "the model itself fails there, e.g. a singular configuration)";
+  // A right-hand side that fails at every trial state down to the minimum step: the solution itself
+  // runs into the failure (MATLAB's ode45 has no such outcome: its right-hand sides do not fail).
+  auto atMinimumStep = [&](double tt, double hh) {
+    return " (trial steps from the accepted state at t = " + num(tt) + " failed down to the minimum step " +
+           num(hh) + "; results up to there are kept. The model itself fails there, e.g. a singular "
+           "configuration or a load it cannot carry)";
+  };
+  // The hooks may throw RhsError: the run stops with its message.
+  auto hook = [&](const OdeStepHook& h, double tt, const VectorXd& yy) -> bool {
+    if (!h) return true;
+    try {
+      h(tt, yy);
+    } catch (const RhsError& e) {
+      failure = e.what();
+      return false;
+    }
+    return true;
   };
   auto stopped = [&](double tt) {
     return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt));
@@ -140,6 +159,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   double t = t0;
   // Step 1: f1 = f(t0, y0).
   if (!eval(t, y, k[0])) return fail(OdeStatus::RhsFailed, failure);
+  if (!hook(accepted, t, y)) return fail(OdeStatus::RhsFailed, failure);
   if (!observer(t, y)) return stopped(t);
 
   // Step 2: initial step.
@@ -177,6 +197,9 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
       if (A[row][i] != 0.0) out += A[row][i] * k[i];
   };
 
+  // The last right-hand-side failure since a step was last accepted at its first attempt: the reason
+  // a step-size underflow at the end of such a streak names (the solution running into a fold).
+  std::string streakFailure;
   bool done = false;
   while (true) {
     // Step 3: clip the step, the 1.1 rule.
@@ -189,51 +212,69 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
       done = true;
     }
     bool nofailed = true;
-    double err, tnew;
+    double err = 0.0, tnew;
     while (true) {
       // Step 4: stages k2..k6 (y + h*(sum_i a_ji k_i), the order of MATLAB's ode45), then tnew,
       // the purified h = tnew - t, ynew from b and the FSAL stage k7.
-      for (int j = 1; j <= 5; ++j) {
+      bool rhsFailed = false;
+      for (int j = 1; j <= 5 && !rhsFailed; ++j) {
         combine(j - 1, j, ytmp);
         ytmp = y + h * ytmp;
-        if (!eval(t + C[j] * h, ytmp, k[j])) return fail(OdeStatus::RhsFailed, failure + inTrialStep(t, h));
+        rhsFailed = !eval(t + C[j] * h, ytmp, k[j]);
       }
-      tnew = done ? tf : t + h;
-      h = tnew - t;
-      combine(5, 6, ynew);
-      ynew = y + h * ynew;
-      if (!eval(tnew, ynew, k[6])) return fail(OdeStatus::RhsFailed, failure + inTrialStep(t, h));
-
-      // Step 5: err = absh * max_i |sum_j E_j k_j,i| / max(|y_i|, |ynew_i|, threshold_i).
-      double m = 0.0;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        double e = 0.0;
-        for (int j = 0; j < 7; ++j) e += E[j] * k[j][i];
-        const double sc = std::max({std::fabs(y[i]), std::fabs(ynew[i]), threshold[i]});
-        m = std::max(m, std::fabs(e) / sc);
+      if (!rhsFailed) {
+        tnew = done ? tf : t + h;
+        h = tnew - t;
+        combine(5, 6, ynew);
+        ynew = y + h * ynew;
+        rhsFailed = !eval(tnew, ynew, k[6]);
       }
-      err = absh * m;
-      if (err <= rtol) break;
+      if (aborted) return fail(OdeStatus::RhsFailed, failure);
 
-      // Step 6: rejected.
+      if (!rhsFailed) {
+        // Step 5: err = absh * max_i |sum_j E_j k_j,i| / max(|y_i|, |ynew_i|, threshold_i).
+        double m = 0.0;
+        for (Eigen::Index i = 0; i < n; ++i) {
+          double e = 0.0;
+          for (int j = 0; j < 7; ++j) e += E[j] * k[j][i];
+          const double sc = std::max({std::fabs(y[i]), std::fabs(ynew[i]), threshold[i]});
+          m = std::max(m, std::fabs(e) / sc);
+        }
+        err = absh * m;
+        if (err <= rtol) break;
+      }
+
+      // Step 6: rejected. A failed right-hand side counts as an infinite error: a trial state far
+      // off the solution (stages of a step much too large for the stiffest mode) may have no
+      // configuration at all, where the solution has one.
       ++st.nfailed;
-      if (absh <= hmin)
+      if (rhsFailed) ++st.nrhsfailed, streakFailure = failure;
+      if (absh <= hmin) {
+        if (rhsFailed) return fail(OdeStatus::RhsFailed, failure + atMinimumStep(t, absh));
         return fail(OdeStatus::StepSizeUnderflow,
-                    "step size underflow at t = " + num(t) + ": tolerance cannot be met (h = " +
-                        num(absh) + " <= hmin = " + num(hmin) + ")");
+                    "step size underflow at t = " + num(t) + ": tolerance cannot be met (h = " + num(absh) +
+                        " <= hmin = " + num(hmin) + ")" +
+                        (streakFailure.empty() ? "" : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure));
+      }
       if (nofailed) {
         nofailed = false;
-        absh = std::max(hmin, absh * std::max(0.1, 0.8 * std::pow(rtol / err, kPow)));
+        const double shrink = rhsFailed ? 0.1 : std::max(0.1, 0.8 * std::pow(rtol / err, kPow));
+        absh = std::max(hmin, absh * shrink);
       } else {
         absh = std::max(hmin, 0.5 * absh);
       }
       h = tdir * absh;
       done = false;
+      // An attempt far off the solution (a failed right-hand side, or an error estimate of more than
+      // 100% relative) may have left the caller's state (a warm start) anywhere: the caller resets it.
+      if ((rhsFailed || err > 1.0) && !hook(retry, t, y)) return fail(OdeStatus::RhsFailed, failure);
     }
 
     // Step 7: accepted; emit output.
     ++st.nsteps;
+    if (nofailed) streakFailure.clear();
     res.tLast = tnew;
+    if (!hook(accepted, tnew, ynew)) return fail(OdeStatus::RhsFailed, failure);
     if (refineOutput) {
       for (int j = 1; j < refine; ++j) {  // interior points at s = j/refine
         const double tq = t + h * (static_cast<double>(j) / refine);

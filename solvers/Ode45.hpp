@@ -25,10 +25,21 @@ class Ode45 {
 
   // tspan = [t0, tf]: Refine output (1 + refine*nsteps points); longer and monotonic: output exactly
   // at those times via the interpolant. tf < t0 integrates backwards.
+  // A right-hand side that throws RhsError at a trial state rejects the attempt like an infinite
+  // error estimate (the step shrinks tenfold, then halves); the run stops (RhsFailed, with the
+  // reason) where it fails at the initial state or at the minimum step. RhsAbort stops at once.
+  // MATLAB's counts are untouched: its right-hand sides do not fail.
+  // accepted: called with (t0, y0) after f(t0, y0) and with every accepted (tnew, ynew), right after
+  // its FSAL evaluation f(tnew, ynew), which is therefore the last evaluation before the call.
+  // retry: called with the accepted (t, y) before a step is attempted again whose rejected attempt was
+  // far off the solution: its right-hand side failed or its error estimate exceeded 1 (100% relative;
+  // ordinary rejections, e.g. of a stiff model's steps at its stability limit, stay far below).
   OdeResult integrate(const OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
-                      const OdeObserver& observer) const;
+                      const OdeObserver& observer, const OdeStepHook& accepted = {},
+                      const OdeStepHook& retry = {}) const;
 
-  // "14 successful steps\n2 failed attempts\n97 function evaluations\n"
+  // "14 successful steps\n2 failed attempts\n97 function evaluations\n", and "(2 of the failed
+  // attempts: the right-hand side failed at a trial state)\n" when that happened.
   static std::string formatStats(const OdeStats& s);
 
   const Ode45Options& options() const { return opt_; }

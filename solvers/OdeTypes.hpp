@@ -12,6 +12,8 @@ namespace flexmb::solvers {
 
 struct OdeStats {
   long nsteps = 0, nfailed = 0, nfevals = 0;
+  // Failed attempts (counted in nfailed) whose right-hand side failed at a trial state (Ode45).
+  long nrhsfailed = 0;
   // Implicit integrators only (0 for Ode45): Jacobian evaluations (analytic or difference quotients),
   // the right-hand-side evaluations among nfevals spent on difference-quotient Jacobians, and the
   // linear-solver set-ups (LU factorisations of I - gamma J).
@@ -52,5 +54,8 @@ class RhsAbort : public RhsError {
 using OdeRhs = std::function<void(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt)>;
 // Called for every output point in order of integration, including t0; return false to stop.
 using OdeObserver = std::function<bool(double t, const Eigen::VectorXd& y)>;
+// Called with a state (t, y) of the solution: the accepted ones (t0 included) or the one a rejected
+// step is retried from. Throwing RhsError stops the run (status RhsFailed) with its message.
+using OdeStepHook = std::function<void(double t, const Eigen::VectorXd& y)>;
 
 }  // namespace flexmb::solvers

@@ -191,13 +191,19 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     o.relTol = relTol;
     o.absTol = Eigen::VectorXd::Constant(1, absTol);
     o.maxStep = maxStep;
-    r = solvers::Ode45(o).integrate(f, tspan, y0, observer);
+    // The kinematics of every accepted state become the anchor: a rejected step is retried from it,
+    // not from its own trial states (far off the solution or on another assembly branch), and a
+    // solve that fails from its warm start is retried from it.
+    auto anchorHere = [&](double, const Eigen::VectorXd&) { eom.kinematics().setAnchor(); };
+    auto restartFromAnchor = [&](double, const Eigen::VectorXd&) { eom.kinematics().restartFromAnchor(); };
+    r = solvers::Ode45(o).integrate(f, tspan, y0, observer, anchorHere, restartFromAnchor);
   }
   if (printed) std::fprintf(stderr, "\n");
   traj.integrator = integratorName(opt.integrator);
   traj.nsteps = r.stats.nsteps;
   traj.nfailed = r.stats.nfailed;
   traj.nfevals = r.stats.nfevals;
+  traj.nrhsfailed = r.stats.nrhsfailed;
   traj.njacevals = r.stats.njacevals;
   traj.nlinsetups = r.stats.nlinsetups;
   if (stoppedByUser) {
@@ -244,6 +250,7 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     all.nsteps += part.nsteps;
     all.nfailed += part.nfailed;
     all.nfevals += part.nfevals;
+    all.nrhsfailed += part.nrhsfailed;
     all.njacevals += part.njacevals;
     all.nlinsetups += part.nlinsetups;
     if (!part.completed || end.y.size() == 0) {

@@ -158,7 +158,10 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
   };
   const VectorXd y0 = eom.initialState();
   solvers::Ode45 ode(o);
-  const solvers::OdeResult res = ode.integrate(f, p.tspan, y0, observer);
+  // As analysis::simulate: the accepted configuration is the kinematics' anchor.
+  const solvers::OdeResult res = ode.integrate(
+      f, p.tspan, y0, observer, [&](double, const VectorXd&) { eom.kinematics().setAnchor(); },
+      [&](double, const VectorXd&) { eom.kinematics().restartFromAnchor(); });
   r.wall = since(start);
   r.fevals = res.stats.nfevals;
   r.nsteps = res.stats.nsteps;

@@ -272,6 +272,7 @@ int runSimulate(const std::vector<std::string>& args) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solvers::OdeStats st{traj.nsteps, traj.nfailed, traj.nfevals};
   st.njacevals = traj.njacevals;
+  st.nrhsfailed = traj.nrhsfailed;
   st.nlinsetups = traj.nlinsetups;
   std::cout << (bdf ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";

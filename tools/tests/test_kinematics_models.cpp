@@ -155,6 +155,62 @@ TEST(GeometricTransferFunctions, StraightGuidanceFirstOrderMatchesFiniteDifferen
   EXPECT_LT((FqV - Fq * V).norm(), 1e-12 * (Fq * V).norm());
 }
 
+// The anchor (the integrator's last accepted configuration, set by setAnchor) is where a solve that
+// fails from its warm start starts again, and where restartFromAnchor puts the warm start (an
+// integrator retrying a rejected step whose trial states converged on another assembly branch).
+TEST(GeometricTransferFunctions, AnchorIsTheFallbackStartAndTheRestartPoint) {
+  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  m.settings.kinematicTol = 1e-14;
+  FourBar fb;
+  const int cx = coordOf(m, 3, 0), cy = coordOf(m, 3, 1), bx = coordOf(m, 2, 0), by = coordOf(m, 2, 1);
+  const int coupler[2] = {coordOf(m, 21, 0), coordOf(m, 22, 0)}, rocker[2] = {coordOf(m, 31, 0), coordOf(m, 32, 0)};
+  const double q = 0.05, theta = M_PI / 2 + q;
+  const Eigen::VectorXd Q = Eigen::VectorXd::Constant(1, q);
+  const Eigen::Vector2d B(fb.L1 * std::cos(theta), fb.L1 * std::sin(theta)), D(fb.L4, 0.0);
+  const Eigen::Vector2d open = fb.pointC(theta);
+  // The crossed assembly: C mirrored about the line B-D.
+  const Eigen::Vector2d u = (D - B).normalized();
+  const Eigen::Vector2d crossed = B + 2 * (open - B).dot(u) * u - (open - B);
+  auto distanceTo = [&](const Eigen::VectorXd& x, const Eigen::Vector2d& C) {
+    return std::hypot(x[cx] - C.x(), x[cy] - C.y());
+  };
+
+  core::GeometricTransferFunctions gtf(m);
+  gtf.solvePositions(0.0, Eigen::VectorXd::Zero(1));
+  gtf.setAnchor();
+  const Eigen::VectorXd start = gtf.x();
+
+  // 1. A warm start Newton cannot use (the coupler of zero length: non-finite deformations) fails
+  //    without an anchor and is retried from the anchor with one.
+  Eigen::VectorXd degenerate = start;
+  degenerate[cx] = degenerate[bx], degenerate[cy] = degenerate[by];
+  core::GeometricTransferFunctions plain(m);
+  plain.setConfiguration(degenerate);
+  EXPECT_THROW(plain.solvePositions(0.0, Q), core::KinematicsError);
+  gtf.setConfiguration(degenerate);
+  ASSERT_NO_THROW(gtf.solvePositions(0.0, Q));
+  EXPECT_LT(distanceTo(gtf.x(), open), 1e-10);
+
+  // 2. From the crossed assembly Newton stays on it; restartFromAnchor returns to the open one.
+  Eigen::VectorXd x = start;
+  x[cx] = crossed.x(), x[cy] = crossed.y();
+  for (int i : coupler) x[i] = std::atan2(crossed.y() - B.y(), crossed.x() - B.x());
+  for (int i : rocker) x[i] = std::atan2(crossed.y(), crossed.x() - fb.L4);
+  gtf.setConfiguration(x);
+  gtf.solvePositions(0.0, Q);
+  EXPECT_LT(distanceTo(gtf.x(), crossed), 1e-10);  // the premise: another branch, same q
+  gtf.restartFromAnchor();
+  gtf.solvePositions(0.0, Q);
+  EXPECT_LT(distanceTo(gtf.x(), open), 1e-10);
+
+  // 3. setAnchor after a failed solve keeps the previous anchor (here: none).
+  plain.setConfiguration(degenerate);
+  EXPECT_THROW(plain.solvePositions(0.0, Q), core::KinematicsError);
+  plain.setAnchor();  // ignored: the last solve failed
+  plain.setConfiguration(degenerate);
+  EXPECT_THROW(plain.solvePositions(0.0, Q), core::KinematicsError);
+}
+
 TEST(GeometricTransferFunctions, SingularOrUnsquareKinematicsAreReportedNotIgnored) {
   const core::Model m = io::readDatFile(dat("tests/underconstrained.dat"));
   core::GeometricTransferFunctions gtf(m);

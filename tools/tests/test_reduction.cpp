@@ -156,3 +156,38 @@ TEST(Reduction, MassNormalisedModalCountsNearThePapers) {
     EXPECT_NEAR(t.nfevals / paper, 1.0, 0.15) << "MODAL-" << r << ": " << t.nfevals << " evaluations, paper " << paper;
   }
 }
+
+// MATLAB's plain call ode45(f, [0 T], y0) (no output grid: Refine output, first trial step hmax):
+// the trial stages of that first step are far off the solution, where the kinematics of both paper
+// models has no solution; such attempts are rejected and the runs complete. Their counts are the
+// paper's within 10% for MODAL-3 / MODAL-5 (issue 13; the grid's effect on the counts is in the
+// validation report), within 2% / 5% for the stability-bound full models.
+TEST(Reduction, PlainOde45CallRunsThePaperModels) {
+  auto count = [](const core::Model& m, std::optional<Eigen::MatrixXd> V) {
+    analysis::SimulationOptions so;
+    so.basis = std::move(V);
+    so.intervals = 0;
+    so.keepStates = false;
+    const core::Trajectory t = analysis::simulate(m, so);
+    EXPECT_TRUE(t.completed) << t.stopReason;
+    return t;
+  };
+  const core::Model g = io::readDatFile(dat("straight_guidance.dat"));
+  const core::Trajectory full = count(g, std::nullopt);
+  EXPECT_NEAR(full.nfevals / 46075.0, 1.0, 0.02) << full.nfevals;
+  for (const auto& [r, paper] : {std::pair<int, double>{3, 697.0}, {5, 1213.0}}) {
+    analysis::ReductionOptions o;
+    o.modes = r;
+    const core::Trajectory t = count(g, analysis::buildBasis(g, "", o).V);
+    EXPECT_NEAR(t.nfevals / paper, 1.0, 0.10) << "MODAL-" << r << ": " << t.nfevals << " evaluations, paper " << paper;
+    EXPECT_GT(full.nfevals, 30 * t.nfevals);
+  }
+  const core::Model m = io::readDatFile(dat("manipulator.dat"));
+  const core::Trajectory mfull = count(m, std::nullopt);
+  EXPECT_NEAR(mfull.nfevals / 345145.0, 1.0, 0.05) << mfull.nfevals;
+  EXPECT_GE(mfull.nrhsfailed, 1);  // the first trial step has no configuration
+  analysis::ReductionOptions o;
+  o.modes = 2;
+  const core::Trajectory mred = count(m, analysis::buildBasis(m, "", o).V);
+  EXPECT_GT(mfull.nfevals, 30 * mred.nfevals);
+}

@@ -69,8 +69,8 @@ TEST(StressLargeDeflection, GuidanceForceSweep) {
   }
 
   // 400 N: 2.1x the paper's range. With 5 PLBEAM per flexure the DYNE/RLSE parametrisation reaches a
-  // fold (|F_q| grows without bound, the kinematic Newton stalls) at t = 0.0937 s, independent of the
-  // integrator tolerance: the run must stop there with time and reason, keeping finite results whose
+  // fold (|F_q| grows without bound, the kinematic Newton stalls, the step size underflows) at
+  // t = 0.0937 s, independent of the integrator tolerance: the run must stop there with time and reason, keeping finite results whose
   // peak exceeds the 300 N peak. (10 PLBEAM per flexure pass: see the slow case below.) If a later
   // flexmb completes the run, the peak must still grow.
   GuidanceOptions o;
@@ -88,7 +88,12 @@ TEST(StressLargeDeflection, GuidanceForceSweep) {
     const double ts = stopTime(tr.stopReason);
     EXPECT_TRUE(std::isfinite(ts)) << "the stop reason must name the time: " << tr.stopReason;
     EXPECT_GT(ts, 0.05) << tr.stopReason;
-    EXPECT_NE(tr.stopReason.find("kinematics failed"), std::string::npos) << tr.stopReason;
+    // The kinematic Newton fails there, or (since a rejected step restarts from the accepted
+    // configuration) the steps shrink to the minimum against the fold before it does.
+    EXPECT_TRUE(tr.stopReason.find("kinematics failed") != std::string::npos ||
+                tr.stopReason.find("step size underflow") != std::string::npos)
+        << tr.stopReason;
+    EXPECT_NEAR(ts, 0.0937, 5e-4) << tr.stopReason;
     ASSERT_FALSE(tr.time.empty());
     EXPECT_LE(tr.time.back(), ts) << "results before the stop are kept, none after it";
   }
@@ -189,26 +194,35 @@ TEST(StressStiffSoft, ShortDynamicRun) {
   EXPECT_NEAR(tmax, std::numbers::pi / 14.1308, 0.03);  // the second mode (139 rad/s) shifts the peak a little
 }
 
-// The same run with ode45's default first step (min(hmax, first output interval) = 1e-3 s): the
-// stages of that first attempt blow up in the stiff modes and the kinematic Newton fails inside a
-// stage. MATLAB's ode45 has no such outcome (its rhs cannot fail) and SPACAR stops there, so flexmb
-// stops too: the expected outcome is a diagnostic naming the time, the reason and the remedy.
+// The same model with ode45's default first step (min(hmax, first output interval) = 1e-3 s): the
+// stages of that first attempt blow up in the stiff modes to states where the kinematic Newton
+// finds no configuration. Such an attempt is rejected like an infinite error estimate (the step
+// shrinks tenfold, then halves) and the run goes on; it must agree with the run whose steps are
+// limited from the start (maxStep 1e-5).
 TEST(StressStiffSoft, ShortDynamicRunDefaultFirstStep) {
   const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
-  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 1e-4\nTIMESTEP 0.01 10"), "stiffsoft.dat");
+  const double P = 1e-4, wStatic = segmentedTipDeflection(segs, P);
+  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.01 10"), "stiffsoft.dat");
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, {});
-  summary("2 stiff/soft dynamics (defaults)", tr.completed ? "completed" : "stopped (diagnostic)",
-          "nfevals " + std::to_string(tr.nfevals) + (tr.completed ? "" : "; " + tr.stopReason), sw.seconds());
+  analysis::SimulationOptions limited;
+  limited.maxStep = 1e-5;
+  const core::Trajectory ref = analysis::simulate(m, limited);
+  double worst = 0.0;
+  const int tip = coordIndex(m, 3, 2);
+  for (size_t k = 0; k < std::min(tr.states.size(), ref.states.size()); ++k)
+    worst = std::max(worst, std::abs(tr.states[k].x[tip] - ref.states[k].x[tip]));
+  summary("2 stiff/soft dynamics (defaults)", tr.completed ? "verified" : "STOPPED",
+          "nfevals " + std::to_string(tr.nfevals) + ", " + std::to_string(tr.nrhsfailed) +
+              " attempts rejected where the kinematics failed; tip against maxStep 1e-5: " + num(worst / wStatic) +
+              " x static" + (tr.completed ? "" : "; " + tr.stopReason),
+          sw.seconds());
+  ASSERT_TRUE(tr.completed) << tr.stopReason;
+  ASSERT_TRUE(ref.completed) << ref.stopReason;
+  EXPECT_GE(tr.nrhsfailed, 1);  // the premise: the first trial step has no configuration
   EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
-  if (tr.completed) return;  // a verified completion would also be acceptable
-  EXPECT_TRUE(contains(tr.stopReason, "right-hand side failed at t = ")) << tr.stopReason;
-  EXPECT_TRUE(contains(tr.stopReason, "Newton")) << tr.stopReason;
-  EXPECT_TRUE(contains(tr.stopReason, "inside a trial step of size")) << tr.stopReason;
-  EXPECT_TRUE(contains(tr.stopReason, "maximum step")) << tr.stopReason;
-  // Results before the failing step are kept (here the initial state).
-  ASSERT_FALSE(tr.states.empty());
-  EXPECT_DOUBLE_EQ(tr.time.front(), 0.0);
+  ASSERT_EQ(tr.time.size(), ref.time.size());
+  EXPECT_LT(worst, 1e-2 * wStatic);
 }
 
 // =================================================================================================
