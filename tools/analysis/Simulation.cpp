@@ -22,6 +22,15 @@ double kinematicTolerance(const core::AnalysisSettings& s, double relTol) {
   return s.kinematicTolGiven ? std::min(s.kinematicTol, derived) : derived;
 }
 
+solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::Ode45Options& options,
+                                  const solvers::OdeRhs& f, const std::vector<double>& tspan,
+                                  const Eigen::VectorXd& y0, const solvers::OdeObserver& observer) {
+  core::GeometricTransferFunctions& kinematics = eom.kinematics();
+  return solvers::Ode45(options).integrate(
+      f, tspan, y0, observer, [&](double, const Eigen::VectorXd&) { kinematics.setAnchor(); },
+      [&](double, const Eigen::VectorXd&) { kinematics.restartFromAnchor(); });
+}
+
 const char* integratorName(Integrator i) { return i == Integrator::Bdf ? "bdf" : "ode45"; }
 
 std::optional<Integrator> parseIntegrator(const std::string& name) {
@@ -191,12 +200,7 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     o.relTol = relTol;
     o.absTol = Eigen::VectorXd::Constant(1, absTol);
     o.maxStep = maxStep;
-    // The kinematics of every accepted state become the anchor: a rejected step is retried from it,
-    // not from its own trial states (far off the solution or on another assembly branch), and a
-    // solve that fails from its warm start is retried from it.
-    auto anchorHere = [&](double, const Eigen::VectorXd&) { eom.kinematics().setAnchor(); };
-    auto restartFromAnchor = [&](double, const Eigen::VectorXd&) { eom.kinematics().restartFromAnchor(); };
-    r = solvers::Ode45(o).integrate(f, tspan, y0, observer, anchorHere, restartFromAnchor);
+    r = integrateOde45(eom, o, f, tspan, y0, observer);
   }
   if (printed) std::fprintf(stderr, "\n");
   traj.integrator = integratorName(opt.integrator);

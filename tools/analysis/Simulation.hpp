@@ -11,6 +11,7 @@
 #include "core/EquationsOfMotion.hpp"
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
+#include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {
 
@@ -46,6 +47,13 @@ core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt
 // must stay far below the integration tolerance (else they are RHS noise) and need be no smaller:
 // 1e-5 relTol but at most 1e-10, or the file's EPSKIN / ITERSTEP tolerance where that is tighter.
 double kinematicTolerance(const core::AnalysisSettings& settings, double relTol);
+
+// ode45 on the equations of motion as simulate runs it (the benchmark too): the configuration of every
+// accepted state becomes the kinematics' anchor, and an attempt far off the solution restarts from
+// it, never from its own trial states (which may have converged on another assembly branch).
+solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::Ode45Options& options,
+                                  const solvers::OdeRhs& f, const std::vector<double>& tspan,
+                                  const Eigen::VectorXd& y0, const solvers::OdeObserver& observer);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts

@@ -157,11 +157,7 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
     return true;
   };
   const VectorXd y0 = eom.initialState();
-  solvers::Ode45 ode(o);
-  // As analysis::simulate: the accepted configuration is the kinematics' anchor.
-  const solvers::OdeResult res = ode.integrate(
-      f, p.tspan, y0, observer, [&](double, const VectorXd&) { eom.kinematics().setAnchor(); },
-      [&](double, const VectorXd&) { eom.kinematics().restartFromAnchor(); });
+  const solvers::OdeResult res = analysis::integrateOde45(eom, o, f, p.tspan, y0, observer);  // as simulate
   r.wall = since(start);
   r.fevals = res.stats.nfevals;
   r.nsteps = res.stats.nsteps;
