@@ -20,7 +20,7 @@
 //     block continues from its end: the current time advances to the end time and the inputs given
 //     by value and rate (x + v (t - TIME) + a (t - TIME)^2/2) restart from their values there.
 //     Initial values (E, ED, EDD, STARTDE) after a stage that ran are an error: the state carries
-//     over (tools/analysis/Simulation's simulateStages).
+//     over (analysis/Simulation's simulateStages).
 // Dialect: from the keywords used (SPACAR95-only versus 2013-only, see KeywordTable); neither gives
 // SPACAR 2013+; both is an error naming one keyword of each. ReadOptions::dialect skips detection
 // (and the mixing check): it only decides the dialect-dependent readings (TIMESTEP field order,

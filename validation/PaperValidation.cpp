@@ -15,10 +15,10 @@
 #include "io/BasisFile.hpp"
 #include "io/DatReader.hpp"
 #include "io/SvgPlot.hpp"
-#include "tools/analysis/Reduction.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/Sweep.hpp"
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Sweep.hpp"
+#include "analysis/TrajectoryModes.hpp"
 
 namespace fs = std::filesystem;
 

@@ -16,7 +16,7 @@
 
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 namespace flexmb::bench {
 

@@ -32,10 +32,10 @@
 #include "io/SvgPlot.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
-#include "tools/analysis/AnchoredDynamics.hpp"
-#include "tools/analysis/Reduction.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/StateJacobian.hpp"
+#include "analysis/AnchoredDynamics.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/StateJacobian.hpp"
 
 #ifndef FLEXMB_SOURCE_DIR
 #define FLEXMB_SOURCE_DIR "."

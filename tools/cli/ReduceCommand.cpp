@@ -4,7 +4,7 @@
 
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
-#include "tools/analysis/Reduction.hpp"
+#include "analysis/Reduction.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 

@@ -18,9 +18,9 @@
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
 #include "io/SpacarResults.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/SpacarOutput.hpp"
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/SpacarOutput.hpp"
+#include "analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 

@@ -13,7 +13,7 @@ namespace flexmb::cli {
 
 namespace {
 // A load step's progress for figure labels: the fraction of the DEL* totals, or of the initial
-// loads while those are being applied (tools/analysis/Statics.hpp: the load schedule).
+// loads while those are being applied (analysis/Statics.hpp: the load schedule).
 double loadLabel(const analysis::StaticStep& st) { return st.loadFactor > 0 ? st.loadFactor : st.initialFactor; }
 }  // namespace
 

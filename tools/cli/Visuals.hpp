@@ -9,8 +9,8 @@
 
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
-#include "tools/analysis/Statics.hpp"
-#include "tools/analysis/Sweep.hpp"
+#include "analysis/Statics.hpp"
+#include "analysis/Sweep.hpp"
 
 namespace flexmb::cli {
 

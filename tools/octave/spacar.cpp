@@ -23,10 +23,10 @@
 
 #include "io/DatReader.hpp"
 #include "io/SpacarResults.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/SpacarOutput.hpp"
-#include "tools/analysis/Statics.hpp"
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/SpacarOutput.hpp"
+#include "analysis/Statics.hpp"
+#include "analysis/TrajectoryModes.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
 
 using namespace flexmb;

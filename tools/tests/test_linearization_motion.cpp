@@ -18,7 +18,7 @@
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
 #include "io/DatReader.hpp"
-#include "tools/tests/TestModels.hpp"
+#include "analysis/tests/TestModels.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;

@@ -13,8 +13,8 @@
 #include "core/Inertia.hpp"
 #include "core/KinematicCheck.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;

@@ -14,8 +14,8 @@
 #include "core/KinematicCheck.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;

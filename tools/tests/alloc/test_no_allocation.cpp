@@ -11,7 +11,7 @@
 
 #include "core/EquationsOfMotion.hpp"
 #include "io/DatReader.hpp"
-#include "tools/tests/TestModels.hpp"
+#include "analysis/tests/TestModels.hpp"
 
 extern "C" void* __libc_malloc(size_t);
 extern "C" void* __libc_calloc(size_t, size_t);

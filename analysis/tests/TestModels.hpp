@@ -27,4 +27,21 @@ inline std::string swungArm(const std::string& inputAngle = "\"0.3 + 2*t + 0.75*
   return s.str();
 }
 
+// Cantilever of n PLBEAMs (inextensible, bending DYNE) clamped to a hub that turns at the
+// prescribed rate W about the beam's root (input hinge), hub radius 0.
+inline std::string spinningBeam(int n, double L, double EI, double rhoA, double W, const std::string& extra = "") {
+  std::ostringstream s;
+  s.precision(17);
+  s << "PLHINGE 100  200 201\n";
+  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << "  " << k << " " << 200 + k << "  " << k + 1 << " " << 201 + k << "\n";
+  for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << L * (k - 1) / n << " 0\n";
+  s << "FIX 1\nFIX 200\nINPUTE 100 1\n";
+  for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 2 3\n";
+  s << "END\nHALT\n";
+  s << "INPUTET 100 1 \"" << W << "*t\" \"" << W << "\" \"0\"\n";
+  for (int k = 1; k <= n; ++k) s << "EM " << k << " " << rhoA << "\nESTIFF " << k << " 0 " << EI << "\n";
+  s << extra << "END\nEND\n";
+  return s.str();
+}
+
 }  // namespace flexmb::test

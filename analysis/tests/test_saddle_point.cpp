@@ -11,8 +11,8 @@
 
 #include "core/EquationsOfMotion.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/tests/TestModels.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/tests/TestModels.hpp"
 
 using namespace flexmb;
 using Eigen::VectorXd;

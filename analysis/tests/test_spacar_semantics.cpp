@@ -10,8 +10,8 @@
 
 #include "io/DatReader.hpp"
 #include "io/RestartWriter.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 

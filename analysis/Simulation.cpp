@@ -1,4 +1,4 @@
-#include "tools/analysis/Simulation.hpp"
+#include "analysis/Simulation.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -9,8 +9,8 @@
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
-#include "tools/analysis/AnchoredDynamics.hpp"
-#include "tools/analysis/StateJacobian.hpp"
+#include "analysis/AnchoredDynamics.hpp"
+#include "analysis/StateJacobian.hpp"
 
 namespace flexmb::analysis {
 

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 
 #include "core/EquationsOfMotion.hpp"
-#include "tools/analysis/StateJacobian.hpp"
+#include "analysis/StateJacobian.hpp"
 
 namespace flexmb::analysis {
 

@@ -21,7 +21,7 @@
 #include "core/elements/EulerParameters.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
@@ -400,7 +400,8 @@ TEST(SpatialModels, CrossSpringPivotRotationalStiffness) {
 TEST(SpatialModels, SpaLightPivotFilesRunUnchangedWithTheirIterstep) {
   // The SPACAR Light style pivot files carry SPACAR Light's own ITERSTEP line for incremental loads
   // (ITERSTEP 10 9 5e-7 1 3 0). They must go through `check` and `static` unchanged, and the
-  // equilibria must not depend on that tolerance: the same file with 1e-12 gives the same states.
+  // equilibria must not depend on that tolerance: the same file with 1e-12 gives the same states
+  // (the command line on the same files: tools/tests/test_cli_models.cpp).
   for (const char* name : {"cross_spring_pivot_coarse.dat", "cross_spring_pivot.dat"}) {
     const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/" + name;
     std::ifstream in(path);
@@ -421,20 +422,6 @@ TEST(SpatialModels, SpaLightPivotFilesRunUnchangedWithTheirIterstep) {
       tight << line << "\n";
     }
     ASSERT_TRUE(spalightIterstep) << name << ": expected SPACAR Light's `ITERSTEP 10 9 5e-7 1 3 0`";
-    // The command line, on the file as it is.
-    const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / "spalight_pivot";
-    std::filesystem::create_directories(dir);
-    const std::string flexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
-    const std::string log = (dir / (std::string(name) + ".log")).string();
-    ASSERT_EQ(std::system((flexmb + " check '" + path + "' > '" + log + "' 2>&1").c_str()), 0) << "see " << log;
-    std::ifstream checkOut(log);
-    const std::string checkText((std::istreambuf_iterator<char>(checkOut)), std::istreambuf_iterator<char>());
-    EXPECT_NE(checkText.find("kinematics: well posed"), std::string::npos) << checkText;
-    ASSERT_EQ(std::system((flexmb + " static '" + path + "' --out '" + (dir / (std::string(name) + ".csv")).string() + "' > '" +
-                           log + "' 2>&1")
-                              .c_str()),
-              0)
-        << "see " << log;
     // In process: all nine load steps, the same equilibria as with a 1e-12 tolerance.
     const core::Model a = io::readDatString(original.str(), name), b = io::readDatString(tight.str(), name);
     const auto ra = analysis::staticAnalysis(a, 0), rb = analysis::staticAnalysis(b, 0);

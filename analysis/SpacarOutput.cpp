@@ -1,4 +1,4 @@
-#include "tools/analysis/SpacarOutput.hpp"
+#include "analysis/SpacarOutput.hpp"
 
 #include <cmath>
 

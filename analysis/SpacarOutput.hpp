@@ -9,8 +9,8 @@
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
 #include "io/SpacarResults.hpp"
-#include "tools/analysis/Statics.hpp"
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/Statics.hpp"
+#include "analysis/TrajectoryModes.hpp"
 
 namespace flexmb::analysis {
 

@@ -1,4 +1,4 @@
-#include "tools/analysis/Sweep.hpp"
+#include "analysis/Sweep.hpp"
 
 #include <Eigen/LU>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "core/ElementValidity.hpp"
 #include "core/Linearization.hpp"
 #include "solvers/EigenSolver.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 namespace flexmb::analysis {
 

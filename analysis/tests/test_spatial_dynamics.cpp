@@ -10,7 +10,7 @@
 #include <string>
 
 #include "io/DatReader.hpp"
-#include "tools/analysis/Simulation.hpp"
+#include "analysis/Simulation.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
@@ -179,8 +179,8 @@ TEST(SpatialDynamics, HingeAngleRunsOnThroughAHalfTurn) {
 // SVD-modal bases; then modes 3/4 (linearisation along the trajectory) full and reduced.
 #include <chrono>
 
-#include "tools/analysis/Reduction.hpp"
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/TrajectoryModes.hpp"
 
 TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
   const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/wire_guidance.dat";

@@ -1,4 +1,4 @@
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

@@ -15,7 +15,7 @@
 
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 

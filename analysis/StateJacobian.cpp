@@ -1,4 +1,4 @@
-#include "tools/analysis/StateJacobian.hpp"
+#include "analysis/StateJacobian.hpp"
 
 #include "core/GeometricTransferFunctions.hpp"
 

@@ -1,7 +1,7 @@
-#include "tools/analysis/TrajectoryModes.hpp"
+#include "analysis/TrajectoryModes.hpp"
 
 #include "solvers/QuadraticEigen.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 namespace flexmb::analysis {
 

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "io/DatReader.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;

@@ -1,4 +1,4 @@
-#include "tools/analysis/AnchoredDynamics.hpp"
+#include "analysis/AnchoredDynamics.hpp"
 
 #include <stdexcept>
 

@@ -8,8 +8,8 @@
 
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "tools/analysis/Reduction.hpp"
-#include "tools/analysis/Simulation.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
 
 using namespace flexmb;
 

@@ -11,8 +11,8 @@
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/Statics.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 

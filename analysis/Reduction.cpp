@@ -1,11 +1,11 @@
-#include "tools/analysis/Reduction.hpp"
+#include "analysis/Reduction.hpp"
 
 #include <stdexcept>
 
 #include "core/Linearization.hpp"
 #include "solvers/EigenSolver.hpp"
 #include "solvers/ReductionBasis.hpp"
-#include "tools/analysis/Sweep.hpp"
+#include "analysis/Sweep.hpp"
 
 namespace flexmb::analysis {
 

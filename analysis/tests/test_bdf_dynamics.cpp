@@ -13,9 +13,9 @@
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "tools/analysis/Reduction.hpp"
-#include "tools/analysis/Simulation.hpp"
-#include "tools/analysis/StateJacobian.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/StateJacobian.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;

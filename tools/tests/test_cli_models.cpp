@@ -1,0 +1,93 @@
+// End-to-end runs of the command line on models whose analyses are tested in analysis/tests: the
+// files a run writes against the in-process analysis of the same model.
+#include <gtest/gtest.h>
+#include <matio.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include "analysis/Simulation.hpp"
+#include "analysis/TrajectoryModes.hpp"
+#include "analysis/tests/TestModels.hpp"
+#include "io/DatReader.hpp"
+
+using namespace flexmb;
+namespace fs = std::filesystem;
+
+// `flexmb --mode 3` writes M0 ... N0 per output time; they equal a direct linearisation of the
+// same simulated states.
+TEST(TrajectoryModes, ModeThreeWritesTheLinearisedMatrices) {
+  const fs::path dir = fs::temp_directory_path() / ("flexmb_mode3_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string text = test::spinningBeam(4, 1.0, 2.0, 3.0, 1.5, "XF 5 0 0.3\nEDAMP 1 0 0.01\nTIMESTEP 0.2 4\n");
+  const fs::path file = dir / "spin.dat";
+  std::ofstream(file) << text;
+  const std::string cmd = std::string(FLEXMB_BINARY_DIR) + "/flexmb --mode 3 " + file.string() + " --out " +
+                          (dir / "spin").string() + " --format none -q > " + (dir / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "log.txt").rdbuf();
+  ASSERT_TRUE(fs::exists(dir / "spin_linear.mat"));
+  ASSERT_TRUE(fs::exists(dir / "spin_frequencies.csv"));
+
+  const core::Model m = io::readDatString(text, "spin.dat");
+  const core::Trajectory tr = analysis::simulate(m, {});
+  ASSERT_TRUE(tr.completed);
+  const auto tm = analysis::trajectoryModes(m, tr, 6, std::nullopt, true);
+  ASSERT_EQ(tm.time.size(), 5u);
+
+  mat_t* mat = Mat_Open((dir / "spin_linear.mat").c_str(), MAT_ACC_RDONLY);
+  ASSERT_NE(mat, nullptr);
+  const int mdof = m.numDofs();
+  for (const char* name : {"M0", "K0", "G0", "C0", "D0", "N0"}) {
+    matvar_t* v = Mat_VarRead(mat, name);
+    ASSERT_NE(v, nullptr) << name;
+    ASSERT_EQ(v->rank, 3) << name;
+    EXPECT_EQ(v->dims[0], static_cast<size_t>(mdof));
+    EXPECT_EQ(v->dims[1], static_cast<size_t>(mdof));
+    ASSERT_EQ(v->dims[2], tm.time.size());
+    const double* d = static_cast<const double*>(v->data);
+    for (size_t k = 0; k < tm.time.size(); ++k) {
+      const auto& s = tm.matrices[k];
+      const Eigen::MatrixXd& ref = name[0] == 'M' ? s.M : name[0] == 'K' ? s.K : name[0] == 'G' ? s.G
+                                 : name[0] == 'C' ? s.C : name[0] == 'D' ? s.D : s.N;
+      const Eigen::Map<const Eigen::MatrixXd> got(d + k * mdof * mdof, mdof, mdof);
+      EXPECT_LE((got - ref).norm(), 1e-12 * std::max(1.0, ref.norm())) << name << " at t = " << tm.time[k];
+      if (k > 0 && (name[0] == 'C' || name[0] == 'N')) EXPECT_GT(ref.norm(), 0.0) << name << " exercised";
+    }
+    Mat_VarFree(v);
+  }
+  matvar_t* f = Mat_VarRead(mat, "freq");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->dims[0], tm.time.size());
+  EXPECT_NEAR(static_cast<const double*>(f->data)[0], tm.omega[0][0] / (2 * M_PI), 1e-9);
+  Mat_VarFree(f);
+  Mat_Close(mat);
+  fs::remove_all(dir);
+}
+
+// SPACAR Light style pivot files with SPACAR Light's own ITERSTEP line go through `check` and
+// `static` unchanged (their equilibria: SpatialModels.SpaLightPivotFilesRunUnchangedWithTheirIterstep).
+TEST(CliModels, SpaLightPivotFilesPassCheckAndStatic) {
+  for (const char* name : {"cross_spring_pivot_coarse.dat", "cross_spring_pivot.dat"}) {
+    const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/" + name;
+    // The command line, on the file as it is.
+    const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / "spalight_pivot";
+    std::filesystem::create_directories(dir);
+    const std::string flexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+    const std::string log = (dir / (std::string(name) + ".log")).string();
+    ASSERT_EQ(std::system((flexmb + " check '" + path + "' > '" + log + "' 2>&1").c_str()), 0) << "see " << log;
+    std::ifstream checkOut(log);
+    const std::string checkText((std::istreambuf_iterator<char>(checkOut)), std::istreambuf_iterator<char>());
+    EXPECT_NE(checkText.find("kinematics: well posed"), std::string::npos) << checkText;
+    ASSERT_EQ(std::system((flexmb + " static '" + path + "' --out '" + (dir / (std::string(name) + ".csv")).string() + "' > '" +
+                           log + "' 2>&1")
+                              .c_str()),
+              0)
+        << "see " << log;
+  }
+}
