@@ -8,8 +8,8 @@
 // So every evaluation starts from the configuration of the last accepted state, the anchor.
 #include <Eigen/Core>
 
-#include "core/EquationsOfMotion.hpp"
 #include "analysis/StateJacobian.hpp"
+#include "core/EquationsOfMotion.hpp"
 
 namespace flexmb::analysis {
 

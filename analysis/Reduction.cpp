@@ -2,10 +2,10 @@
 
 #include <stdexcept>
 
+#include "analysis/Sweep.hpp"
 #include "core/Linearization.hpp"
 #include "solvers/EigenSolver.hpp"
 #include "solvers/ReductionBasis.hpp"
-#include "analysis/Sweep.hpp"
 
 namespace flexmb::analysis {
 
@@ -15,7 +15,8 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
     const auto& d = model.dofs[j];
     if (d.isDeformation) {
       if (model.elements[model.eOwnerElement[d.index]].type->keyword == "PLHINGE" ||
-          (model.elements[model.eOwnerElement[d.index]].type->keyword == "HINGE" && d.index == model.elements[model.eOwnerElement[d.index]].firstDef))
+          (model.elements[model.eOwnerElement[d.index]].type->keyword == "HINGE" &&
+           d.index == model.elements[model.eOwnerElement[d.index]].firstDef))
         large.push_back(j);
     } else if (!core::isTranslational(model.nodes[model.xOwnerNode[d.index]].kind)) {
       large.push_back(j);
@@ -26,9 +27,12 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
 
 namespace {
 // The lowest r modes of the q_s subproblem (Eq. 21): q_l held at zero, i.e. the small block.
-solvers::EigenResult smallModes(const solvers::Partition& p, const Eigen::MatrixXd& KG, const Eigen::MatrixXd& M, int r) {
+solvers::EigenResult smallModes(const solvers::Partition& p, const Eigen::MatrixXd& KG, const Eigen::MatrixXd& M,
+                                int r) {
   const Eigen::MatrixXd Ks = solvers::restrictToSmall(p, KG), Ms = solvers::restrictToSmall(p, M);
-  if (r > Ks.rows()) throw std::invalid_argument("asked for " + std::to_string(r) + " modes, the q_s subproblem has " + std::to_string(Ks.rows()));
+  if (r > Ks.rows())
+    throw std::invalid_argument("asked for " + std::to_string(r) + " modes, the q_s subproblem has " +
+                                std::to_string(Ks.rows()));
   solvers::EigenOptions o;
   o.nev = r;
   return r >= Ks.rows() ? solvers::solveDense(Ks, Ms, o) : solvers::solveLowest(Ks, Ms, o);
@@ -55,7 +59,8 @@ ReductionResult buildBasis(const core::Model& model, const std::string& modelPat
     const solvers::EigenResult er = smallModes(p, sys.K + sys.G, sys.M, o.modes);
     if (er.status != solvers::EigenStatus::Converged) throw std::runtime_error("modal basis: " + er.message);
     if (o.normalise == "mass") {
-      res.V = solvers::assembleBasis(p, solvers::massNormalisedModalBasis(er.vectors, solvers::restrictToSmall(p, sys.M), o.modes));
+      res.V = solvers::assembleBasis(
+          p, solvers::massNormalisedModalBasis(er.vectors, solvers::restrictToSmall(p, sys.M), o.modes));
     } else if (o.normalise == "unit") {
       res.V = solvers::assembleBasis(p, solvers::modalBasis(er.vectors, o.modes));
     } else {
@@ -80,7 +85,8 @@ ReductionResult buildBasis(const core::Model& model, const std::string& modelPat
     std::vector<Eigen::VectorXd> omegas;
     for (const auto& pt : sw.points) {
       const solvers::EigenResult er = smallModes(p, pt.stiffness, pt.mass, o.modes);
-      if (er.status != solvers::EigenStatus::Converged) throw std::runtime_error("SVD-modal eigenproblem: " + er.message);
+      if (er.status != solvers::EigenStatus::Converged)
+        throw std::runtime_error("SVD-modal eigenproblem: " + er.message);
       modes.push_back(er.vectors);
       omegas.push_back(er.omega);
     }

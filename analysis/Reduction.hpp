@@ -23,19 +23,19 @@ struct ReductionOptions {
   std::optional<std::vector<int>> large;  // q indices with identity columns; default: hinges, DYNX angles
   // SVD-modal path: nodal coordinate prescribed from..to in `configs` equidistant equilibria.
   int configs = 10;
-  double weight = 0.0;           // a in omega^-a
-  double threshold = 0.01;       // keep singular vectors with a larger share of the sum
-  int count = 0;                 // > 0: keep exactly this many instead
+  double weight = 0.0;      // a in omega^-a
+  double threshold = 0.01;  // keep singular vectors with a larger share of the sum
+  int count = 0;            // > 0: keep exactly this many instead
   int node = 0, component = 1;
   double from = 0.0, to = 0.0;
   std::function<void(int done, int total)> onConfig;  // progress over the SVD-modal configurations
 };
 
 struct ReductionResult {
-  Eigen::MatrixXd V;             // nq x (n_l + kept)
+  Eigen::MatrixXd V;  // nq x (n_l + kept)
   io::BasisInfo info;
   Eigen::VectorXd scaledSingularValues;  // SVD-modal only
-  Eigen::VectorXd omegaSmall;    // modal: eigenfrequencies (rad/s) of the q_s subproblem kept
+  Eigen::VectorXd omegaSmall;            // modal: eigenfrequencies (rad/s) of the q_s subproblem kept
 };
 
 // The default large-rotation coordinates: DYNE deformations of PLHINGE elements and DYNX

@@ -5,12 +5,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/AnchoredDynamics.hpp"
+#include "analysis/StateJacobian.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
-#include "analysis/AnchoredDynamics.hpp"
-#include "analysis/StateJacobian.hpp"
 
 namespace flexmb::analysis {
 
@@ -23,8 +23,8 @@ double kinematicTolerance(const core::AnalysisSettings& s, double relTol) {
 }
 
 solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::Ode45Options& options,
-                                  const solvers::OdeRhs& f, const std::vector<double>& tspan,
-                                  const Eigen::VectorXd& y0, const solvers::OdeObserver& observer) {
+                                  const solvers::OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
+                                  const solvers::OdeObserver& observer) {
   core::GeometricTransferFunctions& kinematics = eom.kinematics();
   return solvers::Ode45(options).integrate(
       f, tspan, y0, observer, [&](double, const Eigen::VectorXd&) { kinematics.setAnchor(); },
@@ -87,9 +87,11 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", left);
     // A run that will not finish in any reasonable time says so once (and how to stop it).
     if (!warnedSlow && elapsed > 20 && left > 50 * elapsed) {
-      std::fprintf(stderr, "\nflexmb: warning: at this rate the run needs about %.3g hours more: the step size is "
+      std::fprintf(stderr,
+                   "\nflexmb: warning: at this rate the run needs about %.3g hours more: the step size is "
                    "very small (a stiff or reduced-badly model, or a singular configuration). Ctrl-C stops it and "
-                   "writes the results so far.\n", left / 3600);
+                   "writes the results so far.\n",
+                   left / 3600);
       warnedSlow = true;
     }
     std::fflush(stderr);
@@ -113,10 +115,12 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
     }
     userError.clear();  // only the evaluation that ended the run counts
     try {
-      if (anchored) anchored->rhs(t, y, dy);
-      else eom.rhs(t, y, dy);
+      if (anchored)
+        anchored->rhs(t, y, dy);
+      else
+        eom.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());  // BDF: a trial state; retried with a smaller step
+      throw solvers::RhsError(e.what());          // BDF: a trial state; retried with a smaller step
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
       userError = e.what();
       throw solvers::RhsAbort(e.what());
@@ -245,7 +249,8 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     if (k + 1 < stages.size()) o.tEnd.reset();
     Continuation end;
     core::Trajectory part = simulateStage(m, o, k ? &state : nullptr, &end, interrupted);
-    const size_t skip = (k > 0 && !part.time.empty() && !all.time.empty() && part.time.front() == all.time.back()) ? 1 : 0;
+    const size_t skip =
+        (k > 0 && !part.time.empty() && !all.time.empty() && part.time.front() == all.time.back()) ? 1 : 0;
     for (size_t i = skip; i < part.time.size(); ++i) {
       all.time.push_back(part.time[i]);
       all.states.push_back(std::move(part.states[i]));
@@ -259,8 +264,8 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     all.nlinsetups += part.nlinsetups;
     if (!part.completed || end.y.size() == 0) {
       all.completed = false;
-      all.stopReason = part.stopReason.empty() ? "analysis block " + std::to_string(k + 1) + " produced no state"
-                                               : part.stopReason;
+      all.stopReason =
+          part.stopReason.empty() ? "analysis block " + std::to_string(k + 1) + " produced no state" : part.stopReason;
       return all;
     }
     state = std::move(end);

@@ -30,12 +30,12 @@ struct SimulationOptions {
   // 463 at order <= 2; tools/bench/README.md).
   int bdfMaxOrder = 2;
   std::optional<double> tEnd, relTol, absTol, maxStep;
-  std::optional<int> intervals;     // output intervals; 0 = ode45's Refine output at every step
+  std::optional<int> intervals;          // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
   // How Eq. 13 is solved for the accelerations (core::DynamicsForm); reduced models always project.
   core::DynamicsForm dynamics = core::DynamicsForm::Automatic;
-  bool progress = false;            // progress line on stderr for runs longer than a second
-  bool keepStates = true;           // false: only statistics (benchmarks)
+  bool progress = false;   // progress line on stderr for runs longer than a second
+  bool keepStates = true;  // false: only statistics (benchmarks)
   // Set asynchronously (Ctrl-C): the run stops at its next check (every 64 right-hand sides) with
   // interrupted = true; the output times before it are kept.
   const std::atomic<bool>* interrupt = nullptr;
@@ -52,8 +52,8 @@ double kinematicTolerance(const core::AnalysisSettings& settings, double relTol)
 // accepted state becomes the kinematics' anchor, and an attempt far off the solution restarts from
 // it, never from its own trial states (which may have converged on another assembly branch).
 solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::Ode45Options& options,
-                                  const solvers::OdeRhs& f, const std::vector<double>& tspan,
-                                  const Eigen::VectorXd& y0, const solvers::OdeObserver& observer);
+                                  const solvers::OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
+                                  const solvers::OdeObserver& observer);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts

@@ -5,12 +5,12 @@
 // come from core::ResultQuantities at each stored step.
 #include <optional>
 
+#include "analysis/Statics.hpp"
+#include "analysis/TrajectoryModes.hpp"
 #include "core/Linearization.hpp"
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
 #include "io/SpacarResults.hpp"
-#include "analysis/Statics.hpp"
-#include "analysis/TrajectoryModes.hpp"
 
 namespace flexmb::analysis {
 

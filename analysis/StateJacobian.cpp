@@ -22,7 +22,8 @@ void StateJacobian::evaluate(double t, const Eigen::VectorXd& y, const Eigen::Ve
   lin_.inMotion(t, eta_, etad_, etadd_, sys_);  // Eq. 15 about the state
   llt_.compute(sys_.M);
   if (llt_.info() != Eigen::Success)
-    throw core::KinematicsError(t, 0, 0.0, "reduced mass matrix is not positive definite (massless degree of freedom?)");
+    throw core::KinematicsError(t, 0, 0.0,
+                                "reduced mass matrix is not positive definite (massless degree of freedom?)");
   stiffness_ = sys_.K;
   stiffness_ += sys_.N;
   stiffness_ += sys_.G;

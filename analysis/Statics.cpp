@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/ElementValidity.hpp"
 #include "solvers/EigenSolver.hpp"
@@ -73,8 +73,8 @@ solvers::StaticResult denseEquilibrium(core::Linearization& lin, double t, doubl
     Eigen::VectorXd Qf, Q0;
     lin.staticForces(t, eta, f, Qf);
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
-    scale = std::max({(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(),
-                      stiffnessForce(lin.model(), sys.K)});
+    scale = std::max(
+        {(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(), stiffnessForce(lin.model(), sys.K)});
   } catch (const std::exception& e) {
     return failed(e.what());
   }
@@ -196,7 +196,8 @@ solvers::EigenResult sparseSolve(const core::Linearization& lin, int nev, Freque
   out.method = "sparse-constrained";
   out.modes = p.P * r.vectors;
   out.nodalModes.setZero(lin.model().nx, r.vectors.cols());
-  for (size_t i = 0; i < p.free.size(); ++i) out.nodalModes.row(p.free[i]) = r.vectors.row(static_cast<Eigen::Index>(i));
+  for (size_t i = 0; i < p.free.size(); ++i)
+    out.nodalModes.row(p.free[i]) = r.vectors.row(static_cast<Eigen::Index>(i));
   return r;
 }
 }  // namespace
@@ -220,8 +221,7 @@ Frequencies naturalFrequencies(const core::Linearization& lin, const core::Linea
 Frequencies sparseFrequencies(const core::Linearization& lin, int nev) {
   Frequencies out;
   const solvers::EigenResult r = sparseSolve(lin, nev, out);
-  if (r.status != solvers::EigenStatus::Converged)
-    throw std::runtime_error("sparse eigenanalysis: " + r.message);
+  if (r.status != solvers::EigenStatus::Converged) throw std::runtime_error("sparse eigenanalysis: " + r.message);
   return out;
 }
 
@@ -348,44 +348,44 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
     reachedPoint = to;
     const double reachedS = to.increment, reachedMu = to.initial;
     try {
-    StaticStep st;
-    st.loadFactor = reachedS;
-    st.initialFactor = reachedMu;
-    st.eta = eta;
-    st.newton = res;
-    st.iterations = iterations;
-    Eigen::VectorXd f;
-    core::LinearizedSystem sys;
-    lin.kinematics().setInputLoadFactor(reachedS, reachedMu);
-    if (model.spatial) {
-      Eigen::VectorXd q;
-      lin.dofs(eta, q);
-      lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
-    }
-    lin.appliedForces(t, reachedS, f, reachedMu);
-    lin.atRest(t, eta, f, sys, true);
-    st.x = lin.kinematics().x();
-    // A converged equilibrium can still be spurious: load control may jump into a fold where a
-    // beam node turned past 90 degrees against its chord, which Eq. 3b/3c (l0 sin theta) see as
-    // nearly unbent. Stop there and keep the steps before it.
-    if (const auto bad = core::firstInvalidElement(model, st.x)) {
-      std::ostringstream msg;
-      msg << "load factor " << reachedS << " (step " << i << " of " << n << "): " << bad->message
-          << "; refine the mesh or use more load steps";
-      run.completed = false;
-      run.stopReason = msg.str();
-      return run;
-    }
-    if (sparse) {
-      st.newton.stable = solvers::isPositiveDefinite(sys.K + sys.G);
-      stiffnessScale = stiffnessForce(model, sys.K);  // for the next step, which starts here
-    }
-    st.e = lin.kinematics().e();
-    st.sigma = sys.sigma;
-    st.system = sys;
-    if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev);
-    if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
-    run.steps.push_back(std::move(st));
+      StaticStep st;
+      st.loadFactor = reachedS;
+      st.initialFactor = reachedMu;
+      st.eta = eta;
+      st.newton = res;
+      st.iterations = iterations;
+      Eigen::VectorXd f;
+      core::LinearizedSystem sys;
+      lin.kinematics().setInputLoadFactor(reachedS, reachedMu);
+      if (model.spatial) {
+        Eigen::VectorXd q;
+        lin.dofs(eta, q);
+        lin.kinematics().solvePositions(t, q);  // configuration-dependent loads at the equilibrium
+      }
+      lin.appliedForces(t, reachedS, f, reachedMu);
+      lin.atRest(t, eta, f, sys, true);
+      st.x = lin.kinematics().x();
+      // A converged equilibrium can still be spurious: load control may jump into a fold where a
+      // beam node turned past 90 degrees against its chord, which Eq. 3b/3c (l0 sin theta) see as
+      // nearly unbent. Stop there and keep the steps before it.
+      if (const auto bad = core::firstInvalidElement(model, st.x)) {
+        std::ostringstream msg;
+        msg << "load factor " << reachedS << " (step " << i << " of " << n << "): " << bad->message
+            << "; refine the mesh or use more load steps";
+        run.completed = false;
+        run.stopReason = msg.str();
+        return run;
+      }
+      if (sparse) {
+        st.newton.stable = solvers::isPositiveDefinite(sys.K + sys.G);
+        stiffnessScale = stiffnessForce(model, sys.K);  // for the next step, which starts here
+      }
+      st.e = lin.kinematics().e();
+      st.sigma = sys.sigma;
+      st.system = sys;
+      if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev);
+      if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
+      run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;
       run.stopReason = "at load factor " + std::to_string(reachedS) + ": " + e.what();

@@ -46,7 +46,8 @@ Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev, bool 
 // shift-invert on the sparse nodal pencil with the constraints (core::ConstrainedPencil, one sparse
 // LU of [K - sigma M, C^T; C, 0]; full models only). Auto: sparse from kSparseEigenFrom degrees of
 // freedom (below it the dense path is as fast and its q-space pencil is better conditioned: the nodal
-// pencil carries axial over bending stiffness, ~1e-7 relative on a 999-DOF chain); the environment variable FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
+// pencil carries axial over bending stiffness, ~1e-7 relative on a 999-DOF chain); the environment variable
+// FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
 enum class EigenPath { Auto, Dense, Sparse };
 constexpr int kSparseEigenFrom = 400;
 EigenPath eigenPathFromEnvironment();
@@ -75,9 +76,9 @@ struct StaticStep {
   double initialFactor = 1.0;  // mu: fraction of the initial loads
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
-  Eigen::VectorXd buckling;  // load factors (only when asked for)
-  solvers::StaticResult newton;  // of the last (sub-)step
-  int iterations = 0;            // Newton iterations of this load step, failed and sub-step attempts included
+  Eigen::VectorXd buckling;       // load factors (only when asked for)
+  solvers::StaticResult newton;   // of the last (sub-)step
+  int iterations = 0;             // Newton iterations of this load step, failed and sub-step attempts included
   core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };
 

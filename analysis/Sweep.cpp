@@ -4,10 +4,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/Statics.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/Linearization.hpp"
 #include "solvers/EigenSolver.hpp"
-#include "analysis/Statics.hpp"
 
 namespace flexmb::analysis {
 
@@ -22,7 +22,9 @@ std::string prescribedEquilibrium(core::Linearization& lin, double t, int k, dou
   // Scales: the model size for lengths, the holding load (or a stiffness times a small motion) for forces.
   double L = 0.0;
   for (int i = 0; i < lin.model().nx; ++i)
-    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position || lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition) L = std::max(L, std::abs(lin.model().x0[i]));
+    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position ||
+        lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition)
+      L = std::max(L, std::abs(lin.model().x0[i]));
   if (L == 0.0) L = 1.0;
   for (int it = 0; it < 60; ++it) {
     lin.kinematics().solvePositions(t, lin.basis() ? Eigen::VectorXd(*lin.basis() * eta) : eta);
@@ -59,13 +61,16 @@ std::string prescribedEquilibrium(core::Linearization& lin, double t, int k, dou
 SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   SweepResult res;
   auto it = model.nodeByLabel.find(o.node);
-  if (it == model.nodeByLabel.end()) throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " does not exist");
+  if (it == model.nodeByLabel.end())
+    throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " does not exist");
   const core::Node& node = model.nodes[it->second];
   if (o.component < 1 || o.component > node.dim())
-    throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " has no component " + std::to_string(o.component));
+    throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " has no component " +
+                                std::to_string(o.component));
   const int k = node.firstCoord + o.component - 1;
   if (model.xRole[k] == core::Role::Fixed || model.xRole[k] == core::Role::Input)
-    throw std::invalid_argument("sweep: " + model.coordName(k) + " is " + core::roleName(model.xRole[k]) + ", it cannot be prescribed");
+    throw std::invalid_argument("sweep: " + model.coordName(k) + " is " + core::roleName(model.xRole[k]) +
+                                ", it cannot be prescribed");
   if (o.steps < 1) throw std::invalid_argument("sweep: steps must be at least 1");
 
   core::Linearization lin(model, o.basis);
@@ -74,7 +79,8 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   const double start = model.x0[k];
   const std::string coord = model.coordName(k);
   std::vector<double> values;
-  for (int i = 0; i < o.steps; ++i) values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
+  for (int i = 0; i < o.steps; ++i)
+    values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
   // Continuation stays on the branch it starts on whatever the number of sweep points: the
   // prescribed coordinate moves in sub-steps of at most 2.5% of the model size between sweep
   // points, each started from a secant predictor through the two previous equilibria, and a
@@ -171,47 +177,47 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     }
     if (o.onPoint) o.onPoint(static_cast<int>(res.points.size()), o.steps);
     try {
-    lin.appliedForces(o.t, 0.0, f);
-    f[k] += P;
-    lin.atRest(o.t, eta, f, sys, true);
-    // As in staticAnalysis: a converged but folded equilibrium (a beam node past 90 degrees
-    // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.
-    if (const auto bad = core::firstInvalidElement(model, lin.kinematics().x())) {
-      std::ostringstream s;
-      s << "with the prescribed coordinate " << coord << " at " << v << ": " << bad->message << "; refine the mesh";
-      res.completed = false;
-      res.stopReason = s.str();
-      return res;
-    }
-    const Frequencies fr = naturalFrequencies(lin, sys, o.nev);
-    SweepPoint pt;
-    pt.value = v;
-    pt.load = P;
-    pt.eta = eta;
-    lin.dofs(eta, pt.q);
-    pt.x = lin.kinematics().x();
-    Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
-    for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
-    pt.omega = fr.omega;
-    pt.omegaSorted = fr.omega;
-    if (previousModes.size() && previousModes.cols() == modesQ.cols()) {
-      const std::vector<int> perm = solvers::trackModes(previousModes, modesQ);
-      Eigen::MatrixXd sorted(modesQ.rows(), modesQ.cols());
-      Eigen::VectorXd w(pt.omega.size());
-      for (size_t j = 0; j < perm.size(); ++j) {  // current mode j continues previous mode perm[j]
-        sorted.col(perm[j]) = modesQ.col(j);
-        w[perm[j]] = pt.omega[j];
+      lin.appliedForces(o.t, 0.0, f);
+      f[k] += P;
+      lin.atRest(o.t, eta, f, sys, true);
+      // As in staticAnalysis: a converged but folded equilibrium (a beam node past 90 degrees
+      // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.
+      if (const auto bad = core::firstInvalidElement(model, lin.kinematics().x())) {
+        std::ostringstream s;
+        s << "with the prescribed coordinate " << coord << " at " << v << ": " << bad->message << "; refine the mesh";
+        res.completed = false;
+        res.stopReason = s.str();
+        return res;
       }
-      modesQ = sorted;
-      pt.omega = w;
-    }
-    pt.modes = modesQ;
-    if (o.keepMatrices) {
-      pt.stiffness = sys.K + sys.G;
-      pt.mass = sys.M;
-    }
-    previousModes = modesQ;
-    res.points.push_back(std::move(pt));
+      const Frequencies fr = naturalFrequencies(lin, sys, o.nev);
+      SweepPoint pt;
+      pt.value = v;
+      pt.load = P;
+      pt.eta = eta;
+      lin.dofs(eta, pt.q);
+      pt.x = lin.kinematics().x();
+      Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
+      for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
+      pt.omega = fr.omega;
+      pt.omegaSorted = fr.omega;
+      if (previousModes.size() && previousModes.cols() == modesQ.cols()) {
+        const std::vector<int> perm = solvers::trackModes(previousModes, modesQ);
+        Eigen::MatrixXd sorted(modesQ.rows(), modesQ.cols());
+        Eigen::VectorXd w(pt.omega.size());
+        for (size_t j = 0; j < perm.size(); ++j) {  // current mode j continues previous mode perm[j]
+          sorted.col(perm[j]) = modesQ.col(j);
+          w[perm[j]] = pt.omega[j];
+        }
+        modesQ = sorted;
+        pt.omega = w;
+      }
+      pt.modes = modesQ;
+      if (o.keepMatrices) {
+        pt.stiffness = sys.K + sys.G;
+        pt.mass = sys.M;
+      }
+      previousModes = modesQ;
+      res.points.push_back(std::move(pt));
     } catch (const std::exception& e) {
       std::ostringstream s;
       s << "with the prescribed coordinate " << coord << " at " << v << ": " << e.what();

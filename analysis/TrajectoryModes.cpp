@@ -1,7 +1,7 @@
 #include "analysis/TrajectoryModes.hpp"
 
-#include "solvers/QuadraticEigen.hpp"
 #include "analysis/Statics.hpp"
+#include "solvers/QuadraticEigen.hpp"
 
 namespace flexmb::analysis {
 

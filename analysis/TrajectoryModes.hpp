@@ -16,9 +16,9 @@ namespace flexmb::analysis {
 
 struct TrajectoryModes {
   std::vector<double> time;
-  std::vector<Eigen::VectorXd> omega;        // rad/s, ordered by magnitude, per output time
-  std::vector<Eigen::VectorXd> damping;      // damping ratio per entry of omega
-  std::vector<Eigen::VectorXd> omegaFrozen;  // rad/s, ascending
+  std::vector<Eigen::VectorXd> omega;            // rad/s, ordered by magnitude, per output time
+  std::vector<Eigen::VectorXd> damping;          // damping ratio per entry of omega
+  std::vector<Eigen::VectorXd> omegaFrozen;      // rad/s, ascending
   std::vector<core::LinearizedSystem> matrices;  // when kept (mode 3)
   bool completed = true;
   std::string stopReason;

@@ -60,9 +60,12 @@ ConstrainedTangent::ConstrainedTangent(const Model& model, const NodalMatrices::
     const int slot = static_cast<int>(rowIdx_.size());
     rowIdx_.push_back(row);
     ++colPtr_[col + 1];
-    if (source >= 0) hSlot_[source] = slot;
-    else if ((-source) % 2 == 1) entries_[(-1 - source) / 2].slotC = slot;
-    else entries_[(-2 - source) / 2].slotCt = slot;
+    if (source >= 0)
+      hSlot_[source] = slot;
+    else if ((-source) % 2 == 1)
+      entries_[(-1 - source) / 2].slotC = slot;
+    else
+      entries_[(-2 - source) / 2].slotCt = slot;
   }
   for (int c = 0; c < n_; ++c) colPtr_[c + 1] += colPtr_[c];
   values_.assign(rowIdx_.size(), 0.0);
@@ -117,8 +120,10 @@ void ConstrainedTangent::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) con
   };
   for (int j = 0; j < nq; ++j) {
     const DofRow& r = dofRows_[j];
-    if (r.element < 0) rhs_[r.freeIndex] += b[j];
-    else forEntry(r, [&](int f, double v) { rhs_[f] += b[j] * v; });
+    if (r.element < 0)
+      rhs_[r.freeIndex] += b[j];
+    else
+      forEntry(r, [&](int f, double v) { rhs_[f] += b[j] * v; });
   }
   lu_.solve(rhs_.data(), 1);
   // x = P dx

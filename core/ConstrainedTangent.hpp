@@ -33,26 +33,26 @@ class ConstrainedTangent {
   int size() const { return n_; }
 
  private:
-  struct Entry {  // an element Jacobian entry of a constrained deformation
+  struct Entry {            // an element Jacobian entry of a constrained deformation
     int element, row, col;  // element, local deformation row, local coordinate column
     int slotC, slotCt;      // value slots of C (row n_f + r, column f) and of C^T
   };
-  struct DofRow {  // P's row of one degree of freedom
+  struct DofRow {                // P's row of one degree of freedom
     int element = -1, row = -1;  // DYNE: the element and local deformation row (-1 for DYNX)
     int freeIndex = -1;          // DYNX: the free index of its coordinate
     int first = 0;               // DYNE: offset of its copied row in prow_
   };
 
   const Model& model_;
-  int nf_ = 0, n_ = 0;                 // free coordinates; saddle-point size n_f + constraints
-  std::vector<int> freeOf_;            // x index -> free index or -1
-  std::vector<int> colPtr_, rowIdx_;   // pattern of the saddle-point matrix (compressed column)
+  int nf_ = 0, n_ = 0;                // free coordinates; saddle-point size n_f + constraints
+  std::vector<int> freeOf_;           // x index -> free index or -1
+  std::vector<int> colPtr_, rowIdx_;  // pattern of the saddle-point matrix (compressed column)
   std::vector<double> values_;
-  std::vector<int> hSlot_;             // per nodal pattern entry: its slot, or -1 (not free)
+  std::vector<int> hSlot_;  // per nodal pattern entry: its slot, or -1 (not free)
   std::vector<Entry> entries_;
   std::vector<DofRow> dofRows_;
-  std::vector<double> prow_;           // copied DYNE rows (element coordinates, 0 where not free)
-  std::vector<int> prowFree_;          // free index per copied entry (-1: not free)
+  std::vector<double> prow_;   // copied DYNE rows (element coordinates, 0 where not free)
+  std::vector<int> prowFree_;  // free index per copied entry (-1: not free)
   SparseLU lu_;
   mutable Eigen::VectorXd rhs_;
 };

@@ -15,9 +15,8 @@ ElementSteps::ElementSteps(const Model& model) {
     double length = 0.0;
     for (size_t i = 0; i < pos.size(); ++i)
       for (size_t j = i + 1; j < pos.size(); ++j)
-        length = std::max(length, (model.x0.segment(pos[i], dimOf(pos[i])) -
-                                   model.x0.segment(pos[j], dimOf(pos[j])))
-                                      .norm());
+        length = std::max(length,
+                          (model.x0.segment(pos[i], dimOf(pos[i])) - model.x0.segment(pos[j], dimOf(pos[j]))).norm());
     if (length <= 0.0) length = 1.0;
     scale_[el].resize(n);
     for (int j = 0; j < n; ++j)

@@ -14,9 +14,9 @@
 namespace flexmb::core {
 
 struct InvalidElement {
-  int element = -1;          // index into Model::elements
+  int element = -1;  // index into Model::elements
   ElementValidity detail;
-  std::string message;       // "element 7 (PLBEAM): node 108 rotated 171.2 degrees against its chord, ..."
+  std::string message;  // "element 7 (PLBEAM): node 108 rotated 171.2 degrees against its chord, ..."
 };
 
 // The first element (in model order) outside its validity at x (size Model::nx), or nullopt.

@@ -1,14 +1,19 @@
 #include "core/EquationsOfMotion.hpp"
 
-#include <cmath>
 #include <Eigen/QR>
+#include <cmath>
 
 namespace flexmb::core {
 
 EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis, DynamicsForm form)
-    : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
-      gtf_(model), inertia_(model), stresses_(model),
-      rheonomic_(!model.inputX.empty() || !model.inputE.empty()), llt_(m_) {
+    : model_(model),
+      coords_(model.numDofs(), std::move(basis)),
+      m_(coords_.size()),
+      gtf_(model),
+      inertia_(model),
+      stresses_(model),
+      rheonomic_(!model.inputX.empty() || !model.inputE.empty()),
+      llt_(m_) {
   const int nq = model.numDofs(), nx = model.nx, ne = model.ne;
   const bool full = coords_.basis() == nullptr;
   if (full && (form == DynamicsForm::SaddlePoint || (form == DynamicsForm::Automatic && nq >= kSaddlePointDofs)))
@@ -65,8 +70,10 @@ void EquationsOfMotion::kinematicState(double t, const Eigen::VectorXd& y) {
   moving_ = rheonomic_ || !qd_.isZero(0.0);
   if (moving_) {
     // xd = F_q V etad: a product where F_q V is at hand, else one solve (rheonomic rates need F_t).
-    if (!saddle_ && !rheonomic_) xd_.noalias() = FqV_ * etad;
-    else gtf_.velocities(t, qd_, xd_);
+    if (!saddle_ && !rheonomic_)
+      xd_.noalias() = FqV_ * etad;
+    else
+      gtf_.velocities(t, qd_, xd_);
     moving_ = !xd_.isZero(0.0);
   } else {
     xd_.setZero();
@@ -94,8 +101,10 @@ void EquationsOfMotion::predictorCurvature(const Eigen::Ref<const Eigen::VectorX
 void EquationsOfMotion::convectiveAccelerations(double t) {
   // The projected form needs g = xdd at etadd = 0 (one solve with the convective terms of the mass
   // pass); the saddle-point form has them in its constraint rows.
-  if (moving_ || rheonomic_) gtf_.accelerationOffsetFrom(t, d2_, g_);
-  else g_.setZero();
+  if (moving_ || rheonomic_)
+    gtf_.accelerationOffsetFrom(t, d2_, g_);
+  else
+    g_.setZero();
 }
 
 void EquationsOfMotion::nodalForces(double t, bool projected) {
@@ -105,14 +114,16 @@ void EquationsOfMotion::nodalForces(double t, bool projected) {
   // USERSIG: the user's stresses and nodal forces at this state, added where XFT and ESIGT are
   // (same order of additions, so that the same loads give the same bits).
   UserFunctions* user = model_.userFunctions && model_.userFunctions->hasLoads() ? model_.userFunctions.get() : nullptr;
-  if ((stresses_.hasDamping() || user) && moving_) gtf_.deformationRates(xd_, ed_);
-  else ed_.setZero();
+  if ((stresses_.hasDamping() || user) && moving_)
+    gtf_.deformationRates(xd_, ed_);
+  else
+    ed_.setZero();
   if (user) {
     user->loads(t, x, xd_, gtf_.e(), ed_, userSigma_, userForces_);
     fn_ += userForces_;
   }
   if (inertia_.hasMass()) {
-    if (moving_) fn_ -= hn_;  // h from the mass pass (accelerations)
+    if (moving_) fn_ -= hn_;             // h from the mass pass (accelerations)
     if (projected && !g_.isZero(0.0)) {  // projected form: - M g (Eq. 13's M (F_qq qd) qd)
       inertia_.multiply(g_, Mg_);
       fn_ -= Mg_;
@@ -189,8 +200,7 @@ void EquationsOfMotion::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd&
   dydt.tail(m_) = etadd_;
 }
 
-void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd,
-                                 Eigen::VectorXd& R) {
+void EquationsOfMotion::residual(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd, Eigen::VectorXd& R) {
   kinematicState(t, y);
   if (saddle_) {
     // The residual is the projected Eq. 13: F_q on demand (the saddle-point form has none).

@@ -11,15 +11,17 @@ namespace flexmb::core {
 namespace {
 std::string describe(double t, int iterations, double residual, const std::string& reason) {
   std::ostringstream s;
-  s << "kinematics failed at t = " << t << ": " << reason << " (iterations " << iterations
-    << ", residual " << residual << ")";
+  s << "kinematics failed at t = " << t << ": " << reason << " (iterations " << iterations << ", residual " << residual
+    << ")";
   return s.str();
 }
 }  // namespace
 
 KinematicsError::KinematicsError(double t, int iterations, double residual, const std::string& reason)
     : std::runtime_error(describe(t, iterations, residual, reason)),
-      t_(t), iterations_(iterations), residual_(residual) {}
+      t_(t),
+      iterations_(iterations),
+      residual_(residual) {}
 
 GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : model_(model) {
   const int nx = model.nx, ne = model.ne;
@@ -100,8 +102,7 @@ GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : mod
   // Length scale for the Newton tolerance: the model's extent (at least the longest element).
   double scale = 0.0;
   for (int i = 0; i < nx; ++i)
-    if (isTranslational(model.nodes[model.xOwnerNode[i]].kind))
-      scale = std::max(scale, std::abs(model.x0[i]));
+    if (isTranslational(model.nodes[model.xOwnerNode[i]].kind)) scale = std::max(scale, std::abs(model.x0[i]));
   lengthScale_ = scale > 0.0 ? scale : 1.0;
   setRelativeTolerance(model.settings.kinematicTol);
 
@@ -235,8 +236,7 @@ void GeometricTransferFunctions::setPredictorCurvature(const Eigen::VectorXd& d2
   curvatureScale_ = 0.0;
 }
 
-void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek,
-                                            int order) const {
+void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek, int order) const {
   // Prescribed coordinates and deformations: value (order 0), rate (1) or acceleration (2).
   for (const auto& r : model_.inputX) {
     double v[3];
@@ -258,8 +258,10 @@ void GeometricTransferFunctions::constraintTargets(double t, const Eigen::Vector
   inputRates(t, x_, workE_, 0);  // input coordinates straight into x, input deformations into workE_
   for (int r = 0; r < numConstraints(); ++r) target_[r] = workE_[constrainedDefs_[r]];
   for (int j = 0; j < nq(); ++j) {
-    if (dofRow_[j] >= 0) target_[dofRow_[j]] = q[j];
-    else x_[dofCoord_[j]] = q[j];
+    if (dofRow_[j] >= 0)
+      target_[dofRow_[j]] = q[j];
+    else
+      x_[dofCoord_[j]] = q[j];
   }
 }
 
@@ -270,8 +272,10 @@ void GeometricTransferFunctions::evaluateElements(bool withJacobian) {
     const auto& E = model_.elements[el];
     E.gather(x_, xe);
     DefJac& De = elemJac_[el];
-    if (withJacobian) E.impl->deformationsAndJacobian(xe, de, De);
-    else E.impl->deformations(xe, de);
+    if (withJacobian)
+      E.impl->deformationsAndJacobian(xe, de, De);
+    else
+      E.impl->deformations(xe, de);
     for (int i = 0; i < de.size(); ++i) {
       const int k = E.firstDef + i;
       if (hasPeriodic_ && periodic_[k]) {
@@ -465,8 +469,10 @@ void GeometricTransferFunctions::firstOrder(const Eigen::MatrixXd* V, Eigen::Mat
       const double* v = V->col(c).data();
       double* r = rhsMat_.col(c).data();
       for (int j = 0; j < nq(); ++j) {
-        if (row[j] >= 0) r[row[j]] += v[j];
-        else FqV(dofCoord_[j], c) = v[j];
+        if (row[j] >= 0)
+          r[row[j]] += v[j];
+        else
+          FqV(dofCoord_[j], c) = v[j];
       }
     } else if (row[c] >= 0) {
       rhsMat_(row[c], c) = 1.0;
@@ -489,8 +495,10 @@ void GeometricTransferFunctions::velocities(double t, const Eigen::VectorXd& qd,
   inputRates(t, xd, workE_, 1);
   for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
   for (int j = 0; j < nq(); ++j) {
-    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = qd[j];
-    else xd[dofCoord_[j]] = qd[j];
+    if (dofRow_[j] >= 0)
+      rhs_[dofRow_[j]] = qd[j];
+    else
+      xd[dofCoord_[j]] = qd[j];
   }
   for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = 0.0;
   if (knownMoved_) knownCoupling(xd, rhs_.data());  // else every known coordinate is at rest
@@ -545,8 +553,7 @@ void GeometricTransferFunctions::deformationRates(const Eigen::VectorXd& xd, Eig
   }
 }
 
-void GeometricTransferFunctions::deformationAccelerations(const Eigen::VectorXd& xd,
-                                                          const Eigen::VectorXd& xdd,
+void GeometricTransferFunctions::deformationAccelerations(const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
                                                           Eigen::VectorXd& edd) const {
   deformationRates(xdd, edd);
   ElemVec xe, ve;
@@ -560,8 +567,8 @@ void GeometricTransferFunctions::deformationAccelerations(const Eigen::VectorXd&
   }
 }
 
-void GeometricTransferFunctions::addTransposedJacobianProduct(const Eigen::VectorXd& s,
-                                                              Eigen::VectorXd& y, double scale) const {
+void GeometricTransferFunctions::addTransposedJacobianProduct(const Eigen::VectorXd& s, Eigen::VectorXd& y,
+                                                              double scale) const {
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
     const DefJac& De = elemJac_[el];
@@ -573,8 +580,7 @@ void GeometricTransferFunctions::addTransposedJacobianProduct(const Eigen::Vecto
   }
 }
 
-void GeometricTransferFunctions::deformationFirstOrder(const Eigen::MatrixXd& FqV,
-                                                       Eigen::MatrixXd& EqV) const {
+void GeometricTransferFunctions::deformationFirstOrder(const Eigen::MatrixXd& FqV, Eigen::MatrixXd& EqV) const {
   EqV.setZero(ne(), FqV.cols());
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];

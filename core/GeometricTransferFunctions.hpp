@@ -20,6 +20,7 @@ class KinematicsError : public std::runtime_error {
   double time() const { return t_; }
   int iterations() const { return iterations_; }
   double residual() const { return residual_; }
+
  private:
   double t_;
   int iterations_;
@@ -73,14 +74,11 @@ class GeometricTransferFunctions {
   void accelerationOffsetFrom(double t, const Eigen::VectorXd& d2, Eigen::VectorXd& g);
   // Prescribed accelerations at t: xk[i] for input coordinates, ek[k] for input deformations;
   // other entries are left as they are.
-  void prescribedAccelerations(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek) const {
-    inputRates(t, xk, ek, 2);
-  }
+  void prescribedAccelerations(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek) const { inputRates(t, xk, ek, 2); }
   // ed = D_x xd (all deformations).
   void deformationRates(const Eigen::VectorXd& xd, Eigen::VectorXd& ed) const;
   // edd = D_x xdd + D2[xd, xd] (all deformations).
-  void deformationAccelerations(const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
-                                Eigen::VectorXd& edd) const;
+  void deformationAccelerations(const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd, Eigen::VectorXd& edd) const;
   // y += scale * D_x^T s (nodal forces dual to stresses s).
   void addTransposedJacobianProduct(const Eigen::VectorXd& s, Eigen::VectorXd& y, double scale = 1.0) const;
   // Reaction stresses of the constrained rows: solves J^T lambda = r_c (r: nodal vector, its
@@ -124,8 +122,8 @@ class GeometricTransferFunctions {
 
  private:
   void evaluateElements(bool withJacobian = true);  // e, element Jacobians, J values at x_
-  void evaluateJacobians();  // element Jacobians and J values only
-  void storeJacobian(size_t el);  // element el's Jacobian into J's value slots
+  void evaluateJacobians();                         // element Jacobians and J values only
+  void storeJacobian(size_t el);                    // element el's Jacobian into J's value slots
   void constraintTargets(double t, const Eigen::VectorXd& q);
   void inputRates(double t, Eigen::VectorXd& xk, Eigen::VectorXd& ek, int order) const;
   // rhs_r = b_r - (D_x v)_r for constrained rows; v holds known-coordinate values.
@@ -140,7 +138,7 @@ class GeometricTransferFunctions {
   // Jacobian pattern (compressed column) and the map element entry -> value slot.
   std::vector<int> colPtr_, rowIdx_;
   std::vector<double> values_;
-  std::vector<std::vector<int>> slot_;  // construction only: per element ndef*ncoord slots (row-major)
+  std::vector<std::vector<int>> slot_;                 // construction only: per element ndef*ncoord slots (row-major)
   std::vector<int> slotRange_, slotFlat_, slotLocal_;  // per element: (value slot, entry of D_e)
   SparseLU lu_;
   double tolerance_ = 1e-10;
@@ -162,15 +160,15 @@ class GeometricTransferFunctions {
   std::vector<Placement> placements_;
   void analysePlacements();
   bool placeSequentially();  // false when an element had no solution: Newton takes over
-  double predict();  // returns the residual it started from
+  double predict();          // returns the residual it started from
   // A chord (simplified Newton) step is kept while the residual falls at least this much per step;
   // slower contraction refactorises (measured on the paper's models: 0.1 and 0.01 cost more
   // element evaluations than a refactorisation saves).
   static constexpr double kChordContraction = 1e-3;
   // x_, e_ and the factorisation belong to one converged configuration (the predictor may start).
   bool consistent_ = false;
-  bool knownMoved_ = false;  // inputs or DYNX coordinates: the known coordinates move with (t, q)
-  bool hasCurvature_ = false;  // curvature_ belongs to the consistent configuration
+  bool knownMoved_ = false;        // inputs or DYNX coordinates: the known coordinates move with (t, q)
+  bool hasCurvature_ = false;      // curvature_ belongs to the consistent configuration
   bool predictionMissed_ = false;  // the last predicted configuration needed a correction
   double curvatureScale_ = 0.0;
   Eigen::VectorXd curvature_;  // D2_C[xd, xd] on the constrained rows

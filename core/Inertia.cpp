@@ -112,13 +112,20 @@ void Inertia::projectedMass(const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar) {
     for (int b = 0; b < m; ++b)
       for (int a = 0; a < m; ++a) Mbar(a, b) += lumped_[i] * (F(i, a) * F(i, b));  // symmetric bits
   switch (m) {
-    case 1: return addElementProjections<1>(model_, massive_, blocks_, F, Mbar);
-    case 2: return addElementProjections<2>(model_, massive_, blocks_, F, Mbar);
-    case 3: return addElementProjections<3>(model_, massive_, blocks_, F, Mbar);
-    case 4: return addElementProjections<4>(model_, massive_, blocks_, F, Mbar);
-    case 5: return addElementProjections<5>(model_, massive_, blocks_, F, Mbar);
-    case 6: return addElementProjections<6>(model_, massive_, blocks_, F, Mbar);
-    default: return addElementProjections<Eigen::Dynamic>(model_, massive_, blocks_, F, Mbar);
+    case 1:
+      return addElementProjections<1>(model_, massive_, blocks_, F, Mbar);
+    case 2:
+      return addElementProjections<2>(model_, massive_, blocks_, F, Mbar);
+    case 3:
+      return addElementProjections<3>(model_, massive_, blocks_, F, Mbar);
+    case 4:
+      return addElementProjections<4>(model_, massive_, blocks_, F, Mbar);
+    case 5:
+      return addElementProjections<5>(model_, massive_, blocks_, F, Mbar);
+    case 6:
+      return addElementProjections<6>(model_, massive_, blocks_, F, Mbar);
+    default:
+      return addElementProjections<Eigen::Dynamic>(model_, massive_, blocks_, F, Mbar);
   }
 }
 
@@ -156,8 +163,7 @@ void Inertia::multiply(const Eigen::MatrixXd& F, Eigen::MatrixXd& Y) const {
   }
 }
 
-void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
-                                Eigen::VectorXd& y) const {
+void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y) const {
   ElemVec xe, ve, he;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
@@ -224,8 +230,8 @@ void addDirectional(const ElementEntry& E, int el, const ElemVec& xe, Fn&& force
 }
 }  // namespace
 
-void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
-                                       const Eigen::MatrixXd& W, Eigen::MatrixXd& Y) const {
+void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::MatrixXd& W,
+                                       Eigen::MatrixXd& Y) const {
   ElemVec xe, ve, we, v, hp, hm;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
@@ -249,9 +255,8 @@ void Inertia::addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::Ve
   }
 }
 
-void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
-                                       const Eigen::VectorXd& xdd, const Eigen::MatrixXd& A,
-                                       const ElementSteps& steps, Eigen::MatrixXd& Y) const {
+void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
+                                       const Eigen::MatrixXd& A, const ElementSteps& steps, Eigen::MatrixXd& Y) const {
   ElemVec xe, ve, acc;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
@@ -304,10 +309,7 @@ void appliedLoads(const Model& model, const Inertia& inertia, double t, double l
 Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M) {
   // 2 E(lambda)^T M = 2 Z(M) lambda, Z(M) = [[0, -M^T], [M, [M]x]] (spatial-elements.md 6.3).
   Eigen::Matrix4d Z;
-  Z << 0.0, -M[0], -M[1], -M[2],
-       M[0], 0.0, -M[2], M[1],
-       M[1], M[2], 0.0, -M[0],
-       M[2], -M[1], M[0], 0.0;
+  Z << 0.0, -M[0], -M[1], -M[2], M[0], 0.0, -M[2], M[1], M[1], M[2], 0.0, -M[0], M[2], -M[1], M[0], 0.0;
   return 2.0 * Z;
 }
 

@@ -52,11 +52,11 @@ class Inertia {
 
  private:
   const Model& model_;
-  std::vector<int> massive_;      // elements with distributed inertia
-  std::vector<ElemMat> blocks_;   // per massive element
-  Eigen::VectorXd lumped_;        // diagonal lumped masses (nx)
-  std::vector<int> lumpedCoords_; // coordinates with a lumped mass
-  Eigen::MatrixXd wide_;          // M F of projectedMass for wide F
+  std::vector<int> massive_;       // elements with distributed inertia
+  std::vector<ElemMat> blocks_;    // per massive element
+  Eigen::VectorXd lumped_;         // diagonal lumped masses (nx)
+  std::vector<int> lumpedCoords_;  // coordinates with a lumped mass
+  Eigen::MatrixXd wide_;           // M F of projectedMass for wide F
 };
 
 // Applied nodal loads at (t, x): initialFactor * XF + loadFactor * DELXF + XFT(t) + gravity

@@ -32,18 +32,36 @@ KinematicReport checkKinematics(const Model& model) {
   std::vector<int> col(model.nx, -1), row(model.ne, -1), cols, rows;
   for (int i = 0; i < model.nx; ++i) {
     switch (model.xRole[i]) {
-      case Role::Fixed: r.xFixed++; break;
-      case Role::Input: r.xInput++; break;
-      case Role::Dynamic: r.xDynamic++; break;
-      case Role::Calculable: r.xCalculable++; col[i] = static_cast<int>(cols.size()); cols.push_back(i); break;
+      case Role::Fixed:
+        r.xFixed++;
+        break;
+      case Role::Input:
+        r.xInput++;
+        break;
+      case Role::Dynamic:
+        r.xDynamic++;
+        break;
+      case Role::Calculable:
+        r.xCalculable++;
+        col[i] = static_cast<int>(cols.size());
+        cols.push_back(i);
+        break;
     }
   }
   for (int k = 0; k < model.ne; ++k) {
     switch (model.eRole[k]) {
-      case Role::Fixed: r.eFixed++; break;
-      case Role::Input: r.eInput++; break;
-      case Role::Dynamic: r.eDynamic++; break;
-      case Role::Calculable: r.eReleased++; break;
+      case Role::Fixed:
+        r.eFixed++;
+        break;
+      case Role::Input:
+        r.eInput++;
+        break;
+      case Role::Dynamic:
+        r.eDynamic++;
+        break;
+      case Role::Calculable:
+        r.eReleased++;
+        break;
     }
     if (model.eRole[k] != Role::Calculable) {
       row[k] = static_cast<int>(rows.size());
@@ -90,12 +108,12 @@ KinematicReport checkKinematics(const Model& model) {
 
 std::string formatReport(const KinematicReport& r) {
   std::ostringstream o;
-  o << "nodes: " << r.positionNodes << " position, " << r.orientationNodes << " orientation; elements: "
-    << r.elements << "\n";
-  o << "nodal coordinates: " << r.nx << " (fixed " << r.xFixed << ", input " << r.xInput << ", dynamic "
-    << r.xDynamic << ", calculable " << r.xCalculable << ")\n";
-  o << "deformations:      " << r.ne << " (fixed " << r.eFixed << ", input " << r.eInput << ", dynamic "
-    << r.eDynamic << ", released " << r.eReleased << ")\n";
+  o << "nodes: " << r.positionNodes << " position, " << r.orientationNodes << " orientation; elements: " << r.elements
+    << "\n";
+  o << "nodal coordinates: " << r.nx << " (fixed " << r.xFixed << ", input " << r.xInput << ", dynamic " << r.xDynamic
+    << ", calculable " << r.xCalculable << ")\n";
+  o << "deformations:      " << r.ne << " (fixed " << r.eFixed << ", input " << r.eInput << ", dynamic " << r.eDynamic
+    << ", released " << r.eReleased << ")\n";
   o << "kinematic equations: " << (r.eFixed + r.eInput + r.eDynamic) << " for " << r.xCalculable
     << " calculable coordinates, rank " << r.rank << "\n";
   o << "degrees of freedom: " << r.dof << "\n";

@@ -5,8 +5,14 @@
 namespace flexmb::core {
 
 Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis)
-    : model_(model), coords_(model.numDofs(), std::move(basis)), m_(coords_.size()),
-      gtf_(model), inertia_(model), stresses_(model), steps_(model), nodal_(model) {
+    : model_(model),
+      coords_(model.numDofs(), std::move(basis)),
+      m_(coords_.size()),
+      gtf_(model),
+      inertia_(model),
+      stresses_(model),
+      steps_(model),
+      nodal_(model) {
   active_.resize(model.ne);
   for (int k = 0; k < model.ne; ++k) active_[k] = stresses_.isActive(k) ? 1 : 0;
 }
@@ -19,8 +25,7 @@ void Linearization::appliedForces(double t, double loadFactor, Eigen::VectorXd& 
   appliedLoads(model_, inertia_, t, loadFactor, gtf_.x(), f, initialFactor);
 }
 
-void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
-                                 Eigen::VectorXd& Q) {
+void Linearization::staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q) {
   dofs(eta, q_);
   gtf_.solvePositions(t, q_);
   forcesInPlace(t, f, Q);
@@ -69,8 +74,10 @@ void Linearization::generalizedForces(Eigen::VectorXd& Q) {
     const auto& d = model_.dofs[j];
     qf_[j] = d.isDeformation ? lambda_[d.index] : work_[d.index];
   }
-  if (basis()) Q.noalias() = basis()->transpose() * qf_;
-  else Q = qf_;
+  if (basis())
+    Q.noalias() = basis()->transpose() * qf_;
+  else
+    Q = qf_;
 }
 
 void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
@@ -129,14 +136,16 @@ void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
   if (projectG) project(nodal_.G(), out.G);
 }
 
-void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
-                           LinearizedSystem& out, bool withMass) {
+void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, LinearizedSystem& out,
+                           bool withMass) {
   staticForces(t, eta, f, out.Q);
   updateTransfer();
   geometricStiffness(out);
   project(nodal_.K(), out.K);
-  if (nodal_.hasDamping()) project(nodal_.D(), out.D);
-  else out.D.setZero(m_, m_);
+  if (nodal_.hasDamping())
+    project(nodal_.D(), out.D);
+  else
+    out.D.setZero(m_, m_);
   out.C.setZero(m_, m_);  // Eq. 16a
   out.N.setZero(m_, m_);
   if (withMass) {
@@ -185,8 +194,10 @@ void Linearization::inMotion(double t, const Eigen::VectorXd& eta, const Eigen::
 
   gtf_.deformationFirstOrder(A, EqV_);
   project(nodal_.K(), out.K);
-  if (nodal_.hasDamping()) project(nodal_.D(), out.D);
-  else out.D.setZero(m_, m_);
+  if (nodal_.hasDamping())
+    project(nodal_.D(), out.D);
+  else
+    out.D.setZero(m_, m_);
   inertia_.multiply(A, MF_);
   out.M.noalias() = A.transpose() * MF_;
   out.M = 0.5 * (out.M + out.M.transpose()).eval();
@@ -262,8 +273,10 @@ void Linearization::constrainedPencil(ConstrainedPencil& out) const {
   std::vector<T> tc, tp;
   for (int j = 0; j < model_.numDofs(); ++j) {
     const auto& d = model_.dofs[j];
-    if (d.isDeformation) prow[d.index] = j;
-    else if (fidx[d.index] >= 0) tp.emplace_back(j, fidx[d.index], 1.0);
+    if (d.isDeformation)
+      prow[d.index] = j;
+    else if (fidx[d.index] >= 0)
+      tp.emplace_back(j, fidx[d.index], 1.0);
   }
   for (size_t el = 0; el < model_.elements.size(); ++el) {
     const auto& E = model_.elements[el];
@@ -274,8 +287,10 @@ void Linearization::constrainedPencil(ConstrainedPencil& out) const {
       for (int c = 0; c < J.cols(); ++c) {
         const int fc = fidx[E.coords[c]];
         if (fc < 0 || J(i, c) == 0.0) continue;
-        if (crow[k] >= 0) tc.emplace_back(crow[k], fc, J(i, c));
-        else tp.emplace_back(prow[k], fc, J(i, c));
+        if (crow[k] >= 0)
+          tc.emplace_back(crow[k], fc, J(i, c));
+        else
+          tp.emplace_back(prow[k], fc, J(i, c));
       }
     }
   }

@@ -18,8 +18,8 @@
 #include "core/ConstrainedTangent.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
-#include "core/NodalMatrices.hpp"
 #include "core/Model.hpp"
+#include "core/NodalMatrices.hpp"
 #include "core/ReducedCoordinates.hpp"
 #include "core/Stresses.hpp"
 
@@ -31,7 +31,7 @@ struct LinearizedSystem {
   // Generalised forces (F_q V)^T (f - D_x^T sigma) at rest; in motion the residual of Eq. 13,
   // (F_q V)^T (f - M xdd - h - D_x^T sigma), which vanishes on a trajectory.
   Eigen::VectorXd Q;
-  Eigen::VectorXd sigma;       // elastic + reaction stresses (ne)
+  Eigen::VectorXd sigma;  // elastic + reaction stresses (ne)
 };
 
 // Eq. 21 of the full model on the free nodal coordinates (calculable and DYNX), for the sparse
@@ -76,8 +76,7 @@ class Linearization {
   // F_q V at the last atRest / tangent / inMotion (nx x m; staticForces does not form it).
   const Eigen::MatrixXd& transfer() const { return FqV_; }
   // Q and the static Newton tangent T = Kbar + Gbar only (one projection instead of atRest's four).
-  void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
-               Eigen::MatrixXd& T);
+  void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q, Eigen::MatrixXd& T);
   // Only Q (cheap: no second derivatives, no F_q: one transposed kinematic solve), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
@@ -89,8 +88,7 @@ class Linearization {
   // a basis). Both throw KinematicsError.
   void staticResidual(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
                       Eigen::VectorXd& Q);
-  bool staticTangent(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor,
-                     Eigen::VectorXd& Q);
+  bool staticTangent(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor, Eigen::VectorXd& Q);
   // x = (Kbar + Gbar)^-1 b with the last staticTangent.
   void solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 

@@ -6,10 +6,14 @@ namespace flexmb::core {
 
 const char* roleName(Role r) {
   switch (r) {
-    case Role::Fixed: return "fixed";
-    case Role::Input: return "input";
-    case Role::Dynamic: return "dynamic";
-    case Role::Calculable: return "calculable";
+    case Role::Fixed:
+      return "fixed";
+    case Role::Input:
+      return "input";
+    case Role::Dynamic:
+      return "dynamic";
+    case Role::Calculable:
+      return "calculable";
   }
   return "?";
 }
@@ -41,8 +45,8 @@ std::string Model::coordName(int xIndex) const {
 std::string Model::deformationName(int eIndex) const {
   const ElementEntry& el = elements[eOwnerElement[eIndex]];
   const int comp = eIndex - el.firstDef;
-  return "e(" + el.type->keyword + " " + std::to_string(el.label) + ", " + std::to_string(comp + 1) +
-         " " + el.type->deformationNames[comp] + ")";
+  return "e(" + el.type->keyword + " " + std::to_string(el.label) + ", " + std::to_string(comp + 1) + " " +
+         el.type->deformationNames[comp] + ")";
 }
 
 }  // namespace flexmb::core

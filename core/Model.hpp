@@ -25,7 +25,7 @@ struct Node {
   NodeKind kind = NodeKind::Position;
   int firstCoord = 0;  // index into x
   int dim() const { return nodeKindDim(kind); }
-  int line = 0;        // where it was first used
+  int line = 0;  // where it was first used
 };
 
 struct ElementEntry {
@@ -39,7 +39,7 @@ struct ElementEntry {
   ElementInertia inertia;
   bool hasStiffness = false, hasDamping = false;
   std::vector<double> stiffnessParams, dampingParams;  // as given (ESTIFF / EDAMP), for echoes
-  DefMat S, Sd;             // constitutive stiffness and damping (ndef x ndef)
+  DefMat S, Sd;                                        // constitutive stiffness and damping (ndef x ndef)
   // The element's entries of a global nodal vector (positions, velocities, forces ...).
   void gather(const Eigen::VectorXd& v, ElemVec& out) const {
     out.resize(static_cast<int>(coords.size()));
@@ -72,8 +72,8 @@ struct LumpedMass {
 // A moment on a spatial orientation node in global components (XF n Mx My Mz, SPACAR 2017+):
 // its generalised force on the Euler parameters is 2 E(lambda)^T M (spatial-elements.md 6.3).
 struct NodalMoment {
-  int node = 0;                                     // node index
-  Eigen::Vector3d value = Eigen::Vector3d::Zero();  // XF
+  int node = 0;                                         // node index
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();      // XF
   Eigen::Vector3d increment = Eigen::Vector3d::Zero();  // DELXF, scaled like delf
 };
 
@@ -83,15 +83,15 @@ struct AnalysisSettings {
   int outputIntervals = 100;
   double relTol = 1e-3;
   double absTol = 1e-6;
-  double hmax = 0.0;         // 0: ode45 default 0.1*|tf - t0|
+  double hmax = 0.0;            // 0: ode45 default 0.1*|tf - t0|
   double kinematicTol = 1e-12;  // Newton tolerance, relative to the model size (below ode tolerances)
   // EPSKIN or the ITERSTEP tolerance was given. Without it a simulation sets the kinematic
   // tolerance from the integrator's (1e-5 RelTol, at most 1e-10): far below the integration error, no tighter.
   bool kinematicTolGiven = false;
   int maxIterations = 50;
-  int loadSteps = 1;            // ITERSTEP field 2: steps of the DEL* increments (total at the last)
-  int initialLoadSteps = 0;     // ITERSTEP field 6: steps of the initial loads (0: at once)
-  int outputLevel = 0;          // OUTLEVEL a
+  int loadSteps = 1;              // ITERSTEP field 2: steps of the DEL* increments (total at the last)
+  int initialLoadSteps = 0;       // ITERSTEP field 6: steps of the initial loads (0: at once)
+  int outputLevel = 0;            // OUTLEVEL a
   int transferFunctionLevel = 0;  // OUTLEVEL .. b: 1 asks for the first-order transfer functions
   bool timestepGiven = false;
 };
@@ -105,13 +105,13 @@ struct Model {
   std::vector<ElementEntry> elements;
   std::map<int, int> elementByLabel;
 
-  int nx = 0;  // number of nodal coordinates
-  int ne = 0;  // number of deformations
-  Eigen::VectorXd x0;         // initial nodal coordinates (reference configuration)
-  std::vector<Role> xRole;    // size nx
-  std::vector<Role> eRole;    // size ne
-  std::vector<int> xOwnerNode;          // x index -> node index
-  std::vector<int> eOwnerElement;       // e index -> element index
+  int nx = 0;                      // number of nodal coordinates
+  int ne = 0;                      // number of deformations
+  Eigen::VectorXd x0;              // initial nodal coordinates (reference configuration)
+  std::vector<Role> xRole;         // size nx
+  std::vector<Role> eRole;         // size ne
+  std::vector<int> xOwnerNode;     // x index -> node index
+  std::vector<int> eOwnerElement;  // e index -> element index
 
   // Independent coordinates q, in file order: DYNX coordinates then DYNE deformations
   // (each list in the order the file names them).
@@ -131,14 +131,14 @@ struct Model {
   std::vector<std::string> notes;
 
   // Loads and stresses.
-  Eigen::VectorXd f0;      // constant nodal forces (XF/FORCE), size nx
-  Eigen::VectorXd delf;    // DELXF, size nx
+  Eigen::VectorXd f0;                // constant nodal forces (XF/FORCE), size nx
+  Eigen::VectorXd delf;              // DELXF, size nx
   std::vector<TimeLoad> timeForces;  // XFT
   double gravity[3] = {0.0, 0.0, 0.0};
   std::vector<NodalMoment> moments;  // spatial models: global moments on orientation nodes
   bool spatial = false;              // the model's elements are spatial (BEAM, TRUSS, HINGE ...)
   bool hasGravity = false;
-  Eigen::VectorXd sigma0;  // ESIG prestress, size ne
+  Eigen::VectorXd sigma0;              // ESIG prestress, size ne
   std::vector<TimeLoad> timeStresses;  // ESIGT
   std::vector<TimeLoad> references;    // EREF: sigma = S (e - eref(t))
   std::vector<Rheonomic> inputX;       // prescribed nodal coordinates

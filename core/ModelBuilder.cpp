@@ -104,18 +104,20 @@ ModelBuilder::ModelBuilder(std::string sourceFile) : impl_(std::make_unique<Impl
 }
 ModelBuilder::~ModelBuilder() = default;
 
-void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
-                              int line) {
+void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels, int line) {
   impl_->elements.push_back({&type, label, {nodeLabels.begin(), nodeLabels.end()}, line});
 }
 void ModelBuilder::addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
                               std::span<const double> vector, int line) {
-  impl_->elements.push_back({&type, label, {nodeLabels.begin(), nodeLabels.end()}, line,
-                             {vector.begin(), vector.end()}});
+  impl_->elements.push_back(
+      {&type, label, {nodeLabels.begin(), nodeLabels.end()}, line, {vector.begin(), vector.end()}});
 }
 void ModelBuilder::setElementInertia(int element, std::span<const double> values, int line) {
-  impl_->inertias.push_back({element, values.empty() ? 0.0 : values[0],
-                             values.size() > 1 ? values[1] : 0.0, line, {values.begin(), values.end()}});
+  impl_->inertias.push_back({element,
+                             values.empty() ? 0.0 : values[0],
+                             values.size() > 1 ? values[1] : 0.0,
+                             line,
+                             {values.begin(), values.end()}});
 }
 void ModelBuilder::setNodeInertia(int node, std::span<const double> values, int line) {
   impl_->nodeInertias.push_back({node, {values.begin(), values.end()}, line});
@@ -133,9 +135,7 @@ void ModelBuilder::setCoordinateRole(int node, std::span<const int> comps, Role 
 void ModelBuilder::setDeformationRole(int element, std::span<const int> comps, Role role, int line) {
   impl_->eRoles.push_back({element, {comps.begin(), comps.end()}, role, line});
 }
-void ModelBuilder::setLumpedMass(int node, double value, int line) {
-  impl_->masses.push_back({node, value, line});
-}
+void ModelBuilder::setLumpedMass(int node, double value, int line) { impl_->masses.push_back({node, value, line}); }
 void ModelBuilder::setElementInertia(int element, double rhoA, double rhoI, int line) {
   impl_->inertias.push_back({element, rhoA, rhoI, line});
 }
@@ -158,28 +158,27 @@ void ModelBuilder::setGravity(double gx, double gy, int /*line*/) {
   impl_->gravity = {gx, gy};
   impl_->gravityZ = 0.0;
 }
-void ModelBuilder::setInputCoordinate(int node, int comp, std::optional<double> x,
-                                      std::optional<double> v, std::optional<double> a, int line) {
+void ModelBuilder::setInputCoordinate(int node, int comp, std::optional<double> x, std::optional<double> v,
+                                      std::optional<double> a, int line) {
   impl_->inputXValues.push_back({node, comp, x, v, a, line});
 }
-void ModelBuilder::setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x,
-                                               TimeFunctionPtr v, TimeFunctionPtr a, int line) {
+void ModelBuilder::setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
+                                               TimeFunctionPtr a, int line) {
   impl_->inputXFunctions.push_back({node, comp, std::move(x), std::move(v), std::move(a), line});
 }
-void ModelBuilder::setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x,
-                                                TimeFunctionPtr v, TimeFunctionPtr a, int line) {
+void ModelBuilder::setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
+                                                TimeFunctionPtr a, int line) {
   impl_->inputEFunctions.push_back({element, comp, std::move(x), std::move(v), std::move(a), line});
 }
-void ModelBuilder::setInputDeformation(int element, int comp, std::optional<double> x,
-                                       std::optional<double> v, std::optional<double> a, int line) {
+void ModelBuilder::setInputDeformation(int element, int comp, std::optional<double> x, std::optional<double> v,
+                                       std::optional<double> a, int line) {
   impl_->inputEValues.push_back({element, comp, x, v, a, line});
 }
 void ModelBuilder::setInputIncrement(int node, int comp, double delta, int line) {
   impl_->inputIncrements.push_back({node, comp, delta, line});
 }
-void ModelBuilder::setInitialDeformation(int element, int comp, std::optional<double> e,
-                                         std::optional<double> ed, std::optional<double> edd,
-                                         int line) {
+void ModelBuilder::setInitialDeformation(int element, int comp, std::optional<double> e, std::optional<double> ed,
+                                         std::optional<double> edd, int line) {
   impl_->initialDeformations.push_back({element, comp, e, ed, edd, line});
 }
 void ModelBuilder::setPrestress(int element, int comp, double sigma, int line) {
@@ -243,23 +242,27 @@ struct Resolver {
 
   int node(int label, int line) const {
     auto it = m.nodeByLabel.find(label);
-    if (it == m.nodeByLabel.end())
-      fail(line, "node " + std::to_string(label) + " is not used by any element");
+    if (it == m.nodeByLabel.end()) fail(line, "node " + std::to_string(label) + " is not used by any element");
     return it->second;
   }
   int element(int label, int line) const {
     auto it = m.elementByLabel.find(label);
-    if (it == m.elementByLabel.end())
-      fail(line, "element " + std::to_string(label) + " is not defined");
+    if (it == m.elementByLabel.end()) fail(line, "element " + std::to_string(label) + " is not defined");
     return it->second;
   }
   std::string nodeDescription(int ni) const {
     const Node& n = m.nodes[ni];
     const char* what = "";
     switch (n.kind) {
-      case NodeKind::Position: what = "a position node (components 1..2: x, y)"; break;
-      case NodeKind::Orientation: what = "an orientation node (component 1: angle)"; break;
-      case NodeKind::SpatialPosition: what = "a position node (components 1..3: x, y, z)"; break;
+      case NodeKind::Position:
+        what = "a position node (components 1..2: x, y)";
+        break;
+      case NodeKind::Orientation:
+        what = "an orientation node (component 1: angle)";
+        break;
+      case NodeKind::SpatialPosition:
+        what = "a position node (components 1..3: x, y, z)";
+        break;
       case NodeKind::EulerParameters:
         what = "an orientation node (components 1..4: Euler parameters lambda0..lambda3)";
         break;
@@ -275,8 +278,8 @@ struct Resolver {
   }
   std::string elementDescription(int ei) const {
     const ElementEntry& el = m.elements[ei];
-    std::string s = elemName(ei) + " has " + std::to_string(el.type->numDeformations()) +
-                    " deformation" + (el.type->numDeformations() == 1 ? "" : "s") + " (";
+    std::string s = elemName(ei) + " has " + std::to_string(el.type->numDeformations()) + " deformation" +
+                    (el.type->numDeformations() == 1 ? "" : "s") + " (";
     for (int i = 0; i < el.type->numDeformations(); ++i)
       s += (i ? ", " : "") + std::to_string(i + 1) + " " + el.type->deformationNames[i];
     return s + ")";
@@ -308,19 +311,16 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   for (const auto& st : in.elements) {
     if (!st.type) R::fail(st.line, "element without a type");
     const ElementTypeInfo& type = *st.type;
-    if (st.label <= 0)
-      R::fail(st.line, "element label must be a positive integer, found " + std::to_string(st.label));
+    if (st.label <= 0) R::fail(st.line, "element label must be a positive integer, found " + std::to_string(st.label));
     if (auto it = m.elementByLabel.find(st.label); it != m.elementByLabel.end())
-      R::fail(st.line, "element " + std::to_string(st.label) + " is already defined (" +
-                           r.elemName(it->second) + " at line " +
-                           std::to_string(m.elements[it->second].line) + ")");
+      R::fail(st.line, "element " + std::to_string(st.label) + " is already defined (" + r.elemName(it->second) +
+                           " at line " + std::to_string(m.elements[it->second].line) + ")");
     if (st.nodes.size() != type.slots.size())
       R::fail(st.line, type.keyword + " needs " + std::to_string(type.slots.size()) + " nodes, found " +
                            std::to_string(st.nodes.size()));
     if (st.vec.size() != type.vector.size())
-      R::fail(st.line, type.keyword + " " + std::to_string(st.label) + " needs " +
-                           std::to_string(type.vector.size()) + " direction components after its nodes, found " +
-                           std::to_string(st.vec.size()));
+      R::fail(st.line, type.keyword + " " + std::to_string(st.label) + " needs " + std::to_string(type.vector.size()) +
+                           " direction components after its nodes, found " + std::to_string(st.vec.size()));
     for (double v : st.vec)
       if (!std::isfinite(v)) R::fail(st.line, "direction vector is not finite");
     // A model is planar or spatial.
@@ -330,11 +330,10 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       const Impl::ElemStmt* o = firstOfKind[!spatialType];
       const Impl::ElemStmt* planar = spatialType ? o : &st;
       const Impl::ElemStmt* spatial = spatialType ? &st : o;
-      R::fail(st.line, "planar and spatial elements cannot be mixed in one model: planar " +
-                           planar->type->keyword + " " + std::to_string(planar->label) + " (line " +
-                           std::to_string(planar->line) + ") and spatial " + spatial->type->keyword +
-                           " " + std::to_string(spatial->label) + " (line " +
-                           std::to_string(spatial->line) + ")");
+      R::fail(st.line, "planar and spatial elements cannot be mixed in one model: planar " + planar->type->keyword +
+                           " " + std::to_string(planar->label) + " (line " + std::to_string(planar->line) +
+                           ") and spatial " + spatial->type->keyword + " " + std::to_string(spatial->label) +
+                           " (line " + std::to_string(spatial->line) + ")");
     }
     m.spatial = spatialType;
     const int ei = static_cast<int>(m.elements.size());
@@ -344,13 +343,12 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     el.line = st.line;
     for (size_t s = 0; s < st.nodes.size(); ++s) {
       const int label = st.nodes[s];
-      if (label <= 0)
-        R::fail(st.line, "node label must be a positive integer, found " + std::to_string(label));
+      if (label <= 0) R::fail(st.line, "node label must be a positive integer, found " + std::to_string(label));
       for (size_t s2 = 0; s2 < s; ++s2)
         if (st.nodes[s2] == label)
           R::fail(st.line, "node " + std::to_string(label) + " appears twice in " + type.keyword + " " +
-                               std::to_string(st.label) + " (" + slotName(type, s2) + " and " +
-                               slotName(type, s) + ")");
+                               std::to_string(st.label) + " (" + slotName(type, s2) + " and " + slotName(type, s) +
+                               ")");
       const NodeKind kind = type.slots[s];
       auto it = m.nodeByLabel.find(label);
       int ni;
@@ -373,13 +371,11 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
           const auto [fe, fs] = r.firstUse[ni];
           const ElementEntry& first = fe == ei ? el : m.elements[fe];
           R::fail(st.line, "node " + std::to_string(label) + " is used as " +
-                               (isTranslational(kind) ? "a position" : "an orientation") +
-                               " node here (" + type.keyword + " " + std::to_string(st.label) + ", " +
-                               slotName(type, s) + ") but as " +
-                               (isTranslational(n.kind) ? "a position" : "an orientation") +
-                               " node by " + first.type->keyword + " " + std::to_string(first.label) +
-                               " (" + slotName(*first.type, fs) + ") at line " +
-                               std::to_string(first.line));
+                               (isTranslational(kind) ? "a position" : "an orientation") + " node here (" +
+                               type.keyword + " " + std::to_string(st.label) + ", " + slotName(type, s) + ") but as " +
+                               (isTranslational(n.kind) ? "a position" : "an orientation") + " node by " +
+                               first.type->keyword + " " + std::to_string(first.label) + " (" +
+                               slotName(*first.type, fs) + ") at line " + std::to_string(first.line));
         }
       }
       el.nodes.push_back(ni);
@@ -418,8 +414,8 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     // SPACAR accepts FIX on a node no element uses (SPACAR Light writes one for the warping node
     // of every fixed node, BEAMW or not): nothing to fix, so a note instead of an error.
     if (st.role == Role::Fixed && st.comps.empty() && !m.nodeByLabel.count(st.id)) {
-      addNote("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) +
-              "): node " + std::to_string(st.id) + " is not used by any element; ignored");
+      addNote("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) + "): node " +
+              std::to_string(st.id) + " is not used by any element; ignored");
       continue;
     }
     const int ni = r.node(st.id, st.line);
@@ -430,9 +426,8 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     for (int c : comps) {
       const int xi = r.x(st.id, c, st.line);
       if (r.xRoleLine[xi] != 0 && m.xRole[xi] != st.role)
-        R::fail(st.line, "cannot make " + m.coordName(xi) + " " + roleName(st.role) +
-                             ": it was made " + roleName(m.xRole[xi]) + " at line " +
-                             std::to_string(r.xRoleLine[xi]));
+        R::fail(st.line, "cannot make " + m.coordName(xi) + " " + roleName(st.role) + ": it was made " +
+                             roleName(m.xRole[xi]) + " at line " + std::to_string(r.xRoleLine[xi]));
       if (r.xRoleLine[xi] == 0) {
         r.xRoleLine[xi] = st.line;
         m.xRole[xi] = st.role;
@@ -449,9 +444,8 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     for (int c : comps) {
       const int di = r.e(st.id, c, st.line);
       if (r.eRoleLine[di] != 0 && m.eRole[di] != st.role)
-        R::fail(st.line, "cannot make " + m.deformationName(di) + " " + roleName(st.role) +
-                             ": it was made " + roleName(m.eRole[di]) + " at line " +
-                             std::to_string(r.eRoleLine[di]));
+        R::fail(st.line, "cannot make " + m.deformationName(di) + " " + roleName(st.role) + ": it was made " +
+                             roleName(m.eRole[di]) + " at line " + std::to_string(r.eRoleLine[di]));
       if (r.eRoleLine[di] == 0) {
         r.eRoleLine[di] = st.line;
         m.eRole[di] = st.role;
@@ -498,10 +492,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     if (!el.type->create && !el.type->createWithVector)
       R::fail(el.line, el.type->keyword + ": element type cannot be created");
     try {
-      std::unique_ptr<Element> impl =
-          el.type->createWithVector
-              ? el.type->createWithVector(x0e, in.elements[ei].vec.data(), options)
-              : el.type->create(x0e, options);
+      std::unique_ptr<Element> impl = el.type->createWithVector
+                                          ? el.type->createWithVector(x0e, in.elements[ei].vec.data(), options)
+                                          : el.type->create(x0e, options);
       if (!impl) R::fail(el.line, el.type->keyword + ": element could not be created");
       el.impl = std::move(impl);
     } catch (const ModelError&) {
@@ -554,15 +547,14 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       ElementEntry& el = m.elements[ei];
       const auto& layout = el.type->stiffness;
       // Spatial elements: trailing parameters may be omitted (0), as SPACAR files do.
-      const bool tooFew = isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty()
-                                                            : st.values.size() != layout.size();
+      const bool tooFew =
+          isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty() : st.values.size() != layout.size();
       if (tooFew || st.values.size() > layout.size()) {
         std::string names;
         for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
         R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
-                             (damping ? "damping" : "stiffness") + " parameter" +
-                             (layout.size() == 1 ? "" : "s") + " (" + names + "), found " +
-                             std::to_string(st.values.size()));
+                             (damping ? "damping" : "stiffness") + " parameter" + (layout.size() == 1 ? "" : "s") +
+                             " (" + names + "), found " + std::to_string(st.values.size()));
       }
       for (double v : st.values)
         if (!std::isfinite(v)) R::fail(st.line, "parameter is not finite");
@@ -588,16 +580,15 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     if (!(st.rhoA >= 0.0) || !std::isfinite(st.rhoA))
       R::fail(st.line, "negative mass per unit length " + num(st.rhoA) + " for " + r.elemName(ei));
     if (!(st.rhoI >= 0.0) || !std::isfinite(st.rhoI))
-      R::fail(st.line, "negative rotary inertia per unit length " + num(st.rhoI) + " for " +
-                           r.elemName(ei));
+      R::fail(st.line, "negative rotary inertia per unit length " + num(st.rhoI) + " for " + r.elemName(ei));
     const ElementTypeInfo& type = *m.elements[ei].type;
     if (isSpatial(type.slots.front())) {
       if (st.values.size() > type.inertia.size() || st.values.empty())
-        R::fail(st.line, r.elemName(ei) + " takes " +
-                             (type.inertia.empty() ? std::string("no mass parameters")
-                                                   : "1 to " + std::to_string(type.inertia.size()) +
-                                                         " mass parameters") +
-                             ", found " + std::to_string(st.values.size()));
+        R::fail(st.line,
+                r.elemName(ei) + " takes " +
+                    (type.inertia.empty() ? std::string("no mass parameters")
+                                          : "1 to " + std::to_string(type.inertia.size()) + " mass parameters") +
+                    ", found " + std::to_string(st.values.size()));
       for (double v : st.values)
         if (!std::isfinite(v)) R::fail(st.line, "mass parameter is not finite");
       for (size_t k = 0; k < 4 && k + 1 < st.values.size(); ++k)
@@ -611,16 +602,17 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       continue;
     }
     if (st.values.size() > 2)
-      R::fail(st.line, r.elemName(ei) + " takes 1 or 2 mass parameters (rhoA, rhoI), found " +
-                           std::to_string(st.values.size()));
+      R::fail(st.line,
+              r.elemName(ei) + " takes 1 or 2 mass parameters (rhoA, rhoI), found " + std::to_string(st.values.size()));
     m.elements[ei].inertia = {st.rhoA, st.rhoI};
   }
   for (const auto& st : in.nodeInertias) {
     const int ni = r.node(st.id, st.line);
     const Node& n = m.nodes[ni];
     if (n.kind != NodeKind::EulerParameters)
-      R::fail(st.line, r.nodeDescription(ni) + ": an inertia tensor (6 values) applies to a spatial "
-                                              "orientation node");
+      R::fail(st.line, r.nodeDescription(ni) +
+                           ": an inertia tensor (6 values) applies to a spatial "
+                           "orientation node");
     if (st.values.size() != 6 && st.values.size() != 1)
       R::fail(st.line, "node " + std::to_string(n.label) +
                            ": expected the inertia tensor Ixx Ixy Ixz Iyy Iyz Izz (or one value I), found " +
@@ -645,8 +637,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     const int ni = r.node(st.id, st.line);
     const Node& n = m.nodes[ni];
     if (!(st.value >= 0.0) || !std::isfinite(st.value))
-      R::fail(st.line, std::string("negative ") +
-                           (isTranslational(n.kind) ? "mass " : "rotary inertia ") +
+      R::fail(st.line, std::string("negative ") + (isTranslational(n.kind) ? "mass " : "rotary inertia ") +
                            num(st.value) + " at node " + std::to_string(n.label));
     if (n.kind == NodeKind::EulerParameters) {  // XM n I: isotropic rigid-body inertia
       if (auto it = normalisationOf.find(ni); it != normalisationOf.end()) {
@@ -680,10 +671,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
         continue;
       }
       if (isSpatial(n.kind) && static_cast<int>(st.values.size()) > n.dim())
-        R::fail(st.line, r.nodeDescription(ni) + ": expected at most " + std::to_string(n.dim()) +
-                             " load components" +
-                             (n.kind == NodeKind::EulerParameters ? " (3: moment Mx My Mz)" : "") +
-                             ", found " + std::to_string(st.values.size()));
+        R::fail(st.line, r.nodeDescription(ni) + ": expected at most " + std::to_string(n.dim()) + " load components" +
+                             (n.kind == NodeKind::EulerParameters ? " (3: moment Mx My Mz)" : "") + ", found " +
+                             std::to_string(st.values.size()));
       if (static_cast<int>(st.values.size()) > n.dim())
         R::fail(st.line, "node " + std::to_string(n.label) +
                              " is an orientation node: expected 1 component (moment), found " +
@@ -711,26 +701,24 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     if (comp == 0) {  // ESIG e s: an element with one deformation
       const int ei = r.element(st.id, st.line);
       if (m.elements[ei].type->numDeformations() != 1)
-        R::fail(st.line, "ESIG e s (two numbers) is for an element with one deformation; " +
-                             r.elementDescription(ei) + ": write ESIG e i s");
+        R::fail(st.line, "ESIG e s (two numbers) is for an element with one deformation; " + r.elementDescription(ei) +
+                             ": write ESIG e i s");
       comp = 1;
     }
     m.sigma0[r.e(st.id, comp, st.line)] = st.value;
   }
-  for (const auto& st : in.timeStresses)
-    m.timeStresses.push_back({r.e(st.id, st.comp, st.line), st.f});
+  for (const auto& st : in.timeStresses) m.timeStresses.push_back({r.e(st.id, st.comp, st.line), st.f});
   std::map<int, int> referenceLine;
   for (const auto& st : in.references) {
     const int di = r.e(st.id, st.comp, st.line);
     const ElementEntry& el = m.elements[m.eOwnerElement[di]];
-    if (!el.hasStiffness)
-      R::fail(st.line, m.deformationName(di) + " has no stiffness (ESTIFF): a reference needs one");
+    if (!el.hasStiffness) R::fail(st.line, m.deformationName(di) + " has no stiffness (ESTIFF): a reference needs one");
     if (m.eRole[di] != Role::Dynamic && m.eRole[di] != Role::Calculable)
       R::fail(st.line, m.deformationName(di) + " is " + roleName(m.eRole[di]) +
                            ": a reference applies to a dynamic (DYNE) or released (RLSE) deformation");
     if (auto it = referenceLine.find(di); it != referenceLine.end())
-      R::fail(st.line, "a reference for " + m.deformationName(di) + " was already given at line " +
-                           std::to_string(it->second));
+      R::fail(st.line,
+              "a reference for " + m.deformationName(di) + " was already given at line " + std::to_string(it->second));
     referenceLine[di] = st.line;
     m.references.push_back({di, st.f});
   }
@@ -764,8 +752,8 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     const int di = r.e(element, comp, line);
     auto it = inputEAt.find(di);
     if (it == inputEAt.end())
-      R::fail(line, m.deformationName(di) + " is not an input deformation (it is " +
-                        roleName(m.eRole[di]) + "); declare it with INPUTE in the kinematic block");
+      R::fail(line, m.deformationName(di) + " is not an input deformation (it is " + roleName(m.eRole[di]) +
+                        "); declare it with INPUTE in the kinematic block");
     return m.inputE[it->second];
   };
   auto setValues = [](Rheonomic& rh, const Impl::CompValues& st) {

@@ -15,6 +15,7 @@ class ModelError : public std::runtime_error {
  public:
   ModelError(int line, const std::string& message) : std::runtime_error(message), line_(line) {}
   int line() const { return line_; }
+
  private:
   int line_;
 };
@@ -29,12 +30,12 @@ class ModelBuilder {
   // Spatial elements with a direction vector (BEAM ... y1 y2 y3, HINGE ... a1 a2 a3).
   void addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
                   std::span<const double> vector, int line);
-  void setCoordinates(int node, std::span<const double> values, int line);          // X, XY, BETA
+  void setCoordinates(int node, std::span<const double> values, int line);            // X, XY, BETA
   void setCoordinateRole(int node, std::span<const int> comps, Role role, int line);  // 1-based; empty = all
   void setDeformationRole(int element, std::span<const int> comps, Role role, int line);
 
   // Dynamic / static block.
-  void setLumpedMass(int node, double value, int line);                    // MASS / XM
+  void setLumpedMass(int node, double value, int line);                     // MASS / XM
   void setElementInertia(int element, double rhoA, double rhoI, int line);  // EMASS / EM
   // EM with the element type's layout (planar rhoA [rhoI]; BEAM rhoA Jxx Jyy Jzz Jyz).
   void setElementInertia(int element, std::span<const double> values, int line);
@@ -42,18 +43,18 @@ class ModelBuilder {
   void setNodeInertia(int node, std::span<const double> values, int line);
   void setStiffness(int element, std::span<const double> params, int line);
   void setDamping(int element, std::span<const double> params, int line);
-  void addForce(int node, std::span<const double> comps, int line);         // FORCE / XF
+  void addForce(int node, std::span<const double> comps, int line);           // FORCE / XF
   void addForceIncrement(int node, std::span<const double> comps, int line);  // DELXF
-  void addTimeForce(int node, int comp, TimeFunctionPtr f, int line);       // XFT
+  void addTimeForce(int node, int comp, TimeFunctionPtr f, int line);         // XFT
   void setGravity(double gx, double gy, int line);
   void setGravity(double gx, double gy, double gz, int line);
   // Input coordinate values: 2013+ INPUTX n i x [v [a]]; SPACAR95 XD / XDD set one field each.
-  void setInputCoordinate(int node, int comp, std::optional<double> x, std::optional<double> v,
-                          std::optional<double> a, int line);
-  void setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
-                                   TimeFunctionPtr a, int line);  // INPUTXT
-  void setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x, TimeFunctionPtr v,
-                                    TimeFunctionPtr a, int line);  // INPUTET
+  void setInputCoordinate(int node, int comp, std::optional<double> x, std::optional<double> v, std::optional<double> a,
+                          int line);
+  void setInputCoordinateFunctions(int node, int comp, TimeFunctionPtr x, TimeFunctionPtr v, TimeFunctionPtr a,
+                                   int line);  // INPUTXT
+  void setInputDeformationFunctions(int element, int comp, TimeFunctionPtr x, TimeFunctionPtr v, TimeFunctionPtr a,
+                                    int line);  // INPUTET
   // Input deformation values e(t) = x + v t + a t^2/2 (dynamic-block INPUTE e i x [v [a]], by
   // analogy with INPUTX; SPACAR95's E/ED/EDD on an input deformation do the same through
   // setInitialDeformation). Default x = 0 (the reference configuration).
@@ -72,7 +73,7 @@ class ModelBuilder {
   void setReferenceLength(int element, double length0, int line);
   void addNote(std::string note);  // Model::notes (a note given twice is kept once)
   void addTimeStress(int element, int comp, TimeFunctionPtr f, int line);  // ESIGT
-  void setReference(int element, int comp, TimeFunctionPtr f, int line);  // EREF
+  void setReference(int element, int comp, TimeFunctionPtr f, int line);   // EREF
 
   AnalysisSettings& settings();
   void setDialect(Dialect d);

@@ -24,8 +24,8 @@ ModelDiagnosis diagnoseModel(const Model& model) {
   };
   for (const auto& n : model.nodes)
     for (int c = 0; c < n.dim(); ++c)
-      check(model.x0[n.firstCoord + c], std::string(n.kind == NodeKind::Position ? "X" : "BETA") + " of node " +
-                                            std::to_string(n.label));
+      check(model.x0[n.firstCoord + c],
+            std::string(n.kind == NodeKind::Position ? "X" : "BETA") + " of node " + std::to_string(n.label));
   for (const auto& E : model.elements) {
     const std::string el = " of element " + std::to_string(E.label);
     check(E.inertia.rhoA, "mass per length (EM)" + el);

@@ -18,7 +18,7 @@
 namespace flexmb::core {
 
 struct ModelDiagnosis {
-  std::vector<std::string> overflow;              // "ESTIFF of element 3: 1e+308"
+  std::vector<std::string> overflow;               // "ESTIFF of element 3: 1e+308"
   std::vector<std::string> mechanismDeformations;  // "e(element 3, 2) (PLBEAM, no ESTIFF)"
 };
 

@@ -39,7 +39,8 @@ NodalMatrices::NodalMatrices(const Model& model) : model_(model) {
     const int nc = static_cast<int>(E.coords.size());
     slot_[el].resize(static_cast<size_t>(nc) * nc);
     for (int j = 0; j < nc; ++j)
-      for (int i = 0; i < nc; ++i) slot_[el][static_cast<size_t>(j) * nc + i] = findSlot(pattern_, E.coords[i], E.coords[j]);
+      for (int i = 0; i < nc; ++i)
+        slot_[el][static_cast<size_t>(j) * nc + i] = findSlot(pattern_, E.coords[i], E.coords[j]);
     if (E.inertia.any()) massive_.push_back(static_cast<int>(el));
     hasDamping_ = hasDamping_ || E.hasDamping;
   }
@@ -94,8 +95,8 @@ void NodalMatrices::assembleStiffness(const GeometricTransferFunctions& gtf, con
   }
 }
 
-void NodalMatrices::assembleGeometric(const Eigen::VectorXd& x, const Eigen::VectorXd& sigma,
-                                      const ElementSteps& steps, double initialFactor, double loadFactor) {
+void NodalMatrices::assembleGeometric(const Eigen::VectorXd& x, const Eigen::VectorXd& sigma, const ElementSteps& steps,
+                                      double initialFactor, double loadFactor) {
   clear(G_);
   ElemVec xe, unit, d;
   DefVec se;

@@ -46,8 +46,8 @@ class NodalMatrices {
 
   const Model& model_;
   Sparse pattern_, K_, D_, G_, M_;
-  std::vector<std::vector<int>> slot_;  // per element: nc*nc value slots (column-major)
-  std::vector<int> diagSlot_;           // per coordinate
+  std::vector<std::vector<int>> slot_;           // per element: nc*nc value slots (column-major)
+  std::vector<int> diagSlot_;                    // per coordinate
   std::vector<std::array<int, 16>> momentSlot_;  // per moment load: its node's 4x4 block
   std::vector<int> massive_;
   bool hasDamping_ = false;

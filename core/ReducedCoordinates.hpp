@@ -19,13 +19,13 @@ class ReducedCoordinates {
   // q = V eta (or eta); eta may be a block of a state vector (no temporary on the hot path).
   template <class Derived>
   void toFull(const Eigen::MatrixBase<Derived>& eta, Eigen::VectorXd& q) const {
-    if (basis_) q.noalias() = *basis_ * eta;
-    else q = eta;
+    if (basis_)
+      q.noalias() = *basis_ * eta;
+    else
+      q = eta;
   }
   // eta from q by least squares onto V (exact when q lies in its span); q itself without a basis.
-  Eigen::VectorXd fromFull(const Eigen::VectorXd& q) const {
-    return basis_ ? Eigen::VectorXd(qr_.solve(q)) : q;
-  }
+  Eigen::VectorXd fromFull(const Eigen::VectorXd& q) const { return basis_ ? Eigen::VectorXd(qr_.solve(q)) : q; }
 
  private:
   std::optional<Eigen::MatrixXd> basis_;

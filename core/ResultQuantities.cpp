@@ -66,8 +66,10 @@ void ResultQuantities::transfer(const std::vector<FreeCoordinate>& cols, Eigen::
   const int m = static_cast<int>(cols.size());
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(model_.ne, m);
   for (int j = 0; j < m; ++j) {
-    if (cols[j].isDeformation) R(cols[j].index, j) = 1.0;           // the deformation moves
-    else R.col(j) = -D.col(cols[j].index);                            // the coordinate moves
+    if (cols[j].isDeformation)
+      R(cols[j].index, j) = 1.0;  // the deformation moves
+    else
+      R.col(j) = -D.col(cols[j].index);  // the coordinate moves
   }
   gtf_.solveConstrained(R, dx);
   for (int j = 0; j < m; ++j)

@@ -69,9 +69,12 @@ SaddlePointAccelerations::SaddlePointAccelerations(const Model& model, const Ine
       ++colPtr_[e.col + 1];
     }
     const int slot = static_cast<int>(rowIdx_.size()) - 1;
-    if (e.kind == 0) diagSlot_[e.owner] = slot;
-    else if (e.kind == 1) massSlotOf[e.owner][e.local] = slot;
-    else jacSlotOf[e.owner][e.local] = slot;
+    if (e.kind == 0)
+      diagSlot_[e.owner] = slot;
+    else if (e.kind == 1)
+      massSlotOf[e.owner][e.local] = slot;
+    else
+      jacSlotOf[e.owner][e.local] = slot;
   }
   for (int c = 0; c < n_; ++c) colPtr_[c + 1] += colPtr_[c];
   // Flat lists for assemble: per massive element its (slot, entry of M_e), per element its
@@ -144,8 +147,7 @@ void SaddlePointAccelerations::chooseScaling() {
     for (int p = colPtr_[c]; p < colPtr_[c + 1]; ++p)
       if (rowIdx_[p] >= nf_)
         rowMax[rowIdx_[p] - nf_] = std::max(rowMax[rowIdx_[p] - nf_], std::abs(values_[p]) * scale_[c]);
-  for (int r = 0; r < nr_; ++r)
-    scale_[nf_ + r] = rowMax[r] > 0.0 && std::isfinite(rowMax[r]) ? 1.0 / rowMax[r] : 1.0;
+  for (int r = 0; r < nr_; ++r) scale_[nf_ + r] = rowMax[r] > 0.0 && std::isfinite(rowMax[r]) ? 1.0 / rowMax[r] : 1.0;
   for (int c = 0; c < n_; ++c)
     for (int p = colPtr_[c]; p < colPtr_[c + 1]; ++p) slotScale_[p] = scale_[rowIdx_[p]] * scale_[c];
   scaled_ = true;
@@ -193,8 +195,10 @@ bool SaddlePointAccelerations::solve(double t, const GeometricTransferFunctions&
   lu_.solve(b_.data(), 1);
 
   // xdd: prescribed on the known coordinates, solved on the free ones.
-  if (rheonomic) xdd = xddKnown_;
-  else xdd.setZero(model_.nx);
+  if (rheonomic)
+    xdd = xddKnown_;
+  else
+    xdd.setZero(model_.nx);
   for (int f = 0; f < nf_; ++f) xdd[freeCoord_[f]] = b_[f] * scale_[f];
   for (int j = 0; j < model_.numDofs(); ++j) {
     const auto& d = model_.dofs[j];

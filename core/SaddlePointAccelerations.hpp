@@ -44,11 +44,11 @@ class SaddlePointAccelerations {
   // Compressed-column pattern of the whole (symmetric, both triangles) matrix and value slots.
   std::vector<int> colPtr_, rowIdx_;
   std::vector<double> values_;
-  std::vector<int> diagSlot_;                 // per free coordinate
-  std::vector<int> massRange_, massSlot_, massLocal_;   // per massive element (Inertia order)
+  std::vector<int> diagSlot_;                                  // per free coordinate
+  std::vector<int> massRange_, massSlot_, massLocal_;          // per massive element (Inertia order)
   std::vector<int> jacRange_, jacSlot_, jacSlotT_, jacLocal_;  // per element: C and C^T entries
-  std::vector<double> scale_;                // symmetric diagonal scaling, chosen at the first solve
-  std::vector<double> slotScale_;            // per value slot: scale of its row times its column
+  std::vector<double> scale_;                                  // symmetric diagonal scaling, chosen at the first solve
+  std::vector<double> slotScale_;                              // per value slot: scale of its row times its column
   bool scaled_ = false;
   bool inputCoords_ = false, inputDefs_ = false;
   SparseLU lu_;

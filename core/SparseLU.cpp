@@ -25,8 +25,10 @@ using Pair = double __attribute__((vector_size(16)));
 
 template <class Lane>
 Lane gather(const double* b, int n, int i) {
-  if constexpr (sizeof(Lane) == sizeof(double)) return b[i];
-  else return Lane{b[i], b[n + i]};
+  if constexpr (sizeof(Lane) == sizeof(double))
+    return b[i];
+  else
+    return Lane{b[i], b[n + i]};
 }
 template <class Lane>
 void scatter(double* b, int n, int i, Lane v) {
@@ -100,7 +102,7 @@ bool denseLU(double* a, double* ud, double& umin, double& umax) {
 
 using DenseLUFn = bool (*)(double*, double*, double&, double&);
 DenseLUFn denseLU(int nk) {
-  static constexpr DenseLUFn kBySize[kDenseBlock + 1] = {nullptr,     denseLU<1>, denseLU<2>, denseLU<3>, denseLU<4>,
+  static constexpr DenseLUFn kBySize[kDenseBlock + 1] = {nullptr,    denseLU<1>, denseLU<2>, denseLU<3>, denseLU<4>,
                                                          denseLU<5>, denseLU<6>, denseLU<7>, denseLU<8>};
   return kBySize[nk];
 }
@@ -166,42 +168,42 @@ class SolvePlan {
   static SmallSolve<Lane> smallSolve(int nk);
 
   int n_ = 0;
-  std::vector<Block> blocks_;        // in visiting order
-  std::vector<Run> runs_;            // in visiting order
-  std::vector<int> forwardEnd_;      // per row: end of its forward row entries
-  std::vector<int> backwardEnd_;     // per row of a large block: end of its backward row entries
-  std::vector<int> col_;             // per row entry: column (pivot order)
-  std::vector<int> offCol_;          // columns of the F blocks kept by columns
-  std::vector<double> val_;          // row entries, then the small blocks' F by columns and LU
-  std::vector<const double*> src_;   // per value: its address in KLU's numeric object
-  const int* pnum_ = nullptr;        // pivot row permutation
-  const int* q_ = nullptr;           // column permutation
-  const double* udiag_ = nullptr;    // diagonal of U (ud_)
-  const double* rs_ = nullptr;       // row scale factors in pivot order (rsPivot_), or null
-  std::vector<double> ud_;           // diagonal of U
-  std::vector<double> rsPivot_;      // row scale factors in pivot order (KLU's scaling only)
+  std::vector<Block> blocks_;       // in visiting order
+  std::vector<Run> runs_;           // in visiting order
+  std::vector<int> forwardEnd_;     // per row: end of its forward row entries
+  std::vector<int> backwardEnd_;    // per row of a large block: end of its backward row entries
+  std::vector<int> col_;            // per row entry: column (pivot order)
+  std::vector<int> offCol_;         // columns of the F blocks kept by columns
+  std::vector<double> val_;         // row entries, then the small blocks' F by columns and LU
+  std::vector<const double*> src_;  // per value: its address in KLU's numeric object
+  const int* pnum_ = nullptr;       // pivot row permutation
+  const int* q_ = nullptr;          // column permutation
+  const double* udiag_ = nullptr;   // diagonal of U (ud_)
+  const double* rs_ = nullptr;      // row scale factors in pivot order (rsPivot_), or null
+  std::vector<double> ud_;          // diagonal of U
+  std::vector<double> rsPivot_;     // row scale factors in pivot order (KLU's scaling only)
 
   // Refactorisation maps (pivot order k; rows local to the block in X):
   int nnz_ = 0;
-  const int* ai_ = nullptr;          // the caller's row indices (for the scale factors)
-  std::vector<double> rsRow_;        // scale factors by original row
-  std::vector<int> offSrc_, offDst_; // entries copied: index in ax -> index in val_ (those of the
-                                     // off-diagonal blocks and of the small blocks' dense LU)
+  const int* ai_ = nullptr;           // the caller's row indices (for the scale factors)
+  std::vector<double> rsRow_;         // scale factors by original row
+  std::vector<int> offSrc_, offDst_;  // entries copied: index in ax -> index in val_ (those of the
+                                      // off-diagonal blocks and of the small blocks' dense LU)
   using DenseLU = bool (*)(double* a, double* ud, double& umin, double& umax);
   struct Dense {
     int lu, first, size;  // its dense LU in val_, its first pivot, its size
     DenseLU factor;
   };
-  std::vector<Dense> dense_;         // small blocks: factorised densely in place
-  std::vector<int> largeFirst_;      // large blocks (sparse, left-looking): first pivot, then the
-                                     // next block's (pairs)
+  std::vector<Dense> dense_;               // small blocks: factorised densely in place
+  std::vector<int> largeFirst_;            // large blocks (sparse, left-looking): first pivot, then the
+                                           // next block's (pairs)
   std::vector<int> aBegin_, aSrc_, aRow_;  // per column k: entries of the diagonal block in ax
   std::vector<int> uBegin_, uRow_, uDst_;  // per column k: U(:,k) off the diagonal, KLU's order
   std::vector<int> lBegin_, lRow_, lDst_;  // per column k: L(:,k) below the diagonal
-  std::vector<double> lx_;           // L(:,k)'s values also by columns (the update's operand)
-  mutable std::vector<double> work_; // dense column of a block, zero between uses
-  mutable std::vector<double> x1_;   // workspace, one column
-  mutable std::vector<Pair> x2_;     // workspace, two columns
+  std::vector<double> lx_;                 // L(:,k)'s values also by columns (the update's operand)
+  mutable std::vector<double> work_;       // dense column of a block, zero between uses
+  mutable std::vector<double> x1_;         // workspace, one column
+  mutable std::vector<Pair> x2_;           // workspace, two columns
 };
 
 void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai) {
@@ -538,9 +540,15 @@ void SolvePlan::smallBlocks(const SolvePlan& plan, const Block* blk, const Block
 
 template <class Lane>
 SolvePlan::SmallSolve<Lane> SolvePlan::smallSolve(int nk) {
-  static constexpr SmallSolve<Lane> kBySize[kDenseBlock + 1] = {
-      nullptr,               smallBlocks<1, Lane>, smallBlocks<2, Lane>, smallBlocks<3, Lane>, smallBlocks<4, Lane>,
-      smallBlocks<5, Lane>, smallBlocks<6, Lane>, smallBlocks<7, Lane>, smallBlocks<8, Lane>};
+  static constexpr SmallSolve<Lane> kBySize[kDenseBlock + 1] = {nullptr,
+                                                                smallBlocks<1, Lane>,
+                                                                smallBlocks<2, Lane>,
+                                                                smallBlocks<3, Lane>,
+                                                                smallBlocks<4, Lane>,
+                                                                smallBlocks<5, Lane>,
+                                                                smallBlocks<6, Lane>,
+                                                                smallBlocks<7, Lane>,
+                                                                smallBlocks<8, Lane>};
   return kBySize[nk];
 }
 

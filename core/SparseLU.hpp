@@ -35,8 +35,8 @@ class SparseLU {
   void solve(double* b, int nrhs) const;
   // Solves A^T X = B in place.
   void solveTransposed(double* b, int nrhs) const;
-  double reciprocalCondition() const;  // crude estimate from the last factorisation
-  long factorNonzeros() const;         // entries of L + U of the last factorisation (0 before one)
+  double reciprocalCondition() const;            // crude estimate from the last factorisation
+  long factorNonzeros() const;                   // entries of L + U of the last factorisation (0 before one)
   long pivotings() const { return pivotings_; }  // factorisations with fresh pivoting (klu_factor)
   int size() const { return n_; }
 

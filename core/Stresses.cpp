@@ -4,8 +4,7 @@ namespace flexmb::core {
 
 Stresses::Stresses(const Model& model) : model_(model) {
   active_.assign(model.ne, 0);
-  for (int k = 0; k < model.ne; ++k)
-    active_[k] = model.eRole[k] == Role::Dynamic || model.eRole[k] == Role::Calculable;
+  for (int k = 0; k < model.ne; ++k) active_[k] = model.eRole[k] == Role::Dynamic || model.eRole[k] == Role::Calculable;
   for (size_t el = 0; el < model.elements.size(); ++el) {
     const auto& E = model.elements[el];
     if (E.hasStiffness || E.hasDamping) stressedElements_.push_back(static_cast<int>(el));
@@ -14,8 +13,7 @@ Stresses::Stresses(const Model& model) : model_(model) {
   eref_ = Eigen::VectorXd::Zero(model.ne);
 }
 
-void Stresses::evaluate(double t, const Eigen::VectorXd& e, const Eigen::VectorXd* ed,
-                        Eigen::VectorXd& sigma) const {
+void Stresses::evaluate(double t, const Eigen::VectorXd& e, const Eigen::VectorXd* ed, Eigen::VectorXd& sigma) const {
   sigma.setZero(model_.ne);
   for (const auto& r : model_.references) eref_[r.index] = r.f->value(t);
   for (int el : stressedElements_) {

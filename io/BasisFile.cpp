@@ -88,8 +88,7 @@ std::vector<std::string_view> splitBlanks(std::string_view s) {
 }
 
 bool isReserved(std::string_view key) {
-  return key == "method" || key == "model" || key == "size" || key == "large" ||
-         key == "singular values";
+  return key == "method" || key == "model" || key == "size" || key == "large" || key == "singular values";
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -112,22 +111,19 @@ void checkText(std::string_view s, const std::string& what, bool allowEmpty) {
 template <class Fail>
 void checkLarge(const std::vector<int>& large, const Eigen::MatrixXd& V, Fail&& fail) {
   if (static_cast<Eigen::Index>(large.size()) > V.cols())
-    fail(std::to_string(large.size()) + " large coordinates but V has only " +
-         std::to_string(V.cols()) + " columns");
+    fail(std::to_string(large.size()) + " large coordinates but V has only " + std::to_string(V.cols()) + " columns");
   std::vector<char> seen(static_cast<std::size_t>(V.rows()), 0);
   for (std::size_t j = 0; j < large.size(); ++j) {
     const int i = large[j];
     if (i < 0 || i >= V.rows())
-      fail("large index " + std::to_string(i) + " out of range [0, " + std::to_string(V.rows()) +
-           ")");
+      fail("large index " + std::to_string(i) + " out of range [0, " + std::to_string(V.rows()) + ")");
     if (seen[static_cast<std::size_t>(i)]) fail("duplicate large index " + std::to_string(i));
     seen[static_cast<std::size_t>(i)] = 1;
     const Eigen::Index col = static_cast<Eigen::Index>(j);
     for (Eigen::Index r = 0; r < V.rows(); ++r)
       if (V(r, col) != (r == i ? 1.0 : 0.0))
-        fail("column " + std::to_string(j) + " of V is not the unit vector of large index " +
-             std::to_string(i) + " (V(" + std::to_string(r) + ", " + std::to_string(j) +
-             ") = " + g17(V(r, col)) + ")");
+        fail("column " + std::to_string(j) + " of V is not the unit vector of large index " + std::to_string(i) +
+             " (V(" + std::to_string(r) + ", " + std::to_string(j) + ") = " + g17(V(r, col)) + ")");
   }
 }
 
@@ -158,20 +154,17 @@ class Parser {
 
       if (!haveMagic) {
         if (line.front() != '#' || trim(line.substr(1)) != kMagic)
-          fail(ln, "missing header: the first line must be '# flexmb basis', found " +
-                       quote(line));
+          fail(ln, "missing header: the first line must be '# flexmb basis', found " + quote(line));
         haveMagic = true;
         continue;
       }
 
       if (line.front() == '#') {
         if (haveRows)
-          fail(ln, "header line after the data rows (first row at line " +
-                       std::to_string(firstRowLine) + ")");
+          fail(ln, "header line after the data rows (first row at line " + std::to_string(firstRowLine) + ")");
         const std::string_view body = line.substr(1);
         const std::size_t colon = body.find(':');
-        if (colon == std::string_view::npos)
-          fail(ln, "expected a header line '# key: value', found " + quote(line));
+        if (colon == std::string_view::npos) fail(ln, "expected a header line '# key: value', found " + quote(line));
         const std::string_view key = trim(body.substr(0, colon));
         const std::string_view value = trim(body.substr(colon + 1));
         if (key.empty()) fail(ln, "empty key in header line " + quote(line));
@@ -227,14 +220,11 @@ class Parser {
       while (true) {
         const std::size_t comma = line.find(',', start);
         const std::string_view field =
-            trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos
-                                                                    : comma - start));
+            trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
         ++count;
         if (field.empty()) fail(ln, "empty field " + std::to_string(count));
         const auto v = parseDouble(field);
-        if (!v)
-          fail(ln, "field " + std::to_string(count) + " " + quote(field) +
-                       " is not a finite number");
+        if (!v) fail(ln, "field " + std::to_string(count) + " " + quote(field) + " is not a finite number");
         values.push_back(*v);
         if (comma == std::string_view::npos) break;
         start = comma + 1;
@@ -242,13 +232,11 @@ class Parser {
       if (ncols < 0) {
         ncols = count;
         if (sizeLine && ncols != sizeCols)
-          fail(ln, "row has " + std::to_string(count) + " values but the size line (line " +
-                       std::to_string(sizeLine) + ") says " + std::to_string(sizeCols) +
-                       " columns");
+          fail(ln, "row has " + std::to_string(count) + " values but the size line (line " + std::to_string(sizeLine) +
+                       ") says " + std::to_string(sizeCols) + " columns");
       } else if (count != ncols) {
-        fail(ln, "ragged row: " + std::to_string(count) + " values, expected " +
-                     std::to_string(ncols) + " (as in line " + std::to_string(firstRowLine) +
-                     ")");
+        fail(ln, "ragged row: " + std::to_string(count) + " values, expected " + std::to_string(ncols) +
+                     " (as in line " + std::to_string(firstRowLine) + ")");
       }
       ++nrows;
     }
@@ -257,13 +245,12 @@ class Parser {
     if (!haveMagic) fail(1, "empty file");
     if (!haveRows) fail(lastLine, "no data rows");
     if (sizeLine && nrows != sizeRows)
-      fail(lastLine, std::to_string(nrows) + " data rows but the size line (line " +
-                         std::to_string(sizeLine) + ") says " + std::to_string(sizeRows));
+      fail(lastLine, std::to_string(nrows) + " data rows but the size line (line " + std::to_string(sizeLine) +
+                         ") says " + std::to_string(sizeRows));
 
     Eigen::MatrixXd V(nrows, ncols);
     for (Eigen::Index i = 0; i < nrows; ++i)
-      for (Eigen::Index j = 0; j < ncols; ++j)
-        V(i, j) = values[static_cast<std::size_t>(i * ncols + j)];
+      for (Eigen::Index j = 0; j < ncols; ++j) V(i, j) = values[static_cast<std::size_t>(i * ncols + j)];
 
     checkLarge(info.large, V, [&](const std::string& msg) { fail(largeLine, msg); });
 
@@ -316,8 +303,7 @@ std::string formatBasis(const Eigen::MatrixXd& V, const BasisInfo& info) {
   for (Eigen::Index j = 0; j < V.cols(); ++j)
     for (Eigen::Index i = 0; i < V.rows(); ++i)
       if (!std::isfinite(V(i, j)))
-        badArg("V(" + std::to_string(i) + ", " + std::to_string(j) + ") = " + g17(V(i, j)) +
-               " is not finite");
+        badArg("V(" + std::to_string(i) + ", " + std::to_string(j) + ") = " + g17(V(i, j)) + " is not finite");
   checkText(info.method, "method", false);
   checkText(info.model, "model", true);
   for (const auto& [key, value] : info.parameters) {
@@ -332,8 +318,7 @@ std::string formatBasis(const Eigen::MatrixXd& V, const BasisInfo& info) {
         badArg("duplicate parameter key " + quote(info.parameters[i].first));
   checkLarge(info.large, V, [](const std::string& msg) { badArg(msg); });
   for (Eigen::Index k = 0; k < info.scaledSingularValues.size(); ++k)
-    if (!std::isfinite(info.scaledSingularValues[k]))
-      badArg("singular value " + std::to_string(k) + " is not finite");
+    if (!std::isfinite(info.scaledSingularValues[k])) badArg("singular value " + std::to_string(k) + " is not finite");
 
   auto header = [](std::string& out, std::string_view key, std::string_view value) {
     out += "# ";
@@ -383,8 +368,8 @@ void writeBasis(const std::string& path, const Eigen::MatrixXd& V, const BasisIn
   errno = 0;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f)
-    throw std::runtime_error("cannot open '" + path + "' for writing: " +
-                             (errno ? std::strerror(errno) : "unknown error"));
+    throw std::runtime_error("cannot open '" + path +
+                             "' for writing: " + (errno ? std::strerror(errno) : "unknown error"));
   errno = 0;
   const bool shortWrite = std::fwrite(text.data(), 1, text.size(), f) != text.size();
   const int writeErr = errno;
@@ -394,8 +379,7 @@ void writeBasis(const std::string& path, const Eigen::MatrixXd& V, const BasisIn
   const int closeErr = errno;
   if (shortWrite || bad || rc != 0) {
     const int e = writeErr ? writeErr : closeErr;
-    throw std::runtime_error("error writing '" + path + "': " +
-                             (e ? std::strerror(e) : "write failed"));
+    throw std::runtime_error("error writing '" + path + "': " + (e ? std::strerror(e) : "write failed"));
   }
 }
 
@@ -407,8 +391,8 @@ Eigen::MatrixXd readBasis(const std::string& path, BasisInfo* info) {
   errno = 0;
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f)
-    throw std::runtime_error("cannot open '" + path + "' for reading: " +
-                             (errno ? std::strerror(errno) : "unknown error"));
+    throw std::runtime_error("cannot open '" + path +
+                             "' for reading: " + (errno ? std::strerror(errno) : "unknown error"));
   std::string text;
   char buf[65536];
   std::size_t n = 0;

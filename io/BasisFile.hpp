@@ -37,8 +37,8 @@
 namespace flexmb::io {
 
 struct BasisInfo {
-  std::string method;  // "modal", "svd-modal", ...
-  std::string model;   // model file the basis was made for
+  std::string method;                                           // "modal", "svd-modal", ...
+  std::string model;                                            // model file the basis was made for
   std::vector<std::pair<std::string, std::string>> parameters;  // e.g. {"r", "4"}, {"a", "1"}
   std::vector<int> large;                // coordinates with identity columns (column j <-> large[j])
   Eigen::VectorXd scaledSingularValues;  // sigma_k / sum(sigma) for SVD-modal; empty otherwise
@@ -50,7 +50,6 @@ Eigen::MatrixXd readBasis(const std::string& path, BasisInfo* info = nullptr);
 // The same on strings: formatBasis returns the file content; parseBasis uses `name` as the file
 // name in its messages.
 std::string formatBasis(const Eigen::MatrixXd& V, const BasisInfo& info);
-Eigen::MatrixXd parseBasis(const std::string& text, const std::string& name,
-                           BasisInfo* info = nullptr);
+Eigen::MatrixXd parseBasis(const std::string& text, const std::string& name, BasisInfo* info = nullptr);
 
 }  // namespace flexmb::io

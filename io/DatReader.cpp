@@ -17,8 +17,7 @@ namespace flexmb::io {
 
 namespace {
 
-std::string formatWhat(const std::string& file, int line, const std::string& keyword,
-                       const std::string& message) {
+std::string formatWhat(const std::string& file, int line, const std::string& keyword, const std::string& message) {
   std::ostringstream o;
   o << file;
   if (line > 0) o << ':' << line;
@@ -42,9 +41,7 @@ core::ElongationDefinition defaultElongation(core::Dialect d) {
                                       : core::ElongationDefinition::BendingCorrected;
 }
 
-const char* dialectName(core::Dialect d) {
-  return d == core::Dialect::Spacar95 ? "SPACAR95" : "SPACAR 2013+";
-}
+const char* dialectName(core::Dialect d) { return d == core::Dialect::Spacar95 ? "SPACAR95" : "SPACAR 2013+"; }
 
 namespace {
 
@@ -90,15 +87,12 @@ std::string show(const std::string& s) {
 }
 
 std::string showToken(const Token& t) {
-  return t.quoted ? "the quoted string \"" + show(t.text).substr(1, show(t.text).size() - 2) + "\""
-                  : show(t.text);
+  return t.quoted ? "the quoted string \"" + show(t.text).substr(1, show(t.text).size() - 2) + "\"" : show(t.text);
 }
 
 // A comma is not a separator: SPACAR's writers separate fields by blanks and tabs, and a comma
 // in a number is almost always a decimal comma (-9,81), reported as such.
-bool isSeparator(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
+bool isSeparator(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 bool isCommentStart(char c) { return c == '%' || c == '#' || c == ';'; }
 
 // Integers: [+-]digits. Reals: [+-](digits[.digits]|.digits)([eEdD][+-]digits).
@@ -293,8 +287,7 @@ void Reader::scan() {
     if (!lexLine(line, lineNo, tokens)) continue;
 
     const Token& first = tokens.front();
-    if (first.quoted)
-      fail(lineNo, "", "expected a keyword at the start of the line, found " + showToken(first));
+    if (first.quoted) fail(lineNo, "", "expected a keyword at the start of the line, found " + showToken(first));
     const std::string& word = first.text;
     if (!std::isalpha(static_cast<unsigned char>(word[0]))) {
       std::string msg = "expected a keyword at the start of the line, found " + show(word);
@@ -303,9 +296,11 @@ void Reader::scan() {
     }
     for (char ch : word)
       if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
-        fail(lineNo, "", "invalid keyword " + show(word) +
-                             " (a keyword is letters and digits, followed by blank-separated "
-                             "arguments)" + (word.find(',') != std::string::npos ? commaHint(word) : ""));
+        fail(lineNo, "",
+             "invalid keyword " + show(word) +
+                 " (a keyword is letters and digits, followed by blank-separated "
+                 "arguments)" +
+                 (word.find(',') != std::string::npos ? commaHint(word) : ""));
     const std::string name = upper(word);
     const std::vector<const KeywordInfo*> infos = findKeywords(name);
     if (infos.empty()) {
@@ -337,17 +332,18 @@ void Reader::scan() {
         continue;
       }
       if (!info->transfer)
-        fail(lineNo, name, "only mode-9 transfer keywords (INPUTF, INX, OUTF, OUTX, OUTXP) belong in the "
-                           "transfer block after END HALT (begun at line " + std::to_string(transferFirst_) +
-                           "): missing END?");
+        fail(lineNo, name,
+             "only mode-9 transfer keywords (INPUTF, INX, OUTF, OUTX, OUTXP) belong in the "
+             "transfer block after END HALT (begun at line " +
+                 std::to_string(transferFirst_) + "): missing END?");
       ++transferKeywords_[name];
       transferLast_ = lineNo;
       continue;
     }
 
     if (info->action == Action::Unsupported)
-      fail(lineNo, name, "SPACAR keyword, not supported by flexmb yet (" + info->meaning + "); " +
-                             info->unsupportedNote);
+      fail(lineNo, name,
+           "SPACAR keyword, not supported by flexmb yet (" + info->meaning + "); " + info->unsupportedNote);
 
     Statement st;
     st.line = lineNo;
@@ -355,8 +351,7 @@ void Reader::scan() {
     st.args.assign(tokens.begin() + 1, tokens.end());
 
     const auto noArgs = [&] {
-      if (!st.args.empty())
-        fail(lineNo, name, "expected no arguments, found " + std::to_string(st.args.size()));
+      if (!st.args.empty()) fail(lineNo, name, "expected no arguments, found " + std::to_string(st.args.size()));
     };
     const std::string blockName = closed == 0 ? "first block" : "block " + std::to_string(closed + 1);
     switch (info->action) {
@@ -374,8 +369,8 @@ void Reader::scan() {
       case Action::Halt:
         noArgs();
         if (open)
-          fail(lineNo, name, "inside the " + blockName + " (begun at line " +
-                                 std::to_string(openedAt) + "): missing END");
+          fail(lineNo, name,
+               "inside the " + blockName + " (begun at line " + std::to_string(openedAt) + "): missing END");
         if (closed == 1 && !haltSeen) {
           haltSeen = true;  // END HALT after the kinematic block: a separator
         } else {
@@ -385,8 +380,8 @@ void Reader::scan() {
       case Action::Eof:
       case Action::Visualization:
         if (open)
-          fail(lineNo, name, "inside the " + blockName + " (begun at line " +
-                                 std::to_string(openedAt) + "): missing END");
+          fail(lineNo, name,
+               "inside the " + blockName + " (begun at line " + std::to_string(openedAt) + "): missing END");
         done = true;
         continue;
       default:
@@ -408,12 +403,12 @@ void Reader::scan() {
     fail(0, "", "the file holds no statements (only comments or blank lines)");
   }
   if (inTransfer)
-    fail(lastLine_, "", "end of file inside the transfer block (begun at line " +
-                            std::to_string(transferFirst_) + "): missing END");
+    fail(lastLine_, "",
+         "end of file inside the transfer block (begun at line " + std::to_string(transferFirst_) + "): missing END");
   if (open && !done)
-    fail(lastLine_, "", std::string("end of file inside the ") +
-                            (closed == 0 ? "kinematic block" : "dynamic block") + " (begun at line " +
-                            std::to_string(openedAt) + "): missing END");
+    fail(lastLine_, "",
+         std::string("end of file inside the ") + (closed == 0 ? "kinematic block" : "dynamic block") +
+             " (begun at line " + std::to_string(openedAt) + "): missing END");
 }
 
 // The table entry a statement means in its block, once the dialect is known.
@@ -427,8 +422,9 @@ void Reader::resolve(Statement& s, bool spacar95) const {
     s.info = findKeyword(s.keyword, BlockKind::Kinematic);
     if (!s.info && spacar95) s.info = findKeyword(s.keyword, BlockKind::Dynamic);
     if (!s.info)
-      fail(s.line, s.keyword, "belongs to a dynamic/static block, after the kinematic block's END (is the "
-                              "END missing?)");
+      fail(s.line, s.keyword,
+           "belongs to a dynamic/static block, after the kinematic block's END (is the "
+           "END missing?)");
     return;
   }
   if (spacar95) {
@@ -440,14 +436,19 @@ void Reader::resolve(Statement& s, bool spacar95) const {
         case Action::DynX:
         case Action::DynE:
         case Action::Rlse:
-        case Action::InputERole: s.info = kin; return;  // a role restated in a later block
-        default: break;
+        case Action::InputERole:
+          s.info = kin;
+          return;  // a role restated in a later block
+        default:
+          break;
       }
     }
     s.info = findKeyword(s.keyword, BlockKind::Dynamic);
     if (!s.info)
-      fail(s.line, s.keyword, "belongs to the first block (elements and coordinates cannot change after "
-                              "the first END, at line " + std::to_string(kinEnd) + ")");
+      fail(s.line, s.keyword,
+           "belongs to the first block (elements and coordinates cannot change after "
+           "the first END, at line " +
+               std::to_string(kinEnd) + ")");
     return;
   }
   s.info = findKeyword(s.keyword, BlockKind::Dynamic);
@@ -465,14 +466,12 @@ core::Dialect Reader::detect() const {
     const Statement* later = s95->line > s13->line ? s95 : s13;
     fail(later->line, later->keyword,
          "the file mixes the dialects: " + s95->keyword + " (line " + std::to_string(s95->line) +
-             ") is SPACAR95 only, " + s13->keyword + " (line " + std::to_string(s13->line) +
-             ") is SPACAR 2013+ only");
+             ") is SPACAR95 only, " + s13->keyword + " (line " + std::to_string(s13->line) + ") is SPACAR 2013+ only");
   }
   return s95 ? core::Dialect::Spacar95 : core::Dialect::Spacar2013;
 }
 
-std::optional<std::string> Reader::layoutError(const Statement& s,
-                                               const std::vector<ArgSpec>& layout) const {
+std::optional<std::string> Reader::layoutError(const Statement& s, const std::vector<ArgSpec>& layout) const {
   const int n = static_cast<int>(s.args.size());
   const int lo = KeywordInfo::minArgs(layout), hi = KeywordInfo::maxArgs(layout);
   if (n < lo || (hi >= 0 && n > hi)) {
@@ -493,12 +492,10 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
       case ArgType::Component:
       case ArgType::Count:
       case ArgType::Integer: {
-        if (t.quoted)
-          return "expected an integer for " + spec.name + ", found " + showToken(t);
+        if (t.quoted) return "expected an integer for " + spec.name + ", found " + showToken(t);
         long long v = 0;
         const NumParse p = parseWhole(t.text, v);
-        if (p == NumParse::OutOfRange)
-          return "integer out of range for " + spec.name + ": " + show(t.text);
+        if (p == NumParse::OutOfRange) return "integer out of range for " + spec.name + ": " + show(t.text);
         if (p != NumParse::Ok)
           return "expected an integer for " + spec.name + ", found " + show(t.text) + commaHint(t.text);
         if (spec.type == ArgType::Integer ? v < 0 : v <= 0)
@@ -510,13 +507,13 @@ std::optional<std::string> Reader::layoutError(const Statement& s,
         if (t.quoted) return "expected a number for " + spec.name + ", found " + showToken(t);
         double v = 0.0;
         const NumParse p = parseReal(t.text, v);
-        if (p == NumParse::OutOfRange)
-          return "number out of range for " + spec.name + ": " + show(t.text);
+        if (p == NumParse::OutOfRange) return "number out of range for " + spec.name + ": " + show(t.text);
         if (p != NumParse::Ok)
           return "expected a number for " + spec.name + ", found " + show(t.text) + commaHint(t.text);
         break;
       }
-      case ArgType::Word: break;
+      case ArgType::Word:
+        break;
       case ArgType::Name: {
         bool ok = !t.quoted && !t.text.empty() && std::isalpha(static_cast<unsigned char>(t.text[0]));
         for (char c : t.text) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
@@ -610,32 +607,60 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     }
     case Action::Coordinates:
     case Action::CoordinatesXY:
-    case Action::CoordinatesBeta: b.setCoordinates(integer(s, 0), reals(1), line); break;
-    case Action::Fix: b.setCoordinateRole(integer(s, 0), ints(1), Role::Fixed, line); break;
-    case Action::InputXRole: b.setCoordinateRole(integer(s, 0), ints(1), Role::Input, line); break;
-    case Action::DynX: b.setCoordinateRole(integer(s, 0), ints(1), Role::Dynamic, line); break;
-    case Action::DynE: b.setDeformationRole(integer(s, 0), ints(1), Role::Dynamic, line); break;
-    case Action::Rlse: b.setDeformationRole(integer(s, 0), ints(1), Role::Calculable, line); break;
-    case Action::InputERole: b.setDeformationRole(integer(s, 0), ints(1), Role::Input, line); break;
+    case Action::CoordinatesBeta:
+      b.setCoordinates(integer(s, 0), reals(1), line);
+      break;
+    case Action::Fix:
+      b.setCoordinateRole(integer(s, 0), ints(1), Role::Fixed, line);
+      break;
+    case Action::InputXRole:
+      b.setCoordinateRole(integer(s, 0), ints(1), Role::Input, line);
+      break;
+    case Action::DynX:
+      b.setCoordinateRole(integer(s, 0), ints(1), Role::Dynamic, line);
+      break;
+    case Action::DynE:
+      b.setDeformationRole(integer(s, 0), ints(1), Role::Dynamic, line);
+      break;
+    case Action::Rlse:
+      b.setDeformationRole(integer(s, 0), ints(1), Role::Calculable, line);
+      break;
+    case Action::InputERole:
+      b.setDeformationRole(integer(s, 0), ints(1), Role::Input, line);
+      break;
     case Action::LumpedMass:
-      if (s.args.size() > 2) b.setNodeInertia(integer(s, 0), reals(1), line);  // spatial tensor
-      else b.setLumpedMass(integer(s, 0), real(s, 1), line);
+      if (s.args.size() > 2)
+        b.setNodeInertia(integer(s, 0), reals(1), line);  // spatial tensor
+      else
+        b.setLumpedMass(integer(s, 0), real(s, 1), line);
       break;
     case Action::ElementInertia:
       b.setElementInertia(integer(s, 0), reals(1), line);  // layout by element type
       break;
-    case Action::Stiffness: b.setStiffness(integer(s, 0), reals(1), line); break;
-    case Action::Damping: b.setDamping(integer(s, 0), reals(1), line); break;
-    case Action::Force: b.addForce(integer(s, 0), reals(1), line); break;
-    case Action::ForceIncrement: b.addForceIncrement(integer(s, 0), reals(1), line); break;
-    case Action::Gravity: b.setGravity(real(s, 0), real(s, 1), optReal(s, 2).value_or(0.0), line); break;
+    case Action::Stiffness:
+      b.setStiffness(integer(s, 0), reals(1), line);
+      break;
+    case Action::Damping:
+      b.setDamping(integer(s, 0), reals(1), line);
+      break;
+    case Action::Force:
+      b.addForce(integer(s, 0), reals(1), line);
+      break;
+    case Action::ForceIncrement:
+      b.addForceIncrement(integer(s, 0), reals(1), line);
+      break;
+    case Action::Gravity:
+      b.setGravity(real(s, 0), real(s, 1), optReal(s, 2).value_or(0.0), line);
+      break;
     case Action::InputXValues:
       b.setInputCoordinate(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), optReal(s, 4), line);
       break;
     case Action::InputEValues:
       b.setInputDeformation(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), optReal(s, 4), line);
       break;
-    case Action::XD: b.setCoordinateRate(integer(s, 0), integer(s, 1), real(s, 2), line); break;
+    case Action::XD:
+      b.setCoordinateRate(integer(s, 0), integer(s, 1), real(s, 2), line);
+      break;
     case Action::XDD:
       b.setInputCoordinate(integer(s, 0), integer(s, 1), std::nullopt, std::nullopt, real(s, 2), line);
       break;
@@ -651,15 +676,18 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::StartDE:
       b.setInitialDeformation(integer(s, 0), integer(s, 1), real(s, 2), optReal(s, 3), std::nullopt, line);
       break;
-    case Action::InputIncrement: b.setInputIncrement(integer(s, 0), integer(s, 1), real(s, 2), line); break;
+    case Action::InputIncrement:
+      b.setInputIncrement(integer(s, 0), integer(s, 1), real(s, 2), line);
+      break;
     case Action::Prestress:
       if (s.args.size() == 2) {  // ESIG e s: an element with one deformation
         b.setPrestress(integer(s, 0), 0, real(s, 1), line);
       } else {
         long long comp = 0;
         if (parseWhole(s.args[1].text, comp) != NumParse::Ok || comp <= 0)
-          fail(line, s.keyword, "expected a positive integer for component, found " + show(s.args[1].text) +
-                                    " (ESIG e i s; ESIG e s for an element with one deformation)");
+          fail(line, s.keyword,
+               "expected a positive integer for component, found " + show(s.args[1].text) +
+                   " (ESIG e i s; ESIG e s for an element with one deformation)");
         b.setPrestress(integer(s, 0), static_cast<int>(comp), real(s, 2), line);
       }
       break;
@@ -667,7 +695,9 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       set.outputLevel = integer(s, 0);
       if (s.args.size() > 1) set.transferFunctionLevel = integer(s, 1);
       break;
-    case Action::Length0: b.setReferenceLength(integer(s, 0), real(s, 1), line); break;
+    case Action::Length0:
+      b.setReferenceLength(integer(s, 0), real(s, 1), line);
+      break;
     case Action::Ignored:
       b.addNote(s.keyword + " (line " + std::to_string(line) +
                 "): SPACAR95 run setting, accepted and ignored by flexmb");
@@ -690,12 +720,16 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       set.absTol = positive(real(s, 0), "the absolute tolerance");
       set.relTol = positive(real(s, 1), "the relative tolerance");
       break;
-    case Action::HMax: set.hmax = positive(real(s, 0), "the maximum step size"); break;
+    case Action::HMax:
+      set.hmax = positive(real(s, 0), "the maximum step size");
+      break;
     case Action::EpsKin:
       set.kinematicTol = positive(real(s, 0), "the kinematic tolerance");
       set.kinematicTolGiven = true;
       break;
-    case Action::MaxIterat: set.maxIterations = integer(s, 0); break;
+    case Action::MaxIterat:
+      set.maxIterations = integer(s, 0);
+      break;
     case Action::IterStep:
       set.maxIterations = integer(s, 0);
       set.loadSteps = integer(s, 1);
@@ -710,7 +744,9 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       set.t0 = real(s, 0);
       timeLine_ = line;
       break;
-    case Action::TimeForce: b.addTimeForce(integer(s, 0), integer(s, 1), function(s, 2, "f(t)"), line); break;
+    case Action::TimeForce:
+      b.addTimeForce(integer(s, 0), integer(s, 1), function(s, 2, "f(t)"), line);
+      break;
     case Action::UserStress:
       userStress_ = s.args[0].text, userStressLine_ = line;
       break;
@@ -720,20 +756,24 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::TimeStress:
       b.addTimeStress(integer(s, 0), integer(s, 1), function(s, 2, "sigma(t)"), line);
       break;
-    case Action::Reference: b.setReference(integer(s, 0), integer(s, 1), function(s, 2, "eref(t)"), line); break;
+    case Action::Reference:
+      b.setReference(integer(s, 0), integer(s, 1), function(s, 2, "eref(t)"), line);
+      break;
     case Action::InputXFunctions:
-      b.setInputCoordinateFunctions(integer(s, 0), integer(s, 1), function(s, 2, "x(t)"),
-                                    function(s, 3, "v(t)"), function(s, 4, "a(t)"), line);
+      b.setInputCoordinateFunctions(integer(s, 0), integer(s, 1), function(s, 2, "x(t)"), function(s, 3, "v(t)"),
+                                    function(s, 4, "a(t)"), line);
       break;
     case Action::InputEFunctions:
-      b.setInputDeformationFunctions(integer(s, 0), integer(s, 1), function(s, 2, "e(t)"),
-                                     function(s, 3, "v(t)"), function(s, 4, "a(t)"), line);
+      b.setInputDeformationFunctions(integer(s, 0), integer(s, 1), function(s, 2, "e(t)"), function(s, 3, "v(t)"),
+                                     function(s, 4, "a(t)"), line);
       break;
     case Action::End:
     case Action::Halt:
     case Action::Eof:
     case Action::Visualization:
-    case Action::Unsupported: fail(line, s.keyword, "internal: unexpected statement"); break;
+    case Action::Unsupported:
+      fail(line, s.keyword, "internal: unexpected statement");
+      break;
   }
 }
 
@@ -747,9 +787,8 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
   if (transferFirst_) {
     std::string list;
     for (const auto& [k, n] : transferKeywords_) list += (list.empty() ? "" : ", ") + k + " x" + std::to_string(n);
-    b.addNote("mode-9 transfer block at lines " + std::to_string(transferFirst_) + "-" +
-              std::to_string(transferLast_) + " (" + list +
-              "): flexmb does not compute transfer functions yet; the block is not used");
+    b.addNote("mode-9 transfer block at lines " + std::to_string(transferFirst_) + "-" + std::to_string(transferLast_) +
+              " (" + list + "): flexmb does not compute transfer functions yet; the block is not used");
   }
   std::map<int, std::string> keywordAt;
   bool anyElement = false;
@@ -775,9 +814,11 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
             case Action::ED:
             case Action::EDD:
             case Action::StartDE:
-              fail(s.line, s.keyword, "initial values belong in the first analysis: after the analysis of "
-                                      "an earlier block the state continues from where it ended");
-            default: break;
+              fail(s.line, s.keyword,
+                   "initial values belong in the first analysis: after the analysis of "
+                   "an earlier block the state continues from where it ended");
+            default:
+              break;
           }
         }
         apply(s, b, spacar95);
@@ -822,8 +863,7 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
           double x, v, a;
           r.evaluate(t1, x, v, a);
           const int ei = m.eOwnerElement[r.index];
-          b.setInputDeformation(m.elements[ei].label, r.index - m.elements[ei].firstDef + 1, x, v, a,
-                                stage.endLine);
+          b.setInputDeformation(m.elements[ei].label, r.index - m.elements[ei].firstDef + 1, x, v, a, stage.endLine);
         }
         set.t0 = t1;
         set.timestepGiven = false;
@@ -855,8 +895,7 @@ std::vector<AnalysisStage> readDatStagesString(std::string_view text, const std:
   return r.build(options);
 }
 
-core::Model readDatString(std::string_view text, const std::string& virtualFileName,
-                          const ReadOptions& options) {
+core::Model readDatString(std::string_view text, const std::string& virtualFileName, const ReadOptions& options) {
   std::vector<AnalysisStage> stages = readDatStagesString(text, virtualFileName, options);
   return std::move(stages.back().model);
 }

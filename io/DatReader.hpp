@@ -55,8 +55,8 @@ class DatError : public std::runtime_error {
 };
 
 struct ReadOptions {
-  std::optional<core::Dialect> dialect;                   // overrides detection
-  std::optional<core::ElongationDefinition> elongation;   // overrides the PLBEAM default
+  std::optional<core::Dialect> dialect;                  // overrides detection
+  std::optional<core::ElongationDefinition> elongation;  // overrides the PLBEAM default
 };
 
 // The elongation definition PLBEAM gets for a dialect: SPACAR95 Plain, 2013+ BendingCorrected.

@@ -15,15 +15,20 @@ std::string jsonString(const std::string& s) {
   std::string o = "\"";
   for (char c : s) {
     const unsigned char u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') o += '\\', o += c;
-    else if (c == '<') o += "\\u003c";
-    else if (c == '>') o += "\\u003e";
-    else if (c == '&') o += "\\u0026";
+    if (c == '"' || c == '\\')
+      o += '\\', o += c;
+    else if (c == '<')
+      o += "\\u003c";
+    else if (c == '>')
+      o += "\\u003e";
+    else if (c == '&')
+      o += "\\u0026";
     else if (u < 0x20) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\u%04x", u);
       o += buf;
-    } else o += c;
+    } else
+      o += c;
   }
   return o + "\"";
 }
@@ -176,7 +181,8 @@ std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory
   if (nt <= maxF) {
     for (size_t k = 0; k < nt; ++k) pick.push_back(k);
   } else {
-    for (size_t j = 0; j < maxF; ++j) pick.push_back(static_cast<size_t>(std::llround(double(j) * double(nt - 1) / double(maxF - 1))));
+    for (size_t j = 0; j < maxF; ++j)
+      pick.push_back(static_cast<size_t>(std::llround(double(j) * double(nt - 1) / double(maxF - 1))));
   }
   std::vector<std::vector<Point2>> frames;
   std::vector<Point3> p3;
@@ -212,14 +218,17 @@ std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory
 
   std::string d = "{\"title\":" + jsonString(opt.title) + ",\"times\":[";
   for (size_t j = 0; j < pick.size(); ++j) d += (j ? "," : "") + shortNumber(traj.time[pick[j]], 10);
-  d += "],\"bounds\":[" + shortNumber(u0, 8) + "," + shortNumber(v0, 8) + "," + shortNumber(u1, 8) + "," + shortNumber(v1, 8) + "]";
+  d += "],\"bounds\":[" + shortNumber(u0, 8) + "," + shortNumber(v0, 8) + "," + shortNumber(u1, 8) + "," +
+       shortNumber(v1, 8) + "]";
   d += ",\"trace\":" + std::to_string(trace) + ",\"elements\":[";
   bool first = true;
   for (const DrawnElement& e : g.elements()) {
     const core::ElementEntry& el = model.elements[e.element];
-    d += std::string(first ? "" : ",") + "{\"label\":" + std::to_string(el.label) + ",\"type\":" + jsonString(el.type->keyword) +
-         ",\"joint\":" + (e.shape == DrawnShape::Joint ? "true" : "false") + ",\"first\":" + std::to_string(e.firstPoint) +
-         ",\"n\":" + std::to_string(e.numPoints) + ",\"color\":" + jsonString(roleColor(elementRole(model, e.element))) + "}";
+    d += std::string(first ? "" : ",") + "{\"label\":" + std::to_string(el.label) +
+         ",\"type\":" + jsonString(el.type->keyword) +
+         ",\"joint\":" + (e.shape == DrawnShape::Joint ? "true" : "false") +
+         ",\"first\":" + std::to_string(e.firstPoint) + ",\"n\":" + std::to_string(e.numPoints) +
+         ",\"color\":" + jsonString(roleColor(elementRole(model, e.element))) + "}";
     first = false;
   }
   d += "],\"nodes\":[";
@@ -227,11 +236,13 @@ std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory
   for (size_t n = 0; n < model.nodes.size(); ++n) {
     if (nodePoint[n] < 0) continue;
     const std::string role = nodeRole(model, static_cast<int>(n));
-    d += std::string(first ? "" : ",") + "{\"label\":" + std::to_string(model.nodes[n].label) + ",\"point\":" +
-         std::to_string(nodePoint[n]) + ",\"fixed\":" + (role == "fixed" || role == "partly fixed" ? "true" : "false") + "}";
+    d += std::string(first ? "" : ",") + "{\"label\":" + std::to_string(model.nodes[n].label) +
+         ",\"point\":" + std::to_string(nodePoint[n]) +
+         ",\"fixed\":" + (role == "fixed" || role == "partly fixed" ? "true" : "false") + "}";
     first = false;
   }
-  d += "],\"legend\":[[\"rigid\",\"#444444\"],[\"flexible (DOF)\",\"#0072B2\"],[\"released\",\"#009E73\"],[\"input\",\"#CC79A7\"]]";
+  d += "],\"legend\":[[\"rigid\",\"#444444\"],[\"flexible "
+       "(DOF)\",\"#0072B2\"],[\"released\",\"#009E73\"],[\"input\",\"#CC79A7\"]]";
   d += ",\"frames\":[\n";
   for (size_t k = 0; k < frames.size(); ++k) {
     d += k ? ",\n[" : "[";

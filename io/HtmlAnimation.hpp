@@ -16,9 +16,9 @@
 namespace flexmb::io {
 
 struct AnimationOptions {
-  std::string title;        // shown above the canvas
+  std::string title;  // shown above the canvas
   View view = View::Auto;
-  int maxFrames = 2000;     // more output times are thinned evenly (first and last kept)
+  int maxFrames = 2000;  // more output times are thinned evenly (first and last kept)
 };
 
 std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory& traj,

@@ -44,8 +44,8 @@ std::string upper(std::string_view s) {
   return r;
 }
 
-KeywordInfo kw(std::string name, unsigned dialects, BlockKind block, Action action,
-               std::vector<ArgSpec> args, std::string meaning) {
+KeywordInfo kw(std::string name, unsigned dialects, BlockKind block, Action action, std::vector<ArgSpec> args,
+               std::string meaning) {
   KeywordInfo k;
   k.name = std::move(name);
   k.dialects = dialects;
@@ -81,8 +81,8 @@ KeywordInfo elementKeyword(const core::ElementTypeInfo& type) {
       meaning += (i ? ", " : " ") + std::to_string(i + 1) + " " + type.deformationNames[i];
     meaning += ".";
   }
-  KeywordInfo k = kw(upper(type.keyword), kBothDialects, BlockKind::Kinematic, Action::Element,
-                     std::move(args), std::move(meaning));
+  KeywordInfo k = kw(upper(type.keyword), kBothDialects, BlockKind::Kinematic, Action::Element, std::move(args),
+                     std::move(meaning));
   k.elementType = &type;
   return k;
 }
@@ -136,15 +136,15 @@ std::vector<KeywordInfo> buildTable() {
                  "element deformations prescribed in time (actuated joint or length)"));
 
   // Dynamic / static block.
-  const std::vector<ArgSpec> massArgs = {node(), real("mass", "m"), optReal("Ixy"), optReal("Ixz"),
-                                         optReal("Iyy"), optReal("Iyz"), optReal("Izz")};
+  const std::vector<ArgSpec> massArgs = {node(),         real("mass", "m"), optReal("Ixy"), optReal("Ixz"),
+                                         optReal("Iyy"), optReal("Iyz"),    optReal("Izz")};
   t.push_back(kw("MASS", kSpacar95, B::Dynamic, A::LumpedMass, massArgs,
                  "lumped mass on a position node (x and y); rotary inertia on an orientation node"));
   t.push_back(kw("XM", kSpacar2013, B::Dynamic, A::LumpedMass, massArgs,
                  "lumped mass on a position node (x and y; spatial x y z); rotary inertia on an "
                  "orientation node; spatial orientation node: Ixx Ixy Ixz Iyy Iyz Izz (body frame)"));
-  t.push_back(kw("EMASS", kSpacar95, B::Dynamic, A::ElementInertia,
-                 {element(), real("mass per length", "rhoA")}, "mass per unit length of an element"));
+  t.push_back(kw("EMASS", kSpacar95, B::Dynamic, A::ElementInertia, {element(), real("mass per length", "rhoA")},
+                 "mass per unit length of an element"));
   t.push_back(kw("EM", kSpacar2013, B::Dynamic, A::ElementInertia,
                  {element(), real("mass per length", "rhoA"), optReal("rotary inertia per length", "rhoI"),
                   optReal("Jyy"), optReal("Jzz"), optReal("Jyz")},
@@ -154,11 +154,9 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
                  {element(), real("parameter", "p", Cardinality::Many)},
                  "stiffness parameters (" + layouts + "); 0 may stand for an unused deformation"));
-  t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping,
-                 {element(), real("parameter", "p", Cardinality::Many)},
+  t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
-  t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping,
-                 {element(), real("parameter", "p", Cardinality::Many)},
+  t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
   const std::vector<ArgSpec> loadArgs = {node(), real("f1"), optReal("f2"), optReal("f3"), optReal("f4")};
   t.push_back(kw("FORCE", kSpacar95, B::Dynamic, A::Force, loadArgs,
@@ -171,14 +169,12 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("DELXF", kSpacar2013, B::Dynamic, A::ForceIncrement, loadArgs,
                  "load increment of a static analysis: the TOTAL increment reached at the last load "
                  "step, applied in equal parts; on a spatial orientation node the global moment"));
-  t.push_back(kw("GRAVITY", kSpacar2013, B::Dynamic, A::Gravity,
-                 {real("gx"), real("gy"), optReal("gz")},
+  t.push_back(kw("GRAVITY", kSpacar2013, B::Dynamic, A::Gravity, {real("gx"), real("gy"), optReal("gz")},
                  "gravitational acceleration (planar models: gz, out of the plane, has no effect)"));
   t.push_back(kw("XD", kSpacar95, B::Dynamic, A::XD, {node(), component(), real("rate", "v")},
                  "rate of an input coordinate at the current time, x(t) = x + v (t - TIME) + a (t - TIME)^2/2 "
                  "(X gives x); on a DYNX coordinate its initial rate"));
-  t.push_back(kw("XDD", kSpacar95, B::Dynamic, A::XDD,
-                 {node(), component(), real("acceleration", "a")},
+  t.push_back(kw("XDD", kSpacar95, B::Dynamic, A::XDD, {node(), component(), real("acceleration", "a")},
                  "acceleration of an input coordinate: x(t) = x + v (t - TIME) + a (t - TIME)^2/2"));
   t.push_back(kw("INPUTX", kBothDialects, B::Dynamic, A::InputXValues,
                  {node(), component(), real("x"), optReal("v"), optReal("a")},
@@ -192,21 +188,18 @@ std::vector<KeywordInfo> buildTable() {
                  "initial value of a deformation (the value at t = 0 of an input deformation)"));
   t.push_back(kw("ED", kSpacar95, B::Dynamic, A::ED, {element(), component(), real("rate", "v")},
                  "initial rate of a deformation (the rate of an input deformation)"));
-  t.push_back(kw("EDD", kSpacar95, B::Dynamic, A::EDD,
-                 {element(), component(), real("acceleration", "v")},
+  t.push_back(kw("EDD", kSpacar95, B::Dynamic, A::EDD, {element(), component(), real("acceleration", "v")},
                  "initial acceleration of a deformation (the acceleration of an input deformation)"));
-  t.push_back(kw("STARTDE", kSpacar2013, B::Dynamic, A::StartDE,
-                 {element(), component(), real("e0"), optReal("ed0")},
+  t.push_back(kw("STARTDE", kSpacar2013, B::Dynamic, A::StartDE, {element(), component(), real("e0"), optReal("ed0")},
                  "initial value and rate of a deformation"));
-  t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement,
-                 {node(), component(), real("increment", "dx")},
+  t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement, {node(), component(), real("increment", "dx")},
                  "increment of an input coordinate in a static analysis: the TOTAL increment reached "
                  "at the last load step, applied in equal parts"));
-  t.push_back(kw("ESIG", kSpacar2013, B::Dynamic, A::Prestress,
-                 {element(), real("component (or the stress of an element with one deformation)", "i|s"),
-                  optReal("stress", "s")},
-                 "prestress of a deformation: ESIG e i s, or ESIG e s for an element with one "
-                 "deformation"));
+  t.push_back(kw(
+      "ESIG", kSpacar2013, B::Dynamic, A::Prestress,
+      {element(), real("component (or the stress of an element with one deformation)", "i|s"), optReal("stress", "s")},
+      "prestress of a deformation: ESIG e i s, or ESIG e s for an element with one "
+      "deformation"));
   {
     KeywordInfo ts = kw("TIMESTEP", kBothDialects, B::Dynamic, A::TimeStep,
                         {real("end time", "T"), count("number of output intervals", "n")},
@@ -220,12 +213,11 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("ERROR", kSpacar2013, B::Dynamic, A::ErrorTol,
                  {real("absolute tolerance", "atol"), real("relative tolerance", "rtol")},
                  "integrator tolerances (defaults 1e-6 and 1e-3, as ode45)"));
-  t.push_back(kw("HMAX", kSpacar95, B::Dynamic, A::HMax, {real("maximum step", "h")},
-                 "maximum integrator step size"));
+  t.push_back(kw("HMAX", kSpacar95, B::Dynamic, A::HMax, {real("maximum step", "h")}, "maximum integrator step size"));
   t.push_back(kw("EPSKIN", kSpacar95, B::Dynamic, A::EpsKin, {real("tolerance", "eps")},
                  "tolerance of the kinematic Newton iteration"));
-  t.push_back(kw("MAXITERAT", kSpacar95, B::Dynamic, A::MaxIterat,
-                 {count("maximum iterations", "n")}, "iteration limit of the kinematic Newton iteration"));
+  t.push_back(kw("MAXITERAT", kSpacar95, B::Dynamic, A::MaxIterat, {count("maximum iterations", "n")},
+                 "iteration limit of the kinematic Newton iteration"));
   t.push_back(kw("ITERSTEP", kSpacar2013, B::Dynamic, A::IterStep,
                  {count("maximum iterations", "maxit"), count("number of load steps", "nsteps"),
                   optReal("tolerance", "tol"), integer("control field 4 (unused)", "c4", Cardinality::Optional),
@@ -243,8 +235,7 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("OUTLEVEL", kSpacar2013, B::Anywhere, A::OutLevel,
                  {integer("output level", "a"), integer("transfer functions", "b", Cardinality::Optional)},
                  "output level; b = 1 asks for the first-order transfer functions (dx) in the results"));
-  t.push_back(kw("LENGTH0", kBothDialects, B::Anywhere, A::Length0,
-                 {element(), real("reference length", "l0")},
+  t.push_back(kw("LENGTH0", kBothDialects, B::Anywhere, A::Length0, {element(), real("reference length", "l0")},
                  "reference (undeformed) length of an element, as SPACAR95 prints it in its end-of-run "
                  "state: the element's coordinates X are then its current configuration and its "
                  "deformations there are E (0 where not given), so a restart keeps the undeformed "
@@ -259,14 +250,11 @@ std::vector<KeywordInfo> buildTable() {
     k.extension = true;
     return k;
   };
-  t.push_back(ext(kw("XFT", kBothDialects, B::Dynamic, A::TimeForce,
-                     {node(), component(), expr("f(t)")},
+  t.push_back(ext(kw("XFT", kBothDialects, B::Dynamic, A::TimeForce, {node(), component(), expr("f(t)")},
                      "time-dependent nodal force component, added to XF/FORCE")));
-  t.push_back(ext(kw("ESIGT", kBothDialects, B::Dynamic, A::TimeStress,
-                     {element(), component(), expr("sigma(t)")},
+  t.push_back(ext(kw("ESIGT", kBothDialects, B::Dynamic, A::TimeStress, {element(), component(), expr("sigma(t)")},
                      "time-dependent generalized stress (actuator force or torque) added to sigma")));
-  t.push_back(ext(kw("EREF", kBothDialects, B::Dynamic, A::Reference,
-                     {element(), component(), expr("eref(t)")},
+  t.push_back(ext(kw("EREF", kBothDialects, B::Dynamic, A::Reference, {element(), component(), expr("eref(t)")},
                      "time-dependent rest value of a deformation: sigma = S (e - eref(t))")));
   t.push_back(ext(kw("INPUTXT", kBothDialects, B::Dynamic, A::InputXFunctions,
                      {node(), component(), expr("x(t)"), expr("v(t)"), expr("a(t)")},
@@ -366,17 +354,19 @@ std::vector<KeywordInfo> buildTable() {
 
 const char* dialectText(unsigned d) {
   switch (d) {
-    case kSpacar95: return "95";
-    case kSpacar2013: return "13";
-    default: return "95 13";
+    case kSpacar95:
+      return "95";
+    case kSpacar2013:
+      return "13";
+    default:
+      return "95 13";
   }
 }
 
 bool allOf(const std::vector<ArgSpec>& layout, ArgType a, ArgType b = ArgType::Expression,
            ArgType c = ArgType::Expression, ArgType d = ArgType::Expression) {
-  return std::all_of(layout.begin(), layout.end(), [&](const ArgSpec& s) {
-    return s.type == a || s.type == b || s.type == c || s.type == d;
-  });
+  return std::all_of(layout.begin(), layout.end(),
+                     [&](const ArgSpec& s) { return s.type == a || s.type == b || s.type == c || s.type == d; });
 }
 
 }  // namespace
@@ -386,8 +376,8 @@ const std::vector<ArgSpec>& KeywordInfo::layout(bool spacar95) const {
 }
 
 int KeywordInfo::minArgs(const std::vector<ArgSpec>& layout) {
-  return static_cast<int>(std::count_if(layout.begin(), layout.end(),
-                                        [](const ArgSpec& s) { return s.card == Cardinality::One; }));
+  return static_cast<int>(
+      std::count_if(layout.begin(), layout.end(), [](const ArgSpec& s) { return s.card == Cardinality::One; }));
 }
 
 int KeywordInfo::maxArgs(const std::vector<ArgSpec>& layout) {
@@ -420,9 +410,12 @@ std::string KeywordInfo::expectation(const std::vector<ArgSpec>& layout) {
     const ArgSpec& s = layout[i];
     if (i) o << ", ";
     const std::string nm = s.type == ArgType::Expression ? "\"" + s.name + "\"" : s.name;
-    if (s.card == Cardinality::One) o << nm;
-    else if (s.card == Cardinality::Optional) o << "[" << nm << "]";
-    else o << "[" << nm << " ...]";
+    if (s.card == Cardinality::One)
+      o << nm;
+    else if (s.card == Cardinality::Optional)
+      o << "[" << nm << "]";
+    else
+      o << "[" << nm << " ...]";
   }
   o << ")";
   return o.str();
@@ -471,8 +464,8 @@ int editDistance(std::string_view a, std::string_view b) {
   for (size_t i = 1; i <= n; ++i) {
     cur[0] = static_cast<int>(i);
     for (size_t j = 1; j <= m; ++j) {
-      const bool same = std::toupper(static_cast<unsigned char>(a[i - 1])) ==
-                        std::toupper(static_cast<unsigned char>(b[j - 1]));
+      const bool same =
+          std::toupper(static_cast<unsigned char>(a[i - 1])) == std::toupper(static_cast<unsigned char>(b[j - 1]));
       cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
     }
     std::swap(prev, cur);
@@ -531,9 +524,12 @@ std::string status(const KeywordInfo& k) {
 
 std::string dialectWords(unsigned d) {
   switch (d) {
-    case kSpacar95: return "SPACAR95";
-    case kSpacar2013: return "SPACAR 2013+";
-    default: return "both";
+    case kSpacar95:
+      return "SPACAR95";
+    case kSpacar2013:
+      return "SPACAR 2013+";
+    default:
+      return "both";
   }
 }
 
@@ -554,8 +550,7 @@ void printKeywords(std::ostream& out) {
          "Keywords are case-insensitive. Comments: '*' in column 1, or '%', '#', ';' to the end "
          "of the line.\n";
   auto line = [&](const std::string& syn, const std::string& dia, const std::string& meaning) {
-    out << "  " << std::left << std::setw(34) << syn << " " << std::setw(6) << dia << " " << meaning
-        << "\n";
+    out << "  " << std::left << std::setw(34) << syn << " " << std::setw(6) << dia << " " << meaning << "\n";
   };
   for (const auto& g : groups()) {
     out << "\n" << g.title << "\n";

@@ -47,29 +47,70 @@ struct ArgSpec {
 
 // What the reader does with a statement.
 enum class Action {
-  Element, Coordinates, CoordinatesXY, CoordinatesBeta,
-  Fix, InputXRole, DynX, DynE, Rlse, InputERole,
-  LumpedMass, ElementInertia, Stiffness, Damping, Force, ForceIncrement, Gravity,
-  InputXValues, InputEValues, XD, XDD, E, ED, EDD, StartDE, InputIncrement, Prestress,
-  TimeStep, EpsInt, ErrorTol, HMax, EpsKin, MaxIterat, IterStep, Time,
-  TimeForce, TimeStress, Reference, InputXFunctions, InputEFunctions, UserStress, UserInput,
-  OutLevel, Length0, Ignored,
-  End, Halt, Eof, Visualization,
+  Element,
+  Coordinates,
+  CoordinatesXY,
+  CoordinatesBeta,
+  Fix,
+  InputXRole,
+  DynX,
+  DynE,
+  Rlse,
+  InputERole,
+  LumpedMass,
+  ElementInertia,
+  Stiffness,
+  Damping,
+  Force,
+  ForceIncrement,
+  Gravity,
+  InputXValues,
+  InputEValues,
+  XD,
+  XDD,
+  E,
+  ED,
+  EDD,
+  StartDE,
+  InputIncrement,
+  Prestress,
+  TimeStep,
+  EpsInt,
+  ErrorTol,
+  HMax,
+  EpsKin,
+  MaxIterat,
+  IterStep,
+  Time,
+  TimeForce,
+  TimeStress,
+  Reference,
+  InputXFunctions,
+  InputEFunctions,
+  UserStress,
+  UserInput,
+  OutLevel,
+  Length0,
+  Ignored,
+  End,
+  Halt,
+  Eof,
+  Visualization,
   Unsupported,
 };
 
 struct KeywordInfo {
-  std::string name;             // upper case, at most 8 characters (VISUALIZATION excepted)
+  std::string name;  // upper case, at most 8 characters (VISUALIZATION excepted)
   unsigned dialects = kBothDialects;
   BlockKind block = BlockKind::Dynamic;
   Action action = Action::Unsupported;
   std::vector<ArgSpec> args;    // argument layout (SPACAR 2013+ order where the dialects differ)
   std::vector<ArgSpec> args95;  // SPACAR95 layout when it differs (TIMESTEP n T), else empty
   std::string meaning;
-  bool extension = false;       // flexmb extension (dat-format.md section 6)
+  bool extension = false;                              // flexmb extension (dat-format.md section 6)
   const core::ElementTypeInfo* elementType = nullptr;  // for Action::Element
-  std::string unsupportedNote;  // for Action::Unsupported: what to do instead
-  bool transfer = false;        // a mode-9 transfer-block keyword (INPUTF, OUTX, ...)
+  std::string unsupportedNote;                         // for Action::Unsupported: what to do instead
+  bool transfer = false;                               // a mode-9 transfer-block keyword (INPUTF, OUTX, ...)
 
   // The layout in force for a file of the given dialect (spacar95: args95 when set).
   const std::vector<ArgSpec>& layout(bool spacar95) const;

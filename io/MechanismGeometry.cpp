@@ -117,14 +117,17 @@ View resolveView(View requested, const MechanismGeometry& geometry) {
 
 Point2 project(const Point3& p, View view) {
   switch (view) {
-    case View::XZ: return {p.x, p.z};
-    case View::YZ: return {p.y, p.z};
+    case View::XZ:
+      return {p.x, p.z};
+    case View::YZ:
+      return {p.y, p.z};
     case View::Isometric: {
       // z up, x towards the lower left, y towards the lower right (30 degrees below horizontal).
       const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
       return {c * (p.y - p.x), p.z - s * (p.x + p.y)};
     }
-    default: return {p.x, p.y};
+    default:
+      return {p.x, p.y};
   }
 }
 

@@ -69,9 +69,9 @@ std::string drawElements(const MechanismGeometry& g, const std::vector<Point2>& 
     const std::string c = perRoleColor ? elementColor(elementRole(g.model(), d.element)) : color;
     if (d.shape == DrawnShape::Joint) {
       const Point2& p = pts[d.firstPoint];
-      o += "<circle class=\"joint\" cx=\"" + num(f.px(p)) + "\" cy=\"" + num(f.py(p)) + "\" r=\"" +
-           num(2.2 * width) + "\" fill=\"none\" stroke=\"" + c + "\" stroke-width=\"" + num(0.6 * width) +
-           "\"" + (dashed ? " stroke-dasharray=\"3 2\"" : "") + "/>\n";
+      o += "<circle class=\"joint\" cx=\"" + num(f.px(p)) + "\" cy=\"" + num(f.py(p)) + "\" r=\"" + num(2.2 * width) +
+           "\" fill=\"none\" stroke=\"" + c + "\" stroke-width=\"" + num(0.6 * width) + "\"" +
+           (dashed ? " stroke-dasharray=\"3 2\"" : "") + "/>\n";
       continue;
     }
     o += "<polyline class=\"element\" fill=\"none\" stroke=\"" + c + "\" stroke-width=\"" + num(width) +
@@ -88,8 +88,8 @@ std::string drawElements(const MechanismGeometry& g, const std::vector<Point2>& 
 }
 
 std::string text(double x, double y, const std::string& s, const std::string& attrs = "") {
-  return "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\"" + (attrs.empty() ? "" : " " + attrs) + ">" +
-         xmlEscape(s) + "</text>\n";
+  return "<text x=\"" + num(x) + "\" y=\"" + num(y) + "\"" + (attrs.empty() ? "" : " " + attrs) + ">" + xmlEscape(s) +
+         "</text>\n";
 }
 
 std::string header(double w, double h) {
@@ -104,13 +104,14 @@ std::string nodeMarker(double x, double y, const std::string& role) {
   if (role == "fixed" || role == "partly fixed") {  // a ground triangle under the node
     const std::string fill = role == "fixed" ? "#000000" : "white";
     return "<polygon class=\"node " + role + "\" points=\"" + num(x) + "," + num(y) + " " + num(x - 7) + "," +
-           num(y + 11) + " " + num(x + 7) + "," + num(y + 11) + "\" fill=\"" + fill + "\" fill-opacity=\"0.35\" stroke=\"" +
-           c + "\" stroke-width=\"1.2\"/>\n<circle cx=\"" + num(x) + "\" cy=\"" + num(y) +
-           "\" r=\"3\" fill=\"white\" stroke=\"black\" stroke-width=\"1.2\"/>\n";
+           num(y + 11) + " " + num(x + 7) + "," + num(y + 11) + "\" fill=\"" + fill +
+           "\" fill-opacity=\"0.35\" stroke=\"" + c + "\" stroke-width=\"1.2\"/>\n<circle cx=\"" + num(x) + "\" cy=\"" +
+           num(y) + "\" r=\"3\" fill=\"white\" stroke=\"black\" stroke-width=\"1.2\"/>\n";
   }
   if (role == "input")
-    return "<polygon class=\"node input\" points=\"" + num(x) + "," + num(y - 6) + " " + num(x + 6) + "," + num(y) + " " +
-           num(x) + "," + num(y + 6) + " " + num(x - 6) + "," + num(y) + "\" fill=\"" + c + "\" stroke=\"black\"/>\n";
+    return "<polygon class=\"node input\" points=\"" + num(x) + "," + num(y - 6) + " " + num(x + 6) + "," + num(y) +
+           " " + num(x) + "," + num(y + 6) + " " + num(x - 6) + "," + num(y) + "\" fill=\"" + c +
+           "\" stroke=\"black\"/>\n";
   if (role == "DOF")
     return "<circle class=\"node DOF\" cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"4.5\" fill=\"" + c +
            "\" stroke=\"black\"/>\n";
@@ -137,20 +138,28 @@ std::string coordinateList(const core::Model& m, int node) {
 
 const char* deformationRoleWord(core::Role r) {
   switch (r) {
-    case core::Role::Fixed: return "rigid";
-    case core::Role::Input: return "input";
-    case core::Role::Dynamic: return "DOF";
-    case core::Role::Calculable: return "released";
+    case core::Role::Fixed:
+      return "rigid";
+    case core::Role::Input:
+      return "input";
+    case core::Role::Dynamic:
+      return "DOF";
+    case core::Role::Calculable:
+      return "released";
   }
   return "?";
 }
 
 const char* coordinateRoleWord(core::Role r) {
   switch (r) {
-    case core::Role::Fixed: return "fixed";
-    case core::Role::Input: return "input";
-    case core::Role::Dynamic: return "DOF";
-    case core::Role::Calculable: return "free";
+    case core::Role::Fixed:
+      return "fixed";
+    case core::Role::Input:
+      return "input";
+    case core::Role::Dynamic:
+      return "DOF";
+    case core::Role::Calculable:
+      return "free";
   }
   return "?";
 }
@@ -219,7 +228,8 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   std::string o = header(W, H);
   o += text(W / 2, 24, drawing.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
   for (size_t i = 0; i < drawing.notes.size(); ++i)
-    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), drawing.notes[i], "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
+    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), drawing.notes[i],
+              "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
 
   const std::vector<Point2> pts = projected(g, m.x0, view);
   std::vector<Point2> all = pts;
@@ -260,7 +270,8 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     const double x = f.px(p), y = f.py(p);
     const std::string role = nodeRole(m, static_cast<int>(i));
     o += nodeMarker(x, y, role);
-    o += text(x + 6, y - 6, std::to_string(m.nodes[i].label), "font-weight=\"bold\" fill=\"" + std::string(nodeColor(role)) + "\"");
+    o += text(x + 6, y - 6, std::to_string(m.nodes[i].label),
+              "font-weight=\"bold\" fill=\"" + std::string(nodeColor(role)) + "\"");
     auto it = orientationAt.find(static_cast<int>(i));
     if (it == orientationAt.end()) continue;
     // Below left of the node: element numbers sit on the other side of their elements.
@@ -297,7 +308,8 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   o += "<g class=\"table\" font-family=\"DejaVu Sans Mono, monospace\" font-size=\"10\">\n";
   for (size_t i = 0; i < rows.size(); ++i)
     o += text(drawW, top + 10 + 14.0 * static_cast<double>(i), rows[i].first,
-              "fill=\"" + rows[i].second + "\"" + (i == 0 || rows[i].first.rfind("elements", 0) == 0 ? " font-weight=\"bold\"" : ""));
+              "fill=\"" + rows[i].second + "\"" +
+                  (i == 0 || rows[i].first.rfind("elements", 0) == 0 ? " font-weight=\"bold\"" : ""));
   o += "</g>\n</svg>\n";
   return o;
 }
@@ -325,25 +337,29 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
   std::string o = header(W, H);
   o += text(W / 2, 24, fig.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
   for (size_t i = 0; i < fig.notes.size(); ++i)
-    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), fig.notes[i], "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
+    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), fig.notes[i],
+              "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
   for (int i = 0; i < n; ++i) {
     const ShapePanel& panel = fig.panels[i];
     Frame f = unit;
     const double panelTop = top + (i / cols) * ph;
     f.left = (i % cols) * pw, f.top = panelTop + 24;
-    o += "<g class=\"panel\">\n<rect x=\"" + num(f.left + 4) + "\" y=\"" + num(panelTop + 4) + "\" width=\"" + num(pw - 8) +
-         "\" height=\"" + num(ph - 8) + "\" fill=\"none\" stroke=\"#dddddd\"/>\n";
+    o += "<g class=\"panel\">\n<rect x=\"" + num(f.left + 4) + "\" y=\"" + num(panelTop + 4) + "\" width=\"" +
+         num(pw - 8) + "\" height=\"" + num(ph - 8) + "\" fill=\"none\" stroke=\"#dddddd\"/>\n";
     o += text(f.left + pw / 2, panelTop + 20, panel.title, "text-anchor=\"middle\" font-weight=\"bold\"");
     size_t k = 0, colourIndex = 0;
     double legendY = panelTop + ph - 44;
     for (const ShapeLayer& l : panel.layers) {
       if (l.x.size() != g.model().nx) continue;
-      const std::string c = l.reference ? "#999999" : l.color.empty() ? kPalette[colourIndex++ % kPalette.size()] : l.color;
+      const std::string c = l.reference       ? "#999999"
+                            : l.color.empty() ? kPalette[colourIndex++ % kPalette.size()]
+                                              : l.color;
       o += "<g class=\"" + std::string(l.reference ? "reference" : "shape") + "\">\n" +
            drawElements(g, pts[i][k++], f, c, l.reference ? 1.5 : 2.2, l.reference, false) + "</g>\n";
       if (!l.label.empty() && legendY < panelTop + ph - 12) {
         o += "<line x1=\"" + num(f.left + 14) + "\" y1=\"" + num(legendY) + "\" x2=\"" + num(f.left + 32) + "\" y2=\"" +
-             num(legendY) + "\" stroke=\"" + c + "\" stroke-width=\"2\"" + (l.reference ? " stroke-dasharray=\"4 3\"" : "") + "/>\n";
+             num(legendY) + "\" stroke=\"" + c + "\" stroke-width=\"2\"" +
+             (l.reference ? " stroke-dasharray=\"4 3\"" : "") + "/>\n";
         o += text(f.left + 36, legendY + 4, l.label, "font-size=\"10\"");
         legendY += 12;
       }

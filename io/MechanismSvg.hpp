@@ -19,10 +19,10 @@
 namespace flexmb::io {
 
 struct ShapeLayer {
-  Eigen::VectorXd x;        // nodal coordinates (size nx)
-  std::string label;        // legend entry; "" for none
-  std::string color;        // "" = from the palette by layer index
-  bool reference = false;   // dashed grey, drawn first
+  Eigen::VectorXd x;       // nodal coordinates (size nx)
+  std::string label;       // legend entry; "" for none
+  std::string color;       // "" = from the palette by layer index
+  bool reference = false;  // dashed grey, drawn first
 };
 
 struct ShapePanel {
@@ -34,7 +34,7 @@ struct ShapeFigure {
   std::string title;
   std::vector<std::string> notes;  // lines under the title
   std::vector<ShapePanel> panels;
-  int columns = 0;                 // 0: min(3, number of panels)
+  int columns = 0;  // 0: min(3, number of panels)
   int panelWidth = 380, panelHeight = 300;
   View view = View::Auto;
 };

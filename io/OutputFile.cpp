@@ -64,7 +64,8 @@ void writeThroughMemory(const std::string& path, const std::function<void(const 
   if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
       static_cast<rlim_t>(size) >= limit.rlim_cur)
     throw std::runtime_error("cannot write '" + path + "': it reached the file size limit (ulimit -f)");
-  if (::lseek(fd, 0, SEEK_SET) != 0) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "seek failed"));
+  if (::lseek(fd, 0, SEEK_SET) != 0)
+    throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "seek failed"));
   errno = 0;
   std::FILE* out = std::fopen(path.c_str(), "wb");
   if (!out) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "cannot create it"));
@@ -85,7 +86,8 @@ void writeThroughMemory(const std::string& path, const std::function<void(const 
   }
   errno = 0;
   const bool bad = std::ferror(out) != 0;
-  if (std::fclose(out) != 0 || bad) throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "write failed"));
+  if (std::fclose(out) != 0 || bad)
+    throw std::runtime_error("cannot write '" + path + "': " + reason(errno, "write failed"));
 }
 
 void checkMatFileComplete(const std::string& path) {
@@ -109,8 +111,10 @@ void checkMatFileComplete(const std::string& path) {
     if (swap)
       for (auto& w : tag) w = __builtin_bswap32(w);
     std::uint64_t n = tag[1];
-    if (tag[0] >> 16) n = 0;  // small data element: the data lives in the tag
-    else if (tag[0] != 15) n = (n + 7) / 8 * 8;  // miCOMPRESSED is not padded
+    if (tag[0] >> 16)
+      n = 0;  // small data element: the data lives in the tag
+    else if (tag[0] != 15)
+      n = (n + 7) / 8 * 8;  // miCOMPRESSED is not padded
     pos += 8 + n;
   }
   if (pos != size) throw truncated();
@@ -119,8 +123,7 @@ void checkMatFileComplete(const std::string& path) {
 
 OutputFile::OutputFile(std::string path) : path_(std::move(path)), temp_(temporaryName(path_)) {
   out_.open(temp_, std::ios::binary);
-  if (!out_)
-    throw std::runtime_error("cannot write '" + path_ + "': " + reason(errno, "cannot create it"));
+  if (!out_) throw std::runtime_error("cannot write '" + path_ + "': " + reason(errno, "cannot create it"));
   out_.precision(17);
 }
 
@@ -146,8 +149,7 @@ void OutputFile::commit() {
   commitTemporary(temp_, path_);
 }
 
-std::string OutputSet::resolvePrefix(const std::string& out, const std::string& modelFile,
-                                     const std::string& suffix) {
+std::string OutputSet::resolvePrefix(const std::string& out, const std::string& modelFile, const std::string& suffix) {
   const std::string stem = fs::path(modelFile).stem().string() + suffix;
   if (out.empty()) return stem;
   std::error_code ec;
@@ -181,8 +183,8 @@ void OutputSet::checkWritable() const {
     if (!p) {
       const int err = errno;
       std::remove(probe.c_str());
-      throw std::runtime_error("cannot write results to '" + prefix_ + "*': " + reason(err, "the folder is not writable") +
-                               " (choose another --out)");
+      throw std::runtime_error("cannot write results to '" + prefix_ +
+                               "*': " + reason(err, "the folder is not writable") + " (choose another --out)");
     }
   }
   std::remove(probe.c_str());

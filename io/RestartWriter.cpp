@@ -75,8 +75,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
   };
   roleLines("FIX", Role::Fixed);
   roleLines("INPUTX", Role::Input);
-  for (const auto& d : m.dofs)
-    w.line(d.isDeformation ? "DYNE " + w.eId(d.index) : "DYNX " + w.xId(d.index));
+  for (const auto& d : m.dofs) w.line(d.isDeformation ? "DYNE " + w.eId(d.index) : "DYNX " + w.xId(d.index));
   for (const auto& [keyword, role] : {std::pair{"RLSE", Role::Calculable}, std::pair{"INPUTE", Role::Input}})
     for (const auto& el : m.elements) {
       std::string comps;

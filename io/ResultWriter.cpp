@@ -48,8 +48,8 @@ class OutFile {
     errno = 0;
     f_ = std::fopen(path_.c_str(), "wb");
     if (!f_)
-      throw std::runtime_error("cannot open '" + path_ + "' for writing: " +
-                               (errno ? std::strerror(errno) : "unknown error"));
+      throw std::runtime_error("cannot open '" + path_ +
+                               "' for writing: " + (errno ? std::strerror(errno) : "unknown error"));
   }
   OutFile(const OutFile&) = delete;
   OutFile& operator=(const OutFile&) = delete;
@@ -60,8 +60,7 @@ class OutFile {
     if (s.empty()) return;
     errno = 0;
     if (std::fwrite(s.data(), 1, s.size(), f_) != s.size())
-      throw std::runtime_error("error writing '" + path_ + "': " +
-                               (errno ? std::strerror(errno) : "short write"));
+      throw std::runtime_error("error writing '" + path_ + "': " + (errno ? std::strerror(errno) : "short write"));
   }
   void close() {
     errno = 0;
@@ -69,8 +68,7 @@ class OutFile {
     const int rc = std::fclose(f_);
     f_ = nullptr;
     if (bad || rc != 0)
-      throw std::runtime_error("error writing '" + path_ + "': " +
-                               (errno ? std::strerror(errno) : "write failed"));
+      throw std::runtime_error("error writing '" + path_ + "': " + (errno ? std::strerror(errno) : "write failed"));
   }
 
  private:
@@ -88,44 +86,37 @@ struct Quantity {
 };
 
 constexpr Quantity kQuantities[] = {
-    {"x", &StateOutputs::x, true},    {"xd", &StateOutputs::xd, true},
-    {"xdd", &StateOutputs::xdd, true}, {"e", &StateOutputs::e, false},
-    {"ed", &StateOutputs::ed, false},  {"edd", &StateOutputs::edd, false},
+    {"x", &StateOutputs::x, true},      {"xd", &StateOutputs::xd, true},  {"xdd", &StateOutputs::xdd, true},
+    {"e", &StateOutputs::e, false},     {"ed", &StateOutputs::ed, false}, {"edd", &StateOutputs::edd, false},
     {"sig", &StateOutputs::sig, false},
 };
 
 void checkTime(double t, const std::string& where) {
-  if (!std::isfinite(t))
-    throw std::runtime_error(where + ": non-finite output time " + formatG17(t));
+  if (!std::isfinite(t)) throw std::runtime_error(where + ": non-finite output time " + formatG17(t));
 }
 
 // Sizes and finiteness of one state; `where` names the writer and the path for messages.
-void checkState(const StateOutputs& s, double t, const Model& model,
-                const std::vector<std::string>& xNames, const std::vector<std::string>& eNames,
-                const std::string& where) {
+void checkState(const StateOutputs& s, double t, const Model& model, const std::vector<std::string>& xNames,
+                const std::vector<std::string>& eNames, const std::string& where) {
   for (const Quantity& q : kQuantities) {
     const Eigen::VectorXd& v = s.*q.member;
     const int n = q.nodal ? model.nx : model.ne;
     if (v.size() != n)
-      throw std::runtime_error(where + ": " + q.name + " at t = " + formatG17(t) + " has " +
-                               std::to_string(v.size()) + " entries, the model has " +
-                               std::to_string(n));
+      throw std::runtime_error(where + ": " + q.name + " at t = " + formatG17(t) + " has " + std::to_string(v.size()) +
+                               " entries, the model has " + std::to_string(n));
     const std::vector<std::string>& names = q.nodal ? xNames : eNames;
     for (int j = 0; j < n; ++j)
       if (!std::isfinite(v[j]))
-        throw std::runtime_error(where + ": non-finite value " + formatG17(v[j]) + " in " +
-                                 q.name + " at t = " + formatG17(t) + ", column " +
-                                 std::to_string(j + 1) + " (" + names[j] + ")");
+        throw std::runtime_error(where + ": non-finite value " + formatG17(v[j]) + " in " + q.name + " at t = " +
+                                 formatG17(t) + ", column " + std::to_string(j + 1) + " (" + names[j] + ")");
   }
 }
 
-void checkTrajectory(const Trajectory& traj, const Model& model,
-                     const std::vector<std::string>& xNames, const std::vector<std::string>& eNames,
-                     const std::string& where) {
+void checkTrajectory(const Trajectory& traj, const Model& model, const std::vector<std::string>& xNames,
+                     const std::vector<std::string>& eNames, const std::string& where) {
   if (traj.time.size() != traj.states.size())
-    throw std::runtime_error(where + ": trajectory has " + std::to_string(traj.time.size()) +
-                             " output times but " + std::to_string(traj.states.size()) +
-                             " states");
+    throw std::runtime_error(where + ": trajectory has " + std::to_string(traj.time.size()) + " output times but " +
+                             std::to_string(traj.states.size()) + " states");
   for (std::size_t i = 0; i < traj.time.size(); ++i) {
     checkTime(traj.time[i], where);
     checkState(traj.states[i], traj.time[i], model, xNames, eNames, where);
@@ -185,21 +176,16 @@ struct MatFile {
 };
 
 // Writes an nrows x ncols double matrix; data column-major (size nrows*ncols).
-void writeMatVar(mat_t* mat, const std::string& path, const char* name, std::size_t nrows,
-                 std::size_t ncols, std::vector<double>& data, std::size_t npages = 0) {
+void writeMatVar(mat_t* mat, const std::string& path, const char* name, std::size_t nrows, std::size_t ncols,
+                 std::vector<double>& data, std::size_t npages = 0) {
   size_t dims[3] = {nrows, ncols, npages};
   static double dummy = 0.0;  // matio wants a non-null pointer even for empty matrices
   double* ptr = data.empty() ? &dummy : data.data();
-  matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, npages > 0 ? 3 : 2, dims, ptr,
-                                MAT_F_DONT_COPY_DATA);
-  if (!var)
-    throw std::runtime_error("cannot write '" + path + "': matio could not create variable '" +
-                             name + "'");
+  matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, npages > 0 ? 3 : 2, dims, ptr, MAT_F_DONT_COPY_DATA);
+  if (!var) throw std::runtime_error("cannot write '" + path + "': matio could not create variable '" + name + "'");
   const int rc = Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
   Mat_VarFree(var);
-  if (rc != 0)
-    throw std::runtime_error("cannot write '" + path + "': matio failed to write variable '" +
-                             name + "'");
+  if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to write variable '" + name + "'");
 }
 
 }  // namespace
@@ -213,15 +199,13 @@ std::vector<std::string> coordinateColumnNames(const Model& model) {
     base += std::to_string(n.label);
     if (core::isSpatial(n.kind)) {
       for (int c = 0; c < n.dim(); ++c)
-        names[n.firstCoord + c] = base + (n.kind == core::NodeKind::EulerParameters
-                                              ? ".lambda" + std::to_string(c)
-                                              : std::string(".") + "xyz"[c]);
+        names[n.firstCoord + c] = base + (n.kind == core::NodeKind::EulerParameters ? ".lambda" + std::to_string(c)
+                                                                                    : std::string(".") + "xyz"[c]);
     } else if (n.kind == core::NodeKind::Orientation) {
       if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".angle";
     } else {
       if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".x";
-      if (n.firstCoord + 1 >= 0 && n.firstCoord + 1 < model.nx)
-        names[n.firstCoord + 1] = base + ".y";
+      if (n.firstCoord + 1 >= 0 && n.firstCoord + 1 < model.nx) names[n.firstCoord + 1] = base + ".y";
     }
   }
   for (std::size_t j = 0; j < names.size(); ++j)
@@ -245,8 +229,7 @@ std::vector<std::string> deformationColumnNames(const Model& model) {
   return names;
 }
 
-std::vector<std::string> writeCsv(const std::string& prefix, const Model& model,
-                                  const Trajectory& traj) {
+std::vector<std::string> writeCsv(const std::string& prefix, const Model& model, const Trajectory& traj) {
   const auto xNames = coordinateColumnNames(model);
   const auto eNames = deformationColumnNames(model);
   checkTrajectory(traj, model, xNames, eNames, "CSV output '" + prefix + "_*.csv'");
@@ -323,12 +306,14 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
   checkTrajectory(traj, model, xNames, eNames, "MAT output '" + path + "'");
 
   // Probe the path with stdio first: matio reports failures without a reason.
-  { OutFile probe(path); probe.close(); }
+  {
+    OutFile probe(path);
+    probe.close();
+  }
 
   MatFile mf;
   mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
-  if (!mf.mat)
-    throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
+  if (!mf.mat) throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
 
   const std::size_t nt = traj.time.size();
   std::vector<double> data(traj.time.begin(), traj.time.end());
@@ -379,8 +364,7 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
 }
 
 void writeLinearizedMat(const std::string& path, const std::vector<double>& time,
-                        const std::vector<core::LinearizedSystem>& sys,
-                        const std::vector<Eigen::VectorXd>& omega) {
+                        const std::vector<core::LinearizedSystem>& sys, const std::vector<Eigen::VectorXd>& omega) {
   const std::size_t nt = time.size();
   if (sys.size() != nt || omega.size() != nt)
     throw std::invalid_argument("linearised MAT output '" + path + "': " + std::to_string(nt) + " times, " +
@@ -397,14 +381,17 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
     for (const auto& [name, member] : mats) {
       const Eigen::MatrixXd& A = sys[k].*member;
       if (static_cast<std::size_t>(A.rows()) != m || static_cast<std::size_t>(A.cols()) != m)
-        throw std::invalid_argument("linearised MAT output '" + path + "': " + name + " at t = " +
-                                    formatG17(time[k]) + " is not " + std::to_string(m) + " x " + std::to_string(m));
+        throw std::invalid_argument("linearised MAT output '" + path + "': " + name + " at t = " + formatG17(time[k]) +
+                                    " is not " + std::to_string(m) + " x " + std::to_string(m));
       if (!A.allFinite())
-        throw std::invalid_argument("linearised MAT output '" + path + "': non-finite " + name + " at t = " +
-                                    formatG17(time[k]));
+        throw std::invalid_argument("linearised MAT output '" + path + "': non-finite " + name +
+                                    " at t = " + formatG17(time[k]));
     }
   }
-  { OutFile probe(path); probe.close(); }
+  {
+    OutFile probe(path);
+    probe.close();
+  }
   MatFile mf;
   mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
   if (!mf.mat) throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
@@ -429,6 +416,5 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
   mf.mat = nullptr;
   if (rc != 0) throw std::runtime_error("cannot write '" + path + "': matio failed to close it");
 }
-
 
 }  // namespace flexmb::io

@@ -29,15 +29,13 @@ std::vector<std::string> deformationColumnNames(const core::Model& model);
 // _sig (deformations). One row per output time; the first column is "time". Numbers are written
 // with 17 significant digits (like %.17g), so they read back exactly. Returns the paths written,
 // in the order x, xd, xdd, e, ed, edd, sig.
-std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& model,
-                                  const core::Trajectory& traj);
+std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
 
 // Orientations of the Euler-parameter nodes in user terms (spatial models; empty for planar ones):
 // <prefix>_rot.csv with, per orientation node n, the rotation vector node<n>.rx, .ry, .rz (axis
 // times angle in rad, angle in [0, pi]) and the rotation matrix node<n>.R11 ... R33 (row by row) from
 // the normalised Euler parameters. Returns the path written, or "" when the model has no such node.
-std::string writeOrientationCsv(const std::string& prefix, const core::Model& model,
-                                const core::Trajectory& traj);
+std::string writeOrientationCsv(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
 bool hasOrientationNodes(const core::Model& model);
 
 // MATLAB v5 .mat file (matio, MAT_FT_MAT5, uncompressed) with SPACAR's variable names:
@@ -53,8 +51,6 @@ void writeMat(const std::string& path, const core::Model& model, const core::Tra
 // D0, N0 (M0(:,:,k) belongs to time(k)), with time (nt x 1) and freq (nt x nev, Hz). Checks sizes
 // and finiteness first (std::invalid_argument naming the matrix and time).
 void writeLinearizedMat(const std::string& path, const std::vector<double>& time,
-                        const std::vector<core::LinearizedSystem>& sys,
-                        const std::vector<Eigen::VectorXd>& omega);
-
+                        const std::vector<core::LinearizedSystem>& sys, const std::vector<Eigen::VectorXd>& omega);
 
 }  // namespace flexmb::io

@@ -3,8 +3,8 @@
 #include <matio.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -24,8 +24,8 @@ class MatWriter {
     errno = 0;
     FILE* f = std::fopen(path_.c_str(), "wb");
     if (!f)
-      throw std::runtime_error("cannot open '" + path_ + "' for writing: " +
-                               (errno ? std::strerror(errno) : "unknown error"));
+      throw std::runtime_error("cannot open '" + path_ +
+                               "' for writing: " + (errno ? std::strerror(errno) : "unknown error"));
     std::fclose(f);
     mat_ = Mat_CreateVer(path_.c_str(), nullptr, MAT_FT_MAT5);
     if (!mat_) throw std::runtime_error("cannot write '" + path_ + "': matio could not create the MAT file");
@@ -46,7 +46,8 @@ class MatWriter {
     if (!v) throw std::runtime_error("cannot write '" + path_ + "': matio could not create variable '" + name + "'");
     const int rc = Mat_VarWrite(mat_, v, MAT_COMPRESSION_NONE);
     Mat_VarFree(v);
-    if (rc != 0) throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
+    if (rc != 0)
+      throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
   }
   void scalar(const char* name, double v) { write(name, 1, 1, {v}); }
   void matrix(const char* name, const Eigen::MatrixXd& A) {
@@ -65,28 +66,36 @@ class MatWriter {
 
 int groupOfX(Role r) {
   switch (r) {
-    case Role::Fixed: return 0;
-    case Role::Calculable: return 1;
-    case Role::Input: return 2;
-    case Role::Dynamic: return 3;
+    case Role::Fixed:
+      return 0;
+    case Role::Calculable:
+      return 1;
+    case Role::Input:
+      return 2;
+    case Role::Dynamic:
+      return 3;
   }
   return 1;
 }
 // Counting group (nep: fixed, released, input, dynamic) and storage rank (fixed, input, dynamic, released).
 int groupOfE(Role r) {
   switch (r) {
-    case Role::Fixed: return 0;
-    case Role::Calculable: return 1;
-    case Role::Input: return 2;
-    case Role::Dynamic: return 3;
+    case Role::Fixed:
+      return 0;
+    case Role::Calculable:
+      return 1;
+    case Role::Input:
+      return 2;
+    case Role::Dynamic:
+      return 3;
   }
   return 0;
 }
 constexpr int kERank[4] = {0, 3, 1, 2};
 
 std::string stepText(const SpacarResults& r, std::size_t k) {
-  return "step " + std::to_string(k + 1) + " (" + (r.mode == 10 ? "load factor " : "t = ") +
-         std::to_string(r.time[k]) + ")";
+  return "step " + std::to_string(k + 1) + " (" + (r.mode == 10 ? "load factor " : "t = ") + std::to_string(r.time[k]) +
+         ")";
 }
 
 }  // namespace
@@ -209,8 +218,7 @@ Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows)
   return R;
 }
 
-std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
-                                            const SpacarResults& r) {
+std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
   const SpacarLayout L = spacarLayout(model);
   const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
   if (r.steps.size() != nt)
@@ -237,8 +245,8 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     if (s.M0.size()) {
       if (!hasSys) m = s.M0.rows();
       hasSys = true;
-      for (auto [name, A] : {std::pair{"M0", &s.M0}, {"K0", &s.K0}, {"G0", &s.G0}, {"C0", &s.C0}, {"D0", &s.D0},
-                             {"N0", &s.N0}})
+      for (auto [name, A] :
+           {std::pair{"M0", &s.M0}, {"K0", &s.K0}, {"G0", &s.G0}, {"C0", &s.C0}, {"D0", &s.D0}, {"N0", &s.N0}})
         check(name, *A, m, m);
     }
     nev = std::max<std::size_t>(nev, s.freq.size());
@@ -303,8 +311,12 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
     w.scalar("tdef", static_cast<double>(nt));
     if (hasSys) {
-      for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0}, {"K0", &SpacarStep::K0}, {"G0", &SpacarStep::G0},
-                                  {"C0", &SpacarStep::C0}, {"D0", &SpacarStep::D0}, {"N0", &SpacarStep::N0}}) {
+      for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0},
+                                  {"K0", &SpacarStep::K0},
+                                  {"G0", &SpacarStep::G0},
+                                  {"C0", &SpacarStep::C0},
+                                  {"D0", &SpacarStep::D0},
+                                  {"N0", &SpacarStep::N0}}) {
         std::vector<double> data(m * m * nt, 0.0);
         for (std::size_t k = 0; k < nt; ++k) {
           const Eigen::MatrixXd& A = r.steps[k].*member;

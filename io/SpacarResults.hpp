@@ -21,10 +21,10 @@
 namespace flexmb::io {
 
 struct SpacarLayout {
-  std::vector<int> xOrder, xPos;  // SPACAR place (0-based) -> model x index, and back
-  std::vector<int> eOrder, ePos;  // same for deformations
-  int nxp[4] = {0, 0, 0, 0};      // fixed, calculable, input, dynamic coordinates
-  int nep[4] = {0, 0, 0, 0};      // fixed, released, input, dynamic deformations
+  std::vector<int> xOrder, xPos;                 // SPACAR place (0-based) -> model x index, and back
+  std::vector<int> eOrder, ePos;                 // same for deformations
+  int nxp[4] = {0, 0, 0, 0};                     // fixed, calculable, input, dynamic coordinates
+  int nep[4] = {0, 0, 0, 0};                     // fixed, released, input, dynamic deformations
   std::vector<core::FreeCoordinate> dofColumns;  // the columns of dx, in order (model indices)
   int ndof() const { return nxp[2] + nxp[3] + nep[2] + nep[3]; }
   int nddof() const { return nxp[3] + nep[3]; }
@@ -53,25 +53,25 @@ Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows)
 int elementTypeId(const core::ElementTypeInfo* type);
 
 struct SpacarStep {
-  Eigen::VectorXd x, xd, xdd, fxt;         // nx, SPACAR order
-  Eigen::VectorXd e, ed, edd, sig;         // ne, SPACAR order
-  Eigen::MatrixXd dx;                      // nx x ndof (rows SPACAR order), when requested
-  Eigen::MatrixXd bigd;                    // ne x nx (both SPACAR order), when requested
+  Eigen::VectorXd x, xd, xdd, fxt;  // nx, SPACAR order
+  Eigen::VectorXd e, ed, edd, sig;  // ne, SPACAR order
+  Eigen::MatrixXd dx;               // nx x ndof (rows SPACAR order), when requested
+  Eigen::MatrixXd bigd;             // ne x nx (both SPACAR order), when requested
   // System matrices (m x m, m = nddof or the reduced size), when the analysis has them.
   Eigen::MatrixXd M0, K0, G0, C0, D0, N0;
-  Eigen::VectorXd freq;                    // Hz
-  Eigen::MatrixXd modeq, modex;            // mode shapes: in q (m x nev) and in x (nx x nev)
+  Eigen::VectorXd freq;          // Hz
+  Eigen::MatrixXd modeq, modex;  // mode shapes: in q (m x nev) and in x (nx x nev)
 };
 
 struct SpacarResults {
-  int mode = 1;                 // SPACAR mode of the analysis (1, 3, 4, 10; 0 kinematic; 2 modes)
-  std::vector<double> time;     // per step: time, or the load factor in a static analysis
+  int mode = 1;              // SPACAR mode of the analysis (1, 3, 4, 10; 0 kinematic; 2 modes)
+  std::vector<double> time;  // per step: time, or the load factor in a static analysis
   std::vector<SpacarStep> steps;
   long nsteps = 0, nfailed = 0, nfevals = 0;  // integrator statistics (mode 1, 3, 4)
   bool completed = true;
   std::string stopReason;
-  std::string warning;          // a completed run that is worth a remark (mode 0 of a model that
-                                // is not uniquely solvable: initial configuration and bigd only)
+  std::string warning;  // a completed run that is worth a remark (mode 0 of a model that
+                        // is not uniquely solvable: initial configuration and bigd only)
 };
 
 // Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm.

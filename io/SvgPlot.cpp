@@ -105,15 +105,13 @@ std::string numberLabel(double v, double step, bool scientific) {
   char buf[64];
   const int stepExp = static_cast<int>(std::floor(std::log10(step) + 1e-9));
   if (!scientific) {
-    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed,
-                                 std::max(0, -stepExp));
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, std::max(0, -stepExp));
     return std::string(buf, r.ptr);
   }
   const int p = std::clamp(static_cast<int>(std::floor(std::log10(std::abs(v)))) - stepExp, 0, 16);
   const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, p);
   return tidyScientific(std::string(buf, r.ptr));
 }
-
 
 double textWidth(std::string_view s) {  // UTF-8 code points times an average glyph width
   double n = 0;
@@ -129,8 +127,8 @@ struct Tick {
 
 struct AxisMap {
   bool log = false;
-  double lo = 0, hi = 1;   // data-space bounds
-  double p0 = 0, p1 = 1;   // pixel positions of lo and hi
+  double lo = 0, hi = 1;  // data-space bounds
+  double p0 = 0, p1 = 1;  // pixel positions of lo and hi
   bool valid(double v) const { return std::isfinite(v) && (!log || v > 0); }
   // Pixel coordinate, or NaN when invalid or absurdly far away.
   double px(double v) const {
@@ -144,9 +142,7 @@ struct AxisMap {
 
 // Resolve the axis range from the valid data values (and given bounds).
 std::pair<double, double> resolveRange(const Axis& ax, const std::vector<double>& data, bool any) {
-  const auto ok = [&](const std::optional<double>& b) {
-    return b && std::isfinite(*b) && (!ax.log || *b > 0);
-  };
+  const auto ok = [&](const std::optional<double>& b) { return b && std::isfinite(*b) && (!ax.log || *b > 0); };
   double lo = ax.log ? 1 : 0, hi = ax.log ? 10 : 1;
   if (any) {
     lo = *std::min_element(data.begin(), data.end());
@@ -186,13 +182,15 @@ std::vector<Tick> makeTicks(const AxisMap& m) {
     const int k = static_cast<int>(std::lround(std::log10(std::abs(v) > 0 ? std::abs(v) : 1)));
     if (m.log && v == pow10(k)) {
       const std::string ex = std::to_string(k);
-      out.push_back({v, "10<tspan dy=\"-5\" font-size=\"8\">" + ex + "</tspan>",
-                     2 * kCharWidth + 0.75 * textWidth(ex)});
+      out.push_back(
+          {v, "10<tspan dy=\"-5\" font-size=\"8\">" + ex + "</tspan>", 2 * kCharWidth + 0.75 * textWidth(ex)});
       continue;
     }
     double step;
-    if (m.log) step = pow10(static_cast<int>(std::floor(std::log10(v) + 1e-9)));
-    else step = values.size() >= 2 ? values[1] - values[0] : (maxAbs > 0 ? maxAbs : 1);
+    if (m.log)
+      step = pow10(static_cast<int>(std::floor(std::log10(v) + 1e-9)));
+    else
+      step = values.size() >= 2 ? values[1] - values[0] : (maxAbs > 0 ? maxAbs : 1);
     const double mag = m.log ? v : maxAbs;
     const bool sci = mag >= 1e5 || mag < 1e-3;
     const std::string s = numberLabel(v, step, sci);
@@ -235,8 +233,10 @@ bool clipSegment(Pt a, Pt b, const Rect& r, double& t0, double& t1) {
       continue;
     }
     const double t = q[i] / p[i];
-    if (p[i] < 0) t0 = std::max(t0, t);
-    else t1 = std::min(t1, t);
+    if (p[i] < 0)
+      t0 = std::max(t0, t);
+    else
+      t1 = std::min(t1, t);
     if (t0 > t1) return false;
   }
   return true;
@@ -276,16 +276,16 @@ std::string marker(int shape, Pt p) {
   const std::string x = fixed2(p.x), y = fixed2(p.y);
   const auto pt = [](double a, double b) { return fixed2(a) + "," + fixed2(b); };
   switch (shape % 4) {
-    case 0: return "<circle cx=\"" + x + "\" cy=\"" + y + "\" r=\"3.2\"/>";
+    case 0:
+      return "<circle cx=\"" + x + "\" cy=\"" + y + "\" r=\"3.2\"/>";
     case 1:
-      return "<rect x=\"" + fixed2(p.x - 3) + "\" y=\"" + fixed2(p.y - 3) +
-             "\" width=\"6\" height=\"6\"/>";
+      return "<rect x=\"" + fixed2(p.x - 3) + "\" y=\"" + fixed2(p.y - 3) + "\" width=\"6\" height=\"6\"/>";
     case 2:
       return "<polygon points=\"" + pt(p.x, p.y - 3.8) + " " + pt(p.x + 3.5, p.y + 2.6) + " " +
              pt(p.x - 3.5, p.y + 2.6) + "\"/>";
     default:
-      return "<polygon points=\"" + pt(p.x, p.y - 4) + " " + pt(p.x + 4, p.y) + " " +
-             pt(p.x, p.y + 4) + " " + pt(p.x - 4, p.y) + "\"/>";
+      return "<polygon points=\"" + pt(p.x, p.y - 4) + " " + pt(p.x + 4, p.y) + " " + pt(p.x, p.y + 4) + " " +
+             pt(p.x - 4, p.y) + "\"/>";
   }
 }
 
@@ -363,15 +363,13 @@ std::string renderSvg(const Plot& plot) {
   if (!plot.title.empty()) {
     cursor += 16;
     head += "<text class=\"title\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
-            "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" +
-            xmlEscape(plot.title) + "</text>\n";
+            "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" + xmlEscape(plot.title) + "</text>\n";
     cursor += 4;
   }
   for (const std::string& note : plot.notes) {
     cursor += 13;
     head += "<text class=\"note\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
-            "\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555555\">" + xmlEscape(note) +
-            "</text>\n";
+            "\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555555\">" + xmlEscape(note) + "</text>\n";
   }
   std::vector<std::size_t> legendItems;
   double legendW = 0;
@@ -394,23 +392,22 @@ std::string renderSvg(const Plot& plot) {
 
   std::string o;
   o += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  o += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fixed2(W) + "\" height=\"" +
-       fixed2(H) + "\" viewBox=\"0 0 " + fixed2(W) + " " + fixed2(H) +
-       "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+  o += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fixed2(W) + "\" height=\"" + fixed2(H) +
+       "\" viewBox=\"0 0 " + fixed2(W) + " " + fixed2(H) + "\" font-family=\"sans-serif\" font-size=\"11\">\n";
   o += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  o += "<defs><clipPath id=\"flexmb-plot-area\"><rect x=\"" + fixed2(clip.x0) + "\" y=\"" +
-       fixed2(clip.y0) + "\" width=\"" + fixed2(clip.x1 - clip.x0) + "\" height=\"" +
-       fixed2(clip.y1 - clip.y0) + "\"/></clipPath></defs>\n";
+  o += "<defs><clipPath id=\"flexmb-plot-area\"><rect x=\"" + fixed2(clip.x0) + "\" y=\"" + fixed2(clip.y0) +
+       "\" width=\"" + fixed2(clip.x1 - clip.x0) + "\" height=\"" + fixed2(clip.y1 - clip.y0) +
+       "\"/></clipPath></defs>\n";
   o += head;
 
   // Grid, ticks and tick labels.
   const auto vline = [&](double x, const char* attrs) {
-    return "<line x1=\"" + fixed2(x) + "\" y1=\"" + fixed2(area.y0) + "\" x2=\"" + fixed2(x) +
-           "\" y2=\"" + fixed2(area.y1) + "\"" + attrs + "/>\n";
+    return "<line x1=\"" + fixed2(x) + "\" y1=\"" + fixed2(area.y0) + "\" x2=\"" + fixed2(x) + "\" y2=\"" +
+           fixed2(area.y1) + "\"" + attrs + "/>\n";
   };
   const auto hline = [&](double y, const char* attrs) {
-    return "<line x1=\"" + fixed2(area.x0) + "\" y1=\"" + fixed2(y) + "\" x2=\"" + fixed2(area.x1) +
-           "\" y2=\"" + fixed2(y) + "\"" + attrs + "/>\n";
+    return "<line x1=\"" + fixed2(area.x0) + "\" y1=\"" + fixed2(y) + "\" x2=\"" + fixed2(area.x1) + "\" y2=\"" +
+           fixed2(y) + "\"" + attrs + "/>\n";
   };
   o += "<g class=\"grid\" stroke-width=\"1\">\n";
   if (xm.log)
@@ -422,31 +419,29 @@ std::string renderSvg(const Plot& plot) {
   o += "</g>\n<g class=\"ticks\" stroke=\"#333333\" stroke-width=\"1\">\n";
   for (const Tick& t : xt) {
     const std::string x = fixed2(xm.px(t.value));
-    o += "<line x1=\"" + x + "\" y1=\"" + fixed2(area.y1) + "\" x2=\"" + x + "\" y2=\"" +
-         fixed2(area.y1 + 5) + "\"/>\n";
+    o +=
+        "<line x1=\"" + x + "\" y1=\"" + fixed2(area.y1) + "\" x2=\"" + x + "\" y2=\"" + fixed2(area.y1 + 5) + "\"/>\n";
   }
   for (const Tick& t : yt) {
     const std::string y = fixed2(ym.px(t.value));
-    o += "<line x1=\"" + fixed2(area.x0 - 5) + "\" y1=\"" + y + "\" x2=\"" + fixed2(area.x0) +
-         "\" y2=\"" + y + "\"/>\n";
+    o +=
+        "<line x1=\"" + fixed2(area.x0 - 5) + "\" y1=\"" + y + "\" x2=\"" + fixed2(area.x0) + "\" y2=\"" + y + "\"/>\n";
   }
   o += "</g>\n<g class=\"tick-labels\" fill=\"#333333\">\n";
   for (const Tick& t : xt)
-    o += "<text x=\"" + fixed2(xm.px(t.value)) + "\" y=\"" + fixed2(area.y1 + 18) +
-         "\" text-anchor=\"middle\">" + t.svg + "</text>\n";
+    o += "<text x=\"" + fixed2(xm.px(t.value)) + "\" y=\"" + fixed2(area.y1 + 18) + "\" text-anchor=\"middle\">" +
+         t.svg + "</text>\n";
   for (const Tick& t : yt)
-    o += "<text x=\"" + fixed2(area.x0 - 8) + "\" y=\"" + fixed2(ym.px(t.value) + 4) +
-         "\" text-anchor=\"end\">" + t.svg + "</text>\n";
+    o += "<text x=\"" + fixed2(area.x0 - 8) + "\" y=\"" + fixed2(ym.px(t.value) + 4) + "\" text-anchor=\"end\">" +
+         t.svg + "</text>\n";
   o += "</g>\n";
   if (!plot.x.label.empty())
-    o += "<text class=\"axis-label\" x=\"" + fixed2((area.x0 + area.x1) / 2) + "\" y=\"" +
-         fixed2(area.y1 + 36) + "\" text-anchor=\"middle\" font-size=\"12\">" +
-         xmlEscape(plot.x.label) + "</text>\n";
+    o += "<text class=\"axis-label\" x=\"" + fixed2((area.x0 + area.x1) / 2) + "\" y=\"" + fixed2(area.y1 + 36) +
+         "\" text-anchor=\"middle\" font-size=\"12\">" + xmlEscape(plot.x.label) + "</text>\n";
   if (!plot.y.label.empty())
-    o += "<text class=\"axis-label\" transform=\"translate(" + fixed2(14) + "," +
-         fixed2((area.y0 + area.y1) / 2) +
-         ") rotate(-90)\" text-anchor=\"middle\" dy=\"0.35em\" font-size=\"12\">" +
-         xmlEscape(plot.y.label) + "</text>\n";
+    o += "<text class=\"axis-label\" transform=\"translate(" + fixed2(14) + "," + fixed2((area.y0 + area.y1) / 2) +
+         ") rotate(-90)\" text-anchor=\"middle\" dy=\"0.35em\" font-size=\"12\">" + xmlEscape(plot.y.label) +
+         "</text>\n";
 
   // Reference lines and data, clipped to the plot area.
   o += "<g class=\"vertical-lines\" clip-path=\"url(#flexmb-plot-area)\">\n";
@@ -496,16 +491,15 @@ std::string renderSvg(const Plot& plot) {
     o += "<text class=\"no-data\" x=\"" + fixed2((area.x0 + area.x1) / 2) + "\" y=\"" +
          fixed2((area.y0 + area.y1) / 2) +
          "\" text-anchor=\"middle\" font-size=\"14\" fill=\"#888888\">no data</text>\n";
-  o += "<rect class=\"frame\" x=\"" + fixed2(area.x0) + "\" y=\"" + fixed2(area.y0) +
-       "\" width=\"" + fixed2(area.x1 - area.x0) + "\" height=\"" + fixed2(area.y1 - area.y0) +
+  o += "<rect class=\"frame\" x=\"" + fixed2(area.x0) + "\" y=\"" + fixed2(area.y0) + "\" width=\"" +
+       fixed2(area.x1 - area.x0) + "\" height=\"" + fixed2(area.y1 - area.y0) +
        "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
 
   // Legend, right of the plot area.
   if (!legendItems.empty()) {
     const double x0 = area.x1 + 12, y0 = area.y0;
-    o += "<g class=\"legend\">\n<rect x=\"" + fixed2(x0) + "\" y=\"" + fixed2(y0) +
-         "\" width=\"" + fixed2(legendW) + "\" height=\"" +
-         fixed2(10 + 16.0 * static_cast<double>(legendItems.size())) +
+    o += "<g class=\"legend\">\n<rect x=\"" + fixed2(x0) + "\" y=\"" + fixed2(y0) + "\" width=\"" + fixed2(legendW) +
+         "\" height=\"" + fixed2(10 + 16.0 * static_cast<double>(legendItems.size())) +
          "\" fill=\"white\" stroke=\"#bbbbbb\" stroke-width=\"1\"/>\n";
     for (std::size_t r = 0; r < legendItems.size(); ++r) {
       const std::size_t si = legendItems[r];
@@ -513,13 +507,10 @@ std::string renderSvg(const Plot& plot) {
       const std::string color = seriesColor(s, si);
       const double y = y0 + 13 + 16.0 * static_cast<double>(r);
       if (s.line)
-        o += "<line x1=\"" + fixed2(x0 + 8) + "\" y1=\"" + fixed2(y) + "\" x2=\"" +
-             fixed2(x0 + 34) + "\" y2=\"" + fixed2(y) + "\" " + strokeStyle(color, s.dashed) +
-             "/>\n";
-      if (s.markers)
-        o += "<g fill=\"" + color + "\">" + marker(static_cast<int>(si), {x0 + 21, y}) + "</g>\n";
-      o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + xmlEscape(s.label) +
-           "</text>\n";
+        o += "<line x1=\"" + fixed2(x0 + 8) + "\" y1=\"" + fixed2(y) + "\" x2=\"" + fixed2(x0 + 34) + "\" y2=\"" +
+             fixed2(y) + "\" " + strokeStyle(color, s.dashed) + "/>\n";
+      if (s.markers) o += "<g fill=\"" + color + "\">" + marker(static_cast<int>(si), {x0 + 21, y}) + "</g>\n";
+      o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + xmlEscape(s.label) + "</text>\n";
     }
     o += "</g>\n";
   }

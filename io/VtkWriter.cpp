@@ -46,8 +46,10 @@ std::string renderVtu(const MechanismGeometry& g, const core::StateOutputs& s, d
   o.reserve(4096 + 120 * p.size());
   o += "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
        "<UnstructuredGrid>\n<FieldData>\n<DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-       "format=\"ascii\">" + n17(t) + "</DataArray>\n</FieldData>\n";
-  o += "<Piece NumberOfPoints=\"" + std::to_string(p.size()) + "\" NumberOfCells=\"" + std::to_string(cells.size()) + "\">\n";
+       "format=\"ascii\">" +
+       n17(t) + "</DataArray>\n</FieldData>\n";
+  o += "<Piece NumberOfPoints=\"" + std::to_string(p.size()) + "\" NumberOfCells=\"" + std::to_string(cells.size()) +
+       "\">\n";
   o += "<Points>\n<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const Point3& q : p) o += n17(q.x) + " " + n17(q.y) + " " + n17(q.z) + "\n";
   o += "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
@@ -61,7 +63,8 @@ std::string renderVtu(const MechanismGeometry& g, const core::StateOutputs& s, d
   for (const DrawnElement& d : cells) o += d.shape == DrawnShape::Joint ? "1 " : "4 ";
   o += "\n</DataArray>\n</Cells>\n";
 
-  o += "<PointData Vectors=\"displacement\">\n<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" "
+  o += "<PointData Vectors=\"displacement\">\n<DataArray type=\"Float64\" Name=\"displacement\" "
+       "NumberOfComponents=\"3\" "
        "format=\"ascii\">\n";
   for (size_t i = 0; i < p.size(); ++i)
     o += n17(p[i].x - p0[i].x) + " " + n17(p[i].y - p0[i].y) + " " + n17(p[i].z - p0[i].z) + "\n";
@@ -105,7 +108,8 @@ std::vector<std::string> writeVtkSeries(const std::string& prefix, const core::M
   const MechanismGeometry g(model);
   std::vector<std::string> written{pvd.string()};
   std::string collection =
-      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n<Collection>\n";
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
+      "byte_order=\"LittleEndian\">\n<Collection>\n";
   const int digits = std::max<int>(5, static_cast<int>(std::to_string(traj.time.size()).size()));
   for (size_t k = 0; k < traj.time.size(); ++k) {
     std::string index = std::to_string(k);

@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -63,9 +63,7 @@ struct Session {
   std::string cvodeError;  // CVODE's own last error message
   std::exception_ptr unexpected;
 
-  void load(N_Vector v, Eigen::VectorXd& to) const {
-    std::copy(NV_DATA_S(v), NV_DATA_S(v) + to.size(), to.data());
-  }
+  void load(N_Vector v, Eigen::VectorXd& to) const { std::copy(NV_DATA_S(v), NV_DATA_S(v) + to.size(), to.data()); }
   // Runs fn, mapping exceptions to CVODE's return codes.
   template <class Fn>
   int guarded(double t, const char* what, Fn&& fn) {
@@ -221,7 +219,8 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
   std::copy(y0.data(), y0.data() + n, NV_DATA_S(sd.y));
 
   auto check = [](int flag, const char* what) {
-    if (flag < 0) throw std::runtime_error(std::string("Bdf: CVODE set-up ") + what + " failed (" + std::to_string(flag) + ")");
+    if (flag < 0)
+      throw std::runtime_error(std::string("Bdf: CVODE set-up ") + what + " failed (" + std::to_string(flag) + ")");
   };
   const double span = std::fabs(tf - t0);
   const double hmax = opt_.maxStep > 0.0 ? std::min(span, opt_.maxStep) : 0.1 * span;
@@ -237,7 +236,8 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
   check(CVodeSetMaxOrd(sd.mem, opt_.maxOrder), "CVodeSetMaxOrd");
   check(CVodeSetMaxStep(sd.mem, hmax), "CVodeSetMaxStep");
   check(CVodeSetMinStep(sd.mem, std::min(hmin, 0.5 * hmax)), "CVodeSetMinStep");
-  if (opt_.initialStep > 0.0) check(CVodeSetInitStep(sd.mem, tdir * std::min(opt_.initialStep, hmax)), "CVodeSetInitStep");
+  if (opt_.initialStep > 0.0)
+    check(CVodeSetInitStep(sd.mem, tdir * std::min(opt_.initialStep, hmax)), "CVodeSetInitStep");
   check(CVodeSetStopTime(sd.mem, tf), "CVodeSetStopTime");
 
   auto collectStats = [&] {

@@ -27,8 +27,8 @@ struct BdfOptions {
 
 // J (n x n, preallocated) = df/dy at (t, y); fy = f(t, y) is given (the caller need not re-evaluate
 // it). Throw RhsError when it cannot be evaluated there (CVODE retries with a smaller step).
-using OdeJacobian = std::function<void(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy,
-                                       Eigen::Ref<Eigen::MatrixXd> J)>;
+using OdeJacobian =
+    std::function<void(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J)>;
 
 class Bdf {
  public:

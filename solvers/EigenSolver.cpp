@@ -58,8 +58,7 @@ void finalize(EigenResult& r, const Apply& applyA, const Apply& applyB, double d
   // ascending order (stable, so equal values keep ARPACK's order)
   std::vector<Eigen::Index> idx(static_cast<std::size_t>(k));
   std::iota(idx.begin(), idx.end(), 0);
-  std::stable_sort(idx.begin(), idx.end(),
-                   [&](Eigen::Index i, Eigen::Index j) { return r.lambda[i] < r.lambda[j]; });
+  std::stable_sort(idx.begin(), idx.end(), [&](Eigen::Index i, Eigen::Index j) { return r.lambda[i] < r.lambda[j]; });
   Eigen::VectorXd lam(k);
   Eigen::MatrixXd vec(n, k);
   for (Eigen::Index j = 0; j < k; ++j) {
@@ -113,34 +112,55 @@ std::mutex& arpackMutex() {
 
 std::string arpackAupdMessage(int info) {
   switch (info) {
-    case 1: return "maximum number of iterations taken";
-    case 3: return "no shifts could be applied during an implicit restart (try a larger ncv)";
-    case -1: return "n must be positive";
-    case -2: return "nev must be positive";
-    case -3: return "ncv must be greater than nev and at most n";
-    case -4: return "maximum number of iterations must be positive";
-    case -5: return "invalid 'which'";
-    case -6: return "invalid bmat";
-    case -7: return "lworkl too small";
-    case -8: return "error in the tridiagonal eigenvalue computation (LAPACK dsteqr)";
-    case -9: return "starting vector is zero";
-    case -10: return "invalid mode";
-    case -11: return "mode 1 with bmat 'G' incompatible";
-    case -12: return "invalid iparam[0]";
-    case -13: return "nev and which = 'BE' incompatible";
-    case -9999: return "could not build a Lanczos factorization (is B positive definite?)";
-    default: return "ARPACK error";
+    case 1:
+      return "maximum number of iterations taken";
+    case 3:
+      return "no shifts could be applied during an implicit restart (try a larger ncv)";
+    case -1:
+      return "n must be positive";
+    case -2:
+      return "nev must be positive";
+    case -3:
+      return "ncv must be greater than nev and at most n";
+    case -4:
+      return "maximum number of iterations must be positive";
+    case -5:
+      return "invalid 'which'";
+    case -6:
+      return "invalid bmat";
+    case -7:
+      return "lworkl too small";
+    case -8:
+      return "error in the tridiagonal eigenvalue computation (LAPACK dsteqr)";
+    case -9:
+      return "starting vector is zero";
+    case -10:
+      return "invalid mode";
+    case -11:
+      return "mode 1 with bmat 'G' incompatible";
+    case -12:
+      return "invalid iparam[0]";
+    case -13:
+      return "nev and which = 'BE' incompatible";
+    case -9999:
+      return "could not build a Lanczos factorization (is B positive definite?)";
+    default:
+      return "ARPACK error";
   }
 }
 
 void checkSizes(Eigen::Index n, const EigenOptions& opt, bool allowAll, const char* who) {
   std::ostringstream os;
-  if (n < 1) os << who << ": empty problem";
-  else if (opt.nev < 1) os << who << ": nev must be >= 1 (got " << opt.nev << ")";
+  if (n < 1)
+    os << who << ": empty problem";
+  else if (opt.nev < 1)
+    os << who << ": nev must be >= 1 (got " << opt.nev << ")";
   else if (allowAll ? opt.nev > n : opt.nev >= n)
     os << who << ": nev = " << opt.nev << (allowAll ? " > n = " : " >= n = ") << n;
-  else if (opt.maxIterations < 1) os << who << ": maxIterations must be >= 1";
-  else if (opt.shift && !std::isfinite(*opt.shift)) os << who << ": shift must be finite";
+  else if (opt.maxIterations < 1)
+    os << who << ": maxIterations must be >= 1";
+  else if (opt.shift && !std::isfinite(*opt.shift))
+    os << who << ": shift must be finite";
   const std::string s = os.str();
   if (!s.empty()) throw std::invalid_argument(s);
 }
@@ -399,8 +419,7 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
   r.shift = sigma;
   if (!ok) {
     std::ostringstream os;
-    os << "A - sigma B is singular at sigma = " << sigma0 << " and at 4 shifts below it (down to " << sigma
-       << ")";
+    os << "A - sigma B is singular at sigma = " << sigma0 << " and at 4 shifts below it (down to " << sigma << ")";
     r.status = EigenStatus::Singular;
     r.message = os.str();
     return r;
@@ -455,8 +474,8 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
 
   std::lock_guard<std::mutex> lock(arpackMutex());
   for (;;) {
-    arpack::saupd(ido, arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, opt.tolerance,
-                  resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info);
+    arpack::saupd(ido, arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, opt.tolerance, resid.data(),
+                  ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info);
     double* x = workd.data() + ipntr[0] - 1;
     double* y = workd.data() + ipntr[1] - 1;
     if (ido == -1) {  // y = OP x = (A - sigma B)^-1 B x
@@ -488,8 +507,8 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
     std::vector<double> d(static_cast<std::size_t>(nev)), z(static_cast<std::size_t>(n) * nev);
     a_int info2 = 0;
     arpack::seupd(1, arpack::howmny::ritz_vectors, select.data(), d.data(), z.data(), n, sigma,
-                  arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, opt.tolerance,
-                  resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info2);
+                  arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, opt.tolerance, resid.data(), ncv,
+                  v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info2);
     if (info2 != 0) {
       std::ostringstream os;
       os << note << "ARPACK dseupd info = " << info2;
@@ -580,8 +599,7 @@ EigenResult solveLowest(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, cons
 
 // ---------------------------------------------------------------------------------------------------
 Eigen::MatrixXd modalAssurance(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V, const Eigen::MatrixXd* W) {
-  if (U.rows() != V.rows())
-    throw std::invalid_argument("modalAssurance: U and V must have the same number of rows");
+  if (U.rows() != V.rows()) throw std::invalid_argument("modalAssurance: U and V must have the same number of rows");
   if (W && (W->rows() != U.rows() || W->cols() != U.rows()))
     throw std::invalid_argument("modalAssurance: W must be square with U.rows() rows");
   const Eigen::MatrixXd WV = W ? Eigen::MatrixXd((*W) * V) : V;
@@ -599,8 +617,7 @@ Eigen::MatrixXd modalAssurance(const Eigen::MatrixXd& U, const Eigen::MatrixXd& 
   return mac;
 }
 
-std::vector<int> trackModes(const Eigen::MatrixXd& previous, const Eigen::MatrixXd& current,
-                            const Eigen::MatrixXd* W) {
+std::vector<int> trackModes(const Eigen::MatrixXd& previous, const Eigen::MatrixXd& current, const Eigen::MatrixXd* W) {
   const Eigen::MatrixXd mac = modalAssurance(previous, current, W);
   const Eigen::Index np = mac.rows(), nc = mac.cols();
   std::vector<int> p(static_cast<std::size_t>(nc), -1);

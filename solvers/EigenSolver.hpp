@@ -63,20 +63,20 @@ enum class EigenStatus { Converged, NotConverged, Singular };
 
 struct EigenResult {
   EigenStatus status = EigenStatus::Singular;
-  std::string message;           // empty when Converged without remarks
-  Eigen::VectorXd lambda;        // ascending
-  Eigen::MatrixXd vectors;       // B-orthonormal columns
-  Eigen::VectorXd omega;         // rad/s: sqrt(max(lambda,0)); rigid and unstable modes report 0
-  std::vector<bool> rigid;       // |lambda| <= 1e-8*scale: rigid-body / mechanism mode
-  std::vector<bool> unstable;    // lambda < -1e-8*scale (buckled)
-  double maxResidual = 0.0;      // max_i relative residual (see above)
+  std::string message;                 // empty when Converged without remarks
+  Eigen::VectorXd lambda;              // ascending
+  Eigen::MatrixXd vectors;             // B-orthonormal columns
+  Eigen::VectorXd omega;               // rad/s: sqrt(max(lambda,0)); rigid and unstable modes report 0
+  std::vector<bool> rigid;             // |lambda| <= 1e-8*scale: rigid-body / mechanism mode
+  std::vector<bool> unstable;          // lambda < -1e-8*scale (buckled)
+  double maxResidual = 0.0;            // max_i relative residual (see above)
   double maxOrthogonalityError = 0.0;  // max |V^T B V - I|
-  int converged = 0;             // ARPACK iparam[4]; dense: number returned
-  int iterations = 0;            // ARPACK iparam[2] on return (restarts; maxIterations+1 when it ran out)
-  double shift = 0.0;            // shift actually used (ARPACK); dense: 0
-  double scale = 0.0;            // spectrum scale used for the rigid / unstable flags
-  std::string method;            // "arpack-shift-invert" or "dense"
-  Eigen::VectorXd hz() const;    // omega / 2pi
+  int converged = 0;                   // ARPACK iparam[4]; dense: number returned
+  int iterations = 0;                  // ARPACK iparam[2] on return (restarts; maxIterations+1 when it ran out)
+  double shift = 0.0;                  // shift actually used (ARPACK); dense: 0
+  double scale = 0.0;                  // spectrum scale used for the rigid / unstable flags
+  std::string method;                  // "arpack-shift-invert" or "dense"
+  Eigen::VectorXd hz() const;          // omega / 2pi
 };
 
 // Operator interface: the solver only sees these small objects, so another factorisation plugs in.
@@ -84,7 +84,7 @@ class ShiftInvertOperator {
  public:
   virtual ~ShiftInvertOperator() = default;
   virtual int size() const = 0;
-  virtual bool factorize(double sigma) = 0;                       // A - sigma B; false if singular
+  virtual bool factorize(double sigma) = 0;                      // A - sigma B; false if singular
   virtual void solve(const double* in, double* out) const = 0;   // (A - sigma B)^{-1} in
   virtual void applyB(const double* in, double* out) const = 0;  // B in
   virtual void applyA(const double* in, double* out) const = 0;  // A in (residuals)
@@ -169,8 +169,7 @@ EigenResult solveLowest(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, cons
 // Modal assurance criterion between the columns of U and V, optional weighting W (e.g. M; nullptr = I):
 // MAC_ij = (u_i^T W v_j)^2 / ((u_i^T W u_i)(v_j^T W v_j)); 0 where a denominator vanishes.
 // Result is U.cols() x V.cols(). Sign- and scale-invariant.
-Eigen::MatrixXd modalAssurance(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V,
-                               const Eigen::MatrixXd* W = nullptr);
+Eigen::MatrixXd modalAssurance(const Eigen::MatrixXd& U, const Eigen::MatrixXd& V, const Eigen::MatrixXd* W = nullptr);
 
 // Mode tracking: p (size current.cols()) so that mode j of `current` continues mode p[j] of `previous`.
 // Greedy assignment: repeatedly take the largest remaining MAC entry (ties: lowest previous index, then

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <charconv>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -14,15 +14,13 @@ namespace {
 // Dormand-Prince tableau (ode45.md "Tableau"). Row j holds the coefficients of stage j+1 (0-based
 // k[0..j-1]); row 5 is b (ynew), which also defines the FSAL stage k[6] = f(tnew, ynew).
 constexpr double C[7] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0, 1.0};
-constexpr double A[6][6] = {
-    {1.0 / 5},
-    {3.0 / 40, 9.0 / 40},
-    {44.0 / 45, -56.0 / 15, 32.0 / 9},
-    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
-    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
-    {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
-constexpr double E[7] = {71.0 / 57600,      0.0,          -71.0 / 16695, 71.0 / 1920,
-                         -17253.0 / 339200, 22.0 / 525,   -1.0 / 40};
+constexpr double A[6][6] = {{1.0 / 5},
+                            {3.0 / 40, 9.0 / 40},
+                            {44.0 / 45, -56.0 / 15, 32.0 / 9},
+                            {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
+                            {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
+                            {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+constexpr double E[7] = {71.0 / 57600, 0.0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
 // Free 4th-order interpolant (ode45.md "Interpolant"): y(t + s h) = y + h sum_j k_j (B_j . [s s^2 s^3 s^4]).
 constexpr double BI[7][4] = {{1.0, -183.0 / 64, 37.0 / 12, -145.0 / 128},
                              {0.0, 0.0, 0.0, 0.0},
@@ -61,13 +59,13 @@ std::string Ode45::formatStats(const OdeStats& s) {
   std::string out = std::to_string(s.nsteps) + " successful steps\n" + std::to_string(s.nfailed) +
                     " failed attempts\n" + std::to_string(s.nfevals) + " function evaluations\n";
   if (s.nrhsfailed > 0)
-    out += "(" + std::to_string(s.nrhsfailed) + " of the failed attempts: the right-hand side failed at a trial state)\n";
+    out +=
+        "(" + std::to_string(s.nrhsfailed) + " of the failed attempts: the right-hand side failed at a trial state)\n";
   return out;
 }
 
 OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
-                           const OdeObserver& observer, const OdeStepHook& accepted,
-                           const OdeStepHook& retry) const {
+                           const OdeObserver& observer, const OdeStepHook& accepted, const OdeStepHook& retry) const {
   using Eigen::VectorXd;
   const Eigen::Index n = y0.size();
   const std::size_t ntspan = tspan.size();
@@ -86,9 +84,12 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   // Options (ode45.md "Options and defaults").
   const double rtol = std::max(opt_.relTol, 100.0 * std::numeric_limits<double>::epsilon());
   VectorXd threshold(n);
-  if (opt_.absTol.size() == 0) threshold.setConstant(1e-6 / rtol);
-  else if (opt_.absTol.size() == 1) threshold.setConstant(opt_.absTol[0] / rtol);
-  else threshold = opt_.absTol / rtol;
+  if (opt_.absTol.size() == 0)
+    threshold.setConstant(1e-6 / rtol);
+  else if (opt_.absTol.size() == 1)
+    threshold.setConstant(opt_.absTol[0] / rtol);
+  else
+    threshold = opt_.absTol / rtol;
   const double span = std::fabs(tf - t0);
   const double hmax = opt_.maxStep > 0.0 ? std::min(span, opt_.maxStep) : 0.1 * span;
   const bool refineOutput = ntspan == 2;
@@ -102,7 +103,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   OdeResult res;
   res.tLast = t0;
   OdeStats& st = res.stats;
-  std::string failure;  // reason of a failed rhs evaluation
+  std::string failure;   // reason of a failed rhs evaluation
   bool aborted = false;  // the failure was an RhsAbort: stop at once
 
   // One rhs evaluation; false (with `failure` set) on RhsError or a non-finite input or value.
@@ -137,8 +138,8 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
   // A right-hand side that fails at every trial state down to the minimum step: the solution itself
   // runs into the failure (MATLAB's ode45 has no such outcome: its right-hand sides do not fail).
   auto atMinimumStep = [&](double tt, double hh) {
-    return " (trial steps from the accepted state at t = " + num(tt) + " failed down to the minimum step " +
-           num(hh) + "; results up to there are kept. The model itself fails there, e.g. a singular "
+    return " (trial steps from the accepted state at t = " + num(tt) + " failed down to the minimum step " + num(hh) +
+           "; results up to there are kept. The model itself fails there, e.g. a singular "
            "configuration or a load it cannot carry)";
   };
   // The hooks may throw RhsError: the run stops with its message.
@@ -152,9 +153,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
     }
     return true;
   };
-  auto stopped = [&](double tt) {
-    return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt));
-  };
+  auto stopped = [&](double tt) { return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt)); };
 
   double t = t0;
   // Step 1: f1 = f(t0, y0).
@@ -254,7 +253,9 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
         return fail(OdeStatus::StepSizeUnderflow,
                     "step size underflow at t = " + num(t) + ": tolerance cannot be met (h = " + num(absh) +
                         " <= hmin = " + num(hmin) + ")" +
-                        (streakFailure.empty() ? "" : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure));
+                        (streakFailure.empty()
+                             ? ""
+                             : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure));
       }
       if (nofailed) {
         nofailed = false;
@@ -279,8 +280,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
       for (int j = 1; j < refine; ++j) {  // interior points at s = j/refine
         const double tq = t + h * (static_cast<double>(j) / refine);
         interp(tq, h);
-        if (!yout.allFinite())
-          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
+        if (!yout.allFinite()) return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
         if (!observer(tq, yout)) return stopped(tnew);
       }
       if (!observer(tnew, ynew)) return stopped(tnew);
@@ -290,8 +290,7 @@ OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, co
         const VectorXd* out = &ynew;
         if (tq != tnew) {
           interp(tq, h);
-          if (!yout.allFinite())
-            return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
+          if (!yout.allFinite()) return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
           out = &yout;
         }
         if (!observer(tq, *out)) return stopped(tnew);

@@ -41,9 +41,12 @@ QuadraticModes quadraticModes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& C
       w.push_back(mag);
       z.push_back(-re / mag);
     } else if (std::abs(im) <= tiny) {
-      if (mag <= tiny) w.push_back(0.0), z.push_back(0.0);
-      else if (re > 0) w.push_back(-re), z.push_back(0.0);
-      else w.push_back(-re), z.push_back(1.0);
+      if (mag <= tiny)
+        w.push_back(0.0), z.push_back(0.0);
+      else if (re > 0)
+        w.push_back(-re), z.push_back(0.0);
+      else
+        w.push_back(-re), z.push_back(1.0);
     }
   }
   std::vector<size_t> order(w.size());

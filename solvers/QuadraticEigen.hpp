@@ -12,9 +12,9 @@ namespace flexmb::solvers {
 
 struct QuadraticModes {
   bool ok = false;
-  std::string message;         // why not ok (M singular, eigensolver failed)
-  Eigen::VectorXd omega;       // rad/s, ordered by |omega|, at most nev
-  Eigen::VectorXd damping;     // zeta per entry
+  std::string message;      // why not ok (M singular, eigensolver failed)
+  Eigen::VectorXd omega;    // rad/s, ordered by |omega|, at most nev
+  Eigen::VectorXd damping;  // zeta per entry
 };
 
 QuadraticModes quadraticModes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& C, const Eigen::MatrixXd& K, int nev);

@@ -27,8 +27,7 @@ void Partition::validate(int nq) const {
   auto mark = [&](const std::vector<int>& list, int kind, const char* name) {
     for (int i : list) {
       if (i < 0 || i >= nq)
-        fail(std::string("Partition: ") + name + " index " + str(i) + " out of range [0, " +
-             str(nq) + ")");
+        fail(std::string("Partition: ") + name + " index " + str(i) + " out of range [0, " + str(nq) + ")");
       int& o = owner[static_cast<std::size_t>(i)];
       if (o == kind) fail(std::string("Partition: duplicate ") + name + " index " + str(i));
       if (o != -1) fail("Partition: index " + str(i) + " is both large and small");
@@ -46,8 +45,7 @@ Partition Partition::make(int nq, std::vector<int> large) {
   if (nq < 0) fail("Partition: nq must be >= 0, got " + str(nq));
   std::vector<char> isLarge(static_cast<std::size_t>(nq), 0);
   for (int i : large) {
-    if (i < 0 || i >= nq)
-      fail("Partition: large index " + str(i) + " out of range [0, " + str(nq) + ")");
+    if (i < 0 || i >= nq) fail("Partition: large index " + str(i) + " out of range [0, " + str(nq) + ")");
     if (isLarge[static_cast<std::size_t>(i)]) fail("Partition: duplicate large index " + str(i));
     isLarge[static_cast<std::size_t>(i)] = 1;
   }
@@ -75,8 +73,7 @@ Eigen::MatrixXd assembleBasis(const Partition& p, const Eigen::MatrixXd& Vs) {
   const Eigen::Index nl = p.nLarge();
   Eigen::MatrixXd V = Eigen::MatrixXd::Zero(nq, nl + Vs.cols());
   for (Eigen::Index j = 0; j < nl; ++j) V(p.large[static_cast<std::size_t>(j)], j) = 1.0;
-  for (Eigen::Index i = 0; i < Vs.rows(); ++i)
-    V.row(p.small[static_cast<std::size_t>(i)]).tail(Vs.cols()) = Vs.row(i);
+  for (Eigen::Index i = 0; i < Vs.rows(); ++i) V.row(p.small[static_cast<std::size_t>(i)]).tail(Vs.cols()) = Vs.row(i);
   return V;
 }
 
@@ -115,8 +112,7 @@ void normaliseColumn(Eigen::Ref<Eigen::VectorXd> v) {
 Eigen::MatrixXd modalBasis(const Eigen::MatrixXd& modes, int r) {
   if (r < 0) fail("modalBasis: r must be >= 0, got " + str(r));
   if (r > modes.cols())
-    fail("modalBasis: r = " + str(r) + " modes requested but only " + str(modes.cols()) +
-         " available");
+    fail("modalBasis: r = " + str(r) + " modes requested but only " + str(modes.cols()) + " available");
   if (r > 0 && modes.rows() == 0) fail("modalBasis: modes have 0 rows");
   Eigen::MatrixXd Vs = modes.leftCols(r);
   for (Eigen::Index k = 0; k < r; ++k) {
@@ -144,14 +140,13 @@ Eigen::MatrixXd massNormalisedModalBasis(const Eigen::MatrixXd& modes, const Eig
 // ---------------------------------------------------------------------------------------------
 // SVD-modal basis
 
-SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes,
-                             const std::vector<Eigen::VectorXd>& omegas, int r, double a,
-                             double threshold, int count) {
+SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes, const std::vector<Eigen::VectorXd>& omegas,
+                             int r, double a, double threshold, int count) {
   const std::string fn = "svdModalBasis: ";
   if (modes.empty()) fail(fn + "no configurations given");
   if (omegas.size() != modes.size())
-    fail(fn + str(static_cast<long>(modes.size())) + " mode sets but " +
-         str(static_cast<long>(omegas.size())) + " frequency sets");
+    fail(fn + str(static_cast<long>(modes.size())) + " mode sets but " + str(static_cast<long>(omegas.size())) +
+         " frequency sets");
   if (r < 1) fail(fn + "r must be >= 1, got " + str(r));
   if (!std::isfinite(a)) fail(fn + "weight exponent a must be finite");
   if (!(threshold >= 0.0 && threshold < 1.0))
@@ -164,14 +159,11 @@ SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes,
   for (std::size_t i = 0; i < n; ++i) {
     const std::string cfg = "configuration " + str(static_cast<long>(i));
     if (modes[i].rows() != ns)
-      fail(fn + cfg + ": modes have " + str(modes[i].rows()) + " rows, configuration 0 has " +
-           str(ns));
+      fail(fn + cfg + ": modes have " + str(modes[i].rows()) + " rows, configuration 0 has " + str(ns));
     if (modes[i].cols() < r)
-      fail(fn + cfg + ": " + str(modes[i].cols()) + " modes available, r = " + str(r) +
-           " requested");
+      fail(fn + cfg + ": " + str(modes[i].cols()) + " modes available, r = " + str(r) + " requested");
     if (omegas[i].size() < r)
-      fail(fn + cfg + ": " + str(omegas[i].size()) + " frequencies given, r = " + str(r) +
-           " needed");
+      fail(fn + cfg + ": " + str(omegas[i].size()) + " frequencies given, r = " + str(r) + " needed");
   }
 
   const Eigen::Index nc = static_cast<Eigen::Index>(n) * r;
@@ -188,13 +180,12 @@ SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes,
       if (a != 0.0) {
         const double om = omegas[i][k];
         if (!(om > 0.0) || !std::isfinite(om))
-          fail(fn + md + ": omega = " + std::to_string(om) +
-               " cannot be weighted by omega^-a with a = " + std::to_string(a) +
-               " (rigid or invalid mode; use a = 0 or leave the mode out)");
+          fail(fn + md + ": omega = " + std::to_string(om) + " cannot be weighted by omega^-a with a = " +
+               std::to_string(a) + " (rigid or invalid mode; use a = 0 or leave the mode out)");
         w = std::pow(om, -a);
         if (!std::isfinite(w) || !(w > 0.0))
-          fail(fn + md + ": weight omega^-a overflows (omega = " + std::to_string(om) +
-               ", a = " + std::to_string(a) + ")");
+          fail(fn + md + ": weight omega^-a overflows (omega = " + std::to_string(om) + ", a = " + std::to_string(a) +
+               ")");
       }
       Q.col(static_cast<Eigen::Index>(i) * r + k) = w * v;
     }
@@ -212,15 +203,14 @@ SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes,
 
   if (count > 0) {
     if (count > nsv)
-      fail(fn + "count = " + str(count) + " exceeds the " + str(nsv) +
-           " singular vectors available (min(n_s, n r))");
+      fail(fn + "count = " + str(count) + " exceeds the " + str(nsv) + " singular vectors available (min(n_s, n r))");
     res.kept = count;
   } else {
     int k = 0;
     while (k < nsv && res.scaledSingularValues[k] > threshold) ++k;
     if (k == 0)
-      fail(fn + "no singular value share exceeds threshold " + std::to_string(threshold) +
-           " (largest share " + std::to_string(res.scaledSingularValues[0]) + ")");
+      fail(fn + "no singular value share exceeds threshold " + std::to_string(threshold) + " (largest share " +
+           std::to_string(res.scaledSingularValues[0]) + ")");
     res.kept = k;
   }
   res.Vs = svd.matrixU().leftCols(res.kept);

@@ -85,8 +85,7 @@ struct SvdModalResult {
 // a is any finite real; with a != 0 every used omega must be > 0 (rigid modes, omega = 0, throw,
 // naming the configuration and the mode, 0-based). With a == 0 the omegas are not used (but their
 // sizes are still checked).
-SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes,
-                             const std::vector<Eigen::VectorXd>& omegas, int r, double a,
-                             double threshold = 0.01, int count = 0);
+SvdModalResult svdModalBasis(const std::vector<Eigen::MatrixXd>& modes, const std::vector<Eigen::VectorXd>& omegas,
+                             int r, double a, double threshold = 0.01, int count = 0);
 
 }  // namespace flexmb::solvers

@@ -1,8 +1,8 @@
 #include "solvers/StaticEquilibrium.hpp"
 
 #include <cmath>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 
 namespace flexmb::solvers {
 
@@ -26,8 +26,10 @@ TangentKind DenseStaticProblem::linearize(const Eigen::VectorXd& eta, Eigen::Vec
 }
 
 void DenseStaticProblem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  if (spd_) x = ldlt_.solve(b);
-  else x = lu_.solve(b);
+  if (spd_)
+    x = ldlt_.solve(b);
+  else
+    x = lu_.solve(b);
 }
 
 namespace {
@@ -37,8 +39,10 @@ enum class Evaluation { Residual, Tangent };
 bool evaluate(StaticProblem& p, Evaluation what, const Eigen::VectorXd& eta, Eigen::VectorXd& Q, TangentKind& kind,
               std::string& error) {
   try {
-    if (what == Evaluation::Tangent) kind = p.linearize(eta, Q);
-    else p.residual(eta, Q);
+    if (what == Evaluation::Tangent)
+      kind = p.linearize(eta, Q);
+    else
+      p.residual(eta, Q);
     if (!Q.allFinite()) {
       error = "non-finite residual";
       return false;
@@ -51,8 +55,7 @@ bool evaluate(StaticProblem& p, Evaluation what, const Eigen::VectorXd& eta, Eig
 }
 }  // namespace
 
-StaticResult solveEquilibrium(StaticProblem& problem, Eigen::VectorXd& eta, double forceScale,
-                              const NewtonOptions& o) {
+StaticResult solveEquilibrium(StaticProblem& problem, Eigen::VectorXd& eta, double forceScale, const NewtonOptions& o) {
   StaticResult r;
   const int n = static_cast<int>(eta.size());
   Eigen::VectorXd Q(n), Qtrial(n), step(n), trial(n), next(n);

@@ -15,7 +15,7 @@ struct NewtonOptions {
   double relativeTolerance = 1e-10;  // on ||Q|| relative to the reference force scale
   double stepTolerance = 1e-12;      // on ||d eta|| relative to max(1, ||eta||)
   int maxIterations = 50;
-  int maxCuts = 10;                  // halvings of a step that is not accepted
+  int maxCuts = 10;  // halvings of a step that is not accepted
   // Step acceptance. Always: ||Q(eta + a step)||_inf < ||Q(eta)||_inf. With correctionMonotonicity
   // also when the Newton correction at the trial, with the trial's own tangent, is shorter:
   // |T(trial)^-1 Q(trial)|_2 <= (1 - a/4) |step|_2 (Deuflhard's restricted monotonicity test on

@@ -6,10 +6,10 @@
 namespace flexmb::validation {
 
 struct ValidationOptions {
-  std::string sourceDir;   // project root (datfiles/ live there)
-  std::string outDir;      // report folder
-  int sweepSteps = 21;     // configurations of the Fig. 5 sweeps
-  bool quiet = false;      // no progress lines on stderr
+  std::string sourceDir;  // project root (datfiles/ live there)
+  std::string outDir;     // report folder
+  int sweepSteps = 21;    // configurations of the Fig. 5 sweeps
+  bool quiet = false;     // no progress lines on stderr
 };
 
 // Returns 0 when everything ran and the acceptance checks hold, 1 when a check failed (the report

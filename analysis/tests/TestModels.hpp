@@ -16,7 +16,8 @@ inline std::string swungArm(const std::string& inputAngle = "\"0.3 + 2*t + 0.75*
                             const std::string& tipLoad = "XF 4 0.5 -2\n") {
   std::ostringstream s;
   s << "PLHINGE 10  100 101\n";
-  for (int k = 1; k <= 3; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
+  for (int k = 1; k <= 3; ++k)
+    s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
   for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
   s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
   for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
@@ -33,7 +34,8 @@ inline std::string spinningBeam(int n, double L, double EI, double rhoA, double 
   std::ostringstream s;
   s.precision(17);
   s << "PLHINGE 100  200 201\n";
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << "  " << k << " " << 200 + k << "  " << k + 1 << " " << 201 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << "  " << k << " " << 200 + k << "  " << k + 1 << " " << 201 + k << "\n";
   for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << L * (k - 1) / n << " 0\n";
   s << "FIX 1\nFIX 200\nINPUTE 100 1\n";
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 2 3\n";

@@ -9,13 +9,13 @@
 #include <optional>
 #include <string>
 
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/StateJacobian.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "analysis/Reduction.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/StateJacobian.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;
@@ -37,7 +37,8 @@ VectorXd stateAt(const core::Model& m, const std::optional<MatrixXd>& V, double 
   for (int i = 0; i <= intervals; ++i) tspan.push_back(m.settings.t0 + (t - m.settings.t0) * i / intervals);
   VectorXd last;
   const auto r = solvers::Ode45(o).integrate([&](double tt, const VectorXd& y, VectorXd& dy) { eom.rhs(tt, y, dy); },
-                                             tspan, eom.initialState(), [&](double, const VectorXd& y) {
+                                             tspan, eom.initialState(),
+                                             [&](double, const VectorXd& y) {
                                                last = y;
                                                return true;
                                              });
@@ -102,8 +103,8 @@ Blocks compare(const JacobianCase& c, double relEta, double relRate) {
   MatrixXd upper(k, n);
   upper << MatrixXd::Zero(k, k), MatrixXd::Identity(k, k);
   b.upper = (J.topRows(k) - upper).cwiseAbs().maxCoeff();
-  std::printf("%s (%d states): stiffness block %.2e, damping block %.2e (N share %.1e, G share %.1e)\n",
-              c.name.c_str(), n, b.stiffness, b.damping, b.shareN, b.shareG);
+  std::printf("%s (%d states): stiffness block %.2e, damping block %.2e (N share %.1e, G share %.1e)\n", c.name.c_str(),
+              n, b.stiffness, b.damping, b.shareN, b.shareG);
   return b;
 }
 
@@ -183,7 +184,8 @@ core::Trajectory run(const core::Model& m, analysis::Integrator integrator, doub
     EXPECT_GE(t.nlinsetups, t.njacevals);
   }
   std::printf("  %s RelTol %.0e%s: %ld steps, %ld failed, %ld evaluations, %ld Jacobians\n", t.integrator.c_str(),
-              relTol, integrator == analysis::Integrator::Bdf ? (" (order <= " + std::to_string(order) + ")").c_str() : "",
+              relTol,
+              integrator == analysis::Integrator::Bdf ? (" (order <= " + std::to_string(order) + ")").c_str() : "",
               t.nsteps, t.nfailed, t.nfevals, t.njacevals);
   return t;
 }

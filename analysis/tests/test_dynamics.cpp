@@ -7,12 +7,12 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 
@@ -89,10 +89,16 @@ TEST(Dynamics, RigidPendulumMatchesEllipticIntegralPeriod) {
   const std::string text =
       "PLBEAM 1  1 2  3 4\n"
       "PLHINGE 2  5 2\n"
-      "X 1 0 0\nX 3 0 " + std::to_string(-L) + "\n"
+      "X 1 0 0\nX 3 0 " +
+      std::to_string(-L) +
+      "\n"
       "FIX 1\nFIX 5\nDYNE 2 1\nEND\nHALT\n"
-      "XM 3 1.5\nGRAVITY 0 " + std::to_string(-g) + "\n"
-      "STARTDE 2 1 " + std::to_string(theta0) + " 0\n"
+      "XM 3 1.5\nGRAVITY 0 " +
+      std::to_string(-g) +
+      "\n"
+      "STARTDE 2 1 " +
+      std::to_string(theta0) +
+      " 0\n"
       "TIMESTEP 5.0 5000\nERROR 1e-12 1e-10\nEND\nEND\n";
   const core::Model m = io::readDatString(text, "pendulum.dat");
   const core::Trajectory tr = analysis::simulate(m, {});
@@ -110,8 +116,8 @@ TEST(Dynamics, RigidPendulumMatchesEllipticIntegralPeriod) {
       const double h00 = 2 * s * s * s - 3 * s * s + 1, h10 = s * s * s - 2 * s * s + s;
       const double h01 = -2 * s * s * s + 3 * s * s, h11 = s * s * s - s * s;
       const double p = h00 * a + h10 * da + h01 * b + h11 * db;
-      const double dp = (6 * s * s - 6 * s) * a + (3 * s * s - 4 * s + 1) * da + (-6 * s * s + 6 * s) * b +
-                        (3 * s * s - 2 * s) * db;
+      const double dp =
+          (6 * s * s - 6 * s) * a + (3 * s * s - 4 * s + 1) * da + (-6 * s * s + 6 * s) * b + (3 * s * s - 2 * s) * db;
       s -= p / dp;
     }
     crossings.push_back(t0 + s * h);
@@ -120,7 +126,8 @@ TEST(Dynamics, RigidPendulumMatchesEllipticIntegralPeriod) {
   const double period = crossings[2] - crossings[0];
   const double exact = 4.0 * std::sqrt(L / g) * ellipticK(std::sin(theta0 / 2));
   EXPECT_NEAR(period / exact, 1.0, 1e-6) << "period " << period << " exact " << exact;
-  std::printf("pendulum (115 degrees): period %.12f s, exact %.12f s, relative error %.2e\n", period, exact, period / exact - 1);
+  std::printf("pendulum (115 degrees): period %.12f s, exact %.12f s, relative error %.2e\n", period, exact,
+              period / exact - 1);
 }
 
 TEST(Dynamics, StraightGuidanceConservesEnergyAfterInitialDeflection) {
@@ -156,11 +163,11 @@ TEST(Dynamics, FreeSpinningFlexibleBeamConservesEnergy) {
   core::EquationsOfMotion eom(m);
   Eigen::VectorXd y0 = eom.initialState();
   // Spin about node 1 at 6 rad/s with a translation, plus an initial bending deflection.
-  y0[9 + 0] = 0.3;   // xd of node 1
-  y0[9 + 1] = -0.2;  // yd of node 1
-  y0[9 + 2] = 6.0;   // angular rate of node 11
-  y0[3 + 1] = 5e-3;  // bending e2 of element 1
-  y0[3 + 5] = -4e-3; // bending e3 of element 2
+  y0[9 + 0] = 0.3;    // xd of node 1
+  y0[9 + 1] = -0.2;   // yd of node 1
+  y0[9 + 2] = 6.0;    // angular rate of node 11
+  y0[3 + 1] = 5e-3;   // bending e2 of element 1
+  y0[3 + 5] = -4e-3;  // bending e3 of element 2
   const double drift = energyDrift(m, y0, 1.0, 1e-10);
   EXPECT_LT(drift, 1e-7);
   std::printf("free spinning beam: relative energy drift over 1 s at RelTol 1e-10: %.3e\n", drift);
@@ -174,11 +181,19 @@ TEST(Dynamics, PendulumOnAcceleratingSupportStaysAtRelativeEquilibrium) {
   const double L = 0.5, g = 9.81, a = 3.0, theta = -std::atan(a / g);
   const std::string text =
       "PLBEAM 1  1 2  3 4\nPLHINGE 2  5 2\n"
-      "X 1 0 0\nX 3 0 " + std::to_string(-L) + "\n"
+      "X 1 0 0\nX 3 0 " +
+      std::to_string(-L) +
+      "\n"
       "INPUTX 1 1\nFIX 1 2\nFIX 5\nDYNE 2 1\nEND\nHALT\n"
-      "INPUTX 1 1 0 0 " + num(a) + "\n"
-      "XM 3 2.0\nGRAVITY 0 " + std::to_string(-g) + "\n"
-      "STARTDE 2 1 " + num(theta) + " 0\n"
+      "INPUTX 1 1 0 0 " +
+      num(a) +
+      "\n"
+      "XM 3 2.0\nGRAVITY 0 " +
+      std::to_string(-g) +
+      "\n"
+      "STARTDE 2 1 " +
+      num(theta) +
+      " 0\n"
       "TIMESTEP 1.0 20\nERROR 1e-12 1e-10\nEND\nEND\n";
   const core::Model m = io::readDatString(text, "accelerating_support.dat");
   const core::Trajectory tr = analysis::simulate(m, {});

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/Statics.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 
@@ -20,7 +20,8 @@ std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR)
 std::string cantilever(int n, double L, double EI, double rhoA, double fx = 0, double fy = 0, int steps = 1) {
   std::ostringstream s;
   s.precision(17);
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << " " << k << " " << 100 + k << " " << k + 1 << " " << 101 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 100 + k << " " << k + 1 << " " << 101 + k << "\n";
   for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << L * (k - 1) / n << " 0\n";
   s << "FIX 1\nFIX 101\n";
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 2 3\n";
@@ -58,7 +59,11 @@ Eigen::MatrixXd tangentByDifferences(core::Linearization& lin, double t, const E
 }  // namespace
 
 TEST(Linearization, TangentStiffnessMatchesFiniteDifferences) {
-  struct Case { std::string file; double t; double h; };
+  struct Case {
+    std::string file;
+    double t;
+    double h;
+  };
   for (const Case& c : {Case{"straight_guidance.dat", 0.05, 1e-7}, Case{"manipulator.dat", 0.2, 1e-7},
                         Case{"tests/fourbar.dat", 0.0, 1e-5}}) {
     core::Model m = io::readDatFile(dat(c.file));

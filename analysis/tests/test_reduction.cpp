@@ -2,14 +2,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
+#include "core/Linearization.hpp"
+#include "io/DatReader.hpp"
 
 using namespace flexmb;
 
@@ -46,7 +46,8 @@ TEST(Reduction, IdentityBasisReproducesFullModelExactly) {
   EXPECT_EQ(a.nfailed, b.nfailed);
   ASSERT_EQ(a.time.size(), b.time.size());
   double worst = 0.0;
-  for (size_t i = 0; i < a.time.size(); ++i) worst = std::max(worst, (a.states[i].x - b.states[i].x).lpNorm<Eigen::Infinity>());
+  for (size_t i = 0; i < a.time.size(); ++i)
+    worst = std::max(worst, (a.states[i].x - b.states[i].x).lpNorm<Eigen::Infinity>());
   EXPECT_LT(worst, 1e-12);
 }
 
@@ -128,7 +129,8 @@ TEST(Reduction, ModalBasisIsMassNormalisedByDefaultAndUnitOnRequest) {
     if (std::find(large.begin(), large.end(), i) == large.end()) small.push_back(i);
   const int nl = static_cast<int>(large.size());
   Eigen::MatrixXd Vm(small.size(), 3), Vu(small.size(), 3);
-  for (size_t i = 0; i < small.size(); ++i) Vm.row(i) = mass.V.row(small[i]).tail(3), Vu.row(i) = unit.V.row(small[i]).tail(3);
+  for (size_t i = 0; i < small.size(); ++i)
+    Vm.row(i) = mass.V.row(small[i]).tail(3), Vu.row(i) = unit.V.row(small[i]).tail(3);
   ASSERT_EQ(mass.V.cols(), nl + 3);
   const Eigen::MatrixXd Ms = smallMass(m, small);
   EXPECT_LT((Vm.transpose() * Ms * Vm - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(), 1e-10);

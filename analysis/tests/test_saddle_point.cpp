@@ -9,10 +9,10 @@
 #include <sstream>
 #include <string>
 
-#include "core/EquationsOfMotion.hpp"
-#include "io/DatReader.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/tests/TestModels.hpp"
+#include "core/EquationsOfMotion.hpp"
+#include "io/DatReader.hpp"
 
 using namespace flexmb;
 using Eigen::VectorXd;
@@ -113,14 +113,16 @@ TEST(SaddlePointDynamics, SimulationsAgreeAndChooseTheFormBySize) {
   const core::Trajectory b = analysis::simulate(m, o);
   ASSERT_EQ(a.time.size(), b.time.size());
   double worst = 0.0;
-  for (size_t k = 0; k < a.time.size(); ++k) worst = std::max(worst, (a.states[k].x - b.states[k].x).lpNorm<Eigen::Infinity>());
+  for (size_t k = 0; k < a.time.size(); ++k)
+    worst = std::max(worst, (a.states[k].x - b.states[k].x).lpNorm<Eigen::Infinity>());
   std::printf("  guidance, 0.02 s at RelTol 1e-8: largest x difference %.2e m\n", worst);
   EXPECT_LT(worst, 1e-9);
   // Automatic: projected below kSaddlePointDofs, saddle point from there on; a basis always projects.
   EXPECT_EQ(core::EquationsOfMotion(m).form(),
             m.numDofs() >= core::kSaddlePointDofs ? core::DynamicsForm::SaddlePoint : core::DynamicsForm::Projected);
-  EXPECT_EQ(core::EquationsOfMotion(m, Eigen::MatrixXd::Identity(m.numDofs(), 3), core::DynamicsForm::SaddlePoint).form(),
-            core::DynamicsForm::Projected);
+  EXPECT_EQ(
+      core::EquationsOfMotion(m, Eigen::MatrixXd::Identity(m.numDofs(), 3), core::DynamicsForm::SaddlePoint).form(),
+      core::DynamicsForm::Projected);
 }
 
 TEST(ProjectedMass, ElementByElementEqualsTheDenseProduct) {

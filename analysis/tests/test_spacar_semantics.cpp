@@ -8,10 +8,10 @@
 #include <sstream>
 #include <string>
 
-#include "io/DatReader.hpp"
-#include "io/RestartWriter.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
+#include "io/DatReader.hpp"
+#include "io/RestartWriter.hpp"
 
 using namespace flexmb;
 
@@ -187,7 +187,8 @@ namespace {
 std::string elasticaCantilever(int n, double P, int steps, const std::string& load) {
   std::ostringstream s;
   s.precision(17);
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << " " << k << " " << 100 + k << " " << k + 1 << " " << 101 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 100 + k << " " << k + 1 << " " << 101 + k << "\n";
   for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << static_cast<double>(k - 1) / n << " 0\n";
   s << "FIX 1\nFIX 101\n";
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 1 2 3\n";
@@ -262,7 +263,8 @@ TEST(LoadSteps, InitialLoadsRampAndPrecedeTheIncrements) {
   ASSERT_EQ(r2.steps.size(), 7u);
   EXPECT_NEAR(-r2.steps.back().x[tipY] / exact, 1.0, 0.005);
   // After the ramp of the initial loads (step 4) the beam carries P = 4 alone.
-  const analysis::StaticRun p4 = analysis::staticAnalysis(io::readDatString(elasticaCantilever(10, 4.0, 1, "XF"), "p4.dat"), 0);
+  const analysis::StaticRun p4 =
+      analysis::staticAnalysis(io::readDatString(elasticaCantilever(10, 4.0, 1, "XF"), "p4.dat"), 0);
   ASSERT_TRUE(p4.completed) << p4.stopReason;
   EXPECT_NEAR(r2.steps[3].x[tipY], p4.steps.back().x[tipY], 1e-8);
   EXPECT_LT(-r2.steps[3].x[tipY], -r2.steps[4].x[tipY]);

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/Statics.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 
@@ -22,7 +22,8 @@ std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR)
 std::string chain(int n, double fy) {
   std::ostringstream s;
   s.precision(17);
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << " " << k << " " << 1000 + k << " " << k + 1 << " " << 1001 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 1000 + k << " " << k + 1 << " " << 1001 + k << "\n";
   for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << 1.0 * (k - 1) / n << " 0\n";
   s << "FIX 1\nFIX 1001\n";
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 1 2 3\n";
@@ -69,15 +70,16 @@ Compared compare(const core::Model& m, int nev, const Eigen::VectorXd* extraLoad
     // The sparse mode in q solves the dense pencil (the oracle) and is mass normalised.
     const Eigen::VectorXd v = s.modes.col(i);
     const Eigen::VectorXd Av = A * v, Mv = sys.M * v;
-    const double res = (Av - s.lambda[i] * Mv).norm() / std::max(Av.norm(), std::abs(s.lambda[i]) * Mv.norm() + 1e-8 * top * Mv.norm());
+    const double res = (Av - s.lambda[i] * Mv).norm() /
+                       std::max(Av.norm(), std::abs(s.lambda[i]) * Mv.norm() + 1e-8 * top * Mv.norm());
     c.maxResidual = std::max(c.maxResidual, res);
     c.maxNorm = std::max(c.maxNorm, std::abs(v.dot(Mv) - 1.0));
     // ... and its nodal shape is F_q v.
     const Eigen::VectorXd x = lin.transfer() * v;
     c.maxNodal = std::max(c.maxNodal, (s.nodalModes.col(i) - x).norm() / std::max(x.norm(), 1e-300));
   }
-  std::printf("  %-34s m = %4d  max rel dlambda %.2e (raw dense %.2e)  residual %.2e  |v'Mv-1| %.2e  nodal %.2e\n", what.c_str(),
-              lin.size(), c.maxRelLambda, rawRel, c.maxResidual, c.maxNorm, c.maxNodal);
+  std::printf("  %-34s m = %4d  max rel dlambda %.2e (raw dense %.2e)  residual %.2e  |v'Mv-1| %.2e  nodal %.2e\n",
+              what.c_str(), lin.size(), c.maxRelLambda, rawRel, c.maxResidual, c.maxNorm, c.maxNodal);
   return c;
 }
 }  // namespace

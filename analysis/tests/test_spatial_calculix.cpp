@@ -25,8 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "io/DatReader.hpp"
 #include "analysis/Statics.hpp"
+#include "io/DatReader.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
@@ -35,7 +35,7 @@ namespace {
 
 constexpr double kE = 210e9, kNu = 0.3, kG = kE / (2 * (1 + kNu)), kRho = 7800.0;
 constexpr double kA = 0.08, kB = 0.06, kL = 0.1;  // platform half-sizes, wire length
-const Vec3 kLoad(0.5, 1.0, 0.0);                    // N, on the corner (a, b, L)
+const Vec3 kLoad(0.5, 1.0, 0.0);                  // N, on the corner (a, b, L)
 
 // St Venant torsion constant of a w x t rectangle (the series SPACAR Light uses).
 double torsionConstant(double w, double t) {
@@ -167,9 +167,7 @@ struct CalculixResult {
 // and the "displacements (vx,vy,vz)" block.
 CalculixResult runCalculix(const Frame& f, const std::filesystem::path& dir, const std::string& job) {
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream(dir / (job + ".inp")) << f.calculixInput();
-  }
+  { std::ofstream(dir / (job + ".inp")) << f.calculixInput(); }
   const std::string cmd = "cd '" + dir.string() + "' && ccx -i " + job + " > " + job + ".log 2>&1";
   const int rc = std::system(cmd.c_str());
   CalculixResult r;

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "io/DatReader.hpp"
 #include "analysis/Simulation.hpp"
+#include "io/DatReader.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
@@ -67,8 +67,8 @@ PendulumComparison compareDoublePendulum(const DoublePendulum& p) {
   std::ostringstream s;
   s.precision(17);
   s << "# spatial double pendulum: RBEAM + HINGE twice, non-parallel hinge axes\n"
-    << "X 1 0 0 0\nX 3 " << P1[0] << " " << P1[1] << " " << P1[2] << "\nX 5 " << P2[0] << " " << P2[1] << " "
-    << P2[2] << "\n"
+    << "X 1 0 0 0\nX 3 " << P1[0] << " " << P1[1] << " " << P1[2] << "\nX 5 " << P2[0] << " " << P2[1] << " " << P2[2]
+    << "\n"
     << "HINGE 1 2 4 " << p.a1[0] << " " << p.a1[1] << " " << p.a1[2] << "\n"
     << "RBEAM 2 1 4 3 0 0 1\n"
     << "HINGE 3 4 6 " << p.a2[0] << " " << p.a2[1] << " " << p.a2[2] << "\n"
@@ -122,9 +122,10 @@ PendulumComparison compareDoublePendulum(const DoublePendulum& p) {
     c.refErr = std::max({c.refErr, (c1 - q1).norm(), (c2 - q2).norm()});
     c.travel = std::max(c.travel, (q2 - P2).norm());
   }
-  std::printf("spatial double pendulum over 1 s (tip travels up to %.3f m): max position error %.2e m "
-              "(reference RK4 h = 1e-4 vs 2e-4: %.1e m); %ld steps, %ld evaluations\n",
-              c.travel, c.worst, c.refErr, tr.nsteps, tr.nfevals);
+  std::printf(
+      "spatial double pendulum over 1 s (tip travels up to %.3f m): max position error %.2e m "
+      "(reference RK4 h = 1e-4 vs 2e-4: %.1e m); %ld steps, %ld evaluations\n",
+      c.travel, c.worst, c.refErr, tr.nsteps, tr.nfevals);
   return c;
 }
 
@@ -139,8 +140,8 @@ TEST(SpatialDynamics, DoublePendulumOfRBeamsAndHingesMatchesRigidBodyReference) 
   p.g = Vec3(0, 0, -9.81);
   p.m1 = 1.5, p.m2 = 0.8;
   const PendulumComparison c = compareDoublePendulum(p);
-  ASSERT_GT(c.travel, 0.1);     // the motion is large
-  ASSERT_LT(c.refErr, 1e-9);    // the reference is far tighter than the bound below
+  ASSERT_GT(c.travel, 0.1);   // the motion is large
+  ASSERT_LT(c.refErr, 1e-9);  // the reference is far tighter than the bound below
   // ode45 at RelTol 1e-10 / AbsTol 1e-12 (kinematic tolerance 1e-5 of that): local errors of order
   // 1e-10 of the 0.5 m reach, accumulated over ~300 steps, stay below 1e-8 m.
   EXPECT_LT(c.worst, 1e-8);
@@ -168,8 +169,7 @@ TEST(SpatialDynamics, HingeAngleRunsOnThroughAHalfTurn) {
     maxAngle = std::max(maxAngle, std::abs(a));
     if (i > 0) maxJump = std::max(maxJump, std::abs(a - c.trajectory.states[i - 1].e[k]));
   }
-  std::printf("second hinge angle reaches %.3f rad; largest change between outputs %.3f rad\n", maxAngle,
-              maxJump);
+  std::printf("second hinge angle reaches %.3f rad; largest change between outputs %.3f rad\n", maxAngle, maxJump);
   EXPECT_GT(maxAngle, 3.3);
   EXPECT_LT(maxJump, 1.0);
 }
@@ -231,9 +231,10 @@ TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
     double err = 0;
     for (size_t i = 0; i < full.time.size(); ++i)
       err = std::max(err, (red.states[i].x.segment<3>(corner) - full.states[i].x.segment<3>(corner)).norm());
-    std::printf("  %-9s (%ld columns): %ld evaluations, %ld steps, %.3f s; corner response error %.3e m = %.3f%% "
-                "of the amplitude\n",
-                c.name, static_cast<long>(b.V.cols()), red.nfevals, red.nsteps, t, err, 100 * err / amplitude);
+    std::printf(
+        "  %-9s (%ld columns): %ld evaluations, %ld steps, %.3f s; corner response error %.3e m = %.3f%% "
+        "of the amplitude\n",
+        c.name, static_cast<long>(b.V.cols()), red.nfevals, red.nsteps, t, err, 100 * err / amplitude);
     EXPECT_LT(err / amplitude, c.bound) << c.name;
     EXPECT_LT(red.nfevals, full.nfevals / 10) << c.name;  // the >800 Hz modes are gone
   }
@@ -255,10 +256,11 @@ TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
       drift = std::max(drift, std::abs(tmFull.omegaFrozen[i][k] / tmFull.omegaFrozen[0][k] - 1));
       redErr = std::max(redErr, std::abs(tmRed.omegaFrozen[i][k] / tmFull.omegaFrozen[i][k] - 1));
     }
-  std::printf("  modes 3/4: f1..f3 at t = 0: %.4f %.4f %.4f Hz, largest change along the run %.2e; "
-              "MODAL-3 vs full %.2e\n",
-              tmFull.omegaFrozen[0][0] / (2 * kPiD), tmFull.omegaFrozen[0][1] / (2 * kPiD),
-              tmFull.omegaFrozen[0][2] / (2 * kPiD), drift, redErr);
+  std::printf(
+      "  modes 3/4: f1..f3 at t = 0: %.4f %.4f %.4f Hz, largest change along the run %.2e; "
+      "MODAL-3 vs full %.2e\n",
+      tmFull.omegaFrozen[0][0] / (2 * kPiD), tmFull.omegaFrozen[0][1] / (2 * kPiD),
+      tmFull.omegaFrozen[0][2] / (2 * kPiD), drift, redErr);
   EXPECT_NEAR(tmFull.omegaFrozen[0][0] / (2 * kPiD), 17.05, 0.05);  // the static eigenanalysis' value
   EXPECT_LT(drift, 1e-2);
   // At t = 0 MODAL-3 spans the three guidance modes: the same frequencies (the load applied at

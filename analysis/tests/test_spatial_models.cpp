@@ -15,13 +15,13 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/Statics.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
-#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;
@@ -64,7 +64,8 @@ struct Cantilever {
     for (int e = 1; e <= n; ++e) s << "DYNE\t" << e << "\t1 2 3 4 5 6\n";
     s << "FIX\t1\nFIX\t2\n\nEND\nHALT\n\n";
     for (int e = 1; e <= n; ++e) {
-      s << "ESTIFF\t" << e << "\t" << EA << "\t" << GIt << "\t" << EIy << "\t" << EIz << "\t" << cy << "\t" << cz << "\n";
+      s << "ESTIFF\t" << e << "\t" << EA << "\t" << GIt << "\t" << EIy << "\t" << EIz << "\t" << cy << "\t" << cz
+        << "\n";
       if (rhoA > 0) s << "EM\t" << e << "\t" << rhoA << "\t" << Jxx << "\t" << Jyy << "\t" << Jzz << "\t0\n";
     }
     auto vec = [&](const char* kw, int node, const Vec3& v) {
@@ -121,8 +122,8 @@ TEST(SpatialModels, LinearCantileverIsExactWithOneElement) {
   const int tp = m.nodes[m.nodeByLabel.at(c.tipPos())].firstCoord;
   const int to = m.nodes[m.nodeByLabel.at(c.tipOri())].firstCoord;
   const Vec3 u = F.transpose() * dx.segment<3>(tp);
-  const Vec3 th = F.transpose() * (2.0 * core::euler::globalRateMatrix(lin.kinematics().x().segment<4>(to)) *
-                                   dx.segment<4>(to));
+  const Vec3 th =
+      F.transpose() * (2.0 * core::euler::globalRateMatrix(lin.kinematics().x().segment<4>(to)) * dx.segment<4>(to));
   const double L = c.L;
   const Vec3 uRef(0.0, Fy * L * L * L / (3 * c.EIz) + Fy * L * c.cz / c.EIz,
                   Fz * L * L * L / (3 * c.EIy) + Fz * L * c.cy / c.EIy);
@@ -141,8 +142,8 @@ TEST(SpatialModels, ElasticaInTwoPlanesAndASkewPlane) {
     Vec3 load;
   };
   const double a = kPi / 6;
-  for (const Plane& pl : {Plane{"x-y", Vec3::UnitY()}, Plane{"x-z", Vec3::UnitZ()},
-                          Plane{"skew", Vec3(0, std::cos(a), std::sin(a))}}) {
+  for (const Plane& pl :
+       {Plane{"x-y", Vec3::UnitY()}, Plane{"x-z", Vec3::UnitZ()}, Plane{"skew", Vec3(0, std::cos(a), std::sin(a))}}) {
     double err[3];
     int k = 0;
     for (int n : {4, 8, 16}) {
@@ -200,8 +201,8 @@ TEST(SpatialModels, TipMomentRollsTheBeamIntoACircle) {
       const double err = (tip - ref).norm() / c.L;
       // The Euler parameters give the angle modulo 2 pi: report it next to the exact one.
       const double angle = theta + std::remainder(2 * std::atan2(l[3], l[0]) - theta, 2 * kPi);
-      std::printf("tip moment, %.1f turn, %2d BEAM: tip error %.2e L, tip rotation %.5f (exact %.5f)\n", turns, n,
-                  err, angle, theta);
+      std::printf("tip moment, %.1f turn, %2d BEAM: tip error %.2e L, tip rotation %.5f (exact %.5f)\n", turns, n, err,
+                  angle, theta);
       if (prev > 0) EXPECT_NEAR(std::log2(prev / err), 2.0, 0.3);
       prev = err;
       if (n == 64) EXPECT_LT(err, 5e-3);
@@ -225,8 +226,10 @@ TEST(SpatialModels, EulerColumnBucklingWithBeamNL) {
     const double ref = kPi * kPi * c.EIy / 4;
     std::printf("Euler column, 8 %s: P_cr L^2/EI = %.5f (exact %.5f), error %.3f%%\n", type, Pcr, ref,
                 100 * (Pcr / ref - 1));
-    if (std::string(type) == "BEAMNL") EXPECT_LT(std::abs(Pcr / ref - 1), 5e-3);
-    else EXPECT_LT(std::abs(Pcr / ref - 1), 1e-2);  // plain BEAM: string geometric stiffness only
+    if (std::string(type) == "BEAMNL")
+      EXPECT_LT(std::abs(Pcr / ref - 1), 5e-3);
+    else
+      EXPECT_LT(std::abs(Pcr / ref - 1), 1e-2);  // plain BEAM: string geometric stiffness only
   }
 }
 
@@ -234,8 +237,8 @@ TEST(SpatialModels, LateralTorsionalBucklingOfANarrowStrip) {
   // Prandtl: P_cr L^2 / sqrt(EI_weak GIt) = 4.0126 for a tip load at the centroid in the stiff plane.
   Cantilever c;
   c.n = 16;
-  c.EIy = 1.0;   // weak (bending in x-z)
-  c.EIz = 1e4;   // strong (bending in x-y, the load plane)
+  c.EIy = 1.0;  // weak (bending in x-z)
+  c.EIz = 1e4;  // strong (bending in x-y, the load plane)
   c.GIt = 1.0;
   c.EA = 1e5;
   const double Pref = 1e-3;
@@ -244,8 +247,8 @@ TEST(SpatialModels, LateralTorsionalBucklingOfANarrowStrip) {
   ASSERT_TRUE(run.completed) << run.stopReason;
   ASSERT_GE(run.steps.back().buckling.size(), 1);
   const double k = run.steps.back().buckling[0] * Pref / std::sqrt(c.EIy * c.GIt);
-  std::printf("lateral-torsional buckling, 16 BEAM: P_cr L^2/sqrt(EI GIt) = %.4f (Prandtl 4.0126), error %.2f%%\n",
-              k, 100 * (k / 4.0126 - 1));
+  std::printf("lateral-torsional buckling, 16 BEAM: P_cr L^2/sqrt(EI GIt) = %.4f (Prandtl 4.0126), error %.2f%%\n", k,
+              100 * (k / 4.0126 - 1));
   EXPECT_LT(std::abs(k / 4.0126 - 1), 1e-2);
 }
 
@@ -433,9 +436,10 @@ TEST(SpatialModels, SpaLightPivotFilesRunUnchangedWithTheirIterstep) {
     for (size_t i = 0; i < ra.steps.size(); ++i)
       diff = std::max(diff, (ra.steps[i].x - rb.steps[i].x).lpNorm<Eigen::Infinity>());
     const Vec4 l = tipParameters(a, ra.steps.back().x, 4);
-    std::printf("%s with ITERSTEP 10 9 5e-7 1 3 0: check and static pass, 9 load steps, platform turned %.5f rad; "
-                "largest coordinate difference to the 1e-12 run %.1e\n",
-                name, 2 * std::atan2(l[3], l[0]), diff);
+    std::printf(
+        "%s with ITERSTEP 10 9 5e-7 1 3 0: check and static pass, 9 load steps, platform turned %.5f rad; "
+        "largest coordinate difference to the 1e-12 run %.1e\n",
+        name, 2 * std::atan2(l[3], l[0]), diff);
     EXPECT_LT(diff, 1e-12);
   }
 }

@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/Statics.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Statics.hpp"
 
 using namespace flexmb;
 
@@ -99,7 +99,7 @@ TEST(SpatialStatics, NewtonTangentIsTheDerivativeOfTheStaticResidual) {
   double worst = 0.0;
   for (double phase : {0.1, 1.3, 2.9}) {
     const Eigen::VectorXd v = 1e-4 * direction(lin.size(), phase);  // |v| ~ 0.1 of eta
-    const double h = 1e-3;                                         // steps of 1e-7 along v
+    const double h = 1e-3;                                          // steps of 1e-7 along v
     lin.staticResidual(0.0, eta + h * v, s, 1.0, Qp);
     lin.staticResidual(0.0, eta - h * v, s, 1.0, Qm);
     ASSERT_TRUE(lin.staticTangent(0.0, eta, s, 1.0, Q));
@@ -149,7 +149,8 @@ TEST(SpatialStatics, StabilityOfAColumnBelowAndAboveItsBucklingLoad) {
     for (int e = 1; e <= 8; ++e)
       dat += "BEAMNL " + std::to_string(e) + " " + std::to_string(2 * e - 1) + " " + std::to_string(2 * e) + " " +
              std::to_string(2 * e + 1) + " " + std::to_string(2 * e + 2) + " 0 1 0\n";
-    for (int i = 1; i <= 9; ++i) dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
+    for (int i = 1; i <= 9; ++i)
+      dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
     for (int e = 1; e <= 8; ++e) dat += "DYNE " + std::to_string(e) + " 1 2 3 4 5 6\n";
     dat += "FIX 1\nFIX 2\nEND\nHALT\n";
     for (int e = 1; e <= 8; ++e) dat += "ESTIFF " + std::to_string(e) + " 1e5 1 1 1.5\n";
@@ -158,8 +159,8 @@ TEST(SpatialStatics, StabilityOfAColumnBelowAndAboveItsBucklingLoad) {
     const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
     ASSERT_TRUE(run.completed) << run.stopReason;
     const auto& st = run.steps.back();
-    std::printf("spatial column at %.1f P_cr: %s after %d iterations\n", fraction, st.newton.stable ? "stable" : "unstable",
-                st.iterations);
+    std::printf("spatial column at %.1f P_cr: %s after %d iterations\n", fraction,
+                st.newton.stable ? "stable" : "unstable", st.iterations);
     EXPECT_EQ(st.newton.stable, fraction < 1.0);
   }
 }

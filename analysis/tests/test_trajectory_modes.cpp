@@ -4,26 +4,25 @@
 #include <gtest/gtest.h>
 #include <matio.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 #include <string>
 
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
-#include "solvers/QuadraticEigen.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "analysis/tests/TestModels.hpp"
+#include "core/Linearization.hpp"
+#include "io/DatReader.hpp"
+#include "solvers/QuadraticEigen.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;
-
 
 // A cantilever spinning in its own plane about its root: the first in-plane bending frequency in
 // the rotating frame follows omega^2 = omega0^2 + (K1 - 1) W^2 with Southwell's coefficient
@@ -54,8 +53,10 @@ TEST(TrajectoryModes, SpinningCantileverFollowsSouthwell) {
   double frozen, zeta;
   const double w = lowest(W, frozen, zeta);
   const double slope = (w * w - w0 * w0) / (W * W), slopeFrozen = (frozen * frozen - w0 * w0) / (W * W);
-  std::printf("  spinning cantilever, W = 0.1 omega0: d(omega^2)/d(W^2) = %.4f with C and N (Southwell K1 - 1 = 0.193), "
-              "%.4f frozen (K1 = 1.193); zeta %.1e\n", slope, slopeFrozen, zeta);
+  std::printf(
+      "  spinning cantilever, W = 0.1 omega0: d(omega^2)/d(W^2) = %.4f with C and N (Southwell K1 - 1 = 0.193), "
+      "%.4f frozen (K1 = 1.193); zeta %.1e\n",
+      slope, slopeFrozen, zeta);
   EXPECT_NEAR(slope, 0.1932, 0.005);
   EXPECT_NEAR(slopeFrozen, 1.1932, 0.005);
   EXPECT_NEAR(zeta, 0.0, 1e-9) << "no damping: the gyroscopic terms do not dissipate";

@@ -26,19 +26,19 @@ using DefMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElem
 enum class NodeKind { Position, Orientation, SpatialPosition, EulerParameters };
 constexpr int nodeKindDim(NodeKind k) {
   switch (k) {
-    case NodeKind::Position: return 2;
-    case NodeKind::Orientation: return 1;
-    case NodeKind::SpatialPosition: return 3;
-    case NodeKind::EulerParameters: return 4;
+    case NodeKind::Position:
+      return 2;
+    case NodeKind::Orientation:
+      return 1;
+    case NodeKind::SpatialPosition:
+      return 3;
+    case NodeKind::EulerParameters:
+      return 4;
   }
   return 0;
 }
-constexpr bool isTranslational(NodeKind k) {
-  return k == NodeKind::Position || k == NodeKind::SpatialPosition;
-}
-constexpr bool isSpatial(NodeKind k) {
-  return k == NodeKind::SpatialPosition || k == NodeKind::EulerParameters;
-}
+constexpr bool isTranslational(NodeKind k) { return k == NodeKind::Position || k == NodeKind::SpatialPosition; }
+constexpr bool isSpatial(NodeKind k) { return k == NodeKind::SpatialPosition || k == NodeKind::EulerParameters; }
 
 // How the PLBEAM elongation is defined: SPACAR95's l - l0, or Eq. 3a with the bending correction.
 enum class ElongationDefinition { Plain, BendingCorrected };
@@ -56,8 +56,8 @@ struct ElementInertia {
   double jxx = 0.0, jyy = 0.0, jzz = 0.0, jyz = 0.0;
   double jxy = 0.0, jxz = 0.0;  // full tensor of a rigid body on an orientation node (XM)
   bool any() const {
-    return rhoA != 0.0 || rhoI != 0.0 || jxx != 0.0 || jyy != 0.0 || jzz != 0.0 || jyz != 0.0 ||
-           jxy != 0.0 || jxz != 0.0;
+    return rhoA != 0.0 || rhoI != 0.0 || jxx != 0.0 || jyy != 0.0 || jzz != 0.0 || jyz != 0.0 || jxy != 0.0 ||
+           jxz != 0.0;
   }
 };
 
@@ -65,9 +65,9 @@ struct ElementInertia {
 // Element::validity). Plain data, no allocation: checked at every output time of a simulation.
 struct ElementValidity {
   bool valid = true;
-  int slot = -1;                 // the offending node, as slot index in keyword order
-  double rotation = 0.0;         // its rotation (rad) that left the valid range
-  const char* limit = nullptr;   // static text after "rotated N degrees": the assumption it breaks
+  int slot = -1;                // the offending node, as slot index in keyword order
+  double rotation = 0.0;        // its rotation (rad) that left the valid range
+  const char* limit = nullptr;  // static text after "rotated N degrees": the assumption it breaks
 };
 
 class Element {
@@ -114,28 +114,25 @@ class Element {
     M.setZero(x.size(), x.size());
   }
   // Velocity dependent inertia forces h_e(x, xd): M_e xdd + h_e is the inertia force.
-  virtual void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                              ElemVec& h) const {
+  virtual void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const {
     (void)xd, (void)inertia;
     h.setZero(x.size());
   }
   // M_e, h_e and the convective D2e[xd, xd] together (the equations of motion need all three at
   // every evaluation); same values as mass(), velocityForces() and secondDerivative().
-  virtual void dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M,
-                            ElemVec& h, DefVec& d2) const {
+  virtual void dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M, ElemVec& h,
+                            DefVec& d2) const {
     mass(x, inertia, M);
     velocityForces(x, xd, inertia, h);
     secondDerivative(x, xd, d2);
   }
   // Nodal forces of gravity g = (gx, gy) acting on the distributed mass.
-  virtual void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
-                             ElemVec& f) const {
+  virtual void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy, ElemVec& f) const {
     (void)inertia, (void)gx, (void)gy;
     f.setZero(x.size());
   }
   // Gravity g = (gx, gy, gz); planar elements ignore gz.
-  virtual void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g,
-                              ElemVec& f) const {
+  virtual void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const {
     gravityForces(x, inertia, g[0], g[1], f);
   }
 
@@ -168,9 +165,9 @@ struct ParameterSpec {
 };
 
 struct ElementTypeInfo {
-  std::string keyword;                  // e.g. "PLBEAM"
+  std::string keyword;  // e.g. "PLBEAM"
   std::string description;
-  std::vector<NodeKind> slots;          // node kinds in keyword order
+  std::vector<NodeKind> slots;  // node kinds in keyword order
   std::vector<std::string> deformationNames;
   std::vector<ParameterSpec> stiffness;  // ESTIFF / EDAMP layout
   // Creates the element from its initial nodal coordinates (reference geometry l0, beta0).

@@ -4,10 +4,10 @@
 #include <string_view>
 
 #include "core/elements/Element.hpp"
+#include "core/elements/EulerNormalisation.hpp"
 #include "core/elements/PlanarBeam.hpp"
 #include "core/elements/PlanarHinge.hpp"
 #include "core/elements/PlanarTruss.hpp"
-#include "core/elements/EulerNormalisation.hpp"
 #include "core/elements/RigidBeam.hpp"
 #include "core/elements/SpatialBeam.hpp"
 #include "core/elements/SpatialHinge.hpp"
@@ -60,7 +60,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
     const std::vector<ParameterSpec> yAxis = {{"y1", "-", "initial cross-section y axis, x component"},
                                               {"y2", "-", "y component"},
                                               {"y3", "-", "z component"}};
-    const std::vector<std::string> spatialBeamDefs = {"elongation", "torsion",     "bending y p",
+    const std::vector<std::string> spatialBeamDefs = {"elongation",  "torsion",     "bending y p",
                                                       "bending y q", "bending z p", "bending z q"};
     const std::vector<ParameterSpec> spatialBeamParams = {
         {"EA", "N", "axial stiffness"},
@@ -95,8 +95,8 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       t.push_back(b);
     }
     {
-      ElementTypeInfo tr{"TRUSS", "spatial truss, elongation l - l0", {SpatialPosition, SpatialPosition},
-                         {"elongation"}, {{"EA", "N", "axial stiffness"}}, &SpatialTruss::create};
+      ElementTypeInfo tr{"TRUSS",        "spatial truss, elongation l - l0", {SpatialPosition, SpatialPosition},
+                         {"elongation"}, {{"EA", "N", "axial stiffness"}},   &SpatialTruss::create};
       tr.inertia = rhoAOnly;
       t.push_back(tr);
     }
@@ -149,10 +149,8 @@ const ElementTypeInfo& normalisationType() {
 
 const ElementTypeInfo* findElementType(std::string_view keyword) {
   auto eq = [](std::string_view a, std::string_view b) {
-    return a.size() == b.size() &&
-           std::equal(a.begin(), a.end(), b.begin(), [](char c, char d) {
-             return std::toupper(static_cast<unsigned char>(c)) ==
-                    std::toupper(static_cast<unsigned char>(d));
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char c, char d) {
+             return std::toupper(static_cast<unsigned char>(c)) == std::toupper(static_cast<unsigned char>(d));
            });
   };
   for (const ElementTypeInfo& t : elementTypes())

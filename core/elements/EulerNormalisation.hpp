@@ -19,8 +19,7 @@ class EulerNormalisation final : public Element {
   void constitutive(std::span<const double> params, DefMat& S) const override;
   // inertia: jxx jyy jzz jxy jxz jyz, the body-frame tensor.
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                      ElemVec& h) const override;
+  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const override;
 };
 
 }  // namespace flexmb::core

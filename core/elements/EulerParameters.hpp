@@ -25,8 +25,7 @@ inline Mat3 skew(const Vec3& v) {
 
 inline Mat3 rotation(const Vec4& l) {
   const Vec3 v = l.tail<3>();
-  return (l[0] * l[0] - v.squaredNorm()) * Mat3::Identity() + 2.0 * v * v.transpose() +
-         2.0 * l[0] * skew(v);
+  return (l[0] * l[0] - v.squaredNorm()) * Mat3::Identity() + 2.0 * v * v.transpose() + 2.0 * l[0] * skew(v);
 }
 
 inline Mat34 globalRateMatrix(const Vec4& l) {  // E
@@ -49,8 +48,7 @@ inline Mat34 rotatedJacobian(const Vec4& l, const Vec3& a) {
   const Vec3 v = l.tail<3>();
   Mat34 J;
   J.col(0) = 2.0 * (l0 * a + v.cross(a));
-  J.rightCols<3>() =
-      2.0 * (v.dot(a) * Mat3::Identity() + v * a.transpose() - a * v.transpose() - l0 * skew(a));
+  J.rightCols<3>() = 2.0 * (v.dot(a) * Mat3::Identity() + v * a.transpose() - a * v.transpose() - l0 * skew(a));
   return J;
 }
 

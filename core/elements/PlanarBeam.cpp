@@ -29,8 +29,7 @@ struct PlanarBeam::Geometry {
   double k2, k3;          // dD2/dtheta_p = l0 cp, dD3/dtheta_q = -l0 cq
 };
 
-PlanarBeam::PlanarBeam(const ElemVec& x0, ElongationDefinition elongation)
-    : elongation_(elongation) {
+PlanarBeam::PlanarBeam(const ElemVec& x0, ElongationDefinition elongation) : elongation_(elongation) {
   if (x0.size() != 6) throw std::invalid_argument("planar beam: expected 6 initial coordinates");
   const double dx = x0[3] - x0[0], dy = x0[4] - x0[1];
   setLength(std::hypot(dx, dy));
@@ -137,9 +136,8 @@ inline void PlanarBeam::jacobianAt(const Geometry& g, DefJac& De) const {
   const double b = (b2 + b3) * g.il, k2l = g.k2 * g.il, k3l = g.k3 * g.il;
   De.resize(3, 6);
   Eigen::Map<Jac36> J(De.data());
-  J << -g.ex - b * g.ey, -g.ey + b * g.ex, b2, g.ex + b * g.ey, g.ey - b * g.ex, b3,
-       -k2l * g.ey, k2l * g.ex, g.k2, k2l * g.ey, -k2l * g.ex, 0.0,
-       -k3l * g.ey, k3l * g.ex, 0.0, k3l * g.ey, -k3l * g.ex, g.k3;
+  J << -g.ex - b * g.ey, -g.ey + b * g.ex, b2, g.ex + b * g.ey, g.ey - b * g.ex, b3, -k2l * g.ey, k2l * g.ex, g.k2,
+      k2l * g.ey, -k2l * g.ex, 0.0, -k3l * g.ey, k3l * g.ex, 0.0, k3l * g.ey, -k3l * g.ex, g.k3;
 }
 
 // Convective terms along xd: d2l = xd^T (d2 l) xd = (n.vd)^2 / l and
@@ -199,8 +197,8 @@ void PlanarBeam::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2
 inline void PlanarBeam::secondDerivativeAt(const Geometry& g, const Rates& r, DefVec& d2) const {
   const double a = r.D2d, b = r.D3d;
   d2.resize(3);
-  d2[0] = r.d2l + c_ * ((4.0 * g.D2 + g.D3) * r.D2dd + (g.D2 + 4.0 * g.D3) * r.D3dd +
-                        4.0 * a * a + 2.0 * a * b + 4.0 * b * b);
+  d2[0] = r.d2l +
+          c_ * ((4.0 * g.D2 + g.D3) * r.D2dd + (g.D2 + 4.0 * g.D3) * r.D3dd + 4.0 * a * a + 2.0 * a * b + 4.0 * b * b);
   d2[1] = r.D2dd;
   d2[2] = r.D3dd;
 }
@@ -225,12 +223,9 @@ void PlanarBeam::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, El
   const double vp = il * (app + apq), vq = il * (apq + aqq);  // position-angle: +-v n
   H.resize(6, 6);
   Eigen::Map<Mat6> Hm(H.data());
-  Hm << B00, B01, -vp * g.ey, -B00, -B01, -vq * g.ey,
-        B01, B11, vp * g.ex, -B01, -B11, vq * g.ex,
-        -vp * g.ey, vp * g.ex, app, vp * g.ey, -vp * g.ex, apq,
-        -B00, -B01, vp * g.ey, B00, B01, vq * g.ey,
-        -B01, -B11, -vp * g.ex, B01, B11, -vq * g.ex,
-        -vq * g.ey, vq * g.ex, apq, vq * g.ey, -vq * g.ex, aqq;
+  Hm << B00, B01, -vp * g.ey, -B00, -B01, -vq * g.ey, B01, B11, vp * g.ex, -B01, -B11, vq * g.ex, -vp * g.ey, vp * g.ex,
+      app, vp * g.ey, -vp * g.ex, apq, -B00, -B01, vp * g.ey, B00, B01, vq * g.ey, -B01, -B11, -vp * g.ex, B01, B11,
+      -vq * g.ex, -vq * g.ey, vq * g.ex, apq, vq * g.ey, -vq * g.ex, aqq;
 }
 
 ElementValidity PlanarBeam::validity(const ElemVec& x) const {
@@ -308,8 +303,7 @@ void PlanarBeam::mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& 
   massAt(g, c, M);
 }
 
-void PlanarBeam::velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                                ElemVec& h) const {
+void PlanarBeam::velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const {
   if (!inertia.any()) {
     h.setZero(6);
     return;
@@ -370,16 +364,12 @@ inline void PlanarBeam::massAt(const Geometry& g, const Inertial& c, ElemMat& M)
   const double M22 = c.c22 * g.k2 * g.k2, M55 = c.c22 * g.k3 * g.k3, M25 = c.c23 * g.k2 * g.k3;
   M.resize(6, 6);
   Eigen::Map<Mat6> Mm(M.data());
-  Mm << M00, M01, -nPp * ey, M03, M04, -nPq * ey,
-        M01, M11, nPp * ex, M13, M14, nPq * ex,
-        -nPp * ey, nPp * ex, M22, -nQp * ey, nQp * ex, M25,
-        M03, M13, -nQp * ey, M33, M34, -nQq * ey,
-        M04, M14, nQp * ex, M34, M44, nQq * ex,
-        -nPq * ey, nPq * ex, M25, -nQq * ey, nQq * ex, M55;
+  Mm << M00, M01, -nPp * ey, M03, M04, -nPq * ey, M01, M11, nPp * ex, M13, M14, nPq * ex, -nPp * ey, nPp * ex, M22,
+      -nQp * ey, nQp * ex, M25, M03, M13, -nQp * ey, M33, M34, -nQq * ey, M04, M14, nQp * ex, M34, M44, nQq * ex,
+      -nPq * ey, nPq * ex, M25, -nQq * ey, nQq * ex, M55;
 }
 
-inline void PlanarBeam::velocityForcesAt(const Geometry& g, const Inertial& c, const Rates& r,
-                                         ElemVec& h) const {
+inline void PlanarBeam::velocityForcesAt(const Geometry& g, const Inertial& c, const Rates& r, ElemVec& h) const {
   const double ad = r.ad, ad2 = ad * ad, add = -r.d2th;
   // r'' = t (H2 t2 + H3 t3) + n (H2 n2 + H3 n3)
   const double t2 = -add * g.D2 - 2.0 * ad * r.D2d, t3 = -add * g.D3 - 2.0 * ad * r.D3d;

@@ -13,9 +13,9 @@
 //   e3 = -l0 sin(theta_q) = -(l0/l)((xq-xp) sin a_q - (yq-yp) cos a_q)       (Eq. 3c).
 // Every deformation is zero in the initial configuration.
 //
-// Inertia (exact closed-form integrals over xi in [0, 1]): r(xi) = (1-xi) rp + xi rq + n(alpha) w(xi), w = H2 e2 + H3 e3 with
-// H2 = xi (1-xi)^2, H3 = xi^2 (1-xi) (e2 ~ l0 theta_p, e3 ~ -l0 theta_q, so w'(0)/l0 = theta_p and
-// w'(1)/l0 = theta_q), n = (-sin alpha, cos alpha); cross-section angle psi = alpha + w'(xi)/l0.
+// Inertia (exact closed-form integrals over xi in [0, 1]): r(xi) = (1-xi) rp + xi rq + n(alpha) w(xi), w = H2 e2 + H3
+// e3 with H2 = xi (1-xi)^2, H3 = xi^2 (1-xi) (e2 ~ l0 theta_p, e3 ~ -l0 theta_q, so w'(0)/l0 = theta_p and w'(1)/l0 =
+// theta_q), n = (-sin alpha, cos alpha); cross-section angle psi = alpha + w'(xi)/l0.
 #include "core/elements/Element.hpp"
 
 namespace flexmb::core {
@@ -46,12 +46,10 @@ class PlanarBeam final : public Element {
   void constitutive(std::span<const double> params, DefMat& S) const override;
 
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                      ElemVec& h) const override;
+  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const override;
   void dynamicTerms(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemMat& M, ElemVec& h,
                     DefVec& d2) const override;
-  void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
-                     ElemVec& f) const override;
+  void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy, ElemVec& f) const override;
   // Valid while both node rotations against the chord, theta_p and theta_q, keep cos theta > 0:
   // e2 = l0 sin theta_p (Eq. 3b) has its maximum at 90 degrees and returns to zero at 180, so
   // beyond 90 degrees a bent element looks less bent (a spurious, nearly stress-free fold).

@@ -23,13 +23,9 @@ void PlanarHinge::jacobian(const ElemVec&, DefJac& De) const {
   De << -1.0, 1.0;
 }
 
-void PlanarHinge::secondDerivative(const ElemVec&, const ElemVec&, DefVec& d2) const {
-  d2.setZero(1);
-}
+void PlanarHinge::secondDerivative(const ElemVec&, const ElemVec&, DefVec& d2) const { d2.setZero(1); }
 
-void PlanarHinge::stressWeightedHessian(const ElemVec&, const DefVec&, ElemMat& H) const {
-  H.setZero(2, 2);
-}
+void PlanarHinge::stressWeightedHessian(const ElemVec&, const DefVec&, ElemMat& H) const { H.setZero(2, 2); }
 
 void PlanarHinge::constitutive(std::span<const double> params, DefMat& S) const {
   S.setZero(1, 1);

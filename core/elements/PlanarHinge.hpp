@@ -20,8 +20,10 @@ class PlanarHinge final : public Element {
   // Ends: phi_p and phi_q; e1 = phi_q - phi_p - delta0 (Eq. 5) is its own inverse.
   int endOfCoordinate(int i) const override { return i; }
   bool place(const DefVec& e, int to, ElemVec& x) const override {
-    if (to == 1) x[1] = x[0] + e[0] + delta0_;
-    else x[0] = x[1] - e[0] - delta0_;
+    if (to == 1)
+      x[1] = x[0] + e[0] + delta0_;
+    else
+      x[0] = x[1] - e[0] - delta0_;
     return true;
   }
   // params = [k] (N m/rad): S = k.

@@ -44,10 +44,7 @@ void PlanarTruss::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, E
   const double k = sigma[0] / l;
   const double a = k * nx * nx, b = k * nx * ny, c = k * ny * ny;
   H.resize(4, 4);
-  H << a, b, -a, -b,
-       b, c, -b, -c,
-      -a, -b, a, b,
-      -b, -c, b, c;
+  H << a, b, -a, -b, b, c, -b, -c, -a, -b, a, b, -b, -c, b, c;
 }
 
 void PlanarTruss::constitutive(std::span<const double> params, DefMat& S) const {
@@ -63,13 +60,11 @@ void PlanarTruss::mass(const ElemVec&, const ElementInertia& inertia, ElemMat& M
   M(0, 2) = M(2, 0) = M(1, 3) = M(3, 1) = b;
 }
 
-void PlanarTruss::velocityForces(const ElemVec&, const ElemVec&, const ElementInertia&,
-                                 ElemVec& h) const {
+void PlanarTruss::velocityForces(const ElemVec&, const ElemVec&, const ElementInertia&, ElemVec& h) const {
   h.setZero(4);
 }
 
-void PlanarTruss::gravityForces(const ElemVec&, const ElementInertia& inertia, double gx, double gy,
-                                ElemVec& f) const {
+void PlanarTruss::gravityForces(const ElemVec&, const ElementInertia& inertia, double gx, double gy, ElemVec& f) const {
   const double m2 = 0.5 * inertia.rhoA * l0_;
   f.resize(4);
   f << m2 * gx, m2 * gy, m2 * gx, m2 * gy;

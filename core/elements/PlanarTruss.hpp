@@ -25,10 +25,8 @@ class PlanarTruss final : public Element {
   void constitutive(std::span<const double> params, DefMat& S) const override;
 
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                      ElemVec& h) const override;
-  void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy,
-                     ElemVec& f) const override;
+  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const override;
+  void gravityForces(const ElemVec& x, const ElementInertia& inertia, double gx, double gy, ElemVec& f) const override;
 
   double l0() const { return l0_; }
   double referenceLength() const override { return l0_; }

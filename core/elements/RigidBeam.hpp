@@ -22,8 +22,7 @@ class RigidBeam final : public Element {
   void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   void constitutive(std::span<const double> params, DefMat& S) const override;
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g,
-                      ElemVec& f) const override;
+  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
  private:
   struct Defs;

@@ -17,12 +17,10 @@ inline void sinCos(double a, double& s, double& c) {
     c = std::cos(a);
     return;
   }
-  constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03,
-                   S3 = -1.98412698298579493134e-04, S4 = 2.75573137070700676789e-06,
-                   S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
-  constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03,
-                   C3 = 2.48015872894767294178e-05, C4 = -2.75573143513906633035e-07,
-                   C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
+  constexpr double S1 = -1.66666666666666324348e-01, S2 = 8.33333333332248946124e-03, S3 = -1.98412698298579493134e-04,
+                   S4 = 2.75573137070700676789e-06, S5 = -2.50507602534068634195e-08, S6 = 1.58969099521155010221e-10;
+  constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-03, C3 = 2.48015872894767294178e-05,
+                   C4 = -2.75573143513906633035e-07, C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
   const double z = a * a;
   const double rs = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
   s = a + (z * a) * (S1 + z * rs);
@@ -32,9 +30,8 @@ inline void sinCos(double a, double& s, double& c) {
     return;
   }
   // 1 - z/2 split as (1 - qx) - (z/2 - qx), qx ~ |a|/4 with a short mantissa so that 1 - qx is exact.
-  const double qx = ax > 0.78125 ? 0.28125
-                                 : std::bit_cast<double>(std::bit_cast<std::uint64_t>(0.25 * ax) &
-                                                         0xFFFFFFFF00000000ull);
+  const double qx =
+      ax > 0.78125 ? 0.28125 : std::bit_cast<double>(std::bit_cast<std::uint64_t>(0.25 * ax) & 0xFFFFFFFF00000000ull);
   c = (1.0 - qx) - ((0.5 * z - qx) - z * r);
 }
 

@@ -16,16 +16,15 @@ using S14 = Scalar<14>;
 // 4-point Gauss on [0, 1] (exact to degree 7: the mass integrand J^T J is of degree 6).
 constexpr double kGaussXi[4] = {0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563,
                                 0.5 + 0.5 * 0.3399810435848563, 0.5 + 0.5 * 0.8611363115940526};
-constexpr double kGaussW[4] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461,
-                               0.5 * 0.6521451548625461, 0.5 * 0.3478548451374538};
+constexpr double kGaussW[4] = {0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461, 0.5 * 0.6521451548625461,
+                               0.5 * 0.3478548451374538};
 }  // namespace
 
 struct SpatialBeam::Defs {
   S14 e[6];
 };
 
-SpatialBeam::SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrected)
-    : corrected_(bendingCorrected) {
+SpatialBeam::SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrected) : corrected_(bendingCorrected) {
   if (x0.size() != 14) throw std::invalid_argument("spatial beam: expected 14 initial coordinates");
   const Vec3 d = x0.segment<3>(XQ) - x0.segment<3>(XP);
   l0_ = d.norm();
@@ -33,8 +32,7 @@ SpatialBeam::SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrect
   const Mat3 F = euler::elementFrame(d / l0_, Vec3(y[0], y[1], y[2]));
   // Body-frame triads: A_k = R(lambda_k0)^T F, with R of the normalised initial parameters.
   const Vec4 lp = x0.segment<4>(LP), lq = x0.segment<4>(LQ);
-  if (!(lp.norm() > 0.0) || !(lq.norm() > 0.0))
-    throw std::invalid_argument("initial Euler parameters are zero");
+  if (!(lp.norm() > 0.0) || !(lq.norm() > 0.0)) throw std::invalid_argument("initial Euler parameters are zero");
   Ap_ = euler::rotation(lp.normalized()).transpose() * F;
   Aq_ = euler::rotation(lq.normalized()).transpose() * F;
 }
@@ -42,8 +40,7 @@ SpatialBeam::SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrect
 std::unique_ptr<Element> SpatialBeam::create(const ElemVec& x0, const double* y, const ElementOptions&) {
   return std::make_unique<SpatialBeam>(x0, y, false);
 }
-std::unique_ptr<Element> SpatialBeam::createNonlinear(const ElemVec& x0, const double* y,
-                                                      const ElementOptions&) {
+std::unique_ptr<Element> SpatialBeam::createNonlinear(const ElemVec& x0, const double* y, const ElementOptions&) {
   return std::make_unique<SpatialBeam>(x0, y, true);
 }
 
@@ -74,15 +71,15 @@ void SpatialBeam::evaluate(const ElemVec& xe, int order, Defs& D) const {
     const double k = 1.0 / (30.0 * l0_);
     const S14 *e3 = &D.e[2], *e4 = &D.e[3], *e5 = &D.e[4], *e6 = &D.e[5];
     S14& e1 = D.e[0];
-    e1.v += k * (2 * e3->v * e3->v + e3->v * e4->v + 2 * e4->v * e4->v + 2 * e5->v * e5->v +
-                 e5->v * e6->v + 2 * e6->v * e6->v);
+    e1.v += k * (2 * e3->v * e3->v + e3->v * e4->v + 2 * e4->v * e4->v + 2 * e5->v * e5->v + e5->v * e6->v +
+                 2 * e6->v * e6->v);
     const double c3 = k * (4 * e3->v + e4->v), c4 = k * (e3->v + 4 * e4->v);
     const double c5 = k * (4 * e5->v + e6->v), c6 = k * (e5->v + 4 * e6->v);
     if (order >= 1) e1.g += c3 * e3->g + c4 * e4->g + c5 * e5->g + c6 * e6->g;
     if (order >= 2) {
       e1.H += c3 * e3->H + c4 * e4->H + c5 * e5->H + c6 * e6->H;
-      e1.H += k * (4.0 * (e3->g * e3->g.transpose() + e4->g * e4->g.transpose() +
-                          e5->g * e5->g.transpose() + e6->g * e6->g.transpose()) +
+      e1.H += k * (4.0 * (e3->g * e3->g.transpose() + e4->g * e4->g.transpose() + e5->g * e5->g.transpose() +
+                          e6->g * e6->g.transpose()) +
                    (e3->g * e4->g.transpose() + e4->g * e3->g.transpose()) +
                    (e5->g * e6->g.transpose() + e6->g * e5->g.transpose()));
     }
@@ -152,8 +149,8 @@ struct Field {
 inline Field shape(double xi) { return {xi * (1 - xi) * (1 - xi), xi * xi * (xi - 1)}; }
 
 // J = dr/dx (3 x 14) of the translational field at xi.
-void fieldJacobian(double xi, double l0, const Field& f, const Mat3& Pl, const Mat34& Jp,
-                   const Mat34& Jq, Eigen::Matrix<double, 3, 14>& J) {
+void fieldJacobian(double xi, double l0, const Field& f, const Mat3& Pl, const Mat34& Jp, const Mat34& Jq,
+                   Eigen::Matrix<double, 3, 14>& J) {
   const double c = l0 * (f.h10 + f.h11);
   J.block<3, 3>(0, XP) = (1.0 - xi) * Mat3::Identity() + c * Pl;
   J.block<3, 3>(0, XQ) = xi * Mat3::Identity() - c * Pl;
@@ -185,8 +182,7 @@ void SpatialBeam::mass(const ElemVec& xe, const ElementInertia& in, ElemMat& M) 
   M = Mf;
 }
 
-void SpatialBeam::velocityForces(const ElemVec& xe, const ElemVec& xde, const ElementInertia& in,
-                                 ElemVec& h) const {
+void SpatialBeam::velocityForces(const ElemVec& xe, const ElemVec& xde, const ElementInertia& in, ElemVec& h) const {
   Vec14 hf = Vec14::Zero();
   const Vec14 x = xe, xd = xde;
   if (in.rhoA != 0.0) {
@@ -220,8 +216,7 @@ void SpatialBeam::velocityForces(const ElemVec& xe, const ElemVec& xde, const El
   h = hf;
 }
 
-void SpatialBeam::gravityForces3(const ElemVec& xe, const ElementInertia& in, const double* g,
-                                 ElemVec& f) const {
+void SpatialBeam::gravityForces3(const ElemVec& xe, const ElementInertia& in, const double* g, ElemVec& f) const {
   Vec14 ff = Vec14::Zero();
   if (in.rhoA != 0.0) {
     const Vec14 x = xe;

@@ -32,8 +32,7 @@ class SpatialBeam final : public Element {
   // coincident end nodes or y along the chord.
   SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrected);
   static std::unique_ptr<Element> create(const ElemVec& x0, const double* y, const ElementOptions& o);
-  static std::unique_ptr<Element> createNonlinear(const ElemVec& x0, const double* y,
-                                                  const ElementOptions& o);
+  static std::unique_ptr<Element> createNonlinear(const ElemVec& x0, const double* y, const ElementOptions& o);
 
   int numCoords() const override { return 14; }
   int numDeformations() const override { return 6; }
@@ -47,10 +46,8 @@ class SpatialBeam final : public Element {
   void constitutive(std::span<const double> params, DefMat& S) const override;
 
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia,
-                      ElemVec& h) const override;
-  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g,
-                      ElemVec& f) const override;
+  void velocityForces(const ElemVec& x, const ElemVec& xd, const ElementInertia& inertia, ElemVec& h) const override;
+  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
   double l0() const { return l0_; }
   // Body-frame element triads of the two ends (columns e_x, e_y, e_z).

@@ -24,8 +24,7 @@ SpatialHinge::SpatialHinge(const ElemVec& x0, const double* axis) {
   if (x0.size() != 8) throw std::invalid_argument("spatial hinge: expected 8 initial coordinates");
   const Mat3 F = euler::axisFrame(Vec3(axis[0], axis[1], axis[2]));
   const Vec4 lp = x0.segment<4>(LP), lq = x0.segment<4>(LQ);
-  if (!(lp.norm() > 0.0) || !(lq.norm() > 0.0))
-    throw std::invalid_argument("initial Euler parameters are zero");
+  if (!(lp.norm() > 0.0) || !(lq.norm() > 0.0)) throw std::invalid_argument("initial Euler parameters are zero");
   Ap_ = euler::rotation(lp.normalized()).transpose() * F;
   Aq_ = euler::rotation(lq.normalized()).transpose() * F;
 }

@@ -65,8 +65,8 @@ void chordLength(const Eigen::Matrix<double, N, 1>& x, int xp, int xq, int order
 
 // h = (R(lambda_k) a) . (x_q - x_p), the orientation node k at lk.
 template <int N>
-void rotatedOnChord(const Eigen::Matrix<double, N, 1>& x, int lk, const Vec3& a, int xp, int xq,
-                    int order, Scalar<N>& s) {
+void rotatedOnChord(const Eigen::Matrix<double, N, 1>& x, int lk, const Vec3& a, int xp, int xq, int order,
+                    Scalar<N>& s) {
   s.clear(order);
   const Vec4 l = par<N>(x, lk);
   const Vec3 d = pos<N>(x, xq) - pos<N>(x, xp);
@@ -87,8 +87,8 @@ void rotatedOnChord(const Eigen::Matrix<double, N, 1>& x, int lk, const Vec3& a,
 
 // g = (R(lambda_p) a) . (R(lambda_q) b)
 template <int N>
-void rotatedProduct(const Eigen::Matrix<double, N, 1>& x, int lp, const Vec3& a, int lq,
-                    const Vec3& b, int order, Scalar<N>& s) {
+void rotatedProduct(const Eigen::Matrix<double, N, 1>& x, int lp, const Vec3& a, int lq, const Vec3& b, int order,
+                    Scalar<N>& s) {
   s.clear(order);
   const Vec4 Lp = par<N>(x, lp), Lq = par<N>(x, lq);
   const Vec3 ra = euler::rotation(Lp) * a, rb = euler::rotation(Lq) * b;

@@ -59,8 +59,7 @@ void SpatialTruss::mass(const ElemVec&, const ElementInertia& in, ElemMat& M) co
   }
 }
 
-void SpatialTruss::gravityForces3(const ElemVec&, const ElementInertia& in, const double* g,
-                                  ElemVec& f) const {
+void SpatialTruss::gravityForces3(const ElemVec&, const ElementInertia& in, const double* g, ElemVec& f) const {
   const double m2 = 0.5 * in.rhoA * l0_;
   f.resize(6);
   for (int i = 0; i < 3; ++i) f[i] = f[i + 3] = m2 * g[i];

@@ -17,8 +17,7 @@ class SpatialTruss final : public Element {
   void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   void constitutive(std::span<const double> params, DefMat& S) const override;  // [EA]: EA/l0
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
-  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g,
-                      ElemVec& f) const override;
+  void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
  private:
   double l0_ = 0.0;

@@ -19,9 +19,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double uniform(std::mt19937& rng, double a, double b) {
-  return std::uniform_real_distribution<double>(a, b)(rng);
-}
+double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
 
 template <class A, class B>
 double relErr(const A& a, const B& ref, double floor = 1e-12) {
@@ -70,8 +68,7 @@ struct Ref {
   double l0, beta0, phi0p, phi0q;
 };
 Ref refOf(const ElemVec& x0) {
-  return {std::hypot(x0[3] - x0[0], x0[4] - x0[1]), std::atan2(x0[4] - x0[1], x0[3] - x0[0]), x0[2],
-          x0[5]};
+  return {std::hypot(x0[3] - x0[0], x0[4] - x0[1]), std::atan2(x0[4] - x0[1], x0[3] - x0[0]), x0[2], x0[5]};
 }
 struct FieldPoint {
   double rx, ry, psi;
@@ -86,8 +83,8 @@ FieldPoint beamField(const ElemVec& x, const Ref& R, double xi) {
   const double H2 = xi * (1 - xi) * (1 - xi), H3 = xi * xi * (1 - xi);
   const double dH2 = (1 - xi) * (1 - xi) - 2 * xi * (1 - xi), dH3 = 2 * xi * (1 - xi) - xi * xi;
   const double w = H2 * e2 + H3 * e3, dw = dH2 * e2 + dH3 * e3;
-  return {(1 - xi) * x[0] + xi * x[3] - std::sin(alpha) * w,
-          (1 - xi) * x[1] + xi * x[4] + std::cos(alpha) * w, alpha + dw / R.l0};
+  return {(1 - xi) * x[0] + xi * x[3] - std::sin(alpha) * w, (1 - xi) * x[1] + xi * x[4] + std::cos(alpha) * w,
+          alpha + dw / R.l0};
 }
 double wrap(double a) { return std::remainder(a, 2 * kPi); }
 
@@ -265,14 +262,10 @@ namespace {
 // (v_p, theta_p, v_q, theta_q), rotary inertia of the cross sections, and the linear axial rod.
 Eigen::Matrix4d textbookTransverse(double rhoA, double rhoI, double l) {
   Eigen::Matrix4d mt, mr;
-  mt << 156, 22 * l, 54, -13 * l,
-        22 * l, 4 * l * l, 13 * l, -3 * l * l,
-        54, 13 * l, 156, -22 * l,
-        -13 * l, -3 * l * l, -22 * l, 4 * l * l;
-  mr << 36, 3 * l, -36, 3 * l,
-        3 * l, 4 * l * l, -3 * l, -l * l,
-        -36, -3 * l, 36, -3 * l,
-        3 * l, -l * l, -3 * l, 4 * l * l;
+  mt << 156, 22 * l, 54, -13 * l, 22 * l, 4 * l * l, 13 * l, -3 * l * l, 54, 13 * l, 156, -22 * l, -13 * l, -3 * l * l,
+      -22 * l, 4 * l * l;
+  mr << 36, 3 * l, -36, 3 * l, 3 * l, 4 * l * l, -3 * l, -l * l, -36, -3 * l, 36, -3 * l, 3 * l, -l * l, -3 * l,
+      4 * l * l;
   return rhoA * l / 420.0 * mt + rhoI / (30.0 * l) * mr;
 }
 }  // namespace
@@ -284,15 +277,15 @@ TEST(BeamInertia, LinearisedMassEqualsClassicalMatrices) {
   const int tr[4] = {1, 2, 4, 5}, ax[2] = {0, 3};
   for (const Variant& var : kVariants) {
     const PlanarBeam b(x0, var.def);
-    for (const ElementInertia in : {ElementInertia{2.5, 0.0}, ElementInertia{0.0, 0.3},
-                                    ElementInertia{2.5, 0.3}}) {
+    for (const ElementInertia in : {ElementInertia{2.5, 0.0}, ElementInertia{0.0, 0.3}, ElementInertia{2.5, 0.3}}) {
       ElemMat M;
       b.mass(x0, in, M);
       Eigen::Matrix4d Mt;
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) Mt(i, j) = M(tr[i], tr[j]);
       EXPECT_LT(relErr(Mt, textbookTransverse(in.rhoA, in.rhoI, l)), 1e-12)
-          << var.label << " rhoA " << in.rhoA << " rhoI " << in.rhoI << "\n" << Mt;
+          << var.label << " rhoA " << in.rhoA << " rhoI " << in.rhoI << "\n"
+          << Mt;
       Eigen::Matrix2d Ma, Maref;
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) Ma(i, j) = M(ax[i], ax[j]);

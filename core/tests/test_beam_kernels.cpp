@@ -48,8 +48,7 @@ Jet sqrt(Jet a) {
 }
 Jet atan2(Jet y, Jet x) {
   const double r2 = x.v * x.v + y.v * y.v, c = x.v * y.d - y.v * x.d;
-  return {std::atan2(y.v, x.v), c / r2,
-          (x.v * y.dd - y.v * x.dd) / r2 - 2 * c * (x.v * x.d + y.v * y.d) / (r2 * r2)};
+  return {std::atan2(y.v, x.v), c / r2, (x.v * y.dd - y.v * x.dd) / r2 - 2 * c * (x.v * x.d + y.v * y.d) / (r2 * r2)};
 }
 using std::atan2, std::cos, std::sin, std::sqrt;
 
@@ -135,9 +134,7 @@ InertiaRef inertiaRef(const ElemVec& x, const ElemVec& xd, const Ref& R, const E
   return out;
 }
 
-double uniform(std::mt19937& rng, double a, double b) {
-  return std::uniform_real_distribution<double>(a, b)(rng);
-}
+double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
 
 template <class A, class B>
 double relErr(const A& a, const B& ref) {
@@ -197,8 +194,7 @@ TEST(BeamKernels, MatchTheJetAndQuadratureReferenceToRoundOff) {
       };
       Eigen::Matrix<double, 6, 6> HRef;
       for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j)
-          HRef(i, j) = 0.25 * (weighted(unit(i) + unit(j)) - weighted(unit(i) - unit(j)));
+        for (int j = 0; j < 6; ++j) HRef(i, j) = 0.25 * (weighted(unit(i) + unit(j)) - weighted(unit(i) - unit(j)));
       const InertiaRef I = inertiaRef(x, xd, R, in, gx, gy);
 
       DefVec e, d2;
@@ -218,8 +214,12 @@ TEST(BeamKernels, MatchTheJetAndQuadratureReferenceToRoundOff) {
       ASSERT_EQ(f.size(), 6);
       // e1 = l - l0 loses digits to cancellation when the chord barely stretches: measured against l0.
       const double eErr = (e - Eigen::Vector3d(eRef[0], eRef[1], eRef[2])).cwiseAbs().maxCoeff() / l0;
-      const double err[kN] = {eErr, relErr(De, DeRef),
-                              relErr(d2, d2Ref), relErr(H, HRef), relErr(M, I.M), relErr(h, I.h),
+      const double err[kN] = {eErr,
+                              relErr(De, DeRef),
+                              relErr(d2, d2Ref),
+                              relErr(H, HRef),
+                              relErr(M, I.M),
+                              relErr(h, I.h),
                               in.rhoA != 0.0 ? relErr(f, I.f) : f.cwiseAbs().maxCoeff()};
       for (int q = 0; q < kN; ++q) {
         EXPECT_LT(err[q], 1e-12) << names[q] << (corrected ? " corrected" : " plain") << " state " << k;

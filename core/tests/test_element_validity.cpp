@@ -44,9 +44,7 @@ ElemVec rigid(const ElemVec& x, double a, double cx, double cy, double tx, doubl
 
 // Reference geometries: along x with BETA 0, and a general one (chord at an angle, BETA values that
 // differ from the chord angle and from each other, as a .dat file may give them).
-std::vector<ElemVec> references() {
-  return {coords({0, 0, 0, 1, 0, 0}), coords({0.3, -0.2, 1.1, 1.0, 0.5, -2.0})};
-}
+std::vector<ElemVec> references() { return {coords({0, 0, 0, 1, 0, 0}), coords({0.3, -0.2, 1.1, 1.0, 0.5, -2.0})}; }
 
 }  // namespace
 

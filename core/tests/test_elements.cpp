@@ -38,9 +38,7 @@ const std::vector<Case>& cases() {
   return c;
 }
 
-double uniform(std::mt19937& rng, double a, double b) {
-  return std::uniform_real_distribution<double>(a, b)(rng);
-}
+double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
 
 // Random initial coordinates for the slots: positions in [-2, 2]^2 with the nodes at least 0.3
 // apart (any chord angle), orientation (BETA) values in [-3, 3].
@@ -57,9 +55,7 @@ ElemVec randomInitial(const ElementTypeInfo& t, std::mt19937& rng) {
       }
     }
     if (t.numCoords() == 6 && std::hypot(x[3] - x[0], x[4] - x[1]) < 0.3) continue;
-    if (t.numCoords() == 4 && t.slots[1] == NodeKind::Position &&
-        std::hypot(x[2] - x[0], x[3] - x[1]) < 0.3)
-      continue;
+    if (t.numCoords() == 4 && t.slots[1] == NodeKind::Position && std::hypot(x[2] - x[0], x[3] - x[1]) < 0.3) continue;
     return x;
   }
 }
@@ -234,8 +230,7 @@ TEST(Elements, BeamDeformationsMatchPaperFormulas) {
   for (const Case& c : cases()) {
     if (c.keyword.rfind("PLBEAM", 0) != 0) continue;
     const ElementTypeInfo* t = findElementType(c.keyword);
-    const bool corrected =
-        c.keyword == "PLBEAMNL" || c.elongation == ElongationDefinition::BendingCorrected;
+    const bool corrected = c.keyword == "PLBEAMNL" || c.elongation == ElongationDefinition::BendingCorrected;
     for (int k = 0; k < kConfigs; ++k) {
       const ElemVec x0 = randomInitial(*t, rng);
       auto el = t->create(x0, ElementOptions{c.elongation});
@@ -284,8 +279,7 @@ TEST(Elements, RigidMotionInvariance) {
       const ElemVec x0 = randomInitial(*t, rng);
       auto el = t->create(x0, ElementOptions{c.elongation});
       const ElemVec x = randomConfiguration(*t, x0, rng);
-      const ElemVec y = rigidMotion(*t, x, uniform(rng, -2 * kPi, 2 * kPi), uniform(rng, -3, 3),
-                                    uniform(rng, -3, 3));
+      const ElemVec y = rigidMotion(*t, x, uniform(rng, -2 * kPi, 2 * kPi), uniform(rng, -3, 3), uniform(rng, -3, 3));
       DefVec ex, ey;
       el->deformations(x, ex);
       el->deformations(y, ey);
@@ -377,8 +371,7 @@ TEST(Elements, Registry) {
   EXPECT_EQ(b->slots, (std::vector<NodeKind>{Position, Orientation, Position, Orientation}));
   EXPECT_EQ(b->numCoords(), 6);
   EXPECT_EQ(b->numDeformations(), 3);
-  EXPECT_EQ(b->deformationNames,
-            (std::vector<std::string>{"elongation", "bending p", "bending q"}));
+  EXPECT_EQ(b->deformationNames, (std::vector<std::string>{"elongation", "bending p", "bending q"}));
   EXPECT_EQ(b->stiffness.size(), 2u);
   ASSERT_NE(findElementType("PlBeamNL"), nullptr);
   EXPECT_EQ(findElementType("PlBeamNL")->keyword, "PLBEAMNL");
@@ -413,8 +406,7 @@ TEST(Elements, Registry) {
   DefVec ep, ec, enl;
   b->create(x0, ElementOptions{ElongationDefinition::Plain})->deformations(x, ep);
   b->create(x0, ElementOptions{ElongationDefinition::BendingCorrected})->deformations(x, ec);
-  findElementType("PLBEAMNL")->create(x0, ElementOptions{ElongationDefinition::Plain})
-      ->deformations(x, enl);
+  findElementType("PLBEAMNL")->create(x0, ElementOptions{ElongationDefinition::Plain})->deformations(x, enl);
   EXPECT_DOUBLE_EQ(ep[0], 0.0);
   EXPECT_GT(ec[0], 0.0);
   EXPECT_DOUBLE_EQ(enl[0], ec[0]);
@@ -496,8 +488,9 @@ TEST(Elements, PlacementInvertsTheDeformations) {
         if (el->validity(x).valid) {
           // On the valid branch the placement is the configuration itself (angles modulo 2 pi).
           for (int i = 0; i < y.size(); ++i) {
-            const double d = t->slots[0] == NodeKind::Orientation || (i == 2 || i == 5) ? std::remainder(y[i] - x[i], 2 * kPi)
-                                                                                        : y[i] - x[i];
+            const double d = t->slots[0] == NodeKind::Orientation || (i == 2 || i == 5)
+                                 ? std::remainder(y[i] - x[i], 2 * kPi)
+                                 : y[i] - x[i];
             EXPECT_LT(std::abs(d), 1e-10) << c.label << ", to " << to << ", coordinate " << i;
           }
         }

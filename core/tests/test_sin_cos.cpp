@@ -34,8 +34,8 @@ TEST(SinCos, PolynomialPathAgreesWithLibmWithinOneUlp) {
   EXPECT_LE(worstS, 1.0);
   EXPECT_LE(worstC, 1.0);
   // The branch points of the cosine kernel and the ends of the interval.
-  for (double a : {0.0, -0.0, 0.3, std::nextafter(0.3, 0.0), 0.78125, std::nextafter(0.78125, 1.0),
-                   0.7853981633974483, -0.7853981633974483, 1e-300, 5e-324}) {
+  for (double a : {0.0, -0.0, 0.3, std::nextafter(0.3, 0.0), 0.78125, std::nextafter(0.78125, 1.0), 0.7853981633974483,
+                   -0.7853981633974483, 1e-300, 5e-324}) {
     double s, c;
     sinCos(a, s, c);
     EXPECT_LE(ulps(s, std::sin(a)), 1.0) << a;

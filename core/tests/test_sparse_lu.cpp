@@ -17,8 +17,8 @@
 
 #include "core/SparseLU.hpp"
 
-using flexmb::core::SparseLU;
 using Eigen::MatrixXd;
+using flexmb::core::SparseLU;
 
 namespace {
 
@@ -270,7 +270,8 @@ TEST(SparseLU, SolvesIrreducibleMatricesLikeDenseLUAndKlu) {
 TEST(SparseLU, SolvesSaddlePointMatricesLikeDenseLUAndKlu) {
   std::mt19937 rng(13);
   std::vector<Entries> matrices;
-  for (const auto& [nh, m] : std::vector<std::pair<int, int>>{{1, 1}, {2, 1}, {4, 3}, {6, 2}, {30, 13}, {300, 100}, {1500, 500}})
+  for (const auto& [nh, m] :
+       std::vector<std::pair<int, int>>{{1, 1}, {2, 1}, {4, 3}, {6, 2}, {30, 13}, {300, 100}, {1500, 500}})
     matrices.push_back(saddlePoint(nh, m, rng));
   const Coverage c = checkFreshFactorisations(matrices, "saddle point", rng);
   EXPECT_GT(c.offDiagonalPivots, 0);
@@ -437,8 +438,15 @@ TEST(SparseLU, ReportsSingularMatrices) {
   // Numerically singular (two equal rows), fresh and as a refactorisation of a regular matrix.
   {
     std::mt19937 rng(17);
-    Csc a(3, Entries{{{0, 0}, 1.0}, {{0, 1}, 2.0}, {{0, 2}, 3.0}, {{1, 0}, 1.0}, {{1, 1}, 2.0}, {{1, 2}, 3.0},
-                     {{2, 0}, 4.0}, {{2, 1}, 5.0}, {{2, 2}, 7.0}});
+    Csc a(3, Entries{{{0, 0}, 1.0},
+                     {{0, 1}, 2.0},
+                     {{0, 2}, 3.0},
+                     {{1, 0}, 1.0},
+                     {{1, 1}, 2.0},
+                     {{1, 2}, 3.0},
+                     {{2, 0}, 4.0},
+                     {{2, 1}, 5.0},
+                     {{2, 2}, 7.0}});
     SparseLU lu;
     lu.analyze(a.n, a.colPtr.data(), a.rowIdx.data());
     EXPECT_FALSE(lu.factorize(a.values.data()));

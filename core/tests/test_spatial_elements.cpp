@@ -24,9 +24,7 @@ using euler::Vec4;
 
 namespace {
 
-double uniform(std::mt19937& rng, double a, double b) {
-  return std::uniform_real_distribution<double>(a, b)(rng);
-}
+double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
 Vec4 randomQuaternion(std::mt19937& rng) {
   Vec4 q;
   for (int i = 0; i < 4; ++i) q[i] = uniform(rng, -1, 1);
@@ -87,9 +85,7 @@ ElemVec perturb(const ElementTypeInfo& t, const ElemVec& x0, std::mt19937& rng, 
   return x;
 }
 
-double relErr(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  return (a - b).norm() / std::max(1.0, b.norm());
-}
+double relErr(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) { return (a - b).norm() / std::max(1.0, b.norm()); }
 
 }  // namespace
 
@@ -148,8 +144,8 @@ TEST(SpatialElements, DerivativesAgainstFiniteDifferences) {
         worstV = std::max(worstV, std::abs(d2[i] - ref) / std::max(1.0, std::abs(ref)));
       }
     }
-    std::printf("%-7s FD relative errors: Jacobian %.2e, Hessian %.2e, D2e[v,v] %.2e\n", kw.c_str(), worstJ,
-                worstH, worstV);
+    std::printf("%-7s FD relative errors: Jacobian %.2e, Hessian %.2e, D2e[v,v] %.2e\n", kw.c_str(), worstJ, worstH,
+                worstV);
     EXPECT_LT(worstJ, 1e-6) << kw;
     EXPECT_LT(worstH, 1e-6) << kw;
     EXPECT_LT(worstV, 1e-6) << kw;
@@ -182,8 +178,10 @@ TEST(SpatialElements, ZeroInitiallyAndInvariantUnderRigidMotion) {
       ElemVec y = x;
       k = 0;
       for (NodeKind s : t->slots) {
-        if (s == NodeKind::SpatialPosition) y.segment<3>(k) = Q * Vec3(x.segment<3>(k)) + c;
-        else y.segment<4>(k) = multiply(qm, x.segment<4>(k));
+        if (s == NodeKind::SpatialPosition)
+          y.segment<3>(k) = Q * Vec3(x.segment<3>(k)) + c;
+        else
+          y.segment<4>(k) = multiply(qm, x.segment<4>(k));
         k += nodeKindDim(s);
       }
       DefVec ex, ey;
@@ -199,8 +197,8 @@ TEST(SpatialElements, ZeroInitiallyAndInvariantUnderRigidMotion) {
 
 // The classical 12 x 12 Timoshenko space-frame element in its local frame, DOFs
 // (u, v, w, thx, thy, thz) at each end.
-Eigen::Matrix<double, 12, 12> timoshenkoLocal(double L, double EA, double GJ, double EIy, double EIz,
-                                              double cy, double cz) {
+Eigen::Matrix<double, 12, 12> timoshenkoLocal(double L, double EA, double GJ, double EIy, double EIz, double cy,
+                                              double cz) {
   Eigen::Matrix<double, 12, 12> K = Eigen::Matrix<double, 12, 12>::Zero();
   auto put = [&](int a, int b, double v) { K(a, b) += v; };
   const double ka = EA / L, kt = GJ / L;
@@ -273,9 +271,8 @@ TEST(SpatialElements, BeamInPlaneEqualsPlanarBeam) {
   // e3), with the same elongation variant; torsion and out-of-plane bending stay zero.
   std::mt19937 rng(8);
   double worst = 0;
-  for (const auto& [sk, pk, opt] :
-       {std::tuple{"BEAM", "PLBEAM", ElongationDefinition::Plain},
-        std::tuple{"BEAMNL", "PLBEAMNL", ElongationDefinition::BendingCorrected}}) {
+  for (const auto& [sk, pk, opt] : {std::tuple{"BEAM", "PLBEAM", ElongationDefinition::Plain},
+                                    std::tuple{"BEAMNL", "PLBEAMNL", ElongationDefinition::BendingCorrected}}) {
     for (int trial = 0; trial < 20; ++trial) {
       const double xp = uniform(rng, -1, 1), yp = uniform(rng, -1, 1), xq = xp + uniform(rng, 0.5, 1.5),
                    yq = yp + uniform(rng, -1, 1), bp = uniform(rng, -3, 3), bq = uniform(rng, -3, 3);
@@ -383,9 +380,10 @@ TEST(SpatialElements, BeamInertia) {
     const double Pex = (0.5 * d).cross(m * gv).dot(w);
     worstG = std::max({worstG, (work - m * gv).norm() / (m * gv.norm()), std::abs(P - Pex) / (m * gv.norm() * L)});
   }
-  std::printf("BEAM inertia: M symmetry %.1e, velocity forces vs Lagrange FD %.1e, rigid kinetic energy %.1e, "
-              "gravity %.1e\n",
-              worstSym, worstH, worstT, worstG);
+  std::printf(
+      "BEAM inertia: M symmetry %.1e, velocity forces vs Lagrange FD %.1e, rigid kinetic energy %.1e, "
+      "gravity %.1e\n",
+      worstSym, worstH, worstT, worstG);
   EXPECT_LT(worstSym, 1e-14);
   EXPECT_LT(worstH, 1e-6);
   EXPECT_LT(worstT, 1e-12);

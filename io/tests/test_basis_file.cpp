@@ -18,13 +18,13 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
 using flexmb::io::BasisInfo;
 using flexmb::io::formatBasis;
 using flexmb::io::parseBasis;
 using flexmb::io::readBasis;
 using flexmb::io::writeBasis;
-using Eigen::MatrixXd;
-using Eigen::VectorXd;
 
 namespace {
 
@@ -73,9 +73,7 @@ class BasisFile : public ::testing::Test {
   fs::path dir_;
 };
 
-bool bitwiseEqual(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
-}
+bool bitwiseEqual(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 // 6 x 5 basis with large = {4, 1} (identity columns 0 and 1) and awkward doubles elsewhere.
 MatrixXd sampleBasis() {
@@ -149,7 +147,7 @@ TEST_F(BasisFile, RoundTripExact) {
 
 TEST_F(BasisFile, LayoutOfTheFile) {
   MatrixXd V(3, 2);
-  V << 1, 0,  //
+  V << 1, 0,   //
       0, 0.5,  //
       0, -0.25;
   BasisInfo info;
@@ -258,8 +256,7 @@ TEST_F(BasisFile, GarbageNeverCrashes) {
     }
     try {
       parseBasis(text, "garbage");
-    } catch (const std::runtime_error&) {
-    }
+    } catch (const std::runtime_error&) {}
   }
   // Nonexistent file.
   EXPECT_THROW(readBasis(path("does_not_exist.csv")), std::runtime_error);

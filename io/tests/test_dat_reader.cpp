@@ -35,8 +35,8 @@ int eIndex(const core::Model& m, int element, int comp) {
 
 // A small neutral model (no dialect-specific keyword) with one dynamic block.
 std::string neutral(const std::string& dynamic, const std::string& kinematicExtra = "") {
-  return "PLBEAM 1 1 2 3 4\nX 3 1 0\nFIX 1\nFIX 2\nDYNE 1 2 3\n" + kinematicExtra + "END\nHALT\n" +
-         dynamic + "END\nEND\n";
+  return "PLBEAM 1 1 2 3 4\nX 3 1 0\nFIX 1\nFIX 2\nDYNE 1 2 3\n" + kinematicExtra + "END\nHALT\n" + dynamic +
+         "END\nEND\n";
 }
 
 }  // namespace
@@ -98,8 +98,7 @@ TEST(DatReader, Spacar2013ModelParsedFully) {
   ASSERT_EQ(m.numDofs(), 6);
   EXPECT_FALSE(m.dofs[0].isDeformation);
   EXPECT_EQ(m.dofs[0].index, xIndex(m, 6, 1));
-  const int expectDefs[] = {eIndex(m, 3, 1), eIndex(m, 1, 2), eIndex(m, 1, 3), eIndex(m, 2, 2),
-                            eIndex(m, 2, 3)};
+  const int expectDefs[] = {eIndex(m, 3, 1), eIndex(m, 1, 2), eIndex(m, 1, 3), eIndex(m, 2, 2), eIndex(m, 2, 3)};
   for (int k = 0; k < 5; ++k) {
     EXPECT_TRUE(m.dofs[k + 1].isDeformation);
     EXPECT_EQ(m.dofs[k + 1].index, expectDefs[k]);
@@ -321,8 +320,7 @@ TEST(DatReader, BlockRules) {
   EXPECT_NO_THROW(io::readDatString(kin + "END\nEOF\n"));
   // 2013+: END HALT ... END END; whatever follows is not read.
   {
-    const core::Model m =
-        io::readDatString(kin + "END\nHALT\nXM 3 2\nEND\nEND\nthis is not read \"\nPLBEEM\n");
+    const core::Model m = io::readDatString(kin + "END\nHALT\nXM 3 2\nEND\nEND\nthis is not read \"\nPLBEEM\n");
     EXPECT_DOUBLE_EQ(m.lumpedMasses.at(0).value, 2.0);
   }
   // HALT after a dynamic block ends the input too.
@@ -332,8 +330,7 @@ TEST(DatReader, BlockRules) {
   }
   // SPACAR95: several dynamic blocks, each closed by END, then EOF or the end of the file.
   {
-    const core::Model m =
-        io::readDatString(kin + "END\nMASS 3 2\nEND\nTIMESTEP 10 1.5\nEND\nEOF\nnot read\n");
+    const core::Model m = io::readDatString(kin + "END\nMASS 3 2\nEND\nTIMESTEP 10 1.5\nEND\nEOF\nnot read\n");
     EXPECT_DOUBLE_EQ(m.lumpedMasses.at(0).value, 2.0);
     EXPECT_DOUBLE_EQ(m.settings.tEnd, 1.5);
     EXPECT_EQ(m.settings.outputIntervals, 10);
@@ -347,8 +344,8 @@ TEST(DatReader, BlockRules) {
   EXPECT_NO_THROW(io::readDatString(kin + "END\nHALT\nXM 3 2\nEND\nVISUALIZATION\nx y z\n"));
   // INPUTX: role in the kinematic block, values in a dynamic block.
   {
-    const core::Model m = io::readDatString(
-        "PLBEAM 1 1 2 3 4\nX 3 1 0\nFIX 1\nINPUTX 2\nEND\nHALT\nINPUTX 2 1 0.5 2\nEND\nEND\n");
+    const core::Model m =
+        io::readDatString("PLBEAM 1 1 2 3 4\nX 3 1 0\nFIX 1\nINPUTX 2\nEND\nHALT\nINPUTX 2 1 0.5 2\nEND\nEND\n");
     ASSERT_EQ(m.inputX.size(), 1u);
     EXPECT_DOUBLE_EQ(m.inputX[0].x0, 0.5);
     EXPECT_DOUBLE_EQ(m.inputX[0].v, 2.0);
@@ -460,8 +457,8 @@ TEST(DatReader, InputValuesForDeformations) {
 }
 
 TEST(DatReader, StaticKeywords2013) {
-  const core::Model m = io::readDatString(
-      neutral("DELXF 3 1 2\nXF 3 1\nXF 3 0.5 0.25\nDELINPX 3 1 0.1\n", "INPUTX 3 1\nXY 3 1.5 0.5\n"));
+  const core::Model m =
+      io::readDatString(neutral("DELXF 3 1 2\nXF 3 1\nXF 3 0.5 0.25\nDELINPX 3 1 0.1\n", "INPUTX 3 1\nXY 3 1.5 0.5\n"));
   const int x3 = xIndex(m, 3, 1);
   EXPECT_DOUBLE_EQ(m.x0[x3], 1.5);
   EXPECT_DOUBLE_EQ(m.x0[x3 + 1], 0.5);
@@ -518,9 +515,9 @@ TEST(KeywordTable, SuggestionsAndListing) {
   std::ostringstream out;
   io::printKeywords(out);
   const std::string s = out.str();
-  for (const char* needle : {"PLBEAM e p1 o1 p2 o2", "PLHINGE e o1 o2", "TIMESTEP T n", "TIMESTEP n T",
-                             "XFT n i \"f(t)\"", "USERINP", "not supported", "EMASS", "ITERSTEP",
-                             "VISUALIZATION", "INPUTX n [i ...]", "INPUTX n i x [v [a]]"})
+  for (const char* needle :
+       {"PLBEAM e p1 o1 p2 o2", "PLHINGE e o1 o2", "TIMESTEP T n", "TIMESTEP n T", "XFT n i \"f(t)\"", "USERINP",
+        "not supported", "EMASS", "ITERSTEP", "VISUALIZATION", "INPUTX n [i ...]", "INPUTX n i x [v [a]]"})
     EXPECT_NE(s.find(needle), std::string::npos) << needle << "\n" << s;
   // Every keyword of the table respects the 8-character limit, bar SPACAR's own long names.
   for (const auto& k : io::keywordTable())

@@ -67,14 +67,14 @@ TEST(Spacar95Blocks, OneBlockHoldsEverythingAndALaterBlockContinues) {
 
   const core::Model& m2 = stages[1].model;
   EXPECT_TRUE(stages[1].runs);
-  EXPECT_DOUBLE_EQ(m2.settings.t0, 0.5);   // continues at the end of the first block
+  EXPECT_DOUBLE_EQ(m2.settings.t0, 0.5);  // continues at the end of the first block
   EXPECT_DOUBLE_EQ(m2.settings.tEnd, 0.75);
   EXPECT_EQ(m2.settings.outputIntervals, 20);
   EXPECT_EQ(m2.numDofs(), m1.numDofs());
   const core::Rheonomic& r2 = inputOf(m2, 12, 1);
   EXPECT_DOUBLE_EQ(r2.tRef, 0.5);
   EXPECT_NEAR(r2.x0, 2 * M_PI * 0.5, 1e-15);  // the value where block 1 ended
-  EXPECT_DOUBLE_EQ(r2.v, M_PI);              // the new rate from t = 0.5 on
+  EXPECT_DOUBLE_EQ(r2.v, M_PI);               // the new rate from t = 0.5 on
   double x, v, a;
   r2.evaluate(0.75, x, v, a);
   EXPECT_NEAR(x, M_PI + M_PI * 0.25, 1e-14);
@@ -179,8 +179,8 @@ TEST(Spacar2013Light, IterstepFieldsAndWholeNumbersWithDecimals) {
   EXPECT_EQ(m.settings.initialLoadSteps, 0);  // SPACAR Light writes 0 without initial loads
   EXPECT_EQ(io::readDatString(kin + "ITERSTEP 10 2\nEND\nEND\n").settings.initialLoadSteps, 0);
   EXPECT_EQ(io::readDatString(kin + "TIMESTEP 1 1.0E1\nEND\nEND\n").settings.outputIntervals, 10);
-  EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 2.5 9\nEND\nEND\n"),
-                       "expected an integer for maximum iterations, found '2.5'"));
+  EXPECT_TRUE(
+      contains(errorOf(kin + "ITERSTEP 2.5 9\nEND\nEND\n"), "expected an integer for maximum iterations, found '2.5'"));
   EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 10 9 5e-7 1 3 9 4\nEND\nEND\n"), "expected 2 to 6"));
   EXPECT_TRUE(contains(errorOf(kin + "ITERSTEP 10 9 5e-7 1 3 -1\nEND\nEND\n"), "non-negative integer"));
   EXPECT_TRUE(contains(errorOf(kin + "OUTLEVEL 1 0.5\nEND\nEND\n"), "expected an integer for transfer functions"));
@@ -211,10 +211,10 @@ TEST(DatNumbers, DecimalCommaIsAnError) {
 
 // Item 6: every SPACAR keyword is known: supported, or "SPACAR keyword, not supported by flexmb yet".
 TEST(DatKeywords, EverySpacarKeywordIsKnown) {
-  const char* unsupported[] = {"BEAM", "BEAMNL", "BEAMW", "RBEAM", "TRUSS", "HINGE", "BEARING", "SURFACE",
-                               "PINBODY", "TUBE", "SCREW", "LAMBDA", "XYZ", "L2MIN1", "PLBELT", "PLBEAR",
-                               "PLWHEEL", "PLTUBE", "PLPINBODY", "NOMS", "NOMF", "REFES", "REFEF", "INPUTF",
-                               "INX", "OUTF", "OUTX", "OUTXP", "LINE", "ENHC"};
+  const char* unsupported[] = {"BEAM",    "BEAMNL", "BEAMW",     "RBEAM",  "TRUSS", "HINGE",  "BEARING", "SURFACE",
+                               "PINBODY", "TUBE",   "SCREW",     "LAMBDA", "XYZ",   "L2MIN1", "PLBELT",  "PLBEAR",
+                               "PLWHEEL", "PLTUBE", "PLPINBODY", "NOMS",   "NOMF",  "REFES",  "REFEF",   "INPUTF",
+                               "INX",     "OUTF",   "OUTX",      "OUTXP",  "LINE",  "ENHC"};
   for (const char* k : unsupported) {
     const auto infos = io::findKeywords(k);
     ASSERT_FALSE(infos.empty()) << k;
@@ -223,9 +223,10 @@ TEST(DatKeywords, EverySpacarKeywordIsKnown) {
     EXPECT_TRUE(contains(err, "SPACAR keyword, not supported by flexmb yet (")) << k << ": " << err;
     EXPECT_FALSE(contains(err, "unknown")) << k << ": " << err;
   }
-  for (const char* k : {"LENGTH0", "LGEOMY", "DIR", "EPSIND", "FORCEMODE", "ANIMATE", "MATASC", "RESTART", "JOBID",
-                        "EOF", "TIME", "XY", "BETA", "E", "ED", "EDD", "XD", "XDD", "HMAX", "MAXITERAT", "EPSKIN",
-                        "EPSINT", "OUTLEVEL", "ITERSTEP", "ESIG"}) {
+  for (const char* k :
+       {"LENGTH0", "LGEOMY",    "DIR",    "EPSIND", "FORCEMODE", "ANIMATE",  "MATASC", "RESTART", "JOBID",
+        "EOF",     "TIME",      "XY",     "BETA",   "E",         "ED",       "EDD",    "XD",      "XDD",
+        "HMAX",    "MAXITERAT", "EPSKIN", "EPSINT", "OUTLEVEL",  "ITERSTEP", "ESIG"}) {
     const auto infos = io::findKeywords(k);
     ASSERT_FALSE(infos.empty()) << k;
     EXPECT_NE(infos.front()->action, io::Action::Unsupported) << k;

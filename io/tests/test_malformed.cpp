@@ -46,53 +46,53 @@ std::vector<Case> catalogue() {
       {"missing_arguments", kin({"PLBEAM 1 1 2 3"}), 1,
        "PLBEAM: expected 5 integers (element, node p, orientation p, node q, orientation q), found 4"},
       {"too_many_arguments", kin({"PLBEAM 1 1 2 3 4 5"}), 1, "found 6"},
-      {"missing_mass", dyn({"XM 3"}), 8, "XM: expected 2 to 7 numbers (node, mass, [Ixy], [Ixz], [Iyy], [Iyz], [Izz]), found 1"},
+      {"missing_mass", dyn({"XM 3"}), 8,
+       "XM: expected 2 to 7 numbers (node, mass, [Ixy], [Ixz], [Iyy], [Iyz], [Izz]), found 1"},
       {"too_many_inertia", dyn({"EM 1 1 2 3"}), 8, "PLBEAM 1 takes 1 or 2 mass parameters (rhoA, rhoI), found 3"},
-      {"end_with_argument", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "END 5"}), 3,
-       "expected no arguments, found 1"},
+      {"end_with_argument", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "END 5"}), 3, "expected no arguments, found 1"},
       {"orientation_node_as_position", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "PLTRUSS 2 3 2"}), 3,
        "node 2 is used as a position node here (PLTRUSS 2, node q) but as an orientation node by "
        "PLBEAM 1 (orientation p) at line 1"},
       {"position_node_as_orientation", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "PLHINGE 2 3 4"}), 3,
        "node 3 is used as an orientation node here"},
-      {"xy_on_orientation_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "XY 2 1 0"}), 3,
-       "node 2 is an orientation node"},
-      {"beta_on_position_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "BETA 3 0.1"}), 3,
-       "node 3 is a position node"},
+      {"xy_on_orientation_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "XY 2 1 0"}), 3, "node 2 is an orientation node"},
+      {"beta_on_position_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "BETA 3 0.1"}), 3, "node 3 is a position node"},
       {"undefined_node_fix", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "FIX 9 1"}), 3,
        "FIX: node 9 is not used by any element"},
       {"undefined_node_mass", dyn({"XM 9 1.0"}), 8, "node 9 is not used by any element"},
-      {"undefined_element_dyne", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "DYNE 7 1"}), 3,
-       "DYNE: element 7 is not defined"},
+      {"undefined_element_dyne", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "DYNE 7 1"}), 3, "DYNE: element 7 is not defined"},
       {"undefined_element_estiff", dyn({"ESTIFF 5 1 2"}), 8, "ESTIFF: element 5 is not defined"},
       {"duplicate_element", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "X 5 2 0", "PLBEAM 1 3 4 5 6"}), 4,
        "element 1 is already defined (PLBEAM 1 at line 1)"},
-      {"bad_number_dots", kin({"PLBEAM 1 1 2 3 4", "X 3 1.2.3 0"}), 2,
-       "expected a number for c1, found '1.2.3'"},
+      {"bad_number_dots", kin({"PLBEAM 1 1 2 3 4", "X 3 1.2.3 0"}), 2, "expected a number for c1, found '1.2.3'"},
       {"bad_number_word", dyn({"ESTIFF 1 abc 10"}), 8, "expected a number for parameter, found 'abc'"},
-      {"integer_expected_node", kin({"PLBEAM 1 1.5 2 3 4"}), 1,
-       "expected an integer for node p, found '1.5'"},
+      {"integer_expected_node", kin({"PLBEAM 1 1.5 2 3 4"}), 1, "expected an integer for node p, found '1.5'"},
       {"integer_expected_component", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "DYNE 1 2.5"}), 3,
        "expected an integer for component, found '2.5'"},
-      {"unknown_keyword_suggestion", kin({"PLBEEM 1 1 2 3 4"}), 1,
-       "unknown keyword 'PLBEEM'; did you mean PLBEAM?"},
+      {"unknown_keyword_suggestion", kin({"PLBEEM 1 1 2 3 4"}), 1, "unknown keyword 'PLBEEM'; did you mean PLBEAM?"},
       {"unknown_keyword", dyn({"FOOBARQ 1"}), 8, "unknown keyword 'FOOBARQ'"},
-      {"unsupported_beamw", kin({"BEAMW 1 1 2 3 4 5 6 0 1 0"}), 1, "BEAMW: SPACAR keyword, not supported by flexmb yet"},
-      {"beam_without_y_axis", kin({"BEAM 1 1 2 3 4"}), 1, "BEAM: expected 8 numbers (element, node p, orientation p, node q, orientation q, y1, y2, y3), found 5"},
-      {"planar_and_spatial", kin({"PLBEAM 1 1 2 3 4", "BEAM 2 5 6 7 8 0 1 0"}), 2, "planar and spatial elements cannot be mixed in one model: planar PLBEAM 1 (line 1) and spatial BEAM 2 (line 2)"},
+      {"unsupported_beamw", kin({"BEAMW 1 1 2 3 4 5 6 0 1 0"}), 1,
+       "BEAMW: SPACAR keyword, not supported by flexmb yet"},
+      {"beam_without_y_axis", kin({"BEAM 1 1 2 3 4"}), 1,
+       "BEAM: expected 8 numbers (element, node p, orientation p, node q, orientation q, y1, y2, y3), found 5"},
+      {"planar_and_spatial", kin({"PLBEAM 1 1 2 3 4", "BEAM 2 5 6 7 8 0 1 0"}), 2,
+       "planar and spatial elements cannot be mixed in one model: planar PLBEAM 1 (line 1) and spatial BEAM 2 (line "
+       "2)"},
       {"unsupported_plwheel", kin({"PLWHEEL 1 1 2 3"}), 1, "not supported by flexmb yet"},
-      {"userinp_not_a_name", dyn({"USERINP 1"}), 8, "expected a MATLAB function name for MATLAB function name, found '1'"},
+      {"userinp_not_a_name", dyn({"USERINP 1"}), 8,
+       "expected a MATLAB function name for MATLAB function name, found '1'"},
       {"usersig_without_name", dyn({"USERSIG"}), 8, "expected 1 argument (MATLAB function name)"},
       {"missing_end_dynamic", join(kKin) + "END\nHALT\nXM 3 1\n", 8,
        "end of file inside the dynamic block (begun at line 8): missing END"},
       {"missing_end_kinematic", "PLBEAM 1 1 2 3 4\nX 3 1 0\nFIX 1\n", 3,
        "end of file inside the kinematic block (begun at line 1): missing END"},
       {"missing_end_s95_second_block", join(kKin) + "END\nMASS 3 1\nEND\nHMAX 1\n", 9, "missing END"},
-      {"eof_inside_block", "PLBEAM 1 1 2 3 4\nX 3 1 0\nEOF\n", 3, "EOF: inside the first block (begun at line 1): missing END"},
-      {"halt_inside_block", "PLBEAM 1 1 2 3 4\nX 3 1 0\nHALT\n", 3, "HALT: inside the first block (begun at line 1): missing END"},
+      {"eof_inside_block", "PLBEAM 1 1 2 3 4\nX 3 1 0\nEOF\n", 3,
+       "EOF: inside the first block (begun at line 1): missing END"},
+      {"halt_inside_block", "PLBEAM 1 1 2 3 4\nX 3 1 0\nHALT\n", 3,
+       "HALT: inside the first block (begun at line 1): missing END"},
       {"expression_unbalanced", dyn({"XFT 3 1 " + Q + "sin(t" + Q}), 8, "invalid expression for f(t)"},
-      {"expression_unknown_variable", dyn({"XFT 3 1 " + Q + "2*x" + Q}), 8,
-       "invalid expression for f(t) \"2*x\""},
+      {"expression_unknown_variable", dyn({"XFT 3 1 " + Q + "2*x" + Q}), 8, "invalid expression for f(t) \"2*x\""},
       {"expression_two_values", dyn({"XFT 3 1 " + Q + "1,2" + Q}), 8, "values"},
       {"expression_unquoted", dyn({"XFT 3 1 sin(t)"}), 8, "expected a quoted expression for f(t)"},
       {"unterminated_string", dyn({"XFT 3 1 " + Q + "sin(t)"}), 8, "unterminated quoted string"},
@@ -107,8 +107,7 @@ std::vector<Case> catalogue() {
       {"component_zero", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "FIX 1 0"}), 3,
        "expected a positive integer for component, found '0'"},
       {"keyword_too_long", kin({"PLBEAMXYZ 1 1 2 3 4"}), 1, "longer than 8 characters"},
-      {"stiffness_count", dyn({"ESTIFF 1 1e6"}), 8,
-       "PLBEAM 1 takes 2 stiffness parameters (EA, EI), found 1"},
+      {"stiffness_count", dyn({"ESTIFF 1 1e6"}), 8, "PLBEAM 1 takes 2 stiffness parameters (EA, EI), found 1"},
       {"damping_count", dyn({"ESTIFF 1 1 2", "EDAMP 1 1 2 3"}), 9, "takes 2 damping parameters"},
       {"negative_mass", dyn({"XM 3 -1"}), 8, "negative mass"},
       {"negative_mass_per_length", dyn({"EM 1 -2"}), 8, "negative mass per unit length"},
@@ -302,9 +301,15 @@ TEST(Malformed, TruncatedAndMutatedInputsNeverCrash) {
     for (int j = 0; j < edits && !s.empty(); ++j) {
       const size_t at = rng() % s.size();
       switch (rng() % 3) {
-        case 0: s[at] = alphabet[rng() % alphabet.size()]; break;
-        case 1: s.erase(at, 1 + rng() % 8); break;
-        default: s.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+        case 0:
+          s[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 1:
+          s.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          s.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
       }
     }
     parsesOrDatError(s, "mutation");

@@ -2,12 +2,12 @@
 // against its displacement field, and the documents' structure (parsed by Python's XML parser).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "io/DatReader.hpp"
 #include "io/HtmlAnimation.hpp"
@@ -143,7 +143,8 @@ TEST(MechanismSvg, ModelPictureNamesEveryNodeElementAndRole) {
   const fs::path file = dir.path / "model.svg";
   io::writeModelSvg(file.string(), g, d);
   EXPECT_EQ(slurp(file), svg);
-  EXPECT_EQ(run("/usr/bin/python3 -c \"import xml.etree.ElementTree as E; E.parse('" + file.string() + "')\" 2>&1"), "");
+  EXPECT_EQ(run("/usr/bin/python3 -c \"import xml.etree.ElementTree as E; E.parse('" + file.string() + "')\" 2>&1"),
+            "");
   for (const char* label : {">[1]<", ">[2]<", ">[3]<", ">[4]<"}) EXPECT_NE(svg.find(label), std::string::npos) << label;
   for (const char* node : {">1<", ">3<", ">5<", ">8<"}) EXPECT_NE(svg.find(node), std::string::npos) << node;
   EXPECT_NE(svg.find("two &lt;link&gt; &amp; &quot;test&quot;"), std::string::npos);
@@ -198,8 +199,9 @@ TEST(VtkWriter, SeriesHasOneWellFormedVtuPerOutputTime) {
   EXPECT_EQ(fs::path(files[3]).filename(), "run_00002.vtu");
   EXPECT_EQ(fs::path(files[3]).parent_path().filename(), "run_vtu");
   for (const auto& f : files) EXPECT_TRUE(fs::exists(f)) << f;
-  const std::string pvd = run("/usr/bin/python3 -c \"import xml.etree.ElementTree as E; r = E.parse('" + files[0] +
-                              "').getroot(); print(' '.join(d.get('timestep') + ':' + d.get('file') for d in r.iter('DataSet')))\"");
+  const std::string pvd =
+      run("/usr/bin/python3 -c \"import xml.etree.ElementTree as E; r = E.parse('" + files[0] +
+          "').getroot(); print(' '.join(d.get('timestep') + ':' + d.get('file') for d in r.iter('DataSet')))\"");
   EXPECT_EQ(pvd, "0:run_vtu/run_00000.vtu 0.1:run_vtu/run_00001.vtu 0.2:run_vtu/run_00002.vtu\n");
 
   const fs::path script = dir.path / "vtu.py";

@@ -36,8 +36,7 @@ const ElementTypeInfo& beamType() {
   static const ElementTypeInfo info = [] {
     ElementTypeInfo t;
     t.keyword = "PLBEAM";
-    t.slots = {NodeKind::Position, NodeKind::Orientation, NodeKind::Position,
-               NodeKind::Orientation};
+    t.slots = {NodeKind::Position, NodeKind::Orientation, NodeKind::Position, NodeKind::Orientation};
     t.deformationNames = {"elongation", "bending p", "bending q"};
     t.create = nullptr;
     return t;
@@ -141,8 +140,7 @@ class ResultWriterTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("flexmb_result_writer_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("flexmb_result_writer_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -192,9 +190,7 @@ double parseExact(const std::string& s) {
   return v;
 }
 
-bool haveScipy() {
-  return std::system("/usr/bin/python3 -c 'import scipy.io, numpy' >/dev/null 2>&1") == 0;
-}
+bool haveScipy() { return std::system("/usr/bin/python3 -c 'import scipy.io, numpy' >/dev/null 2>&1") == 0; }
 
 std::string runCommand(const std::string& cmd, int& status) {
   std::string out;
@@ -215,11 +211,10 @@ std::string runCommand(const std::string& cmd, int& status) {
 TEST(ResultWriterNames, ColumnNamesFollowModelLabels) {
   const Model m = makeModel();
   EXPECT_EQ(flexmb::io::coordinateColumnNames(m),
-            (std::vector<std::string>{"node3.x", "node3.y", "node103.angle", "node4.x", "node4.y",
-                                      "node104.angle"}));
+            (std::vector<std::string>{"node3.x", "node3.y", "node103.angle", "node4.x", "node4.y", "node104.angle"}));
   EXPECT_EQ(flexmb::io::deformationColumnNames(m),
-            (std::vector<std::string>{"PLBEAM5.e1_elongation", "PLBEAM5.e2_bending_p",
-                                      "PLBEAM5.e3_bending_q", "PLHINGE7.e1_relative_rotation"}));
+            (std::vector<std::string>{"PLBEAM5.e1_elongation", "PLBEAM5.e2_bending_p", "PLBEAM5.e3_bending_q",
+                                      "PLHINGE7.e1_relative_rotation"}));
 }
 
 TEST_F(ResultWriterTest, CsvHeadersAndExactValues) {
@@ -232,8 +227,7 @@ TEST_F(ResultWriterTest, CsvHeadersAndExactValues) {
   const std::vector<std::string> xHeader = {"time",    "node3.x", "node3.y",      "node103.angle",
                                             "node4.x", "node4.y", "node104.angle"};
   const std::vector<std::string> eHeader = {"time", "PLBEAM5.e1_elongation", "PLBEAM5.e2_bending_p",
-                                            "PLBEAM5.e3_bending_q",
-                                            "PLHINGE7.e1_relative_rotation"};
+                                            "PLBEAM5.e3_bending_q", "PLHINGE7.e1_relative_rotation"};
   for (int k = 0; k < 7; ++k) {
     const std::string expected = prefix + "_" + kNames[k] + ".csv";
     EXPECT_EQ(files[k], expected);
@@ -287,8 +281,7 @@ TEST_F(ResultWriterTest, MatReadsBackWithScipy) {
           "    print('csvdiff', n, repr(float(d)))\n";
   }
   int status = 0;
-  const std::string out =
-      runCommand("/usr/bin/python3 '" + script + "' '" + mat + "' '" + prefix + "' 2>&1", status);
+  const std::string out = runCommand("/usr/bin/python3 '" + script + "' '" + mat + "' '" + prefix + "' 2>&1", status);
   ASSERT_EQ(status, 0) << out;
 
   struct Var {
@@ -449,8 +442,9 @@ TEST(ResultWriterOrientation, EulerNodeRotationVectorAndMatrix) {
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "time,node2.rx,node2.ry,node2.rz,node2.R11,node2.R12,node2.R13,node2.R21,node2.R22,"
-                    "node2.R23,node2.R31,node2.R32,node2.R33");
+  EXPECT_EQ(header,
+            "time,node2.rx,node2.ry,node2.rz,node2.R11,node2.R12,node2.R13,node2.R21,node2.R22,"
+            "node2.R23,node2.R31,node2.R32,node2.R33");
   for (int k = 0; k < 3; ++k) {
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
@@ -458,10 +452,9 @@ TEST(ResultWriterOrientation, EulerNodeRotationVectorAndMatrix) {
     std::stringstream ls(line);
     for (std::string cell; std::getline(ls, cell, ',');) v.push_back(std::stod(cell));
     ASSERT_EQ(v.size(), 13u);
-    const Eigen::Matrix3d K = (Eigen::Matrix3d() << 0, -axis[2], axis[1], axis[2], 0, -axis[0], -axis[1],
-                               axis[0], 0).finished();
-    const Eigen::Matrix3d R =
-        Eigen::Matrix3d::Identity() + std::sin(angles[k]) * K + (1 - std::cos(angles[k])) * K * K;
+    const Eigen::Matrix3d K =
+        (Eigen::Matrix3d() << 0, -axis[2], axis[1], axis[2], 0, -axis[0], -axis[1], axis[0], 0).finished();
+    const Eigen::Matrix3d R = Eigen::Matrix3d::Identity() + std::sin(angles[k]) * K + (1 - std::cos(angles[k])) * K * K;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[1 + c], angles[k] * axis[c], 1e-14) << "time " << k;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) EXPECT_NEAR(v[4 + 3 * i + j], R(i, j), 1e-14) << "time " << k;

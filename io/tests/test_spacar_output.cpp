@@ -23,7 +23,8 @@ core::Model hingedBeam(const std::string& hingeRole) {
   std::ostringstream s;
   s << "PLHINGE 100  200 201\nPLBEAM 1  1 201  2 202\nPLBEAM 2  2 202  3 203\n"
     << "X 1 0 0\nX 2 0.5 0.1\nX 3 1.0 0.15\nFIX 1\nFIX 200\n"
-    << "DYNE 1 1 2 3\nDYNE 2 2 3\n" << hingeRole << " 100 1\nEND\nHALT\n";
+    << "DYNE 1 1 2 3\nDYNE 2 2 3\n"
+    << hingeRole << " 100 1\nEND\nHALT\n";
   if (hingeRole == "INPUTE") s << "INPUTET 100 1 \"0\" \"0\" \"0\"\n";
   s << "EM 1 1.0\nEM 2 1.0\nESTIFF 1 1e4 1\nESTIFF 2 1e4 1\nTIMESTEP 1 10\nEND\nEND\n";
   const fs::path p = fs::temp_directory_path() / ("flexmb_spacar_output_" + hingeRole + ".dat");
@@ -89,7 +90,8 @@ TEST(SpacarOutput, TransferFunctionsAreFirstOrderSolutions) {
   for (std::size_t c = 0; c < La.dofColumns.size(); ++c) {
     int jb = -1;
     for (int j = 0; j < b.numDofs(); ++j)
-      if (b.dofs[j].isDeformation == La.dofColumns[c].isDeformation && b.dofs[j].index == La.dofColumns[c].index) jb = j;
+      if (b.dofs[j].isDeformation == La.dofColumns[c].isDeformation && b.dofs[j].index == La.dofColumns[c].index)
+        jb = j;
     ASSERT_GE(jb, 0);
     EXPECT_LT((dxa.col(static_cast<int>(c)) - dxb.col(jb)).cwiseAbs().maxCoeff(), 1e-12) << "column " << c;
   }

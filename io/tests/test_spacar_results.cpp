@@ -42,17 +42,18 @@ io::SpacarResults oneStep(const core::Model& m) {
 TEST(SpacarResults, LayoutAndTopology) {
   const core::Model m = fourbar();
   const io::SpacarLayout L = io::spacarLayout(m);
-  EXPECT_EQ(L.nxp[0], 5);   // nodes 1, 4 (2 each) and orientation 10
+  EXPECT_EQ(L.nxp[0], 5);  // nodes 1, 4 (2 each) and orientation 10
   EXPECT_EQ(L.nxp[2] + L.nxp[3], 0);
-  EXPECT_EQ(L.nep[1], 3);   // released hinges 5, 6, 7
-  EXPECT_EQ(L.nep[2], 1);   // input hinge 4
-  EXPECT_EQ(L.nep[3], 2);   // DYNE 2 2 3
+  EXPECT_EQ(L.nep[1], 3);  // released hinges 5, 6, 7
+  EXPECT_EQ(L.nep[2], 1);  // input hinge 4
+  EXPECT_EQ(L.nep[3], 2);  // DYNE 2 2 3
   EXPECT_EQ(L.ndof(), 3);
   EXPECT_EQ(L.nddof(), 2);
   const io::SpacarTopology T = io::spacarTopology(m, L);
   // x(lnp(n, k)) is coordinate k of node n: lnp points at the node's coordinates.
   for (const auto& n : m.nodes)
-    for (int k = 0; k < n.dim(); ++k) EXPECT_EQ(L.xOrder[static_cast<int>(T.lnp(n.label - 1, k)) - 1], n.firstCoord + k);
+    for (int k = 0; k < n.dim(); ++k)
+      EXPECT_EQ(L.xOrder[static_cast<int>(T.lnp(n.label - 1, k)) - 1], n.firstCoord + k);
   EXPECT_EQ(T.lnp.cols(), 2);
   EXPECT_EQ(T.lnp(10 - 1, 1), 0.0);  // an orientation node has one coordinate
   // e(le(el, j)) is deformation j of element el; the released ones come last.
@@ -125,8 +126,7 @@ TEST(SpacarResults, UserFunctionNamesAreReadForTheGateway) {
 // it (reshape(rxyz(el, :), 3, 3)); rows of unused labels are zero; planar models store 0 x 0.
 TEST(SpacarResults, ElementTriadsOfSpatialBeams) {
   const core::Model m = io::readDatString(
-      "BEAM 2 1 2 3 4 0 1 1\nX 1 0 0 0\nX 3 1 1 0\nFIX 1\nFIX 2\nDYNE 2 1 2 3 4 5 6\nEND\nHALT\nEND\nEND\n",
-      "b.dat");
+      "BEAM 2 1 2 3 4 0 1 1\nX 1 0 0 0\nX 3 1 1 0\nFIX 1\nFIX 2\nDYNE 2 1 2 3 4 5 6\nEND\nHALT\nEND\nEND\n", "b.dat");
   const Eigen::MatrixXd R = io::spacarElementTriads(m, 3);
   ASSERT_EQ(R.rows(), 3);
   ASSERT_EQ(R.cols(), 9);

@@ -64,9 +64,8 @@ print('coords %g %g %g %g' % (min(xs), min(ys), max(xs), max(ys)) if xs else 'co
 class TempDir {
  public:
   TempDir() {
-    path_ = fs::temp_directory_path() /
-            ("flexmb_svg_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    path_ = fs::temp_directory_path() / ("flexmb_svg_" + std::to_string(::getpid()) + "_" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -91,8 +90,7 @@ struct Analysis {
     return std::find(texts.begin(), texts.end(), std::make_pair(cls, content)) != texts.end();
   }
   int countClass(const std::string& cls) const {
-    return static_cast<int>(std::count_if(texts.begin(), texts.end(),
-                                          [&](const auto& t) { return t.first == cls; }));
+    return static_cast<int>(std::count_if(texts.begin(), texts.end(), [&](const auto& t) { return t.first == cls; }));
   }
 };
 
@@ -172,8 +170,7 @@ TEST(SvgPlotTicks, LinearTicksOn125GridInsideRange) {
     ASSERT_LE(t.size(), 8u);
     const double step = t[1] - t[0];
     const double mant = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
-    EXPECT_TRUE(std::abs(mant - 1) < 1e-6 || std::abs(mant - 2) < 1e-6 || std::abs(mant - 5) < 1e-6)
-        << "step " << step;
+    EXPECT_TRUE(std::abs(mant - 1) < 1e-6 || std::abs(mant - 2) < 1e-6 || std::abs(mant - 5) < 1e-6) << "step " << step;
     for (std::size_t i = 0; i < t.size(); ++i) {
       EXPECT_GE(t[i], lo);
       EXPECT_LE(t[i], hi);
@@ -184,8 +181,7 @@ TEST(SvgPlotTicks, LinearTicksOn125GridInsideRange) {
     }
   }
   // The values are the doubles nearest the decimals, and all the grid points in the range.
-  EXPECT_EQ(linearTicks(0.013, 0.087),
-            (std::vector<double>{0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08}));
+  EXPECT_EQ(linearTicks(0.013, 0.087), (std::vector<double>{0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08}));
   EXPECT_EQ(linearTicks(1.0, 1.0), std::vector<double>{1.0});
   EXPECT_EQ(linearTicks(1.0, 0.0).front(), 0.0);  // swapped bounds
   EXPECT_TRUE(linearTicks(kNaN, 1.0).empty());
@@ -198,7 +194,7 @@ TEST(SvgPlotTicks, LogTicksAreDecades) {
   EXPECT_LE(wide.size(), 8u);
   for (double v : wide) EXPECT_DOUBLE_EQ(v, std::pow(10.0, std::round(std::log10(v))));
   EXPECT_EQ(logTicks(2.0, 5.0), (std::vector<double>{2.0, 5.0}));  // no decade inside: 1-2-5
-  EXPECT_FALSE(logTicks(1.1, 1.9).empty());                       // within 1-2-5: linear
+  EXPECT_FALSE(logTicks(1.1, 1.9).empty());                        // within 1-2-5: linear
   EXPECT_TRUE(logTicks(-1.0, 10.0).empty());
 }
 

@@ -77,8 +77,8 @@ Trace runPair(bool analytic, double relTol, double absTol, const std::vector<dou
   Trace r;
   OdeJacobian jac;
   if (analytic) jac = [&](double, const VectorXd&, const VectorXd&, Eigen::Ref<MatrixXd> J) { p.jacobian(J); };
-  r.res = Bdf(o).integrate([&](double, const VectorXd& y, VectorXd& dy) { p.rhs(y, dy); }, jac, tspan, p.y0(),
-                           recorder(r));
+  r.res =
+      Bdf(o).integrate([&](double, const VectorXd& y, VectorXd& dy) { p.rhs(y, dy); }, jac, tspan, p.y0(), recorder(r));
   return r;
 }
 
@@ -86,8 +86,8 @@ double worstError(const Trace& r) {
   const StiffPair p;
   double worst = 0.0;
   for (size_t k = 0; k < r.t.size(); ++k)
-    worst = std::max({worst, std::abs(r.y[k][0] - p.exact(0, r.t[k], 1.0)),
-                      std::abs(r.y[k][1] - p.exact(1, r.t[k], 0.1))});
+    worst =
+        std::max({worst, std::abs(r.y[k][0] - p.exact(0, r.t[k], 1.0)), std::abs(r.y[k][1] - p.exact(1, r.t[k], 0.1))});
   return worst;
 }
 
@@ -187,7 +187,8 @@ TEST(Bdf, AcceptedStepHook) {
   // A hook that fails stops the run with its message.
   Trace f;
   f.res = Bdf().integrate([&](double, const VectorXd& y, VectorXd& dy) { p.rhs(y, dy); }, {}, {0.0, 1.0}, p.y0(),
-                          recorder(f), [](double t, const VectorXd&) {
+                          recorder(f),
+                          [](double t, const VectorXd&) {
                             if (t > 0.2) throw RhsError("kinematics failed");
                           });
   EXPECT_EQ(f.res.status, OdeStatus::RhsFailed);
@@ -212,8 +213,9 @@ TEST(Bdf, RecoversFromATransientRhsFailure) {
   o.relTol = 1e-7;
   o.absTol = 1e-10;
   Trace r;
-  r.res = Bdf(o).integrate(f, [&](double, const VectorXd&, const VectorXd&, Eigen::Ref<MatrixXd> J) { p.jacobian(J); },
-                           grid(0.0, 1.0, 10), p.y0(), recorder(r));
+  r.res = Bdf(o).integrate(
+      f, [&](double, const VectorXd&, const VectorXd&, Eigen::Ref<MatrixXd> J) { p.jacobian(J); }, grid(0.0, 1.0, 10),
+      p.y0(), recorder(r));
   ASSERT_TRUE(failed);
   ASSERT_EQ(r.res.status, OdeStatus::Success) << r.res.message;
   EXPECT_LT(worstError(r), 500 * 1e-7);
@@ -262,9 +264,10 @@ TEST(Bdf, JacobianFailureIsRecoverableThenReported) {
   const StiffPair p;
   auto f = [&](double, const VectorXd& y, VectorXd& dy) { p.rhs(y, dy); };
   Trace r;
-  r.res = Bdf().integrate(f, [](double, const VectorXd&, const VectorXd&, Eigen::Ref<MatrixXd>) {
-    throw RhsError("singular configuration");
-  }, grid(0.0, 1.0, 10), p.y0(), recorder(r));
+  r.res = Bdf().integrate(
+      f,
+      [](double, const VectorXd&, const VectorXd&, Eigen::Ref<MatrixXd>) { throw RhsError("singular configuration"); },
+      grid(0.0, 1.0, 10), p.y0(), recorder(r));
   EXPECT_NE(r.res.status, OdeStatus::Success);
   EXPECT_NE(r.res.message.find("singular configuration"), std::string::npos) << r.res.message;
   EXPECT_EQ(r.t.size(), 1u);  // t0 only
@@ -273,9 +276,10 @@ TEST(Bdf, JacobianFailureIsRecoverableThenReported) {
 TEST(Bdf, NonFiniteRhsAndSingularSolutionStop) {
   // y' = y^2, y(0) = 1: y = 1/(1-t) blows up at t = 1.
   Trace r;
-  r.res = Bdf().integrate([](double, const VectorXd& y, VectorXd& dy) { dy[0] = y[0] * y[0]; },
-                          [](double, const VectorXd& y, const VectorXd&, Eigen::Ref<MatrixXd> J) { J(0, 0) = 2 * y[0]; },
-                          {0.0, 2.0}, VectorXd::Constant(1, 1.0), recorder(r));
+  r.res =
+      Bdf().integrate([](double, const VectorXd& y, VectorXd& dy) { dy[0] = y[0] * y[0]; },
+                      [](double, const VectorXd& y, const VectorXd&, Eigen::Ref<MatrixXd> J) { J(0, 0) = 2 * y[0]; },
+                      {0.0, 2.0}, VectorXd::Constant(1, 1.0), recorder(r));
   EXPECT_NE(r.res.status, OdeStatus::Success);
   EXPECT_LT(r.res.tLast, 1.0);
   EXPECT_GT(r.res.tLast, 0.99);
@@ -283,10 +287,12 @@ TEST(Bdf, NonFiniteRhsAndSingularSolutionStop) {
   for (const auto& y : r.y) EXPECT_TRUE(y.allFinite());
   // NaN from the right-hand side after t = 0.5.
   Trace n;
-  n.res = Bdf().integrate([](double t, const VectorXd& y, VectorXd& dy) {
-    dy[0] = -y[0];
-    if (t > 0.5) dy[0] = std::numeric_limits<double>::quiet_NaN();
-  }, {}, {0.0, 1.0}, VectorXd::Constant(1, 1.0), recorder(n));
+  n.res = Bdf().integrate(
+      [](double t, const VectorXd& y, VectorXd& dy) {
+        dy[0] = -y[0];
+        if (t > 0.5) dy[0] = std::numeric_limits<double>::quiet_NaN();
+      },
+      {}, {0.0, 1.0}, VectorXd::Constant(1, 1.0), recorder(n));
   EXPECT_EQ(n.res.status, OdeStatus::RhsFailed);
   EXPECT_NE(n.res.message.find("non-finite"), std::string::npos) << n.res.message;
   EXPECT_LE(n.res.tLast, 0.5);
@@ -294,9 +300,9 @@ TEST(Bdf, NonFiniteRhsAndSingularSolutionStop) {
 
 TEST(Bdf, ObserverCanStop) {
   int rows = 0;
-  const OdeResult res = Bdf().integrate([](double, const VectorXd& y, VectorXd& dy) { dy[0] = -y[0]; }, {},
-                                        grid(0.0, 1.0, 10), VectorXd::Constant(1, 1.0),
-                                        [&](double, const VectorXd&) { return ++rows < 4; });
+  const OdeResult res =
+      Bdf().integrate([](double, const VectorXd& y, VectorXd& dy) { dy[0] = -y[0]; }, {}, grid(0.0, 1.0, 10),
+                      VectorXd::Constant(1, 1.0), [&](double, const VectorXd&) { return ++rows < 4; });
   EXPECT_EQ(res.status, OdeStatus::Stopped);
   EXPECT_EQ(rows, 4);
 }
@@ -320,9 +326,10 @@ TEST(Bdf, RejectsBadArguments) {
   EXPECT_THROW(Bdf().integrate(f, {}, {0.0, 1.0}, VectorXd(), obs), std::invalid_argument);
   EXPECT_THROW(Bdf().integrate(f, {}, {0.0, 1.0}, VectorXd::Constant(1, NAN), obs), std::invalid_argument);
   using Change = void (*)(BdfOptions&);
-  for (Change bad : std::initializer_list<Change>{[](BdfOptions& o) { o.relTol = 0; }, [](BdfOptions& o) { o.absTol = -1; },
-                   [](BdfOptions& o) { o.maxStep = -1; }, [](BdfOptions& o) { o.maxOrder = 6; },
-                   [](BdfOptions& o) { o.relTol = NAN; }}) {
+  for (Change bad :
+       std::initializer_list<Change>{[](BdfOptions& o) { o.relTol = 0; }, [](BdfOptions& o) { o.absTol = -1; },
+                                     [](BdfOptions& o) { o.maxStep = -1; }, [](BdfOptions& o) { o.maxOrder = 6; },
+                                     [](BdfOptions& o) { o.relTol = NAN; }}) {
     BdfOptions o;
     bad(o);
     EXPECT_THROW(Bdf{o}, std::invalid_argument);

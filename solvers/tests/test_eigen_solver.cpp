@@ -72,8 +72,7 @@ Sparse blockDiag(const Sparse& a, const Sparse& b) {
   for (int c = 0; c < a.outerSize(); ++c)
     for (Sparse::InnerIterator it(a, c); it; ++it) t.emplace_back(it.row(), it.col(), it.value());
   for (int c = 0; c < b.outerSize(); ++c)
-    for (Sparse::InnerIterator it(b, c); it; ++it)
-      t.emplace_back(it.row() + a.rows(), it.col() + a.cols(), it.value());
+    for (Sparse::InnerIterator it(b, c); it; ++it) t.emplace_back(it.row() + a.rows(), it.col() + a.cols(), it.value());
   Sparse r(a.rows() + b.rows(), a.cols() + b.cols());
   r.setFromTriplets(t.begin(), t.end());
   return r;
@@ -145,11 +144,14 @@ TEST(EigenClosedForm, FormulasMatchFullDenseSpectrum) {
     const double top = formula(n - 1 + first);  // largest: the dense solver's absolute accuracy scale
     for (int j = 0; j < n; ++j) EXPECT_NEAR(es.eigenvalues()[j], formula(j + first), 1e-13 * top) << j;
   };
-  check(chainK(n, k, true, false), scaledIdentity(n, m), [&](int j) { return fixedFree(j, n, k, m); }, 1);
-  check(chainK(n, k, false, false), scaledIdentity(n, m), [&](int j) { return freeFree(j, n, k, m); }, 0);
+  check(
+      chainK(n, k, true, false), scaledIdentity(n, m), [&](int j) { return fixedFree(j, n, k, m); }, 1);
+  check(
+      chainK(n, k, false, false), scaledIdentity(n, m), [&](int j) { return freeFree(j, n, k, m); }, 0);
   const double EA = 2.0e7, rhoA = 7.8, h = 0.01;
-  check(chainK(n, EA / h, true, true), consistentBarM(n, rhoA * h),
-        [&](int j) { return fixedFixedBar(j, n, EA, rhoA, h); }, 1);
+  check(
+      chainK(n, EA / h, true, true), consistentBarM(n, rhoA * h),
+      [&](int j) { return fixedFixedBar(j, n, EA, rhoA, h); }, 1);
 }
 
 TEST(EigenClosedForm, FixedFreeLumpedChainDenseAndSparseOperators) {
@@ -723,10 +725,11 @@ TEST(EigenTiming, N1000SparseArpackVsDense) {
   ASSERT_EQ(rd.status, EigenStatus::Converged);
   VectorXd ref(6);
   for (int j = 0; j < 6; ++j) ref[j] = fixedFixedBar(j + 1, n, EA, rhoA, h);
-  std::printf("  n=%d, nev=6: ARPACK+UMFPACK %.4f s (rel err %.1e), ARPACK+dense LU %.4f s (%.1e), "
-              "dense generalized %.4f s (%.1e)\n",
-              n, seconds(t0, t1), maxRelErr(rs.lambda, ref), seconds(t1, t2), maxRelErr(ra.lambda, ref),
-              seconds(t2, t3), maxRelErr(rd.lambda, ref));
+  std::printf(
+      "  n=%d, nev=6: ARPACK+UMFPACK %.4f s (rel err %.1e), ARPACK+dense LU %.4f s (%.1e), "
+      "dense generalized %.4f s (%.1e)\n",
+      n, seconds(t0, t1), maxRelErr(rs.lambda, ref), seconds(t1, t2), maxRelErr(ra.lambda, ref), seconds(t2, t3),
+      maxRelErr(rd.lambda, ref));
   EXPECT_LT(maxRelErr(rs.lambda, ref), 1e-9);
   EXPECT_LT(maxRelErr(ra.lambda, ref), 1e-9);
   EXPECT_LT(maxRelErr(rd.lambda, ref), 1e-6);  // dense: absolute error ~ eps*lambda_max

@@ -417,9 +417,8 @@ TEST(Ode45, BackwardIntegration) {
 
 TEST(Ode45, ObserverCanStop) {
   int rows = 0;
-  const OdeResult res = Ode45().integrate(linearRhs, {0.0, 10.0}, vec({0.0}), [&](double, const VectorXd&) {
-    return ++rows < 10;
-  });
+  const OdeResult res =
+      Ode45().integrate(linearRhs, {0.0, 10.0}, vec({0.0}), [&](double, const VectorXd&) { return ++rows < 10; });
   EXPECT_EQ(res.status, OdeStatus::Stopped);
   EXPECT_EQ(rows, 10);
   EXPECT_EQ(res.stats.nsteps, 3);  // row 10 is the 2nd refine point of step 3
@@ -436,9 +435,9 @@ TEST(Ode45, UserInitialStep) {
 TEST(Ode45, RejectsBadArguments) {
   EXPECT_THROW(Ode45().integrate(linearRhs, {0.0}, vec({0.0}), [](double, const VectorXd&) { return true; }),
                std::invalid_argument);
-  EXPECT_THROW(Ode45().integrate(linearRhs, {0.0, 2.0, 1.0, 3.0}, vec({0.0}),
-                                 [](double, const VectorXd&) { return true; }),
-               std::invalid_argument);
+  EXPECT_THROW(
+      Ode45().integrate(linearRhs, {0.0, 2.0, 1.0, 3.0}, vec({0.0}), [](double, const VectorXd&) { return true; }),
+      std::invalid_argument);
   Ode45Options o;
   o.absTol = vec({1e-6, 1e-6, 1e-6});
   EXPECT_THROW(Ode45(o).integrate(vdp, {0.0, 1.0}, vec({1.0, 0.0}), [](double, const VectorXd&) { return true; }),

@@ -94,19 +94,17 @@ TEST(ReductionBasisPartition, MakeComplementsLargeInOrder) {
 }
 
 TEST(ReductionBasisPartition, ValidationThrows) {
-  EXPECT_THROW(Partition::make(4, {1, 1}), std::invalid_argument);   // duplicate
-  EXPECT_THROW(Partition::make(4, {4}), std::invalid_argument);      // out of range
-  EXPECT_THROW(Partition::make(4, {-1}), std::invalid_argument);     // negative
-  EXPECT_THROW(Partition::make(-1, {}), std::invalid_argument);      // bad nq
-  EXPECT_NE(thrownMessage([] { Partition::make(4, {2, 0, 2}); }).find("duplicate large index 2"),
-            std::string::npos);
+  EXPECT_THROW(Partition::make(4, {1, 1}), std::invalid_argument);  // duplicate
+  EXPECT_THROW(Partition::make(4, {4}), std::invalid_argument);     // out of range
+  EXPECT_THROW(Partition::make(4, {-1}), std::invalid_argument);    // negative
+  EXPECT_THROW(Partition::make(-1, {}), std::invalid_argument);     // bad nq
+  EXPECT_NE(thrownMessage([] { Partition::make(4, {2, 0, 2}); }).find("duplicate large index 2"), std::string::npos);
   EXPECT_NE(thrownMessage([] { Partition::make(4, {7}); }).find("out of range"), std::string::npos);
 
   // Both lists given.
   EXPECT_NO_THROW(Partition::make(4, {3, 0}, {1, 2}));
-  EXPECT_THROW(Partition::make(4, {0}, {1, 2}), std::invalid_argument);        // 3 missing
-  EXPECT_NE(thrownMessage([] { Partition::make(4, {0}, {1, 2}); }).find("index 3 is neither"),
-            std::string::npos);
+  EXPECT_THROW(Partition::make(4, {0}, {1, 2}), std::invalid_argument);  // 3 missing
+  EXPECT_NE(thrownMessage([] { Partition::make(4, {0}, {1, 2}); }).find("index 3 is neither"), std::string::npos);
   EXPECT_THROW(Partition::make(4, {0, 1}, {1, 2, 3}), std::invalid_argument);  // overlap
   EXPECT_THROW(Partition::make(4, {0}, {1, 2, 2, 3}), std::invalid_argument);  // duplicate small
   EXPECT_THROW(Partition::make(4, {0}, {1, 2, 3, 4}), std::invalid_argument);  // out of range
@@ -218,8 +216,7 @@ TEST(ReductionBasisModal, SignTieBrokenByFirstIndex) {
 TEST(ReductionBasisModal, Errors) {
   const MatrixXd modes = randomMatrix(4, 3, 5);
   EXPECT_THROW(modalBasis(modes, 4), std::invalid_argument);
-  EXPECT_NE(thrownMessage([&] { modalBasis(modes, 4); }).find("only 3 available"),
-            std::string::npos);
+  EXPECT_NE(thrownMessage([&] { modalBasis(modes, 4); }).find("only 3 available"), std::string::npos);
   EXPECT_THROW(modalBasis(modes, -1), std::invalid_argument);
   MatrixXd z = modes;
   z.col(1).setZero();
@@ -234,7 +231,7 @@ TEST(ReductionBasisModal, Errors) {
 
 TEST(ReductionBasisSvdModal, SingleConfigurationMatchesModalSpan) {
   const int ns = 9, r = 4;
-  const MatrixXd modes = randomMatrix(ns, 6, 7);  // not orthogonal, arbitrary scaling
+  const MatrixXd modes = randomMatrix(ns, 6, 7);                  // not orthogonal, arbitrary scaling
   const VectorXd omegas = vec({0.0, 2.0, 5.0, 9.0, 30.0, 70.0});  // a rigid mode is fine with a = 0
   const MatrixXd Vm = modalBasis(modes, r);
 
@@ -280,8 +277,7 @@ TEST(ReductionBasisSvdModal, IdenticalConfigurationsEqualShares) {
     EXPECT_NEAR(res.scaledSingularValues[k], 1.0 / r, 1e-12) << k;
     EXPECT_NEAR(res.singularValues[k], std::sqrt(double(n)), 1e-12) << k;
   }
-  for (Eigen::Index k = r; k < res.singularValues.size(); ++k)
-    EXPECT_LT(res.scaledSingularValues[k], 1e-14) << k;
+  for (Eigen::Index k = r; k < res.singularValues.size(); ++k) EXPECT_LT(res.scaledSingularValues[k], 1e-14) << k;
   EXPECT_EQ(res.kept, r);  // default threshold 0.01
   EXPECT_LT((projector(res.Vs) - projector(U.leftCols(r))).norm(), 1e-10);
 }
@@ -325,7 +321,7 @@ TEST(ReductionBasisSvdModal, KnownSingularValuesAndThreshold) {
   EXPECT_EQ(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.2).kept, 2);  // 0.555, 0.278
   EXPECT_EQ(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.06).kept, 3);
   EXPECT_EQ(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.0).kept, 6);
-  EXPECT_EQ(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.2, 5).kept, 5);  // count wins
+  EXPECT_EQ(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.2, 5).kept, 5);                 // count wins
   EXPECT_THROW(svdModalBasis({m0, m1}, {om0, om1}, 3, 1.0, 0.6), std::invalid_argument);  // none
 }
 
@@ -356,8 +352,7 @@ TEST(ReductionBasisSvdModal, ZeroFrequencyWithWeightingThrows) {
   const VectorXd ok = vec({1.0, 2.0, 3.0});
   const VectorXd rigid = vec({0.0, 2.0, 3.0});
   EXPECT_THROW(svdModalBasis({modes, modes}, {ok, rigid}, 2, 1.0), std::invalid_argument);
-  const std::string msg =
-      thrownMessage([&] { svdModalBasis({modes, modes}, {ok, rigid}, 2, 1.0); });
+  const std::string msg = thrownMessage([&] { svdModalBasis({modes, modes}, {ok, rigid}, 2, 1.0); });
   EXPECT_NE(msg.find("configuration 1"), std::string::npos) << msg;
   EXPECT_NE(msg.find("mode 0"), std::string::npos) << msg;
   EXPECT_THROW(svdModalBasis({modes}, {vec({1.0, -2.0, 3.0})}, 2, -0.5), std::invalid_argument);
@@ -372,8 +367,7 @@ TEST(ReductionBasisSvdModal, InconsistentInputsThrow) {
   const VectorXd om = vec({1.0, 2.0, 3.0});
   EXPECT_THROW(svdModalBasis({}, {}, 2, 0.0), std::invalid_argument);
   EXPECT_THROW(svdModalBasis({m, m}, {om}, 2, 0.0), std::invalid_argument);
-  EXPECT_THROW(svdModalBasis({m, randomMatrix(5, 3, 52)}, {om, om}, 2, 0.0),
-               std::invalid_argument);
+  EXPECT_THROW(svdModalBasis({m, randomMatrix(5, 3, 52)}, {om, om}, 2, 0.0), std::invalid_argument);
   EXPECT_NE(thrownMessage([&] {
               svdModalBasis({m, randomMatrix(5, 3, 52)}, {om, om}, 2, 0.0);
             }).find("configuration 1"),

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/Statics.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Statics.hpp"
 
 namespace flexmb::bench {
 
@@ -28,7 +28,8 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 std::string chain(int n) {
   std::ostringstream s;
   s.precision(17);
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << " " << k << " " << 100000 + k << " " << k + 1 << " " << 100001 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 100000 + k << " " << k + 1 << " " << 100001 + k << "\n";
   for (int k = 1; k <= n + 1; ++k) s << "X " << k << " " << 1.0 * (k - 1) / n << " 0\n";
   s << "FIX 1\nFIX 100001\n";
   for (int k = 1; k <= n; ++k) s << "DYNE " << k << " 1 2 3\n";
@@ -86,12 +87,13 @@ void eigenFigures() {
         iterations += " " + std::to_string(st.iterations);
         total += st.iterations;
       }
-      std::printf("  cross-spring pivot 2 x 20 BEAM (%d DOF), static, %zu load steps with 6 frequencies each, "
-                  "%s eigen path: %.3f s wall, %.3f s CPU (medians of 3); Newton iterations per step%s (%d in all); "
-                  "f1 %.6f Hz at the last step%s\n",
-                  m.numDofs(), run.steps.size(), path, median3(w), median3(cpu), iterations.c_str(), total,
-                  run.steps.empty() ? 0.0 : run.steps.back().frequencies.omega[0] / (2 * M_PI),
-                  run.completed ? "" : " [did not complete]");
+      std::printf(
+          "  cross-spring pivot 2 x 20 BEAM (%d DOF), static, %zu load steps with 6 frequencies each, "
+          "%s eigen path: %.3f s wall, %.3f s CPU (medians of 3); Newton iterations per step%s (%d in all); "
+          "f1 %.6f Hz at the last step%s\n",
+          m.numDofs(), run.steps.size(), path, median3(w), median3(cpu), iterations.c_str(), total,
+          run.steps.empty() ? 0.0 : run.steps.back().frequencies.omega[0] / (2 * M_PI),
+          run.completed ? "" : " [did not complete]");
     }
     unsetenv("FLEXMB_EIGEN");
   }
@@ -108,17 +110,19 @@ void eigenFigures() {
       fs = analysis::sparseFrequencies(lin, 10);
       w.push_back(since(t0));
     }
-    std::printf("  planar chain of %d PLBEAMs (%d DOF), 10 lowest modes, sparse: %.4f s (linearisation + "
-                "ARPACK; median of 3); f1 = %.6g Hz\n",
-                n, lin.size(), median3(w), fs.omega[0] / (2 * M_PI));
+    std::printf(
+        "  planar chain of %d PLBEAMs (%d DOF), 10 lowest modes, sparse: %.4f s (linearisation + "
+        "ARPACK; median of 3); f1 = %.6g Hz\n",
+        n, lin.size(), median3(w), fs.omega[0] / (2 * M_PI));
     if (n <= 100) {
       const auto t0 = Clock::now();
       core::LinearizedSystem sys;
       lin.atRest(0.0, eta, f, sys, true);
       const analysis::Frequencies fd = analysis::naturalFrequencies(lin, sys, 10, analysis::EigenPath::Dense);
-      std::printf("  planar chain of %d PLBEAMs (%d DOF), 10 lowest modes, dense: %.4f s; sparse vs dense "
-                  "max rel |dlambda| %.2e\n",
-                  n, lin.size(), since(t0), relDiff(fs.lambda, fd.lambda));
+      std::printf(
+          "  planar chain of %d PLBEAMs (%d DOF), 10 lowest modes, dense: %.4f s; sparse vs dense "
+          "max rel |dlambda| %.2e\n",
+          n, lin.size(), since(t0), relDiff(fs.lambda, fd.lambda));
     }
   }
   // 3. Ten configurations of a ~1,000-DOF chain (its bending deformations scaled up: the chain
@@ -143,9 +147,10 @@ void eigenFigures() {
         es = std::max(es, std::abs(s0.lambda[i] - exact) / exact);
         ed = std::max(ed, std::abs(d0.lambda[i] - exact) / exact);
       }
-      std::printf("  straight chain of 333 PLBEAMs: lowest 3 eigenvalues against Euler-Bernoulli, max rel error: "
-                  "sparse (%s) %.2e, dense %.2e; sparse vs dense %.2e\n",
-                  s0.method.c_str(), es, ed, relDiff(s0.lambda, d0.lambda));
+      std::printf(
+          "  straight chain of 333 PLBEAMs: lowest 3 eigenvalues against Euler-Bernoulli, max rel error: "
+          "sparse (%s) %.2e, dense %.2e; sparse vs dense %.2e\n",
+          s0.method.c_str(), es, ed, relDiff(s0.lambda, d0.lambda));
     }
     auto t0 = Clock::now();
     Eigen::VectorXd last;
@@ -164,10 +169,11 @@ void eigenFigures() {
     lin.nodalAtRest(0.0, eta, f, true);
     const analysis::Frequencies fsl = analysis::sparseFrequencies(lin, 10);
     const Eigen::MatrixXd A = sys.K + sys.G;
-    std::printf("  10 configurations of a chain of 333 PLBEAMs (%d DOF), 10 modes each, sparse: %.3f s in all; "
-                "dense path, one configuration: %.3f s; last configuration sparse vs dense max rel |dlambda| %.2e; "
-                "|lambda - Rayleigh quotient of its own vector| / lambda in the dense pencil: sparse %.2e, dense %.2e\n",
-                lin.size(), ws, wd, relDiff(last, fd.lambda), rayleighGap(A, sys.M, fsl), rayleighGap(A, sys.M, fd));
+    std::printf(
+        "  10 configurations of a chain of 333 PLBEAMs (%d DOF), 10 modes each, sparse: %.3f s in all; "
+        "dense path, one configuration: %.3f s; last configuration sparse vs dense max rel |dlambda| %.2e; "
+        "|lambda - Rayleigh quotient of its own vector| / lambda in the dense pencil: sparse %.2e, dense %.2e\n",
+        lin.size(), ws, wd, relDiff(last, fd.lambda), rayleighGap(A, sys.M, fsl), rayleighGap(A, sys.M, fd));
   }
   // 4. Agreement on the pivot's last equilibrium is in (1) implicitly; the coarse pivot and the planar
   //    models are compared in tools/tests/test_sparse_eigen.cpp.

@@ -26,16 +26,16 @@
 #include <string>
 #include <vector>
 
+#include "analysis/AnchoredDynamics.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/StateJacobian.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "io/DatReader.hpp"
 #include "io/SvgPlot.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
-#include "analysis/AnchoredDynamics.hpp"
-#include "analysis/Reduction.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/StateJacobian.hpp"
 
 #ifndef FLEXMB_SOURCE_DIR
 #define FLEXMB_SOURCE_DIR "."
@@ -96,9 +96,12 @@ std::string csvQuote(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string o = "\"";
   for (char c : s) {
-    if (c == '"') o += "\"\"";
-    else if (c == '\n') o += ' ';
-    else o += c;
+    if (c == '"')
+      o += "\"\"";
+    else if (c == '\n')
+      o += ' ';
+    else
+      o += c;
   }
   return o + "\"";
 }
@@ -113,11 +116,11 @@ std::string mdEscape(std::string s) {
 // One integration run: statistics and the states at the output times (kept outside the timing).
 struct Run {
   bool ok = true;
-  std::string reason;  // why it stopped (failed runs)
-  long fevals = 0;     // every right-hand-side evaluation (CVODE: including the DQ Jacobian ones)
-  long jacFevals = 0;  // CVODE: evaluations spent on difference-quotient Jacobians
+  std::string reason;                      // why it stopped (failed runs)
+  long fevals = 0;                         // every right-hand-side evaluation (CVODE: including the DQ Jacobian ones)
+  long jacFevals = 0;                      // CVODE: evaluations spent on difference-quotient Jacobians
   long nsteps = 0, nfailed = 0, njac = 0;  // njac: CVODE's Jacobian evaluations (analytic or DQ)
-  double wall = 0.0;   // seconds, model set-up + integration (EquationsOfMotion construction included)
+  double wall = 0.0;  // seconds, model set-up + integration (EquationsOfMotion construction included)
   std::vector<double> t;
   std::vector<VectorXd> y;
 };
@@ -264,7 +267,7 @@ std::vector<Eigen::Vector2d> responses(const Problem& p, const Run& r, int nodeL
 
 struct Reference {
   std::vector<Eigen::Vector2d> r;
-  double scale = 1.0;        // max deflection (guidance) or reach (manipulator)
+  double scale = 1.0;  // max deflection (guidance) or reach (manipulator)
   std::string scaleText;
 };
 
@@ -292,9 +295,9 @@ struct Method {
   std::string label;       // "full", "MODAL-3", ...
   std::string integrator;  // "ode45" or one of the CVODE variants (kCvode)
   std::optional<Eigen::MatrixXd> basis;
-  std::string basisNote;   // size and build time
-  int bdfOrder = 0;        // CVODE: the highest BDF order (0: ode45)
-  bool analytic = false;   // CVODE: the analytic Jacobian (else difference quotients)
+  std::string basisNote;  // size and build time
+  int bdfOrder = 0;       // CVODE: the highest BDF order (0: ode45)
+  bool analytic = false;  // CVODE: the analytic Jacobian (else difference quotients)
 };
 
 // The CVODE variants on the full models: CVODE's defaults with its difference-quotient Jacobian, the
@@ -304,9 +307,8 @@ struct CvodeVariant {
   int order;
   bool analytic;
 };
-constexpr CvodeVariant kCvode[] = {{"CVODE-BDF DQ J", 5, false},
-                                   {"CVODE-BDF analytic J", 5, true},
-                                   {"CVODE-BDF2 analytic J", 2, true}};
+constexpr CvodeVariant kCvode[] = {
+    {"CVODE-BDF DQ J", 5, false}, {"CVODE-BDF analytic J", 5, true}, {"CVODE-BDF2 analytic J", 2, true}};
 
 struct Options {
   bool quick = false;
@@ -434,7 +436,9 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 }
 
 }  // namespace
-namespace flexmb::bench { void eigenFigures(); }
+namespace flexmb::bench {
+void eigenFigures();
+}
 namespace {
 
 void usage() {
@@ -450,9 +454,12 @@ int main(int argc, char** argv) {
   opt.out = std::string(FLEXMB_SOURCE_DIR) + "/validation/report/bench";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") opt.quick = true;
-    else if (a == "--out" && i + 1 < argc) opt.out = argv[++i];
-    else if (a == "--only" && i + 1 < argc) opt.only = argv[++i];
+    if (a == "--quick")
+      opt.quick = true;
+    else if (a == "--out" && i + 1 < argc)
+      opt.out = argv[++i];
+    else if (a == "--only" && i + 1 < argc)
+      opt.only = argv[++i];
     else if (a == "-h" || a == "--help") {
       usage();
       return 0;
@@ -476,16 +483,16 @@ int main(int argc, char** argv) {
   // ---------------------------------------------------------------- settings
   std::vector<double> tols = opt.quick ? std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5}
                                        : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
-  const double absFactor = 1e-3;      // AbsTol = RelTol * 1e-3
+  const double absFactor = 1e-3;                     // AbsTol = RelTol * 1e-3
   const double skipAbove = opt.quick ? 20.0 : 60.0;  // predicted seconds: skip this and tighter tolerances
   const double hardCap = opt.quick ? 30.0 : 90.0;    // seconds: abort a sweep run
-  const int repeatBelow = 2;          // seconds: 3 runs (median) below, 1 above
+  const int repeatBelow = 2;                         // seconds: 3 runs (median) below, 1 above
   // Reference tolerances (full model, ode45): 1e-10 for both (measured: guidance 331k evaluations,
   // ~13 s; manipulator 6.1M, ~185 s; the guidance at 1e-11 would need 1.1M, ~48 s). Quick: 1e-7,
   // two decades below the tightest swept tolerance.
-  const std::map<std::string, double> refTol = opt.quick
-      ? std::map<std::string, double>{{"straight_guidance", 1e-7}, {"manipulator", 1e-7}}
-      : std::map<std::string, double>{{"straight_guidance", 1e-10}, {"manipulator", 1e-10}};
+  const std::map<std::string, double> refTol =
+      opt.quick ? std::map<std::string, double>{{"straight_guidance", 1e-7}, {"manipulator", 1e-7}}
+                : std::map<std::string, double>{{"straight_guidance", 1e-10}, {"manipulator", 1e-10}};
   // The sparse saddle-point form is O(n): every size; the projected form (dense, O(n^3)) up to
   // maxProjected elements per flexure.
   const std::vector<int> sizes = {5, 10, 20, 40, 80, 160, 320, 640};
@@ -536,8 +543,9 @@ int main(int argc, char** argv) {
     }
     std::printf("[%s] reference: %ld fevals, %s s; %s\n", cs.key.c_str(), refRun.fevals, secText(refRun.wall).c_str(),
                 ref.scaleText.c_str());
-    refNotes[cs.key] = "full model, ode45-equivalent, RelTol " + tolText(rt) + ", AbsTol " + tolText(rt * absFactor) + " (" +
-                       withThousands(refRun.fevals) + " fevals, " + secText(refRun.wall) + " s); error scale: " + ref.scaleText;
+    refNotes[cs.key] = "full model, ode45-equivalent, RelTol " + tolText(rt) + ", AbsTol " + tolText(rt * absFactor) +
+                       " (" + withThousands(refRun.fevals) + " fevals, " + secText(refRun.wall) +
+                       " s); error scale: " + ref.scaleText;
 
     // ---- methods
     std::vector<Method> methods;
@@ -586,7 +594,8 @@ int main(int argc, char** argv) {
 
     // ---- sweeps
     for (const Method& m : methods) {
-      if (!opt.only.empty() && (cs.key + " " + m.label + " " + m.integrator).find(opt.only) == std::string::npos) continue;
+      if (!opt.only.empty() && (cs.key + " " + m.label + " " + m.integrator).find(opt.only) == std::string::npos)
+        continue;
       const Problem prob{&model, m.basis, full.tspan};
       const bool cv = m.bdfOrder > 0;
       double lastWall = NAN, lastFe = NAN, prevFe = NAN;
@@ -613,7 +622,8 @@ int main(int argc, char** argv) {
           pt.status = "skipped";
           pt.note = "predicted > " + fmt("%.0f", predicted) + " s";
           std::printf("%s: skipped (predicted %.0f s > %.0f s)\n", tag.c_str(), predicted, skipAbove);
-          skippedList.push_back(cs.key + " " + m.label + " (" + m.integrator + ") RelTol " + tolText(tol) + ": " + pt.note);
+          skippedList.push_back(cs.key + " " + m.label + " (" + m.integrator + ") RelTol " + tolText(tol) + ": " +
+                                pt.note);
           points.push_back(pt);
           continue;
         }
@@ -656,10 +666,10 @@ int main(int argc, char** argv) {
         if (pt.status == "ok") {
           std::printf("%s: %ld fevals%s, %s s (%s), error %s\n", tag.c_str(), pt.fevals,
                       cv ? (" (" + std::to_string(pt.njac) + " Jacobians, " + std::to_string(pt.jacFevals) +
-                            " evaluations in them)").c_str()
+                            " evaluations in them)")
+                               .c_str()
                          : "",
-                      secText(pt.wall).c_str(),
-                      pt.runs > 1 ? "median of 3" : "1 run", sci(pt.error).c_str());
+                      secText(pt.wall).c_str(), pt.runs > 1 ? "median of 3" : "1 run", sci(pt.error).c_str());
           prevFe = lastFe;
           lastFe = static_cast<double>(pt.fevals);
           lastWall = pt.wall;
@@ -726,16 +736,18 @@ int main(int argc, char** argv) {
       eb.rhs(0.05, yb, db);
       checkDiff = (da - db).norm() / da.norm();
     }
-    std::printf("[rhs scaling] generated n = 5 model against datfiles/straight_guidance.dat: relative rhs difference %s\n",
-                std::isfinite(checkDiff) ? sci(checkDiff).c_str() : "(DOF counts differ)");
+    std::printf(
+        "[rhs scaling] generated n = 5 model against datfiles/straight_guidance.dat: relative rhs difference %s\n",
+        std::isfinite(checkDiff) ? sci(checkDiff).c_str() : "(DOF counts differ)");
   }
   for (int n : sizes) {
     const core::Model m = io::readDatString(guidanceDat(n), "straight_guidance_n" + std::to_string(n) + ".dat");
     ScalingRow row = timeRhs(m, n, rhsBudget);
     if (n <= maxProjected) row.projected = timeRhs(m, n, rhsBudget, core::DynamicsForm::Projected).median;
-    std::printf("[rhs scaling] n = %d elements per flexure: %d DOF, median %s us over %d calls (projected form: %s us)\n",
-                n, row.dof, fmt("%.2f", row.median * 1e6).c_str(), row.calls,
-                std::isfinite(row.projected) ? fmt("%.2f", row.projected * 1e6).c_str() : "not timed");
+    std::printf(
+        "[rhs scaling] n = %d elements per flexure: %d DOF, median %s us over %d calls (projected form: %s us)\n", n,
+        row.dof, fmt("%.2f", row.median * 1e6).c_str(), row.calls,
+        std::isfinite(row.projected) ? fmt("%.2f", row.projected * 1e6).c_str() : "not timed");
     rows.push_back(row);
   }
   std::vector<double> xs, xd, ys;
@@ -744,15 +756,15 @@ int main(int argc, char** argv) {
   const size_t k3 = xs.size() >= 3 ? xs.size() - 3 : 0;
   const double slopeLast = slope({xs.begin() + k3, xs.end()}, {ys.begin() + k3, ys.end()});
   const double slopeLastDof = slope({xd.begin() + k3, xd.end()}, {ys.begin() + k3, ys.end()});
-  std::printf("[rhs scaling] log-log slope against elements per flexure: %.2f (all sizes), %.2f (last three)\n", slopeAll,
-              slopeLast);
+  std::printf("[rhs scaling] log-log slope against elements per flexure: %.2f (all sizes), %.2f (last three)\n",
+              slopeAll, slopeLast);
   {
     io::Plot plot;
     plot.title = "Right-hand-side cost: straight guidance, n elements per flexure";
     plot.x = {"elements per flexure n (DOF = 4n - 3)", true, std::nullopt, std::nullopt};
     plot.y = {"wall time of one rhs evaluation [s] (median)", true, std::nullopt, std::nullopt};
-    plot.notes.push_back("log-log slope " + fmt("%.2f", slopeAll) + " (least squares, all sizes), " + fmt("%.2f", slopeLast) +
-                         " (last three sizes)");
+    plot.notes.push_back("log-log slope " + fmt("%.2f", slopeAll) + " (least squares, all sizes), " +
+                         fmt("%.2f", slopeLast) + " (last three sizes)");
     io::Series se;
     se.label = "saddle point (automatic)";
     se.markers = true;
@@ -780,11 +792,12 @@ int main(int argc, char** argv) {
   // ---------------------------------------------------------------- CSV
   {
     std::ofstream f(opt.out + "/workprecision.csv");
-    f << "model,method,integrator,reltol,abstol,status,fevals,jacobian_fevals,jacobians,steps,failed_steps,wall_s,runs,error,"
+    f << "model,method,integrator,reltol,abstol,status,fevals,jacobian_fevals,jacobians,steps,failed_steps,wall_s,runs,"
+         "error,"
          "note\n";
     for (const Point& p : points) {
-      f << p.model << ',' << p.method << ',' << p.integrator << ',' << sci(p.relTol, 1) << ',' << sci(p.absTol, 1) << ','
-        << p.status << ',' << (p.status == "skipped" ? "" : std::to_string(p.fevals)) << ','
+      f << p.model << ',' << p.method << ',' << p.integrator << ',' << sci(p.relTol, 1) << ',' << sci(p.absTol, 1)
+        << ',' << p.status << ',' << (p.status == "skipped" ? "" : std::to_string(p.fevals)) << ','
         << (p.status == "skipped" || p.integrator == "ode45" ? "" : std::to_string(p.jacFevals)) << ','
         << (p.status == "skipped" || p.integrator == "ode45" ? "" : std::to_string(p.njac)) << ','
         << (p.status == "skipped" ? "" : std::to_string(p.nsteps)) << ','
@@ -795,8 +808,9 @@ int main(int argc, char** argv) {
     std::ofstream g(opt.out + "/rhs_scaling.csv");
     g << "elements_per_flexure,dof,nodal_coordinates,calls,median_rhs_s,eom_setup_s,median_rhs_projected_s\n";
     for (const auto& r : rows)
-      g << r.n << ',' << r.dof << ',' << r.nx << ',' << r.calls << ',' << fmt("%.6e", r.median) << ',' << fmt("%.6e", r.setup)
-        << ',' << (std::isfinite(r.projected) ? fmt("%.6e", r.projected) : std::string()) << '\n';
+      g << r.n << ',' << r.dof << ',' << r.nx << ',' << r.calls << ',' << fmt("%.6e", r.median) << ','
+        << fmt("%.6e", r.setup) << ',' << (std::isfinite(r.projected) ? fmt("%.6e", r.projected) : std::string())
+        << '\n';
   }
 
   // ---------------------------------------------------------------- bench.md
@@ -808,8 +822,8 @@ int main(int argc, char** argv) {
   md << "## Benchmarks" << (opt.quick ? " (quick mode)" : "") << "\n\n";
   md << "Produced by `flexmb_bench" << (opt.quick ? " --quick" : "") << "` on " << date << " in " << secText(totalTime)
      << " s (tools/bench/README.md). Links are relative to this file's directory.\n\n";
-  md << "**Machine.** " << sysconf(_SC_NPROCESSORS_ONLN) << " cores (`nproc`), CPU " << machineLine("cpu") << ", memory "
-     << memoryText() << "; compiler " << compilerText() << ", build type " << FLEXMB_BENCH_BUILD_TYPE
+  md << "**Machine.** " << sysconf(_SC_NPROCESSORS_ONLN) << " cores (`nproc`), CPU " << machineLine("cpu")
+     << ", memory " << memoryText() << "; compiler " << compilerText() << ", build type " << FLEXMB_BENCH_BUILD_TYPE
 #ifdef NDEBUG
      << " (NDEBUG)"
 #endif
@@ -820,22 +834,27 @@ int main(int argc, char** argv) {
      << " per decade, AbsTol = RelTol x 1e-3 (scalar), for every method. Wall time = model set-up "
         "(EquationsOfMotion) plus integration with the states stored at the model's output times (output "
         "quantities are evaluated afterwards, untimed); median of 3 runs when a run takes < "
-     << repeatBelow << " s, else 1 run. A point predicted (from the growth of the evaluation count, at least "
-                      "10^(1/5) per decade) to take more than "
+     << repeatBelow
+     << " s, else 1 run. A point predicted (from the growth of the evaluation count, at least "
+        "10^(1/5) per decade) to take more than "
      << fmt("%.0f", skipAbove) << " s is skipped with the tighter ones; a run is stopped at " << fmt("%.0f", hardCap)
      << " s. Error = max over the output times of |response - reference| divided by the max reference deflection of x "
         "(node 6, relative to its initial value) for the straight guidance, and the tip position distance (node 9) "
         "divided by the reach for the manipulator. Reduced models are measured against the full model's "
         "reference, so their curves level off at their reduction error.\n\n";
-  md << "- ode45: flexmb's ode45-equivalent (Dormand-Prince 5(4), MATLAB's step control), same counting rule as MATLAB.\n";
+  md << "- ode45: flexmb's ode45-equivalent (Dormand-Prince 5(4), MATLAB's step control), same counting rule as "
+        "MATLAB.\n";
   md << "- CVODE: " << solvers::Bdf::library()
-     << " through solvers::Bdf (as `flexmb simulate --integrator bdf`): BDF, Newton with the dense direct linear solver, "
+     << " through solvers::Bdf (as `flexmb simulate --integrator bdf`): BDF, Newton with the dense direct linear "
+        "solver, "
         "on the same right-hand side, in three variants: **CVODE-BDF DQ J** (orders 1-5, CVODE's difference-quotient "
         "Jacobian), **CVODE-BDF analytic J** (orders 1-5, the Jacobian [[0, I], [-M^-1 (K+N+G), -M^-1 (C+D)]] from the "
         "linearisation of Eq. 15, analysis::StateJacobian) and **CVODE-BDF2 analytic J** (the same with orders 1-2, "
-        "A-stable: simulate's default). Counts: fevals includes the difference-quotient evaluations; (J n: m) gives the "
+        "A-stable: simulate's default). Counts: fevals includes the difference-quotient evaluations; (J n: m) gives "
+        "the "
         "Jacobian evaluations n and the right-hand sides m spent on them; failed steps are error-test plus "
-        "corrector-convergence failures. Every evaluation starts the kinematic Newton solve from the configuration of the "
+        "corrector-convergence failures. Every evaluation starts the kinematic Newton solve from the configuration of "
+        "the "
         "last accepted step (tools/bench/README.md: without this anchor CVODE's trial states spoil the warm start). "
         "Note CVODE's error test uses a weighted RMS norm, ode45 a max norm.\n";
   for (const CaseSpec& cs : cases) {
@@ -855,10 +874,11 @@ int main(int argc, char** argv) {
         res += (res.empty() ? "" : ", ") + cs.key + " " + sci(tight->error, 1) + " at RelTol " + tolText(tight->relTol);
     }
     md << "- Reference choice: "
-       << (opt.quick ? "quick mode uses RelTol 1e-7 for both references (two decades below the tightest swept tolerance). "
-                     : "RelTol 1e-10 for both models (costs above; the manipulator's is the largest item of the budget; "
-                       "the guidance at 1e-11 was measured separately at 1.1M evaluations, ~48 s, and not used: it would "
-                       "change no conclusion). ")
+       << (opt.quick
+               ? "quick mode uses RelTol 1e-7 for both references (two decades below the tightest swept tolerance). "
+               : "RelTol 1e-10 for both models (costs above; the manipulator's is the largest item of the budget; "
+                 "the guidance at 1e-11 was measured separately at 1.1M evaluations, ~48 s, and not used: it would "
+                 "change no conclusion). ")
        << "The full model's own errors level off near the references' resolution (" << res
        << "); smaller differences are not resolved.\n";
   }
@@ -868,13 +888,16 @@ int main(int argc, char** argv) {
     md << "![work-precision " << cs.key << "](" << svgFiles[cs.key] << ")\n\n";
     md << "Evaluation counts instead of time: [" << svgFiles[cs.key + "_fevals"] << "](" << svgFiles[cs.key + "_fevals"]
        << ")\n\n";
-    md << "| method | integrator | RelTol | status | fevals | steps (failed) | wall time [s] | runs | us/feval | error |\n";
+    md << "| method | integrator | RelTol | status | fevals | steps (failed) | wall time [s] | runs | us/feval | error "
+          "|\n";
     md << "|---|---|---|---|---:|---:|---:|---:|---:|---:|\n";
     for (const Point& p : points) {
       if (p.model != cs.key) continue;
       md << "| " << p.method << " | " << p.integrator << " | " << tolText(p.relTol) << " | ";
-      if (p.status == "ok") md << "ok";
-      else md << p.status << ": " << mdEscape(p.note.size() > 170 ? p.note.substr(0, 167) + "..." : p.note);
+      if (p.status == "ok")
+        md << "ok";
+      else
+        md << p.status << ": " << mdEscape(p.note.size() > 170 ? p.note.substr(0, 167) + "..." : p.note);
       md << " | ";
       if (p.status == "skipped") {
         md << "- | - | - | - | - | - |\n";
@@ -899,23 +922,26 @@ int main(int argc, char** argv) {
         "projected form [us] |\n";
   md << "|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : rows)
-    md << "| " << r.n << " | " << r.dof << " | " << r.nx << " | " << r.calls << " | " << fmt("%.2f", r.median * 1e6) << " | "
-       << fmt("%.2f", r.setup * 1e3) << " | " << (std::isfinite(r.projected) ? fmt("%.2f", r.projected * 1e6) : "-")
-       << " |\n";
+    md << "| " << r.n << " | " << r.dof << " | " << r.nx << " | " << r.calls << " | " << fmt("%.2f", r.median * 1e6)
+       << " | " << fmt("%.2f", r.setup * 1e3) << " | "
+       << (std::isfinite(r.projected) ? fmt("%.2f", r.projected * 1e6) : "-") << " |\n";
   md << "\n| log-log slope of rhs time | against n | against DOF |\n|---|---:|---:|\n";
   md << "| least squares, all sizes | " << fmt("%.2f", slopeAll) << " | " << fmt("%.2f", slopeAllDof) << " |\n";
-  md << "| last three sizes (n = " << rows[k3].n << " ... " << rows.back().n << ") | " << fmt("%.2f", slopeLast) << " | "
-     << fmt("%.2f", slopeLastDof) << " |\n\n";
+  md << "| last three sizes (n = " << rows[k3].n << " ... " << rows.back().n << ") | " << fmt("%.2f", slopeLast)
+     << " | " << fmt("%.2f", slopeLastDof) << " |\n\n";
 
   // ---- observations (generated from the measurements)
   md << "### Observations\n\n";
-  auto find = [&](const std::string& model, const std::string& method, const std::string& integ, double tol) -> const Point* {
+  auto find = [&](const std::string& model, const std::string& method, const std::string& integ,
+                  double tol) -> const Point* {
     for (const Point& p : points)
-      if (p.model == model && p.method == method && p.integrator == integ && p.relTol == tol && p.status == "ok") return &p;
+      if (p.model == model && p.method == method && p.integrator == integ && p.relTol == tol && p.status == "ok")
+        return &p;
     return nullptr;
   };
   // The cheapest ok point of a method with error <= eps.
-  auto cheapest = [&](const std::string& model, const std::string& method, const std::string& integ, double eps) -> const Point* {
+  auto cheapest = [&](const std::string& model, const std::string& method, const std::string& integ,
+                      double eps) -> const Point* {
     const Point* best = nullptr;
     for (const Point& p : points)
       if (p.model == model && p.method == method && p.integrator == integ && p.status == "ok" && p.error <= eps &&
@@ -928,7 +954,8 @@ int main(int argc, char** argv) {
     if (!fd) continue;
     std::vector<std::string> reduced;
     for (const Point& p : points)
-      if (p.model == cs.key && p.method != "full" && std::find(reduced.begin(), reduced.end(), p.method) == reduced.end())
+      if (p.model == cs.key && p.method != "full" &&
+          std::find(reduced.begin(), reduced.end(), p.method) == reduced.end())
         reduced.push_back(p.method);
     // Evaluation range of full ode45 (stability-bounded steps show as a flat count).
     long feMin = 0, feMax = 0;
@@ -955,26 +982,35 @@ int main(int argc, char** argv) {
     }
     std::ostringstream o;
     o << "- **" << cs.title << ".** At ode45's default RelTol 1e-3 ";
-    if (reduced.size() == 1) o << reduced[0] << " runs " << fmt("%.0f", sMin) << "x faster";
-    else o << "the reduced models run " << fmt("%.0f", sMin) << "-" << fmt("%.0f", sMax) << "x faster";
+    if (reduced.size() == 1)
+      o << reduced[0] << " runs " << fmt("%.0f", sMin) << "x faster";
+    else
+      o << "the reduced models run " << fmt("%.0f", sMin) << "-" << fmt("%.0f", sMax) << "x faster";
     o << " than the full model (" << secText(fd->wall) << " s; "
-      << (feMax < 3 * feMin ? "its ode45 step is bounded by stability, not accuracy: " : "") << withThousands(feMin) << "-"
-      << withThousands(feMax) << " evaluations from RelTol " << tolText(tolHi) << " to " << tolText(tolLo) << ") but level"
-      << (reduced.size() == 1 ? "s" : "") << " off at " << (reduced.size() == 1 ? "its" : "their") << " reduction error";
-    if (reduced.size() == 1) o << " of " << sci(eMin, 1);
-    else o << ", from " << sci(eMax, 1) << " (" << nMax << ") down to " << sci(eMin, 1) << " (" << nMin << ")";
+      << (feMax < 3 * feMin ? "its ode45 step is bounded by stability, not accuracy: " : "") << withThousands(feMin)
+      << "-" << withThousands(feMax) << " evaluations from RelTol " << tolText(tolHi) << " to " << tolText(tolLo)
+      << ") but level" << (reduced.size() == 1 ? "s" : "") << " off at " << (reduced.size() == 1 ? "its" : "their")
+      << " reduction error";
+    if (reduced.size() == 1)
+      o << " of " << sci(eMin, 1);
+    else
+      o << ", from " << sci(eMax, 1) << " (" << nMax << ") down to " << sci(eMin, 1) << " (" << nMin << ")";
     if (std::isfinite(bestFloor)) {
       const Point* rp = cheapest(cs.key, best, "ode45", 1.5 * bestFloor);
       const Point* fp = cheapest(cs.key, "full", "ode45", 1.5 * bestFloor);
       const Point* cp = nullptr;  // the cheapest CVODE variant there
       for (const CvodeVariant& v : kCvode)
-        if (const Point* c = cheapest(cs.key, "full", v.name, 1.5 * bestFloor); c && (!cp || c->wall < cp->wall)) cp = c;
+        if (const Point* c = cheapest(cs.key, "full", v.name, 1.5 * bestFloor); c && (!cp || c->wall < cp->wall))
+          cp = c;
       o << "; for any error above " << sci(bestFloor, 1) << " " << best << " (" << secText(rp->wall) << " s) is ";
-      if (fp) o << fmt("%.0f", fp->wall / rp->wall) << "x faster than the full model with ode45";
-      else o << "the only method within the sweep's budget";
+      if (fp)
+        o << fmt("%.0f", fp->wall / rp->wall) << "x faster than the full model with ode45";
+      else
+        o << "the only method within the sweep's budget";
       if (cp)
-        o << " and " << (cp->wall >= rp->wall ? fmt("%.0f", cp->wall / rp->wall) + "x faster than"
-                                               : fmt("%.1f", rp->wall / cp->wall) + "x slower than")
+        o << " and "
+          << (cp->wall >= rp->wall ? fmt("%.0f", cp->wall / rp->wall) + "x faster than"
+                                   : fmt("%.1f", rp->wall / cp->wall) + "x slower than")
           << " the full model with the cheapest CVODE variant there (" << cp->integrator << ", " << secText(cp->wall)
           << " s)";
       o << ", and only below that error does the full model win.";
@@ -1006,7 +1042,7 @@ int main(int argc, char** argv) {
       const std::string name = cs.title.substr(0, cs.title.find(" ("));
       fe += (fe.empty() ? "" : " / ") + fmt("%.1f", double(fd->fevals) / cd->fevals) + "x";
       sp += (sp.empty() ? "" : " / ") + (cd->wall <= fd->wall ? fmt("%.1f", fd->wall / cd->wall) + "x faster"
-                                                               : fmt("%.1f", cd->wall / fd->wall) + "x slower");
+                                                              : fmt("%.1f", cd->wall / fd->wall) + "x slower");
       acc += (acc.empty() ? "" : ", ") + name + " " + sci(cd->error, 1) + " against " + sci(fd->error, 1);
       moreSteps = moreSteps && cd->nsteps >= 0.9 * fd->nsteps;
       fewerSteps = fewerSteps && cd->nsteps < 0.9 * fd->nsteps;
@@ -1022,19 +1058,23 @@ int main(int argc, char** argv) {
     std::string names;
     for (const CaseSpec& cs : cases) names += (names.empty() ? "" : " / ") + cs.title.substr(0, cs.title.find(" ("));
     if (fe.empty()) continue;
-    md << "- **" << v.name << "** (" << names << ", RelTol 1e-3) needs " << fe << " fewer evaluations than ode45 on the full "
-       << "model (" << jac << ") and is " << sp << (moreSteps ? ": it takes as many steps or more (" : fewerSteps ? ": it takes fewer steps (" : ": it takes (")
-       << steps << " steps) with fewer evaluations per step (" << perStep << "); its error at equal tolerance is " << acc
-       << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
-       << reducedComparison(slowMin, slowMax)
-       << ".\n";
+    md << "- **" << v.name << "** (" << names << ", RelTol 1e-3) needs " << fe
+       << " fewer evaluations than ode45 on the full "
+       << "model (" << jac << ") and is " << sp
+       << (moreSteps    ? ": it takes as many steps or more ("
+           : fewerSteps ? ": it takes fewer steps ("
+                        : ": it takes (")
+       << steps << " steps) with fewer evaluations per step (" << perStep << "); its error at equal tolerance is "
+       << acc << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
+       << reducedComparison(slowMin, slowMax) << ".\n";
   }
   md << "- One rhs evaluation of the full model (sparse nodal saddle-point form, core/SaddlePointAccelerations) grows "
      << "with a log-log slope of " << fmt("%.2f", slopeAll) << " in the number of elements per flexure ("
      << fmt("%.2f", slopeLast) << " over the last three sizes) and costs " << fmt("%.2f", rows.front().median * 1e6)
-     << " us at " << rows.front().dof << " DOF; the projected form (dense F_q^T M F_q and its Cholesky, O(nx m^2 + m^3)) "
-     << "costs " << (std::isfinite(rows.front().projected) ? fmt("%.2f", rows.front().projected * 1e6) : "-") << " us at "
-     << rows.front().dof << " DOF and grows with slope ~2.4-3.\n";
+     << " us at " << rows.front().dof
+     << " DOF; the projected form (dense F_q^T M F_q and its Cholesky, O(nx m^2 + m^3)) "
+     << "costs " << (std::isfinite(rows.front().projected) ? fmt("%.2f", rows.front().projected * 1e6) : "-")
+     << " us at " << rows.front().dof << " DOF and grows with slope ~2.4-3.\n";
   if (!skippedList.empty()) {
     md << "\n**Skipped points** (predicted or measured to exceed the time limit):\n\n";
     for (const auto& s : skippedList) md << "- " << s << "\n";

@@ -7,6 +7,9 @@
 #include <iomanip>
 #include <iostream>
 
+#include "analysis/SpacarOutput.hpp"
+#include "analysis/Statics.hpp"
+#include "analysis/Sweep.hpp"
 #include "core/Linearization.hpp"
 #include "core/ModelDiagnostics.hpp"
 #include "io/BasisFile.hpp"
@@ -14,9 +17,6 @@
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
-#include "analysis/SpacarOutput.hpp"
-#include "analysis/Statics.hpp"
-#include "analysis/Sweep.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 #include "tools/cli/Visuals.hpp"
@@ -31,8 +31,10 @@ void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   for (Eigen::Index i = 0; i < omega.size(); ++i) {
     o << "  " << std::setw(4) << i + 1 << "   " << std::setw(14) << std::setprecision(8) << omega[i] / (2 * M_PI)
       << "  " << std::setw(14) << omega[i];
-    if (std::abs(omega[i]) < 1e-6 * std::max(1.0, omega.cwiseAbs().maxCoeff())) o << "   (rigid / mechanism mode)";
-    else if (omega[i] < 0) o << "   (unstable: negative stiffness, reported as -sqrt|lambda|)";
+    if (std::abs(omega[i]) < 1e-6 * std::max(1.0, omega.cwiseAbs().maxCoeff()))
+      o << "   (rigid / mechanism mode)";
+    else if (omega[i] < 0)
+      o << "   (unstable: negative stiffness, reported as -sqrt|lambda|)";
     o << "\n";
   }
 }
@@ -64,7 +66,8 @@ int runModes(const std::vector<std::string>& args) {
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)")(
       "svg", po::value(&svg), "also draw the mode shapes into this SVG file");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg]"))
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
@@ -89,10 +92,12 @@ int runModes(const std::vector<std::string>& args) {
     std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
     if (out.empty()) out = std::filesystem::path(m.file).stem().string();
-    const io::SpacarResults sr = analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
+    const io::SpacarResults sr =
+        analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
     for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
     if (!svg.empty()) {
-      ModeSet set{"", {}, lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes, fr.omega, model.settings.t0};
+      ModeSet set{
+          "", {}, lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes, fr.omega, model.settings.t0};
       lin.dofs(eta, set.q);
       writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
       std::cout << "wrote " << svg << "\n";
@@ -116,7 +121,9 @@ int runStatic(const std::vector<std::string>& args) {
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
       "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] [--svg file.svg]"))
+  if (auto rc = parseCommand(
+          args, d, m,
+          "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] [--svg file.svg]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -134,13 +141,14 @@ int runStatic(const std::vector<std::string>& args) {
                   << " degree(s) of freedom have no mass (give EM or XM), e.g. " << massless.front() << "\n";
       nev = 0;
     }
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   nev = std::min(nev, model.numDofs());
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis.
   std::string csvPath;
-  if (out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0) csvPath = out;
-  else csvPath = io::OutputSet::resolvePrefix(out, m.file, "_static") + ".csv";
+  if (out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0)
+    csvPath = out;
+  else
+    csvPath = io::OutputSet::resolvePrefix(out, m.file, "_static") + ".csv";
   io::OutputSet files(csvPath.substr(0, csvPath.size() - 4));
   try {
     files.checkWritable();
@@ -154,9 +162,8 @@ int runStatic(const std::vector<std::string>& args) {
   files.setting("nev", std::to_string(nev));
 
   Progress progress("static", !m.quiet);
-  const analysis::StaticRun run =
-      analysis::staticAnalysis(model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); },
-                               buckling);
+  const analysis::StaticRun run = analysis::staticAnalysis(
+      model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); }, buckling);
   progress.finish();
   try {
     std::ofstream csv(files.temporaryFor(".csv"));
@@ -232,7 +239,8 @@ int runSweep(const std::vector<std::string>& args) {
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG")(
       "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;

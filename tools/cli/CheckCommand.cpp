@@ -50,8 +50,7 @@ int runKeywords(const std::vector<std::string>& args) {
   ModelOptions m;
   bool markdown = false;
   po::options_description d("options");
-  d.add_options()("markdown", po::bool_switch(&markdown),
-                  "the reference as Markdown (the text of io/dat-language.md)");
+  d.add_options()("markdown", po::bool_switch(&markdown), "the reference as Markdown (the text of io/dat-language.md)");
   if (auto rc = parseCommand(args, d, m, "usage: flexmb keywords [--markdown]", false)) return *rc;
   if (markdown) {
     io::printKeywordsMarkdown(std::cout);

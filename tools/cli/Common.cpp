@@ -1,6 +1,6 @@
 #include <boost/program_options.hpp>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <iostream>
 #include <sstream>
 #include <tuple>
@@ -96,7 +96,8 @@ std::optional<int> parseCommand(const std::vector<std::string>& args, po::option
     std::cerr << "flexmb: no model file given\n" << usage << "\n";
     return kUsageError;
   }
-  if (m.dialect != "" && m.dialect != "95" && m.dialect != "spacar95" && m.dialect != "2013" && m.dialect != "spacar2013") {
+  if (m.dialect != "" && m.dialect != "95" && m.dialect != "spacar95" && m.dialect != "2013" &&
+      m.dialect != "spacar2013") {
     std::cerr << "flexmb: --dialect must be 95 or 2013, not '" << m.dialect << "'\n";
     return kUsageError;
   }
@@ -111,10 +112,14 @@ namespace {
 
 io::ReadOptions readOptions(const ModelOptions& o) {
   io::ReadOptions ro;
-  if (o.dialect == "95" || o.dialect == "spacar95") ro.dialect = core::Dialect::Spacar95;
-  else if (o.dialect == "2013" || o.dialect == "spacar2013") ro.dialect = core::Dialect::Spacar2013;
-  if (o.elongation == "plain") ro.elongation = core::ElongationDefinition::Plain;
-  else if (o.elongation == "corrected") ro.elongation = core::ElongationDefinition::BendingCorrected;
+  if (o.dialect == "95" || o.dialect == "spacar95")
+    ro.dialect = core::Dialect::Spacar95;
+  else if (o.dialect == "2013" || o.dialect == "spacar2013")
+    ro.dialect = core::Dialect::Spacar2013;
+  if (o.elongation == "plain")
+    ro.elongation = core::ElongationDefinition::Plain;
+  else if (o.elongation == "corrected")
+    ro.elongation = core::ElongationDefinition::BendingCorrected;
   return ro;
 }
 
@@ -145,8 +150,7 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
   const core::ModelDiagnosis d = core::diagnoseModel(model);
   if (!d.overflow.empty()) {
     std::cerr << o.file << ": values too large to compute with (above " << core::kOverflowLimit
-              << "; products of them overflow): " << listed(d.overflow)
-              << ". Check the units and the exponents.\n";
+              << "; products of them overflow): " << listed(d.overflow) << ". Check the units and the exponents.\n";
     return false;
   }
   if (!d.mechanismDeformations.empty() && !o.quiet)
@@ -159,7 +163,8 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
 bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass) {
   if (!loadModel(o, model)) return false;
   if (model.numDofs() == 0) {
-    std::cerr << o.file << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate): "
+    std::cerr << o.file
+              << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate): "
                  "nothing moves, so there is nothing to integrate and no eigenfrequency. Make the deformations "
                  "that carry the motion DYNE (with ESTIFF), see `flexmb check`.\n";
     return false;

@@ -2,9 +2,9 @@
 #include <iostream>
 #include <sstream>
 
+#include "analysis/Reduction.hpp"
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
-#include "analysis/Reduction.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 
@@ -27,14 +27,15 @@ int runReduce(const std::vector<std::string>& args) {
       "threshold", po::value(&o.threshold)->default_value(0.01)->notifier(positive("threshold")),
       "svd-modal: keep singular values above this share")(
       "count", po::value(&o.count)->default_value(0)->notifier(atLeast("count", 0)),
-      "svd-modal: keep exactly this many (overrides threshold)")(
-      "node", po::value(&o.node), "svd-modal path: node label")(
+      "svd-modal: keep exactly this many (overrides threshold)")("node", po::value(&o.node),
+                                                                 "svd-modal path: node label")(
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component")(
       "from", po::value(&o.from)->notifier(finite("from")), "path start value")(
       "to", po::value(&o.to)->notifier(finite("to")), "path end value")(
       "large", po::value(&large), "comma-separated q indices (0-based) kept with identity columns (default: hinges)")(
       "out", po::value(&out)->default_value("basis.csv"), "basis file");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
     return *rc;
   if (o.method != "modal" && o.method != "svd-modal") {
     std::cerr << "flexmb: --method must be modal or svd-modal, not '" << o.method << "'\n";

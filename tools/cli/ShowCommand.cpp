@@ -16,12 +16,18 @@ namespace flexmb::cli {
 
 namespace {
 bool parseView(const std::string& s, io::View& v) {
-  if (s.empty() || s == "auto") v = io::View::Auto;
-  else if (s == "xy") v = io::View::XY;
-  else if (s == "xz") v = io::View::XZ;
-  else if (s == "yz") v = io::View::YZ;
-  else if (s == "iso") v = io::View::Isometric;
-  else return false;
+  if (s.empty() || s == "auto")
+    v = io::View::Auto;
+  else if (s == "xy")
+    v = io::View::XY;
+  else if (s == "xz")
+    v = io::View::XZ;
+  else if (s == "yz")
+    v = io::View::YZ;
+  else if (s == "iso")
+    v = io::View::Isometric;
+  else
+    return false;
   return true;
 }
 
@@ -61,7 +67,8 @@ int runShow(const std::vector<std::string>& args) {
   try {
     const core::KinematicReport r = core::checkKinematics(model);
     std::vector<std::string> dofs;
-    for (const auto& q : model.dofs) dofs.push_back(q.isDeformation ? model.deformationName(q.index) : model.coordName(q.index));
+    for (const auto& q : model.dofs)
+      dofs.push_back(q.isDeformation ? model.deformationName(q.index) : model.coordName(q.index));
     drawing.notes.push_back(std::to_string(r.positionNodes) + " position and " + std::to_string(r.orientationNodes) +
                             " orientation nodes, " + std::to_string(r.elements) + " elements; " +
                             std::to_string(r.dof) + " degrees of freedom");
@@ -87,7 +94,8 @@ int runShow(const std::vector<std::string>& args) {
     return kWriteFailed;
   }
   std::cout << "wrote " << out << "\n";
-  if (!wellPosed) std::cerr << "flexmb: the kinematic check found problems (see the notes in the picture, or run flexmb check)\n";
+  if (!wellPosed)
+    std::cerr << "flexmb: the kinematic check found problems (see the notes in the picture, or run flexmb check)\n";
   return 0;
 }
 

@@ -10,17 +10,17 @@
 #include <iostream>
 #include <sstream>
 
+#include "analysis/Simulation.hpp"
+#include "analysis/SpacarOutput.hpp"
+#include "analysis/TrajectoryModes.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "io/OutputFile.hpp"
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
+#include "io/SpacarResults.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
-#include "io/SpacarResults.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/SpacarOutput.hpp"
-#include "analysis/TrajectoryModes.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 
@@ -40,8 +40,10 @@ double physicalMemory() {
 std::string bytes(double b) {
   std::ostringstream s;
   s.precision(3);
-  if (b >= 1e9) s << b / 1e9 << " GB";
-  else s << b / 1e6 << " MB";
+  if (b >= 1e9)
+    s << b / 1e9 << " GB";
+  else
+    s << b / 1e6 << " MB";
   return s.str();
 }
 
@@ -114,13 +116,14 @@ int runSimulate(const std::vector<std::string>& args) {
       "dynamics", po::value(&dynamics),
       (std::string("how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), "
                    "saddle-point (sparse nodal form, full models) or auto (saddle-point from ") +
-       std::to_string(flexmb::core::kSaddlePointDofs) + " DOF; reduced models always project)").c_str())(
+       std::to_string(flexmb::core::kSaddlePointDofs) + " DOF; reduced models always project)")
+          .c_str())(
       "linearize", po::value(&linearize)->notifier(atLeast("linearize", 0)),
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
       "matrices", po::bool_switch(&matrices),
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
-      "unless given)")(
-      "vtk", po::bool_switch(&vtk), "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
+      "unless given)")("vtk", po::bool_switch(&vtk),
+                       "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
       "html", po::bool_switch(&html), "<out>.html: a self-contained page that plays the motion in a browser");
   if (auto rc = parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -142,8 +145,10 @@ int runSimulate(const std::vector<std::string>& args) {
     return kUsageError;
   }
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
-  if (dynamics == "projected") dynamicsForm = core::DynamicsForm::Projected;
-  else if (dynamics == "saddle-point") dynamicsForm = core::DynamicsForm::SaddlePoint;
+  if (dynamics == "projected")
+    dynamicsForm = core::DynamicsForm::Projected;
+  else if (dynamics == "saddle-point")
+    dynamicsForm = core::DynamicsForm::SaddlePoint;
   else if (dynamics != "auto") {
     std::cerr << "flexmb: --dynamics must be auto, projected or saddle-point, not '" << dynamics << "'\n";
     return kUsageError;
@@ -208,16 +213,15 @@ int runSimulate(const std::vector<std::string>& args) {
   Stiffness stiff;
   try {
     if (!bdf) stiff = highestFrequency(model, opt.basis);
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   if (stiff.omegaMax > 0) {
     const double steps = span * stiff.omegaMax / 3.3;
     // Warn when the stability limit, not the output or the accuracy, sets the step: many more steps
     // than output intervals.
     if (steps > 1e4 && steps > 20.0 * std::max(1L, nOut) && !m.quiet) {
       std::cerr << "flexmb: warning: the highest eigenfrequency, " << stiff.omegaMax / (2 * M_PI)
-                << " Hz, limits the explicit integrator's step to about " << 3.3 / stiff.omegaMax
-                << " s: at least " << steps << " steps for " << span << " s. It lives in ";
+                << " Hz, limits the explicit integrator's step to about " << 3.3 / stiff.omegaMax << " s: at least "
+                << steps << " steps for " << span << " s. It lives in ";
       for (size_t i = 0; i < stiff.where.size(); ++i) std::cerr << (i ? ", " : "") << stiff.where[i];
       std::cerr << ". A reduced model removes it (flexmb reduce, then simulate --basis), the implicit "
                    "--integrator bdf steps over it, or make those deformations rigid.\n";
@@ -282,7 +286,8 @@ int runSimulate(const std::vector<std::string>& args) {
   try {
     if (!traj.time.empty()) {
       if (format == "csv" || format == "both") {
-        for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
+        for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
+          files.temporaryFor(std::string(q) + ".csv");
         io::writeCsv(files.temporaryPrefix(), model, traj);
         if (io::hasOrientationNodes(model)) {
           files.temporaryFor("_rot.csv");
@@ -333,8 +338,11 @@ int runSimulate(const std::vector<std::string>& args) {
       if (spacarFiles) {  // SPACAR's <name>.sbd / .sbm (io/results.md), renamed into place with the rest
         analysis::SpacarOutputOptions so;
         so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-        const io::SpacarResults sr = analysis::spacarFromTrajectory(
-            model, traj, kept ? &*kept : nullptr, matrices ? 3 : linearize > 0 ? 4 : 1, so);
+        const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr,
+                                                                    matrices        ? 3
+                                                                    : linearize > 0 ? 4
+                                                                                    : 1,
+                                                                    so);
         const std::string temp = files.temporaryPrefix();
         for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
       }

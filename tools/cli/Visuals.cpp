@@ -44,13 +44,15 @@ void writeShapeFigure(const std::string& path, const core::Model& model, const s
   io::ShapeFigure fig;
   fig.title = title;
   io::ShapePanel configs;
-  configs.title = configurations.empty() ? "initial configuration" : configurations.size() == 1 ? configurations[0].label : "configurations";
+  configs.title = configurations.empty()       ? "initial configuration"
+                  : configurations.size() == 1 ? configurations[0].label
+                                               : "configurations";
   configs.layers.push_back({model.x0, "initial configuration", "", true});
   for (size_t i = 0; i < configurations.size(); ++i) {
     // Legend entries for the first and the last only (the panel has room for three).
     const bool named = i == 0 || i + 1 == configurations.size();
-    configs.layers.push_back({configurations[i].x, named ? configurations[i].label : "",
-                              sequenceColor(i, configurations.size()), false});
+    configs.layers.push_back(
+        {configurations[i].x, named ? configurations[i].label : "", sequenceColor(i, configurations.size()), false});
   }
   fig.panels.push_back(configs);
 
@@ -73,8 +75,9 @@ void writeShapeFigure(const std::string& path, const core::Model& model, const s
       fig.panels.push_back(p);
     }
   }
-  fig.notes.push_back("mode shapes x + s F_q v drawn with the largest nodal displacement at 12% of the model size "
-                      "(rotations at most 0.3 rad); dashed grey: the configuration they belong to");
+  fig.notes.push_back(
+      "mode shapes x + s F_q v drawn with the largest nodal displacement at 12% of the model size "
+      "(rotations at most 0.3 rad); dashed grey: the configuration they belong to");
   const io::MechanismGeometry geometry(model);
   io::writeShapesSvg(path, geometry, fig);
 }
@@ -88,8 +91,8 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
     if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
       const auto& st = run.steps.back();
       // Static analyses run on the full model: eta = q.
-      sets.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.eta, st.frequencies.modes, st.frequencies.omega,
-                      model.settings.t0, st.loadFactor});
+      sets.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.eta, st.frequencies.modes,
+                      st.frequencies.omega, model.settings.t0, st.loadFactor});
     }
     writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);
   } catch (const std::exception& e) {
@@ -107,7 +110,8 @@ bool writeSweepFigure(const std::string& path, const core::Model& model, const s
     for (const auto& p : sweep.points) qs.push_back(p.q);
     const std::vector<Eigen::VectorXd> xs = positionsOf(model, qs, t);
     std::vector<NamedConfiguration> configs;
-    for (size_t i = 0; i < xs.size(); ++i) configs.push_back({"value " + io::shortNumber(sweep.points[i].value, 6), xs[i]});
+    for (size_t i = 0; i < xs.size(); ++i)
+      configs.push_back({"value " + io::shortNumber(sweep.points[i].value, 6), xs[i]});
     std::vector<ModeSet> sets;
     std::vector<size_t> ends;
     if (!sweep.points.empty()) ends.push_back(0);

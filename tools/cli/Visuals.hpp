@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
 
 namespace flexmb::cli {
 
@@ -18,11 +18,11 @@ int runShow(const std::vector<std::string>& args);
 
 // A configuration in degrees of freedom q with mode shapes (q coordinates, one per column).
 struct ModeSet {
-  std::string title;          // "load factor 1", "x(node 3, y) = 0.05"
+  std::string title;  // "load factor 1", "x(node 3, y) = 0.05"
   Eigen::VectorXd q;
-  Eigen::MatrixXd modes;      // nq x k (may be empty)
-  Eigen::VectorXd omega;      // rad/s, one per mode column
-  double t = 0.0;             // time of the configuration (rheonomic inputs)
+  Eigen::MatrixXd modes;         // nq x k (may be empty)
+  Eigen::VectorXd omega;         // rad/s, one per mode column
+  double t = 0.0;                // time of the configuration (rheonomic inputs)
   double inputLoadFactor = 0.0;  // DELINPX factor of static load steps
 };
 // A named configuration in nodal coordinates x.

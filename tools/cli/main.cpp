@@ -17,7 +17,8 @@ namespace {
 void usage(std::ostream& o) {
   o << "usage: flexmb <command> [options] model.dat\n"
        "       flexmb --mode N model.dat [options]     (SPACAR's modes: 0 check, 1 simulate, 3 linearised\n"
-       "                                               matrices, 4 eigenfrequencies along the trajectory, 10 static)\n\n"
+       "                                               matrices, 4 eigenfrequencies along the trajectory, 10 "
+       "static)\n\n"
        "commands:\n"
        "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
        "  show       the model as SVG: node and element numbers, roles (fixed, input, DOF)\n"
@@ -73,9 +74,9 @@ int main(int argc, char** argv) {
     command = it->second;
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
-      {"check", runCheck}, {"simulate", runSimulate}, {"keywords", runKeywords},
-      {"modes", runModes}, {"static", runStatic}, {"sweep", runSweep}, {"reduce", runReduce}, {"validate", runValidate},
-      {"show", runShow}};
+      {"check", runCheck},   {"simulate", runSimulate}, {"keywords", runKeywords},
+      {"modes", runModes},   {"static", runStatic},     {"sweep", runSweep},
+      {"reduce", runReduce}, {"validate", runValidate}, {"show", runShow}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";

@@ -23,12 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const flexmb::core::KinematicReport r = flexmb::core::checkKinematics(model);
     (void)flexmb::core::formatReport(r);
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   try {
     const flexmb::io::MechanismGeometry g(model);
     (void)flexmb::io::renderModelSvg(g, {});
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   return 0;
 }

@@ -36,11 +36,13 @@ std::vector<mxArray*> call(const std::string& fname, int nout, std::vector<mxArr
   in.push_back(mxCreateDoubleScalar(nout));
   in.insert(in.end(), args.begin(), args.end());
   std::vector<mxArray*> out(2 + nout, nullptr);
-  mxArray* trap = mexCallMATLABWithTrap(2 + nout, out.data(), static_cast<int>(in.size()), in.data(), "flexmb_usercall");
+  mxArray* trap =
+      mexCallMATLABWithTrap(2 + nout, out.data(), static_cast<int>(in.size()), in.data(), "flexmb_usercall");
   for (mxArray* a : in) mxDestroyArray(a);
   if (trap) {
     mxDestroyArray(trap);
-    throw core::UserFunctionError(what + ": flexmb_usercall.m (shipped beside spacar) could not be called; is its folder on the path?");
+    throw core::UserFunctionError(
+        what + ": flexmb_usercall.m (shipped beside spacar) could not be called; is its folder on the path?");
   }
   const bool ok = out[0] && mxGetScalar(out[0]) != 0.0;
   std::string msg;
@@ -70,8 +72,7 @@ struct Release {
 
 // A real numeric vector of n values (row or column), or empty when allowEmpty.
 bool vectorOf(const mxArray* a, std::size_t n) {
-  return a && mxIsDouble(a) && !mxIsComplex(a) && mxGetNumberOfElements(a) == n &&
-         (mxGetM(a) == 1 || mxGetN(a) == 1);
+  return a && mxIsDouble(a) && !mxIsComplex(a) && mxGetNumberOfElements(a) == n && (mxGetM(a) == 1 || mxGetN(a) == 1);
 }
 bool isEmpty(const mxArray* a) { return !a || mxIsEmpty(a); }
 
@@ -94,8 +95,11 @@ class InputChannel : public core::TimeFunction {
 }  // namespace
 
 MatlabUserFunctions::MatlabUserFunctions(core::Model& model)
-    : model_(model), stressFunction_(model.userStressFunction), inputFunction_(model.userInputFunction),
-      layout_(io::spacarLayout(model)), topology_(io::spacarTopology(model, layout_)) {
+    : model_(model),
+      stressFunction_(model.userStressFunction),
+      inputFunction_(model.userInputFunction),
+      layout_(io::spacarLayout(model)),
+      topology_(io::spacarTopology(model, layout_)) {
   for (int i = layout_.nxp[0] + layout_.nxp[1]; i < layout_.nxp[0] + layout_.nxp[1] + layout_.nxp[2]; ++i)
     inputX_.push_back(layout_.xOrder[i]);
   for (int j = layout_.nep[0]; j < layout_.nep[0] + layout_.nep[2]; ++j) inputE_.push_back(layout_.eOrder[j]);
@@ -114,10 +118,9 @@ MatlabUserFunctions::MatlabUserFunctions(core::Model& model)
 double MatlabUserFunctions::input(double t, int order, bool deformation, int index) {
   Cached& c = cache_[order];
   if (!c.valid || c.t != t) {
-    const std::string what = "USERINP function '" + inputFunction_ + "' at t = " + timeText(t) + " (is = " +
-                             std::to_string(order) + ")";
-    std::vector<mxArray*> out =
-        call(inputFunction_, 3, {mxCreateDoubleScalar(t), mxCreateDoubleScalar(order)}, what);
+    const std::string what =
+        "USERINP function '" + inputFunction_ + "' at t = " + timeText(t) + " (is = " + std::to_string(order) + ")";
+    std::vector<mxArray*> out = call(inputFunction_, 3, {mxCreateDoubleScalar(t), mxCreateDoubleScalar(order)}, what);
     Release release{out};
     const std::size_t nie = inputE_.size(), nix = inputX_.size();
     c.x = Eigen::VectorXd::Zero(model_.nx);
@@ -148,17 +151,16 @@ double MatlabUserFunctions::input(double t, int order, bool deformation, int ind
   return deformation ? c.e[index] : c.x[index];
 }
 
-void MatlabUserFunctions::loads(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
-                                const Eigen::VectorXd& e, const Eigen::VectorXd& ed, Eigen::VectorXd& sigma,
-                                Eigen::VectorXd& f) {
+void MatlabUserFunctions::loads(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& e,
+                                const Eigen::VectorXd& ed, Eigen::VectorXd& sigma, Eigen::VectorXd& f) {
   const std::string what = "USERSIG function '" + stressFunction_ + "' at t = " + timeText(t);
   const Eigen::VectorXd zx = Eigen::VectorXd::Zero(model_.nx), ze = Eigen::VectorXd::Zero(model_.ne);
-  std::vector<mxArray*> out = call(
-      stressFunction_, 3,
-      {mxCreateDoubleScalar(t), mxCreateDoubleScalar(model_.ne), matrix(topology_.le), column(layout_.sortE(e)),
-       column(ed.size() ? layout_.sortE(ed) : ze), mxCreateDoubleScalar(model_.nx), matrix(topology_.lnp),
-       column(layout_.sortX(x)), column(xd.size() ? layout_.sortX(xd) : zx)},
-      what);
+  std::vector<mxArray*> out =
+      call(stressFunction_, 3,
+           {mxCreateDoubleScalar(t), mxCreateDoubleScalar(model_.ne), matrix(topology_.le), column(layout_.sortE(e)),
+            column(ed.size() ? layout_.sortE(ed) : ze), mxCreateDoubleScalar(model_.nx), matrix(topology_.lnp),
+            column(layout_.sortX(x)), column(xd.size() ? layout_.sortX(xd) : zx)},
+           what);
   Release release{out};
   sigma = Eigen::VectorXd::Zero(model_.ne);
   f = Eigen::VectorXd::Zero(model_.nx);

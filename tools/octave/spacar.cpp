@@ -21,12 +21,12 @@
 #include <utility>
 #include <vector>
 
-#include "io/DatReader.hpp"
-#include "io/SpacarResults.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
+#include "io/DatReader.hpp"
+#include "io/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
 
 using namespace flexmb;
@@ -55,7 +55,7 @@ void readBack(const std::string& path, Variables& vars, bool skipTime) {
 }
 
 struct Run {
-  std::string error;     // empty: success
+  std::string error;  // empty: success
   std::string errorId = "flexmb:spacar:run";
   Variables vars;
 };
@@ -89,9 +89,12 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
     switch (mode) {
       case 0:
         results = analysis::spacarKinematic(model);
-        out << "spacar: kinematic analysis of " << datFile << ": " << model.numDofs() << " dynamic degrees of freedom\n";
+        out << "spacar: kinematic analysis of " << datFile << ": " << model.numDofs()
+            << " dynamic degrees of freedom\n";
         break;
-      case 1: case 3: case 4: {
+      case 1:
+      case 3:
+      case 4: {
         analysis::SimulationOptions opt;
         const core::Trajectory traj = analysis::simulate(model, opt);
         out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
@@ -142,7 +145,8 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
 
 void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   if (nrhs != 2 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
-    mexErrMsgIdAndTxt("flexmb:spacar:usage", "usage: spacar(mode, 'name') with mode 0, 1, 3, 4 or 10 (negative: silent)");
+    mexErrMsgIdAndTxt("flexmb:spacar:usage",
+                      "usage: spacar(mode, 'name') with mode 0, 1, 3, 4 or 10 (negative: silent)");
   if (nlhs > 1) mexErrMsgIdAndTxt("flexmb:spacar:usage", "spacar returns at most one output (a struct)");
   const double m = mxGetScalar(prhs[0]);
   char* nameC = mxArrayToString(prhs[1]);

@@ -53,7 +53,8 @@ class Cli : public ::testing::Test {
   // Runs a bash command line in the test folder; `flexmb` as a command is replaced by the binary.
   Result sh(const std::string& line) {
     const std::string cmd = std::regex_replace(line, std::regex("(^|[;&] *|timeout 120 )flexmb\\b"), "$1" + kFlexmb);
-    std::ofstream(dir_ / "run.sh") << "cd '" << dir_.string() << "' || exit 99\n{ " << cmd << "\n} >out.txt 2>err.txt\n";
+    std::ofstream(dir_ / "run.sh") << "cd '" << dir_.string() << "' || exit 99\n{ " << cmd
+                                   << "\n} >out.txt 2>err.txt\n";
     const int status = std::system(("/bin/bash '" + (dir_ / "run.sh").string() + "'").c_str());
     Result r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -91,10 +92,9 @@ std::string joined(const std::vector<std::string>& v) {
 // Item 1 and 6: invalid values are usage errors (exit 2) naming the option, never defaults.
 TEST_F(Cli, InvalidOptionValuesAreUsageErrors) {
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"--reltol", "-1"},   {"--reltol", "0"},     {"--abstol", "nan"}, {"--t-end", "0"},
-      {"--t-end", "-1"},    {"--max-step", "0"},   {"--max-step", "-1"}, {"--intervals", "-5"},
-      {"--reltol", "1,5"},  {"--t-end", "0,1"},    {"--abstol", "1e-6x"}, {"--intervals", "1.5"},
-      {"--t-end", "1e999"}, {"--linearize", "-2"}};
+      {"--reltol", "-1"},    {"--reltol", "0"},      {"--abstol", "nan"},   {"--t-end", "0"},     {"--t-end", "-1"},
+      {"--max-step", "0"},   {"--max-step", "-1"},   {"--intervals", "-5"}, {"--reltol", "1,5"},  {"--t-end", "0,1"},
+      {"--abstol", "1e-6x"}, {"--intervals", "1.5"}, {"--t-end", "1e999"},  {"--linearize", "-2"}};
   for (const auto& [opt, value] : bad) {
     const Result r = flexmb("simulate " + kData + "portal.dat --format none -q " + opt + " " + value);
     EXPECT_EQ(r.code, 2) << opt << " " << value << "\n" << r.out << r.err;
@@ -107,7 +107,8 @@ TEST_F(Cli, InvalidOptionValuesAreUsageErrors) {
   EXPECT_EQ(flexmb("reduce " + kData + "portal.dat --large 1,x").code, 2);
 }
 
-const std::vector<std::string> kCommands = {"check", "simulate", "modes", "static", "sweep", "reduce", "validate", "keywords"};
+const std::vector<std::string> kCommands = {"check", "simulate", "modes",    "static",
+                                            "sweep", "reduce",   "validate", "keywords"};
 
 TEST_F(Cli, EveryCommandHasHelp) {
   for (const auto& c : kCommands) {
@@ -168,8 +169,8 @@ TEST_F(Cli, SweepStaysOnItsBranchWhateverTheSteps) {
   };
   auto lastRow = [&](const std::string& model, const std::string& range, int steps) {
     const std::string prefix = "s" + std::to_string(steps);
-    const Result r = flexmb("sweep " + kData + model + " -q " + range + " --steps " + std::to_string(steps) +
-                            " --out " + prefix);
+    const Result r =
+        flexmb("sweep " + kData + model + " -q " + range + " --steps " + std::to_string(steps) + " --out " + prefix);
     Row row;
     row.code = r.code;
     EXPECT_TRUE(r.code == 0 || r.code == 3) << r.err;
@@ -230,11 +231,12 @@ TEST_F(Cli, SweepFailingAtItsLastPointKeepsThePointsBefore) {
 
 // Item 5: the output location is checked before the analysis.
 TEST_F(Cli, OutputLocationIsCheckedBeforeTheAnalysis) {
-  for (const std::string& c : {std::string("simulate ") + kData + "manipulator.dat --out /nonexistent/m",
-                               std::string("simulate ") + kData + "portal.dat --linearize 2 --out /nonexistent/m",
-                               std::string("static ") + kData + "portal.dat --out /nonexistent/s.csv",
-                               std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --out /nonexistent/p",
-                               std::string("reduce ") + kData + "portal.dat --out /nonexistent/b.csv"}) {
+  for (const std::string& c :
+       {std::string("simulate ") + kData + "manipulator.dat --out /nonexistent/m",
+        std::string("simulate ") + kData + "portal.dat --linearize 2 --out /nonexistent/m",
+        std::string("static ") + kData + "portal.dat --out /nonexistent/s.csv",
+        std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --out /nonexistent/p",
+        std::string("reduce ") + kData + "portal.dat --out /nonexistent/b.csv"}) {
     const Result r = flexmb(c + " -q");
     EXPECT_EQ(r.code, 1) << c << "\n" << r.err;
     EXPECT_NE(r.err.find("/nonexistent"), std::string::npos) << r.err;
@@ -246,14 +248,17 @@ TEST_F(Cli, OutputLocationIsCheckedBeforeTheAnalysis) {
 // Item 11: a full disk (a file size limit here) is an error with exit 4, never "wrote", and leaves
 // no file under a final name and no temporary.
 TEST_F(Cli, FailedWritesAreErrors) {
-  for (const std::string& c : {std::string("simulate ") + kData + "portal.dat --intervals 400 --format mat --out r/m",
-                               std::string("simulate ") + kData + "portal.dat --intervals 400 --format csv --out r/m",
-                               std::string("simulate ") + kData + "portal.dat --intervals 400 --linearize 3 --matrices --format none --out r/m",
-                               std::string("static ") + kData + "portal.dat --out r/s.csv --steps 3",
-                               std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --steps 300 --out r/p"}) {
+  for (const std::string& c :
+       {std::string("simulate ") + kData + "portal.dat --intervals 400 --format mat --out r/m",
+        std::string("simulate ") + kData + "portal.dat --intervals 400 --format csv --out r/m",
+        std::string("simulate ") + kData +
+            "portal.dat --intervals 400 --linearize 3 --matrices --format none --out r/m",
+        std::string("static ") + kData + "portal.dat --out r/s.csv --steps 3",
+        std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --steps 300 --out r/p"}) {
     fs::remove_all(dir_ / "r");
     fs::create_directories(dir_ / "r");
-    const Result r = sh("trap '' XFSZ; ulimit -f " + std::string(c.rfind("static", 0) == 0 ? "1" : "8") + "; flexmb " + c + " -q");
+    const Result r =
+        sh("trap '' XFSZ; ulimit -f " + std::string(c.rfind("static", 0) == 0 ? "1" : "8") + "; flexmb " + c + " -q");
     EXPECT_EQ(r.code, 4) << c << "\n" << r.err;
     EXPECT_EQ(r.out.find("wrote"), std::string::npos) << c << "\n" << r.out;
     EXPECT_TRUE(fs::is_empty(dir_ / "r")) << c << ": left " << joined(files());
@@ -287,8 +292,9 @@ TEST_F(Cli, FolderOutAndCompleteFileSets) {
 
 // Item 5: Ctrl-C during simulate writes the results so far.
 TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
-  const Result r = sh("flexmb simulate " + kData + "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
-                   "kill -INT $pid; wait $pid");
+  const Result r = sh("flexmb simulate " + kData +
+                      "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
+                      "kill -INT $pid; wait $pid");
   EXPECT_EQ(r.code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
   std::ifstream in(dir_ / "m_x.csv");
@@ -309,10 +315,10 @@ TEST_F(Cli, HugeRunsAreRefusedUpFront) {
   const std::string big = variant("portal.dat", "TIMESTEP 0.1 100", "TIMESTEP 10 100000000", "big.dat");
   const std::string huge = variant("portal.dat", "TIMESTEP 0.1 100", "TIMESTEP 0.2 1000000000", "huge.dat");
   const std::string steps = variant("portal.dat", "ITERSTEP 10 1", "ITERSTEP 20 1000000000", "steps.dat");
-  for (const Case& c : {Case{"simulate " + big, "intervals"}, Case{"simulate " + huge, "intervals"},
-                        Case{"simulate " + kData + "portal.dat --intervals 1000000000", "intervals"},
-                        Case{"simulate " + kData + "portal.dat --max-step 1e-300", "--max-step"},
-                        Case{"static " + steps, "--steps"}}) {
+  for (const Case& c :
+       {Case{"simulate " + big, "intervals"}, Case{"simulate " + huge, "intervals"},
+        Case{"simulate " + kData + "portal.dat --intervals 1000000000", "intervals"},
+        Case{"simulate " + kData + "portal.dat --max-step 1e-300", "--max-step"}, Case{"static " + steps, "--steps"}}) {
     const Result r = flexmb(c.args + " -q");
     EXPECT_EQ(r.code, 1) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.hint), std::string::npos) << c.args << "\n" << r.err;
@@ -448,8 +454,8 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   EXPECT_EQ(rows("a/straight_guidance_x.csv"), rows("b/straight_guidance_x.csv"));
   EXPECT_EQ(rows("b/straight_guidance_x.csv").size(), 11u);
 
-  for (const std::string bad : {"--integrator foo", "--integrator BDF", "--integrator ''", "--integrator bdf --bdf-order 6",
-                                "--integrator bdf --bdf-order 0", "--bdf-order 3"}) {
+  for (const std::string bad : {"--integrator foo", "--integrator BDF", "--integrator ''",
+                                "--integrator bdf --bdf-order 6", "--integrator bdf --bdf-order 0", "--bdf-order 3"}) {
     r = flexmb("simulate " + kData + "portal.dat -q --format none " + bad);
     EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find(bad.find("order") != std::string::npos ? "bdf-order" : "integrator"), std::string::npos)
@@ -482,7 +488,8 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
 
 // Ctrl-C during a bdf run writes the results so far, as with ode45.
 TEST_F(Cli, InterruptKeepsTheResultsSoFarWithBdf) {
-  const Result r = sh("flexmb simulate " + kData + "manipulator.dat -q --integrator bdf --t-end 500 --max-step 0.001 "
+  const Result r = sh("flexmb simulate " + kData +
+                      "manipulator.dat -q --integrator bdf --t-end 500 --max-step 0.001 "
                       "--intervals 10000 --out m & pid=$!; sleep 3; kill -INT $pid; wait $pid");
   EXPECT_EQ(r.code, 130) << r.err;
   EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;

@@ -53,8 +53,12 @@ TEST(TrajectoryModes, ModeThreeWritesTheLinearisedMatrices) {
     const double* d = static_cast<const double*>(v->data);
     for (size_t k = 0; k < tm.time.size(); ++k) {
       const auto& s = tm.matrices[k];
-      const Eigen::MatrixXd& ref = name[0] == 'M' ? s.M : name[0] == 'K' ? s.K : name[0] == 'G' ? s.G
-                                 : name[0] == 'C' ? s.C : name[0] == 'D' ? s.D : s.N;
+      const Eigen::MatrixXd& ref = name[0] == 'M'   ? s.M
+                                   : name[0] == 'K' ? s.K
+                                   : name[0] == 'G' ? s.G
+                                   : name[0] == 'C' ? s.C
+                                   : name[0] == 'D' ? s.D
+                                                    : s.N;
       const Eigen::Map<const Eigen::MatrixXd> got(d + k * mdof * mdof, mdof, mdof);
       EXPECT_LE((got - ref).norm(), 1e-12 * std::max(1.0, ref.norm())) << name << " at t = " << tm.time[k];
       if (k > 0 && (name[0] == 'C' || name[0] == 'N')) EXPECT_GT(ref.norm(), 0.0) << name << " exercised";
@@ -84,8 +88,8 @@ TEST(CliModels, SpaLightPivotFilesPassCheckAndStatic) {
     std::ifstream checkOut(log);
     const std::string checkText((std::istreambuf_iterator<char>(checkOut)), std::istreambuf_iterator<char>());
     EXPECT_NE(checkText.find("kinematics: well posed"), std::string::npos) << checkText;
-    ASSERT_EQ(std::system((flexmb + " static '" + path + "' --out '" + (dir / (std::string(name) + ".csv")).string() + "' > '" +
-                           log + "' 2>&1")
+    ASSERT_EQ(std::system((flexmb + " static '" + path + "' --out '" + (dir / (std::string(name) + ".csv")).string() +
+                           "' > '" + log + "' 2>&1")
                               .c_str()),
               0)
         << "see " << log;

@@ -21,9 +21,12 @@ bool mentions(const std::vector<std::string>& list, const std::string& s) {
 }  // namespace
 
 TEST(KinematicCheck, PaperModelsDegreesOfFreedom) {
-  struct Case { const char* file; int dof; };
-  for (const Case c : {Case{"straight_guidance.dat", 17}, Case{"manipulator.dat", 18},
-                       Case{"slider_crank_s95.dat", 4}, Case{"tests/fourbar.dat", 1}}) {
+  struct Case {
+    const char* file;
+    int dof;
+  };
+  for (const Case c : {Case{"straight_guidance.dat", 17}, Case{"manipulator.dat", 18}, Case{"slider_crank_s95.dat", 4},
+                       Case{"tests/fourbar.dat", 1}}) {
     const core::Model m = io::readDatFile(dat(c.file));
     const core::KinematicReport r = core::checkKinematics(m);
     EXPECT_EQ(r.dof, c.dof) << c.file;

@@ -12,13 +12,13 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/tests/TestModels.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;
@@ -36,8 +36,7 @@ struct Pieces {
 
 class Probe {
  public:
-  Probe(const core::Model& m, const std::optional<MatrixXd>& V)
-      : m_(m), V_(V), gtf_(m), inertia_(m), stresses_(m) {
+  Probe(const core::Model& m, const std::optional<MatrixXd>& V) : m_(m), V_(V), gtf_(m), inertia_(m), stresses_(m) {
     gtf_.setRelativeTolerance(1e-15);
   }
   VectorXd q(const VectorXd& eta) const { return V_ ? VectorXd(*V_ * eta) : eta; }
@@ -134,7 +133,9 @@ void checkCase(const Case& c) {
   Probe p0(m, c.V), pv(m, c.V);
   const Pieces s0 = p0.at(c.t, c.eta, c.etad, c.etadd);
   const MatrixXd Kfd = differences(
-      [&](const VectorXd& v) { return VectorXd(s0.Eq.transpose() * pv.stress(c.t, pv.at(c.t, v, c.etad, c.etadd).e, s0.ed)); },
+      [&](const VectorXd& v) {
+        return VectorXd(s0.Eq.transpose() * pv.stress(c.t, pv.at(c.t, v, c.etad, c.etadd).e, s0.ed));
+      },
       c.eta, h);
   const MatrixXd Gfd = differences(
       [&](const VectorXd& v) {
@@ -150,9 +151,12 @@ void checkCase(const Case& c) {
       c.eta, h);
   // Along etad the configuration stays (p0 solves the same positions each time).
   const MatrixXd Cfd = differences(
-      [&](const VectorXd& v) { return VectorXd(s0.A.transpose() * p0.at(c.t, c.eta, v, c.etadd).inertial); }, c.etad, h);
+      [&](const VectorXd& v) { return VectorXd(s0.A.transpose() * p0.at(c.t, c.eta, v, c.etadd).inertial); }, c.etad,
+      h);
   const MatrixXd Dfd = differences(
-      [&](const VectorXd& v) { return VectorXd(s0.Eq.transpose() * p0.stress(c.t, s0.e, p0.at(c.t, c.eta, v, c.etadd).ed)); },
+      [&](const VectorXd& v) {
+        return VectorXd(s0.Eq.transpose() * p0.stress(c.t, s0.e, p0.at(c.t, c.eta, v, c.etadd).ed));
+      },
       c.etad, h);
 
   const double scaleQ = dRdq.norm(), scaleQd = std::max(dRdqd.norm(), 1e-12 * scaleQ);
@@ -162,8 +166,8 @@ void checkCase(const Case& c) {
   const double eQ = relErr(sys.K + sys.N + sys.G, dRdq, 1e-12), eQd = relErr(sys.C + sys.D, dRdqd, 1e-12 * scaleQ);
   std::printf("  %-34s |K| %.2e |G| %.2e |N| %.2e |C| %.2e |D| %.2e\n", c.name.c_str(), sys.K.norm(), sys.G.norm(),
               sys.N.norm(), sys.C.norm(), sys.D.norm());
-  std::printf("  %-34s rel. errors: K %.1e G %.1e N %.1e C %.1e D %.1e M %.1e; K+N+G %.1e C+D %.1e; |Q| %.1e\n", "",
-              eK, eG, eN, eC, eD, eM, eQ, eQd, sys.Q.norm());
+  std::printf("  %-34s rel. errors: K %.1e G %.1e N %.1e C %.1e D %.1e M %.1e; K+N+G %.1e C+D %.1e; |Q| %.1e\n", "", eK,
+              eG, eN, eC, eD, eM, eQ, eQd, sys.Q.norm());
   EXPECT_LT(eK, 1e-6) << c.name;
   EXPECT_LT(eG, 1e-6) << c.name;
   EXPECT_LT(eN, 1e-6) << c.name;
@@ -244,7 +248,8 @@ TEST(LinearizationInMotion, StaticTangentIncludesGravityLoadStiffness) {
   // Distributed masses under gravity: their consistent nodal loads turn with the elements, so
   // -dQ/dq = K + G needs the load stiffness -A^T (dg/dx) A (the static Newton tangent).
   std::ostringstream s;
-  for (int k = 1; k <= 4; ++k) s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
+  for (int k = 1; k <= 4; ++k)
+    s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
   for (int k = 1; k <= 5; ++k) s << "X " << k << " " << 0.3 * (k - 1) << " " << 0.1 * (k - 1) << "\n";
   s << "FIX 1\nFIX 101\n";
   for (int k = 1; k <= 4; ++k) s << "DYNE " << k << " 1 2 3\n";

@@ -62,8 +62,10 @@ std::string chromium() {
 
 // Headless chromium with a fresh profile and no network services.
 std::string browser(const std::string& exe, const fs::path& profile, const std::string& extra) {
-  return exe + " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking "
-               "--disable-component-update --disable-sync --user-data-dir=" + profile.string() + " " + extra;
+  return exe +
+         " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking "
+         "--disable-component-update --disable-sync --user-data-dir=" +
+         profile.string() + " " + extra;
 }
 
 // Decodes an 8-bit RGB(A) PNG and counts pixels near the given colours: "width height n1 n2 ...".
@@ -123,12 +125,15 @@ TEST(VisualCli, ShowDrawsTheModelWithNumbersAndRoles) {
   EXPECT_EQ(count(s, "class=\"joint\""), 2u);
 
   // An ill-posed model is still drawn, with the problem in the notes; bad options and files fail.
-  const auto [rc2, out2] = run(kFlexmb + " show " + kData + "tests/underconstrained.dat --out " + (dir.path / "u.svg").string());
+  const auto [rc2, out2] =
+      run(kFlexmb + " show " + kData + "tests/underconstrained.dat --out " + (dir.path / "u.svg").string());
   EXPECT_EQ(rc2, 0) << out2;
   EXPECT_NE(slurp(dir.path / "u.svg").find("UNDER-DETERMINED"), std::string::npos);
-  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --view top --out " + (dir.path / "v.svg").string()).first, 2);
+  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --view top --out " + (dir.path / "v.svg").string()).first,
+            2);
   EXPECT_EQ(run(kFlexmb + " show " + (dir.path / "missing.dat").string()).first, 1);  // input error
-  EXPECT_EQ(run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 1);
+  EXPECT_EQ(
+      run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 1);
   EXPECT_EQ(run(kFlexmb + " show --help").first, 0);
 }
 
@@ -142,7 +147,8 @@ TEST(VisualCli, ModesStaticAndSweepDrawTheirShapes) {
   EXPECT_EQ(count(s, "class=\"panel\""), 4u);
   EXPECT_NE(s.find("mode 3, "), std::string::npos);
 
-  r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + kData + "straight_guidance.dat --nev 2 --svg " + stat.string());
+  r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + kData + "straight_guidance.dat --nev 2 --svg " +
+          stat.string());
   ASSERT_EQ(r.first, 0) << r.second;
   s = slurp(stat);
   EXPECT_EQ(count(s, "class=\"panel\""), 3u);
@@ -160,8 +166,8 @@ TEST(VisualCli, ModesStaticAndSweepDrawTheirShapes) {
 TEST(VisualCli, SimulateWritesParaViewSeriesAndAnAnimationThatPlaysInABrowser) {
   TempDir dir;
   const fs::path prefix = dir.path / "sc";
-  const auto [rc, out] = run(kFlexmb + " simulate " + kData + "slider_crank_s95.dat --format none --vtk --html -q --out " +
-                             prefix.string());
+  const auto [rc, out] = run(kFlexmb + " simulate " + kData +
+                             "slider_crank_s95.dat --format none --vtk --html -q --out " + prefix.string());
   ASSERT_EQ(rc, 0) << out;
   const std::string pvd = slurp(dir.path / "sc.pvd");
   const size_t sets = count(pvd, "<DataSet ");
@@ -182,8 +188,9 @@ TEST(VisualCli, SimulateWritesParaViewSeriesAndAnAnimationThatPlaysInABrowser) {
   const fs::path png = dir.path / "shot.png", script = dir.path / "png.py";
   fs::remove_all(profile);
   fs::create_directories(profile);
-  run("timeout 120 " + browser(exe, profile, "--hide-scrollbars --window-size=1000,720 --screenshot=" + png.string() +
-                                                 " file://" + html.string()));
+  run("timeout 120 " +
+      browser(exe, profile,
+              "--hide-scrollbars --window-size=1000,720 --screenshot=" + png.string() + " file://" + html.string()));
   ASSERT_TRUE(fs::exists(png)) << "no screenshot";
   std::ofstream(script) << kPngPixels;
   // Element colours: rigid crank #444444, flexible (DOF) rod #0072B2.

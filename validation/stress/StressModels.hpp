@@ -64,7 +64,8 @@ inline std::string guidanceDat(const GuidanceOptions& o) {
   const double L = 0.2, h = L / n;
   std::ostringstream s;
   s << "% generated straight guidance, " << n << " PLBEAM per flexure\n";
-  for (int k = 1; k <= n; ++k) s << "PLBEAM " << k << " " << k << " " << 10000 + k << " " << k + 1 << " " << 10001 + k << "\n";
+  for (int k = 1; k <= n; ++k)
+    s << "PLBEAM " << k << " " << k << " " << 10000 + k << " " << k + 1 << " " << 10001 + k << "\n";
   for (int k = 1; k <= n; ++k)
     s << "PLBEAM " << 1000 + k << " " << 1000 + k << " " << 20000 + k << " " << 1001 + k << " " << 20001 + k << "\n";
   s << "PLBEAM 5000 " << n + 1 << " " << 10001 + n << " " << 1001 + n << " " << 20001 + n << "\n";
@@ -151,11 +152,13 @@ inline std::string twoLinkDat(double L1, double L2, double phi1, double phi2, bo
   s << "PLHINGE 1 100 101\nPLHINGE 2 102 201\n"
     << "PLBEAM 11 1 101 2 102\nPLBEAM 21 2 201 3 202\n"
     << "X 1 0 0\nX 2 " << fmt(ex) << " " << fmt(ey) << "\nX 3 " << fmt(tx) << " " << fmt(ty) << "\n"
-    << "BETA 101 " << fmt(phi1) << "\nBETA 102 " << fmt(phi1) << "\nBETA 201 " << fmt(a2) << "\nBETA 202 "
-    << fmt(a2) << "\n"
+    << "BETA 101 " << fmt(phi1) << "\nBETA 102 " << fmt(phi1) << "\nBETA 201 " << fmt(a2) << "\nBETA 202 " << fmt(a2)
+    << "\n"
     << "FIX 1\nFIX 100\n";
-  if (tipInput) s << "INPUTX 3 1 2\nRLSE 1 1\nRLSE 2 1\n";
-  else s << "DYNE 1 1\nDYNE 2 1\n";
+  if (tipInput)
+    s << "INPUTX 3 1 2\nRLSE 1 1\nRLSE 2 1\n";
+  else
+    s << "DYNE 1 1\nDYNE 2 1\n";
   s << "END\nHALT\nEM 11 1.0 1e-4\nEM 21 1.0 1e-4\nXM 3 0.5\n" << dynamicLines << "\nEND\nEND\n";
   return s.str();
 }
@@ -191,8 +194,8 @@ inline std::string fourBarDat(const FourBar& g, const std::string& crankRole, co
   std::ostringstream s;
   s << "PLBEAM 1 1 11 2 12\nPLBEAM 2 2 21 3 22\nPLBEAM 3 4 31 3 32\n"
     << "PLHINGE 4 10 11\nPLHINGE 5 12 21\nPLHINGE 6 22 32\nPLHINGE 7 10 31\n"
-    << "X 1 0 0\nX 2 " << fmt(bx) << " " << fmt(by) << "\nX 3 " << fmt(cx) << " " << fmt(cy) << "\nX 4 "
-    << fmt(dx) << " 0\n"
+    << "X 1 0 0\nX 2 " << fmt(bx) << " " << fmt(by) << "\nX 3 " << fmt(cx) << " " << fmt(cy) << "\nX 4 " << fmt(dx)
+    << " 0\n"
     << "BETA 10 0\nBETA 11 " << fmt(g.theta0) << "\nBETA 12 " << fmt(g.theta0) << "\nBETA 21 " << fmt(coupler)
     << "\nBETA 22 " << fmt(coupler) << "\nBETA 31 " << fmt(rocker) << "\nBETA 32 " << fmt(rocker) << "\n"
     << "FIX 1\nFIX 4\nFIX 10\n"
@@ -280,9 +283,7 @@ inline double stopTime(const std::string& reason) {
 // Wall-clock seconds since construction.
 struct Stopwatch {
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
 };
 
 inline bool slowEnabled() {

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 #include "core/Inertia.hpp"
 #include "core/KinematicCheck.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/Statics.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;
@@ -54,8 +54,8 @@ TEST(StressLargeDeflection, GuidanceForceSweep) {
     const core::Trajectory tr = analysis::simulate(m, {});
     const double secs = sw.seconds();
     const Peak p = peakAbs(tr, coordIndex(m, guidanceTopNode(5), 1));
-    std::string fig = "max |x6| = " + num(p.value) + " m at t = " + num(p.time) + ", nfevals " +
-                      std::to_string(tr.nfevals);
+    std::string fig =
+        "max |x6| = " + num(p.value) + " m at t = " + num(p.time) + ", nfevals " + std::to_string(tr.nfevals);
     if (fmax == 100.0) fig += ", vs paper 0.0833: " + num(100.0 * (p.value / range - 1)) + " %";
     summary("1 large deflection F=" + num(fmax) + "N", tr.completed ? "completed" : "STOPPED", fig, secs);
     ASSERT_TRUE(tr.completed) << tr.stopReason;
@@ -70,9 +70,9 @@ TEST(StressLargeDeflection, GuidanceForceSweep) {
 
   // 400 N: 2.1x the paper's range. With 5 PLBEAM per flexure the DYNE/RLSE parametrisation reaches a
   // fold (|F_q| grows without bound, the kinematic Newton stalls, the step size underflows) at
-  // t = 0.0937 s, independent of the integrator tolerance: the run must stop there with time and reason, keeping finite results whose
-  // peak exceeds the 300 N peak. (10 PLBEAM per flexure pass: see the slow case below.) If a later
-  // flexmb completes the run, the peak must still grow.
+  // t = 0.0937 s, independent of the integrator tolerance: the run must stop there with time and reason, keeping finite
+  // results whose peak exceeds the 300 N peak. (10 PLBEAM per flexure pass: see the slow case below.) If a later flexmb
+  // completes the run, the peak must still grow.
   GuidanceOptions o;
   o.loadBlock = eq24Load(400.0);
   const core::Model m = io::readDatString(guidanceDat(o), "guidance_F400.dat");
@@ -175,17 +175,19 @@ TEST(StressStiffSoft, StaticsMatchesSuperposition) {
 TEST(StressStiffSoft, ShortDynamicRun) {
   const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
   const double P = 1e-4, wStatic = segmentedTipDeflection(segs, P);
-  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.25 250"), "stiffsoft.dat");
+  const core::Model m =
+      io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.25 250"), "stiffsoft.dat");
   analysis::SimulationOptions so;
   so.maxStep = 1e-5;
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, so);
   double wmax = 0.0, tmax = 0.0;
   for (size_t k = 0; k < tr.states.size(); ++k)
-    if (std::abs(tr.states[k].x[coordIndex(m, 3, 2)]) > wmax) wmax = std::abs(tr.states[k].x[coordIndex(m, 3, 2)]), tmax = tr.time[k];
+    if (std::abs(tr.states[k].x[coordIndex(m, 3, 2)]) > wmax)
+      wmax = std::abs(tr.states[k].x[coordIndex(m, 3, 2)]), tmax = tr.time[k];
   summary("2 stiff/soft dynamics 0.25 s (hmax 1e-5)", tr.completed ? "verified" : "STOPPED",
-          "nfevals " + std::to_string(tr.nfevals) + ", peak tip " + num(wmax / wStatic) + " x static at t = " + num(tmax) +
-              " (pi/omega1 = 0.2223)" + (tr.completed ? "" : "; " + tr.stopReason),
+          "nfevals " + std::to_string(tr.nfevals) + ", peak tip " + num(wmax / wStatic) +
+              " x static at t = " + num(tmax) + " (pi/omega1 = 0.2223)" + (tr.completed ? "" : "; " + tr.stopReason),
           sw.seconds());
   ASSERT_TRUE(tr.completed) << tr.stopReason;
   EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
@@ -202,7 +204,8 @@ TEST(StressStiffSoft, ShortDynamicRun) {
 TEST(StressStiffSoft, ShortDynamicRunDefaultFirstStep) {
   const std::vector<Segment> segs = {{0.5, 1e8}, {0.5, 1.0}};
   const double P = 1e-4, wStatic = segmentedTipDeflection(segs, P);
-  const core::Model m = io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.01 10"), "stiffsoft.dat");
+  const core::Model m =
+      io::readDatString(cantileverDat(segs, "XF 3 0 " + fmt(P) + "\nTIMESTEP 0.01 10"), "stiffsoft.dat");
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, {});
   analysis::SimulationOptions limited;

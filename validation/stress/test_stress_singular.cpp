@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/KinematicCheck.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/Simulation.hpp"
-#include "analysis/Statics.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;
@@ -134,8 +134,7 @@ TEST(StressNearSingular, ArmTipDrivenThroughFullStretch) {
   EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
   EXPECT_LT(tr.time.back(), 0.1 + 1e-12);
   // The kept outputs follow the prescribed tip.
-  for (size_t k = 0; k < tr.states.size(); ++k)
-    EXPECT_NEAR(tr.states[k].x[coordIndex(m, 3, 1)], d0 + tr.time[k], 1e-9);
+  for (size_t k = 0; k < tr.states.size(); ++k) EXPECT_NEAR(tr.states[k].x[coordIndex(m, 3, 1)], d0 + tr.time[k], 1e-9);
 }
 
 // Tip prescribed with the arm exactly stretched at t = 0: mode 0 names the under/over-determined
@@ -168,16 +167,16 @@ const FourBar kTripleRocker{0.25, 0.2, 0.22, 0.3, std::numbers::pi / 2};
 // Rheonomic crank (INPUTE on the ground-crank hinge, 1 rad/s from pi/2): dead point at t = 0.1601 s.
 TEST(StressNearSingular, FourBarRheonomicThroughDeadPoint) {
   const double tDead = kTripleRocker.deadPointAngle() - kTripleRocker.theta0;
-  const core::Model m =
-      io::readDatString(fourBarDat(kTripleRocker, "INPUTE 4 1", "INPUTE 4 1 0 1.0\nTIMESTEP 0.5 100"), "fourbar_ng.dat");
+  const core::Model m = io::readDatString(fourBarDat(kTripleRocker, "INPUTE 4 1", "INPUTE 4 1 0 1.0\nTIMESTEP 0.5 100"),
+                                          "fourbar_ng.dat");
   const core::KinematicReport rep = core::checkKinematics(m);
   EXPECT_TRUE(rep.wellPosed()) << core::formatReport(rep);
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, {});
   const double ts = stopTime(tr.stopReason);
   summary("5b four-bar rheonomic dead point", tr.completed ? "COMPLETED" : "stopped (diagnostic)",
-          "dead point t = " + num(tDead) + "; " + tr.stopReason + "; last output t = " +
-              num(tr.time.empty() ? -1 : tr.time.back()),
+          "dead point t = " + num(tDead) + "; " + tr.stopReason +
+              "; last output t = " + num(tr.time.empty() ? -1 : tr.time.back()),
           sw.seconds());
   ASSERT_FALSE(tr.completed);
   EXPECT_TRUE(contains(tr.stopReason, "kinematics failed")) << tr.stopReason;
@@ -191,16 +190,17 @@ TEST(StressNearSingular, FourBarRheonomicThroughDeadPoint) {
 // Coasting (crank angle a DOF, initial rate 3 rad/s, no load): the crank angle cannot pass the dead
 // point; with the crank angle as the DOF the transfer functions are singular there.
 TEST(StressNearSingular, FourBarCoastingIntoDeadPoint) {
-  const core::Model m =
-      io::readDatString(fourBarDat(kTripleRocker, "DYNE 4 1", "STARTDE 4 1 0 3.0\nTIMESTEP 0.5 100"), "fourbar_ng_dyn.dat");
+  const core::Model m = io::readDatString(fourBarDat(kTripleRocker, "DYNE 4 1", "STARTDE 4 1 0 3.0\nTIMESTEP 0.5 100"),
+                                          "fourbar_ng_dyn.dat");
   Stopwatch sw;
   const core::Trajectory tr = analysis::simulate(m, {});
   const double qDead = kTripleRocker.deadPointAngle() - kTripleRocker.theta0;
   double qmax = 0.0;
   for (const auto& s : tr.states) qmax = std::max(qmax, s.e[defIndex(m, 4, 1)]);
-  summary("5b four-bar coasting dead point", tr.completed ? "completed" : "stopped (diagnostic)",
-          "max crank angle " + num(qmax) + " (dead point " + num(qDead) + ")" + (tr.completed ? "" : "; " + tr.stopReason),
-          sw.seconds());
+  summary(
+      "5b four-bar coasting dead point", tr.completed ? "completed" : "stopped (diagnostic)",
+      "max crank angle " + num(qmax) + " (dead point " + num(qDead) + ")" + (tr.completed ? "" : "; " + tr.stopReason),
+      sw.seconds());
   EXPECT_TRUE(allFinite(tr)) << firstNonFinite(tr);
   EXPECT_LE(qmax, qDead + 1e-9);
   if (!tr.completed) {
@@ -218,9 +218,10 @@ TEST(StressNearSingular, FourBarCoastingIntoDeadPoint) {
 // assemble the linkage and the KinematicsError escapes staticAnalysis.
 TEST(StressNearSingular, FourBarStaticsThroughDeadPoint) {
   const double qDead = kTripleRocker.deadPointAngle() - kTripleRocker.theta0;
-  const core::Model m = io::readDatString(
-      fourBarDat(kTripleRocker, "INPUTX 11 1\nRLSE 4 1\nDYNE 2 2 3", "ESTIFF 2 0 1.0\nGRAVITY 0 -9.81\nDELINPX 11 1 0.4\nITERSTEP 50 20"),
-      "fourbar_ng_static.dat");
+  const core::Model m =
+      io::readDatString(fourBarDat(kTripleRocker, "INPUTX 11 1\nRLSE 4 1\nDYNE 2 2 3",
+                                   "ESTIFF 2 0 1.0\nGRAVITY 0 -9.81\nDELINPX 11 1 0.4\nITERSTEP 50 20"),
+                        "fourbar_ng_static.dat");
   Stopwatch sw;
   analysis::StaticRun run;
   try {
@@ -228,9 +229,9 @@ TEST(StressNearSingular, FourBarStaticsThroughDeadPoint) {
   } catch (const std::exception& e) {
     summary("5b four-bar statics dead point", "EXCEPTION (REGRESSION)", e.what(), sw.seconds());
     FAIL() << "regression of a fixed defect: analysis::staticAnalysis lets a KinematicsError escape (" << e.what()
-                 << ") when the linkage cannot be assembled at the next input value (crank beyond the dead "
-                    "point): analysis::equilibrium's set-up call lin.atRest() is outside the solver's try; "
-                    "expected a stop reason 'no equilibrium beyond load factor 8 ...'";
+           << ") when the linkage cannot be assembled at the next input value (crank beyond the dead "
+              "point): analysis::equilibrium's set-up call lin.atRest() is outside the solver's try; "
+              "expected a stop reason 'no equilibrium beyond load factor 8 ...'";
   }
   const double reached = run.steps.empty() ? 0.0 : run.steps.back().loadFactor * 0.4;
   summary("5b four-bar statics dead point", run.completed ? "COMPLETED" : "stopped (diagnostic)",
@@ -250,8 +251,7 @@ TEST(StressNearSingular, FourBarStaticsThroughDeadPoint) {
 // it crashed (SIGSEGV) in analysis::equilibrium when this catalogue was written.
 TEST(StressNearSingular, FourBarStaticsRigidZeroDof) {
   const double qDead = kTripleRocker.deadPointAngle() - kTripleRocker.theta0;
-  const std::string text =
-      fourBarDat(kTripleRocker, "INPUTX 11 1\nRLSE 4 1", "DELINPX 11 1 0.4\nITERSTEP 50 20");
+  const std::string text = fourBarDat(kTripleRocker, "INPUTX 11 1\nRLSE 4 1", "DELINPX 11 1 0.4\nITERSTEP 50 20");
   Stopwatch sw;
   const Isolated r = runIsolated([&] {
     const core::Model m = io::readDatString(text, "fourbar_ng_static0.dat");
@@ -262,8 +262,8 @@ TEST(StressNearSingular, FourBarStaticsRigidZeroDof) {
   if (r.crashed) {
     summary("5b four-bar statics DOF 0", "CRASH (REGRESSION)", "signal " + std::to_string(r.signal), sw.seconds());
     FAIL() << "regression of a fixed defect: analysis::staticAnalysis crashes (signal " << r.signal
-                 << ") on a model with zero degrees of freedom (empty eta): analysis::equilibrium takes "
-                    "maxCoeff() of the empty K diagonal when no generalised load exists";
+           << ") on a model with zero degrees of freedom (empty eta): analysis::equilibrium takes "
+              "maxCoeff() of the empty K diagonal when no generalised load exists";
   }
   const auto p1 = r.text.find('|'), p2 = r.text.find('|', p1 + 1);
   ASSERT_NE(p2, std::string::npos) << r.text;
@@ -307,7 +307,8 @@ TEST(StressBuckling, StraightColumnStability) {
   // XF is applied in full at every load factor: one model per load level.
   auto omegaAt = [&](double p) {
     const core::Model mp = io::readDatString(
-        columnDat(kColumnElements, 1.0, 1.0, "XF " + std::to_string(kColumnTip) + " 0 " + fmt(-p * kPcr)), "column.dat");
+        columnDat(kColumnElements, 1.0, 1.0, "XF " + std::to_string(kColumnTip) + " 0 " + fmt(-p * kPcr)),
+        "column.dat");
     return lowestOmegaAtRest(mp, 0.0);
   };
   const double w05 = omegaAt(0.5), w0999 = omegaAt(0.999), w1001 = omegaAt(1.001), w15 = omegaAt(1.5);
@@ -328,7 +329,8 @@ TEST(StressBuckling, PerfectColumnStaticAnalysis) {
   Stopwatch sw;
   for (double p : {0.5, 1.5}) {
     const core::Model m = io::readDatString(
-        columnDat(kColumnElements, 1.0, 1.0, "XF " + std::to_string(kColumnTip) + " 0 " + fmt(-p * kPcr)), "column.dat");
+        columnDat(kColumnElements, 1.0, 1.0, "XF " + std::to_string(kColumnTip) + " 0 " + fmt(-p * kPcr)),
+        "column.dat");
     const analysis::StaticRun run = analysis::staticAnalysis(m, 2, 1);
     if (!run.completed && contains(run.stopReason, "beyond load factor 0")) {
       knownIssue = true;
@@ -343,13 +345,15 @@ TEST(StressBuckling, PerfectColumnStaticAnalysis) {
     EXPECT_EQ(st.newton.stable, p < 1.0);
     EXPECT_EQ(st.frequencies.omega[0] > 0.0, p < 1.0);
   }
-  summary("6 perfect column staticAnalysis", knownIssue ? "WRONG ERROR (REGRESSION)" : "verified", figure, sw.seconds());
+  summary("6 perfect column staticAnalysis", knownIssue ? "WRONG ERROR (REGRESSION)" : "verified", figure,
+          sw.seconds());
   if (knownIssue)
-    FAIL() << "regression of a fixed defect: staticAnalysis reports 'no equilibrium beyond load factor 0' for the straight "
-                    "column under a pure axial load (even 0.5 Pcr): the residual is at round-off (~6e-15) but "
-                    "the force scale ignores the axial load (it does no work along the DOFs), so the tolerance "
-                    "is ~1e-20 and Newton 'stalls'. "
-                 << figure;
+    FAIL() << "regression of a fixed defect: staticAnalysis reports 'no equilibrium beyond load factor 0' for the "
+              "straight "
+              "column under a pure axial load (even 0.5 Pcr): the residual is at round-off (~6e-15) but "
+              "the force scale ignores the axial load (it does no work along the DOFs), so the tolerance "
+              "is ~1e-20 and Newton 'stalls'. "
+           << figure;
 }
 
 // With a transverse imperfection load (1e-2 of the axial load) stepped with the axial load to 1.5 Pcr
@@ -408,7 +412,8 @@ TEST(StressBuckling, ImperfectColumnCoarseSteps) {
   }
   const auto& last = run.steps.back();
   summary("6 imperfect column 1e-3 / 10 steps",
-          !run.completed ? "stopped (diagnostic)" : (last.newton.stable ? "post-buckled, stable" : "unstable branch (flagged)"),
+          !run.completed ? "stopped (diagnostic)"
+                         : (last.newton.stable ? "post-buckled, stable" : "unstable branch (flagged)"),
           "first unstable load step " + std::to_string(firstUnstable) + ", final tip x " +
               num(last.x[coordIndex(m, kColumnTip, 1)]) + ", omega1 " + num(last.frequencies.omega[0]) +
               (run.completed ? "" : "; " + run.stopReason),
@@ -517,9 +522,12 @@ TEST(StressBadInput, ZeroLengthElement) {
   std::string fig;
   // PLBEAM on line 1 with both ends at the origin; PLTRUSS likewise on line 2.
   const std::vector<std::pair<std::string, std::string>> texts = {
-      {"PLBEAM", "PLBEAM 1 1 11 2 12\nX 1 0 0\nX 2 0 0\nFIX 1\nFIX 11\nDYNE 1 2 3\nEND\nHALT\nEM 1 1 1e-6\nESTIFF 1 0 1\nEND\nEND\n"},
-      {"PLTRUSS", "PLBEAM 1 1 11 2 12\nPLTRUSS 2 2 3\nX 1 0 0\nX 2 1 0\nX 3 1 0\nFIX 1\nFIX 11\nDYNE 1 2 3\nDYNE 2 1\n"
-                  "END\nHALT\nEM 1 1 1e-6\nESTIFF 1 0 1\nESTIFF 2 1\nEND\nEND\n"},
+      {"PLBEAM",
+       "PLBEAM 1 1 11 2 12\nX 1 0 0\nX 2 0 0\nFIX 1\nFIX 11\nDYNE 1 2 3\nEND\nHALT\nEM 1 1 1e-6\nESTIFF 1 0 "
+       "1\nEND\nEND\n"},
+      {"PLTRUSS",
+       "PLBEAM 1 1 11 2 12\nPLTRUSS 2 2 3\nX 1 0 0\nX 2 1 0\nX 3 1 0\nFIX 1\nFIX 11\nDYNE 1 2 3\nDYNE 2 1\n"
+       "END\nHALT\nEM 1 1 1e-6\nESTIFF 1 0 1\nESTIFF 2 1\nEND\nEND\n"},
   };
   for (const auto& [kind, text] : texts) {
     try {
@@ -608,7 +616,8 @@ TEST(StressBadInput, NonFiniteLoadAtOutputTime) {
         cantileverDat({{0.5, 1.0}, {0.5, 1.0}}, "XFT 3 2 \"" + expr + "\"\nTIMESTEP 0.1 10"), "nan_output.dat");
     const core::Trajectory tr = analysis::simulate(m, {});
     const std::string bad = firstNonFinite(tr);
-    fig += "\"" + expr + "\": " + (tr.completed ? "completed" : tr.stopReason) + (bad.empty() ? "" : ", NaN: " + bad) + "; ";
+    fig += "\"" + expr + "\": " + (tr.completed ? "completed" : tr.stopReason) + (bad.empty() ? "" : ", NaN: " + bad) +
+           "; ";
     if (!bad.empty()) {
       nanFound = true;
       continue;
@@ -619,7 +628,8 @@ TEST(StressBadInput, NonFiniteLoadAtOutputTime) {
   }
   summary("7 non-finite load at output time", nanFound ? "NaN IN RESULTS (REGRESSION)" : "verified", fig, sw.seconds());
   if (nanFound)
-    FAIL() << "regression of a fixed defect: analysis::simulate stores non-finite output quantities (xdd) when the load is "
-                    "non-finite exactly at an output time; the observer only catches KinematicsError. "
-                 << fig;
+    FAIL() << "regression of a fixed defect: analysis::simulate stores non-finite output quantities (xdd) when the "
+              "load is "
+              "non-finite exactly at an output time; the observer only catches KinematicsError. "
+           << fig;
 }

@@ -9,9 +9,9 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "io/DatReader.hpp"
-#include "analysis/tests/TestModels.hpp"
 
 extern "C" void* __libc_malloc(size_t);
 extern "C" void* __libc_calloc(size_t, size_t);
