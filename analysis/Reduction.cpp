@@ -2,9 +2,9 @@
 
 #include <stdexcept>
 
+#include "analysis/Modes.hpp"
 #include "analysis/Sweep.hpp"
 #include "core/Linearization.hpp"
-#include "solvers/EigenSolver.hpp"
 #include "solvers/ReductionBasis.hpp"
 
 namespace flexmb::analysis {
@@ -26,48 +26,39 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
 }
 
 namespace {
-// The lowest r modes of the q_s subproblem (Eq. 21): q_l held at zero, i.e. the small block.
-solvers::EigenResult smallModes(const solvers::Partition& p, const Eigen::MatrixXd& KG, const Eigen::MatrixXd& M,
-                                int r) {
-  const Eigen::MatrixXd Ks = solvers::restrictToSmall(p, KG), Ms = solvers::restrictToSmall(p, M);
-  if (r > Ks.rows())
-    throw std::invalid_argument("asked for " + std::to_string(r) + " modes, the q_s subproblem has " +
-                                std::to_string(Ks.rows()));
-  solvers::EigenOptions o;
-  o.nev = r;
-  return r >= Ks.rows() ? solvers::solveDense(Ks, Ms, o) : solvers::solveLowest(Ks, Ms, o);
+// The rows of the q_s coordinates (Eq. 20) of modes given in q.
+Eigen::MatrixXd smallRows(const solvers::Partition& p, const Eigen::MatrixXd& modesQ) {
+  Eigen::MatrixXd s(p.nSmall(), modesQ.cols());
+  for (int i = 0; i < p.nSmall(); ++i) s.row(i) = modesQ.row(p.small[i]);
+  return s;
 }
 }  // namespace
 
-ReductionResult buildBasis(const core::Model& model, const std::string& modelPath, const ReductionOptions& o) {
+ReductionResult buildBasis(const core::Model& model, const ReductionOptions& o) {
   const int nq = model.numDofs();
   const solvers::Partition p = solvers::Partition::make(nq, o.large ? *o.large : defaultLargeCoordinates(model));
   ReductionResult res;
-  res.info.model = modelPath;
-  res.info.large = p.large;
-  res.info.method = o.method;
-  res.info.parameters.push_back({"r", std::to_string(o.modes)});
+  res.large = p.large;
+  res.method = o.method;
+  res.parameters.push_back({"r", std::to_string(o.modes)});
   if (o.method == "modal") {
     // Initial configuration, loads at t0 (Eq. 21).
     core::Linearization lin(model);
-    const Eigen::VectorXd q0 = lin.kinematics().initialDofs();
-    Eigen::VectorXd f;
-    lin.kinematics().solvePositions(model.settings.t0, q0);
-    lin.appliedForces(model.settings.t0, 0.0, f);
+    Eigen::VectorXd q0;
     core::LinearizedSystem sys;
-    lin.atRest(model.settings.t0, q0, f, sys);
-    const solvers::EigenResult er = smallModes(p, sys.K + sys.G, sys.M, o.modes);
-    if (er.status != solvers::EigenStatus::Converged) throw std::runtime_error("modal basis: " + er.message);
+    lin.initialRest(sys, q0);
+    const Frequencies fr = subproblemModes(p, sys, o.modes);
+    const Eigen::MatrixXd vectors = smallRows(p, fr.modes);
     if (o.normalise == "mass") {
       res.V = solvers::assembleBasis(
-          p, solvers::massNormalisedModalBasis(er.vectors, solvers::restrictToSmall(p, sys.M), o.modes));
+          p, solvers::massNormalisedModalBasis(vectors, solvers::restrictToSmall(p, sys.M), o.modes));
     } else if (o.normalise == "unit") {
-      res.V = solvers::assembleBasis(p, solvers::modalBasis(er.vectors, o.modes));
+      res.V = solvers::assembleBasis(p, solvers::modalBasis(vectors, o.modes));
     } else {
       throw std::invalid_argument("unknown normalisation '" + o.normalise + "' (mass or unit)");
     }
-    res.info.parameters.push_back({"normalise", o.normalise});
-    res.omegaSmall = er.omega;
+    res.parameters.push_back({"normalise", o.normalise});
+    res.omegaSmall = fr.omega;
   } else if (o.method == "svd-modal") {
     SweepOptions so;
     so.node = o.node;
@@ -75,31 +66,27 @@ ReductionResult buildBasis(const core::Model& model, const std::string& modelPat
     so.from = o.from;
     so.to = o.to;
     so.steps = o.configs;
-    so.nev = 1;
+    so.nev = o.modes;  // the q_s modes of every configuration, reused below (Eq. 22)
+    so.heldCoordinates = p.large;
     so.t = model.settings.t0;
-    so.keepMatrices = true;
     so.onPoint = o.onConfig;
     const SweepResult sw = sweep(model, so);
     if (!sw.completed) throw std::runtime_error("SVD-modal configurations: " + sw.stopReason);
     std::vector<Eigen::MatrixXd> modes;
     std::vector<Eigen::VectorXd> omegas;
     for (const auto& pt : sw.points) {
-      const solvers::EigenResult er = smallModes(p, pt.stiffness, pt.mass, o.modes);
-      if (er.status != solvers::EigenStatus::Converged)
-        throw std::runtime_error("SVD-modal eigenproblem: " + er.message);
-      modes.push_back(er.vectors);
-      omegas.push_back(er.omega);
+      modes.push_back(smallRows(p, pt.modesAscending));
+      omegas.push_back(pt.omegaSorted);
     }
     const solvers::SvdModalResult svd = solvers::svdModalBasis(modes, omegas, o.modes, o.weight, o.threshold, o.count);
     res.V = solvers::assembleBasis(p, svd.Vs);
     res.scaledSingularValues = svd.scaledSingularValues;
-    res.info.scaledSingularValues = svd.scaledSingularValues;
-    res.info.parameters.push_back({"configs", std::to_string(o.configs)});
-    res.info.parameters.push_back({"a", std::to_string(o.weight)});
-    res.info.parameters.push_back({"threshold", std::to_string(o.threshold)});
-    res.info.parameters.push_back({"kept", std::to_string(svd.kept)});
-    res.info.parameters.push_back({"path", "node " + std::to_string(o.node) + " comp " + std::to_string(o.component) +
-                                               " from " + std::to_string(o.from) + " to " + std::to_string(o.to)});
+    res.parameters.push_back({"configs", std::to_string(o.configs)});
+    res.parameters.push_back({"a", std::to_string(o.weight)});
+    res.parameters.push_back({"threshold", std::to_string(o.threshold)});
+    res.parameters.push_back({"kept", std::to_string(svd.kept)});
+    res.parameters.push_back({"path", "node " + std::to_string(o.node) + " comp " + std::to_string(o.component) +
+                                          " from " + std::to_string(o.from) + " to " + std::to_string(o.to)});
   } else {
     throw std::invalid_argument("unknown reduction method '" + o.method + "' (modal or svd-modal)");
   }

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "core/Model.hpp"
-#include "io/BasisFile.hpp"
 
 namespace flexmb::analysis {
 
@@ -33,7 +32,10 @@ struct ReductionOptions {
 
 struct ReductionResult {
   Eigen::MatrixXd V;  // nq x (n_l + kept)
-  io::BasisInfo info;
+  // How it was made (the front end writes it with the basis: io::BasisInfo).
+  std::string method;
+  std::vector<std::pair<std::string, std::string>> parameters;  // e.g. {"r", "4"}, {"a", "1"}
+  std::vector<int> large;                // q indices with identity columns (column j <-> large[j])
   Eigen::VectorXd scaledSingularValues;  // SVD-modal only
   Eigen::VectorXd omegaSmall;            // modal: eigenfrequencies (rad/s) of the q_s subproblem kept
 };
@@ -42,6 +44,6 @@ struct ReductionResult {
 // orientation coordinates, as q indices.
 std::vector<int> defaultLargeCoordinates(const core::Model& model);
 
-ReductionResult buildBasis(const core::Model& model, const std::string& modelPath, const ReductionOptions& options);
+ReductionResult buildBasis(const core::Model& model, const ReductionOptions& options);
 
 }  // namespace flexmb::analysis

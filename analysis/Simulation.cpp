@@ -33,6 +33,21 @@ solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::O
 
 const char* integratorName(Integrator i) { return i == Integrator::Bdf ? "bdf" : "ode45"; }
 
+std::string integratorDescription(const SimulationOptions& o) {
+  if (o.integrator == Integrator::Bdf)
+    return "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" + std::to_string(o.bdfMaxOrder) +
+           ", Newton, dense LU, analytic Jacobian of Eq. 15)";
+  return "ode45 (Dormand-Prince 5(4), MATLAB's step control)";
+}
+
+std::string formatStatistics(const core::Trajectory& run, Integrator integrator) {
+  solvers::OdeStats st{run.nsteps, run.nfailed, run.nfevals};
+  st.njacevals = run.njacevals;
+  st.nrhsfailed = run.nrhsfailed;
+  st.nlinsetups = run.nlinsetups;
+  return integrator == Integrator::Bdf ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st);
+}
+
 std::optional<Integrator> parseIntegrator(const std::string& name) {
   if (name == "ode45") return Integrator::Ode45;
   if (name == "bdf") return Integrator::Bdf;
@@ -46,185 +61,245 @@ struct Continuation {
   Eigen::VectorXd y, x;
 };
 
-core::Trajectory simulateStage(const core::Model& model, const SimulationOptions& opt, const Continuation* from,
-                               Continuation* end, bool* interrupted) {
-  const auto& s = model.settings;
-  const double t0 = s.t0, tEnd = opt.tEnd.value_or(s.tEnd);
-  const int intervals = opt.intervals.value_or(s.outputIntervals);
+// One stage's integration settings: the file's, overridden by the options.
+struct StageSettings {
+  double t0 = 0.0, tEnd = 0.0, relTol = 0.0, absTol = 0.0, maxStep = 0.0, kinematicTol = 0.0;
+  std::vector<double> tspan;  // [t0, tEnd] (Refine output) or the output grid
+  bool bdf = false;
 
-  core::EquationsOfMotion eom(model, opt.basis, opt.dynamics);
-  // Output quantities; keeps eom's warm start intact.
-  core::EquationsOfMotion probe(model, opt.basis, opt.dynamics);
-  const bool bdf = opt.integrator == Integrator::Bdf;
-  const double relTol = opt.relTol.value_or(s.relTol), absTol = opt.absTol.value_or(s.absTol);
-  const double maxStep = opt.maxStep.value_or(s.hmax);
-  std::vector<double> tspan;
-  if (intervals <= 0) {
-    tspan = {t0, tEnd};
-  } else {
-    for (int i = 0; i <= intervals; ++i) tspan.push_back(t0 + (tEnd - t0) * i / intervals);
+  StageSettings(const core::Model& model, const SimulationOptions& opt) {
+    const auto& s = model.settings;
+    t0 = s.t0;
+    tEnd = opt.tEnd.value_or(s.tEnd);
+    relTol = opt.relTol.value_or(s.relTol);
+    absTol = opt.absTol.value_or(s.absTol);
+    maxStep = opt.maxStep.value_or(s.hmax);
+    kinematicTol = kinematicTolerance(s, relTol);
+    bdf = opt.integrator == Integrator::Bdf;
+    const int intervals = opt.intervals.value_or(s.outputIntervals);
+    if (intervals <= 0) {
+      tspan = {t0, tEnd};
+    } else {
+      for (int i = 0; i <= intervals; ++i) tspan.push_back(t0 + (tEnd - t0) * i / intervals);
+    }
   }
+};
 
-  core::Trajectory traj;
-  std::string userError;  // a failing USERSIG / USERINP: reported as the stop reason as it is
-  const auto start = std::chrono::steady_clock::now();
-  auto lastPrint = start;
-  bool printed = false;
-  // Progress between output times and Ctrl-C: looked at every 64 right-hand sides only, so the
-  // clock costs nothing measurable in the RHS loop.
-  long calls = 0, accepted = 0;  // accepted: BDF steps (ode45's are estimated from the evaluations)
-  bool stoppedByUser = false, warnedSlow = false;
-  double tReached = t0;
-  auto printProgress = [&](double t) {
+// The progress line on stderr: from the first second on, at most every 250 ms, with the time
+// reached, steps, evaluations and the time left; a run that will not finish in any reasonable time
+// says so once (and how to stop it).
+class ProgressLine {
+ public:
+  ProgressLine(double t0, double tEnd, bool exactSteps)
+      : t0_(t0), tEnd_(tEnd), exactSteps_(exactSteps), start_(std::chrono::steady_clock::now()), last_(start_) {}
+  ~ProgressLine() {
+    if (printed_) std::fprintf(stderr, "\n");
+  }
+  // steps: accepted steps when exactSteps, else estimated from the evaluations (ode45: 6 per step).
+  void update(double t, long evaluations, long steps) {
     const auto now = std::chrono::steady_clock::now();
-    if (now - start < std::chrono::seconds(1) || now - lastPrint < std::chrono::milliseconds(250)) return;
-    const double elapsed = std::chrono::duration<double>(now - start).count();
-    const double share = (t - t0) / (tEnd - t0);
-    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), %s%ld steps, %ld evaluations (%.0f/s)", t, tEnd,
-                 100.0 * share, bdf ? "" : "~", bdf ? accepted : eom.evaluations() / 6, eom.evaluations(),
-                 eom.evaluations() / elapsed);
+    if (now - start_ < std::chrono::seconds(1) || now - last_ < std::chrono::milliseconds(250)) return;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double share = (t - t0_) / (tEnd_ - t0_);
+    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f%%), %s%ld steps, %ld evaluations (%.0f/s)", t, tEnd_,
+                 100.0 * share, exactSteps_ ? "" : "~", exactSteps_ ? steps : evaluations / 6, evaluations,
+                 evaluations / elapsed);
     const double left = share > 1e-6 ? elapsed * (1 - share) / share : 1e300;
     if (share > 1e-6) std::fprintf(stderr, ", about %.0f s left   ", left);
-    // A run that will not finish in any reasonable time says so once (and how to stop it).
-    if (!warnedSlow && elapsed > 20 && left > 50 * elapsed) {
+    if (!warnedSlow_ && elapsed > 20 && left > 50 * elapsed) {
       std::fprintf(stderr,
                    "\nflexmb: warning: at this rate the run needs about %.3g hours more: the step size is "
                    "very small (a stiff or reduced-badly model, or a singular configuration). Ctrl-C stops it and "
                    "writes the results so far.\n",
                    left / 3600);
-      warnedSlow = true;
+      warnedSlow_ = true;
     }
     std::fflush(stderr);
-    lastPrint = now;
-    printed = true;
-  };
-  // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
-  std::optional<StateJacobian> jacobian;
-  std::optional<AnchoredDynamics> anchored;
-  if (bdf) {
-    jacobian.emplace(model, opt.basis);
-    anchored.emplace(eom, &*jacobian);
+    last_ = now;
+    printed_ = true;
   }
-  auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
-    if ((++calls & 63) == 0) {
-      if (opt.interrupt && opt.interrupt->load(std::memory_order_relaxed)) {
-        stoppedByUser = true;
+
+ private:
+  const double t0_, tEnd_;
+  const bool exactSteps_;
+  const std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_;
+  bool printed_ = false, warnedSlow_ = false;
+};
+
+// One stage's integration: the evaluators (eom integrates; probe computes the output quantities
+// and keeps eom's warm start intact; BDF adds the Jacobian and the anchored kinematics), the
+// callables the integrators call, and the output states.
+class StageRun {
+ public:
+  StageRun(const core::Model& model, const SimulationOptions& opt, const Continuation* from, Continuation* end)
+      : model_(model),
+        opt_(opt),
+        set_(model, opt),
+        end_(end),
+        eom_(model, opt.basis, opt.dynamics),
+        probe_(model, opt.basis, opt.dynamics),
+        progress_(set_.t0, set_.tEnd, set_.bdf),
+        tReached_(set_.t0) {
+    // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
+    if (set_.bdf) {
+      jacobian_.emplace(model, opt.basis);
+      anchored_.emplace(eom_, &*jacobian_);
+    }
+    eom_.kinematics().setRelativeTolerance(set_.kinematicTol);
+    probe_.kinematics().setRelativeTolerance(set_.kinematicTol);
+    if (jacobian_) jacobian_->kinematics().setRelativeTolerance(set_.kinematicTol);
+    if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
+      eom_.kinematics().setConfiguration(from->x);
+      probe_.kinematics().setConfiguration(from->x);
+      if (jacobian_) jacobian_->kinematics().setConfiguration(from->x);
+    }
+    y0_ = from ? from->y : eom_.initialState();
+  }
+
+  core::Trajectory run(bool* interrupted) {
+    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
+    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
+    solvers::OdeResult r;
+    if (set_.bdf) {
+      solvers::BdfOptions o;
+      o.relTol = set_.relTol;
+      o.absTol = set_.absTol;
+      o.maxStep = set_.maxStep;
+      o.maxOrder = opt_.bdfMaxOrder;
+      auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
+        kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
+      };
+      auto accept = [this](double t, const Eigen::VectorXd& y) {
+        ++accepted_;
+        kinematicsAsRhsError([&] { anchored_->accept(t, y); });
+      };
+      r = solvers::Bdf(o).integrate(f, jac, set_.tspan, y0_, observer, accept);
+    } else {
+      solvers::Ode45Options o;
+      o.relTol = set_.relTol;
+      o.absTol = Eigen::VectorXd::Constant(1, set_.absTol);
+      o.maxStep = set_.maxStep;
+      r = integrateOde45(eom_, o, f, set_.tspan, y0_, observer);
+    }
+    finish(r, interrupted);
+    return std::move(traj_);
+  }
+
+ private:
+  template <class F>
+  static void kinematicsAsRhsError(F&& f) {
+    try {
+      f();
+    } catch (const core::KinematicsError& e) {
+      throw solvers::RhsError(e.what());  // a trial state: retried with a smaller step
+    }
+  }
+
+  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+    // Progress and Ctrl-C are looked at every 64 right-hand sides only, so the clock costs nothing
+    // measurable in the RHS loop.
+    if ((++calls_ & 63) == 0) {
+      if (opt_.interrupt && opt_.interrupt->load(std::memory_order_relaxed)) {
+        stoppedByUser_ = true;
         throw solvers::RhsAbort("interrupted");
       }
-      if (opt.progress) printProgress(t);
+      if (opt_.progress) progress_.update(t, eom_.evaluations(), accepted_);
     }
-    userError.clear();  // only the evaluation that ended the run counts
+    userError_.clear();  // only the evaluation that ended the run counts
     try {
-      if (anchored)
-        anchored->rhs(t, y, dy);
+      if (anchored_)
+        anchored_->rhs(t, y, dy);
       else
-        eom.rhs(t, y, dy);
+        eom_.rhs(t, y, dy);
     } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());          // BDF: a trial state; retried with a smaller step
+      throw solvers::RhsError(e.what());          // a trial state; retried with a smaller step
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
-      userError = e.what();
+      userError_ = e.what();
       throw solvers::RhsAbort(e.what());
     }
-  };
-  auto jac = [&](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
-    try {
-      anchored->jacobian(t, y, fy, J);
-    } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());
-    }
-  };
-  auto acceptStep = [&](double t, const Eigen::VectorXd& y) {
-    ++accepted;
-    try {
-      anchored->accept(t, y);
-    } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());
-    }
-  };
-  auto observer = [&](double t, const Eigen::VectorXd& y) {
-    if (end) end->y = y;
-    if (opt.keepStates) {
+  }
+
+  // An output time: the output quantities from the probe, checked (finite, every element valid).
+  bool observe(double t, const Eigen::VectorXd& y) {
+    if (end_) end_->y = y;
+    if (opt_.keepStates) {
       core::StateOutputs out;
       try {
-        probe.outputs(t, y, out);
+        probe_.outputs(t, y, out);
       } catch (const core::KinematicsError& e) {
-        traj.completed = false;
-        traj.stopReason = e.what();
-        return false;
+        return stop(e.what());
       } catch (const core::UserFunctionError& e) {
-        traj.completed = false;
-        traj.stopReason = e.what();
-        return false;
+        return stop(e.what());
       }
       for (const Eigen::VectorXd* v : {&out.x, &out.xd, &out.xdd, &out.e, &out.ed, &out.edd, &out.sig})
-        if (!v->allFinite()) {
-          traj.completed = false;
-          traj.stopReason = "non-finite output quantities at t = " + std::to_string(t) +
-                            " (a load or reference expression undefined there?); results before it are kept";
-          return false;
-        }
+        if (!v->allFinite())
+          return stop("non-finite output quantities at t = " + std::to_string(t) +
+                      " (a load or reference expression undefined there?); results before it are kept");
       // A beam node turned past 90 degrees against its chord leaves Eq. 3b/3c (l0 sin theta): the
       // motion after it is not the model's. Checked here, at output times only, not in the RHS.
-      if (const auto bad = core::firstInvalidElement(model, out.x)) {
+      if (const auto bad = core::firstInvalidElement(model_, out.x)) {
         std::ostringstream msg;
         msg << "at t = " << t << ": " << bad->message
             << "; refine the mesh or limit the step size; results before it are kept";
-        traj.completed = false;
-        traj.stopReason = msg.str();
-        return false;
+        return stop(msg.str());
       }
-      if (end) end->x = out.x;
-      traj.time.push_back(t);
-      traj.states.push_back(std::move(out));
+      if (end_) end_->x = out.x;
+      traj_.time.push_back(t);
+      traj_.states.push_back(std::move(out));
     }
-    tReached = t;
-    if (opt.progress) printProgress(t);
+    tReached_ = t;
+    if (opt_.progress) progress_.update(t, eom_.evaluations(), accepted_);
     return true;
-  };
-  const double kinTol = kinematicTolerance(s, relTol);
-  eom.kinematics().setRelativeTolerance(kinTol);
-  probe.kinematics().setRelativeTolerance(kinTol);
-  if (jacobian) jacobian->kinematics().setRelativeTolerance(kinTol);
-  if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
-    eom.kinematics().setConfiguration(from->x);
-    probe.kinematics().setConfiguration(from->x);
-    if (jacobian) jacobian->kinematics().setConfiguration(from->x);
   }
-  const Eigen::VectorXd y0 = from ? from->y : eom.initialState();
-  solvers::OdeResult r;
-  if (bdf) {
-    solvers::BdfOptions o;
-    o.relTol = relTol;
-    o.absTol = absTol;
-    o.maxStep = maxStep;
-    o.maxOrder = opt.bdfMaxOrder;
-    r = solvers::Bdf(o).integrate(f, jac, tspan, y0, observer, acceptStep);
-  } else {
-    solvers::Ode45Options o;
-    o.relTol = relTol;
-    o.absTol = Eigen::VectorXd::Constant(1, absTol);
-    o.maxStep = maxStep;
-    r = integrateOde45(eom, o, f, tspan, y0, observer);
+
+  bool stop(const std::string& reason) {
+    traj_.completed = false;
+    traj_.stopReason = reason;
+    return false;
   }
-  if (printed) std::fprintf(stderr, "\n");
-  traj.integrator = integratorName(opt.integrator);
-  traj.nsteps = r.stats.nsteps;
-  traj.nfailed = r.stats.nfailed;
-  traj.nfevals = r.stats.nfevals;
-  traj.nrhsfailed = r.stats.nrhsfailed;
-  traj.njacevals = r.stats.njacevals;
-  traj.nlinsetups = r.stats.nlinsetups;
-  if (stoppedByUser) {
-    traj.completed = false;
-    traj.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached) + "; results before it are kept";
-    if (interrupted) *interrupted = true;
-  } else if (r.status != solvers::OdeStatus::Success && traj.completed) {
-    traj.completed = false;
-    traj.stopReason = r.message;
-    // The user's function failed, not the step size: say that, without the integrator's advice.
-    if (!userError.empty()) traj.stopReason = userError + "; results before it are kept";
+
+  // Statistics and the stop reason of the run.
+  void finish(const solvers::OdeResult& r, bool* interrupted) {
+    traj_.integrator = integratorName(opt_.integrator);
+    traj_.nsteps = r.stats.nsteps;
+    traj_.nfailed = r.stats.nfailed;
+    traj_.nfevals = r.stats.nfevals;
+    traj_.nrhsfailed = r.stats.nrhsfailed;
+    traj_.njacevals = r.stats.njacevals;
+    traj_.nlinsetups = r.stats.nlinsetups;
+    if (stoppedByUser_) {
+      traj_.completed = false;
+      traj_.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached_) + "; results before it are kept";
+      if (interrupted) *interrupted = true;
+    } else if (r.status != solvers::OdeStatus::Success && traj_.completed) {
+      traj_.completed = false;
+      traj_.stopReason = r.message;
+      // The user's function failed, not the step size: say that, without the integrator's advice.
+      if (!userError_.empty()) traj_.stopReason = userError_ + "; results before it are kept";
+    }
   }
-  return traj;
+
+  const core::Model& model_;
+  const SimulationOptions& opt_;
+  const StageSettings set_;
+  Continuation* end_;
+  core::EquationsOfMotion eom_, probe_;
+  std::optional<StateJacobian> jacobian_;
+  std::optional<AnchoredDynamics> anchored_;
+  ProgressLine progress_;
+  Eigen::VectorXd y0_;
+  core::Trajectory traj_;
+  std::string userError_;          // a failing USERSIG / USERINP: reported as the stop reason as it is
+  long calls_ = 0, accepted_ = 0;  // accepted: BDF steps (ode45's are estimated from the evaluations)
+  bool stoppedByUser_ = false;
+  double tReached_;
+};
+
+core::Trajectory simulateStage(const core::Model& model, const SimulationOptions& opt, const Continuation* from,
+                               Continuation* end, bool* interrupted) {
+  StageRun stage(model, opt, from, end);
+  return stage.run(interrupted);
 }
 
 }  // namespace

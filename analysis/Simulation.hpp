@@ -22,6 +22,9 @@ enum class Integrator {
 // "ode45" or "bdf" (the command line's names); parseIntegrator returns nothing for other text.
 const char* integratorName(Integrator i);
 std::optional<Integrator> parseIntegrator(const std::string& name);
+struct SimulationOptions;
+// The integrator and its settings in words (the run manifest), e.g. "ode45 (Dormand-Prince 5(4), ...)".
+std::string integratorDescription(const SimulationOptions& options);
 
 struct SimulationOptions {
   Integrator integrator = Integrator::Ode45;
@@ -42,6 +45,9 @@ struct SimulationOptions {
 };
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
+// A run's integrator statistics (steps, failed attempts, evaluations, Jacobians) as its integrator
+// prints them.
+std::string formatStatistics(const core::Trajectory& run, Integrator integrator);
 
 // The kinematic Newton tolerance (relative to the model size) of a simulation at relTol: residuals
 // must stay far below the integration tolerance (else they are RHS noise) and need be no smaller:

@@ -1,10 +1,7 @@
 #include "analysis/Statics.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,19 +11,9 @@
 namespace flexmb::analysis {
 
 namespace {
-// The model's extent: the largest |x0| of a position coordinate.
-double modelLength(const core::Model& m) {
-  double L = 0.0;
-  for (int i = 0; i < m.nx; ++i) {
-    const auto kind = m.nodes[m.xOwnerNode[i]].kind;
-    if (kind == core::NodeKind::Position || kind == core::NodeKind::SpatialPosition) L = std::max(L, std::abs(m.x0[i]));
-  }
-  return L;
-}
-
 // Force scale of the residual test: a stiffness times a small motion of the model.
 double stiffnessForce(const core::Model& m, const Eigen::MatrixXd& K) {
-  return K.size() ? 1e-6 * std::max(modelLength(m), 1e-3) * K.diagonal().cwiseAbs().maxCoeff() : 0.0;
+  return K.size() ? 1e-6 * std::max(m.lengthScale(), 1e-3) * K.diagonal().cwiseAbs().maxCoeff() : 0.0;
 }
 
 solvers::StaticResult failed(const std::string& message) {
@@ -149,82 +136,6 @@ solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loa
   return r;
 }
 
-namespace {
-Frequencies fromResult(const solvers::EigenResult& r) {
-  Frequencies out;
-  out.lambda = r.lambda;
-  out.omega.resize(r.lambda.size());
-  for (Eigen::Index i = 0; i < r.lambda.size(); ++i)
-    out.omega[i] = r.lambda[i] >= 0 ? std::sqrt(r.lambda[i]) : -std::sqrt(-r.lambda[i]);
-  out.method = r.method;
-  return out;
-}
-
-}  // namespace
-
-Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev, bool lowestShift) {
-  solvers::EigenOptions o;
-  o.nev = std::min<int>(nev, static_cast<int>(sys.M.rows()));
-  o.lowestShift = lowestShift;
-  const solvers::EigenResult r = o.nev >= sys.M.rows() ? solvers::solveDense(sys.K + sys.G, sys.M, o)
-                                                       : solvers::solveLowest(sys.K + sys.G, sys.M, o);
-  Frequencies out = fromResult(r);
-  out.modes = r.vectors;
-  return out;
-}
-
-EigenPath eigenPathFromEnvironment() {
-  const char* v = std::getenv("FLEXMB_EIGEN");
-  if (!v) return EigenPath::Auto;
-  const std::string s(v);
-  if (s == "dense") return EigenPath::Dense;
-  if (s == "sparse") return EigenPath::Sparse;
-  return EigenPath::Auto;
-}
-
-namespace {
-// ARPACK on the constrained nodal pencil; eigenvectors back in q (P dx) and x (scattered dx).
-solvers::EigenResult sparseSolve(const core::Linearization& lin, int nev, Frequencies& out) {
-  core::ConstrainedPencil p;
-  lin.constrainedPencil(p);
-  solvers::ConstrainedShiftInvert op(p.K, p.M, p.C);
-  solvers::EigenOptions o;
-  o.nev = nev;
-  o.lowestShift = true;
-  const solvers::EigenResult r = solvers::solveArpack(op, o);
-  out = fromResult(r);
-  out.method = "sparse-constrained";
-  out.modes = p.P * r.vectors;
-  out.nodalModes.setZero(lin.model().nx, r.vectors.cols());
-  for (size_t i = 0; i < p.free.size(); ++i)
-    out.nodalModes.row(p.free[i]) = r.vectors.row(static_cast<Eigen::Index>(i));
-  return r;
-}
-}  // namespace
-
-Frequencies naturalFrequencies(const core::Linearization& lin, const core::LinearizedSystem& sys, int nev,
-                               EigenPath path) {
-  const int m = lin.size();
-  nev = std::min(nev, m);
-  if (path == EigenPath::Auto) path = eigenPathFromEnvironment();
-  if (path == EigenPath::Auto) path = m >= kSparseEigenFrom ? EigenPath::Sparse : EigenPath::Dense;
-  if (path == EigenPath::Sparse && !lin.basis() && nev < m) {
-    Frequencies out;
-    const solvers::EigenResult r = sparseSolve(lin, nev, out);
-    if (r.status == solvers::EigenStatus::Converged) return out;
-  }
-  Frequencies out = naturalFrequencies(sys, nev, lin.model().spatial);
-  out.nodalModes = lin.transfer() * out.modes;
-  return out;
-}
-
-Frequencies sparseFrequencies(const core::Linearization& lin, int nev) {
-  Frequencies out;
-  const solvers::EigenResult r = sparseSolve(lin, nev, out);
-  if (r.status != solvers::EigenStatus::Converged) throw std::runtime_error("sparse eigenanalysis: " + r.message);
-  return out;
-}
-
 std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   const int nsteps = loadSteps > 0 ? loadSteps : std::max(1, model.settings.loadSteps);
   const int ninit = std::max(0, model.settings.initialLoadSteps);
@@ -247,27 +158,19 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   return points;
 }
 
-Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count) {
-  // K0 = L L^T; mu = 1/nu for the eigenvalues nu > 0 of -L^-1 G0 L^-T (symmetric).
-  const Eigen::Index m = sys.K.rows();
-  if (m == 0 || count <= 0) return {};
-  Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (sys.K + sys.K.transpose()));
-  if (llt.info() != Eigen::Success) return {};
-  Eigen::MatrixXd A = -0.5 * (sys.G + sys.G.transpose());
-  A = llt.matrixL().solve(A);
-  A = llt.matrixL().solve(A.transpose().eval()).transpose().eval();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (A + A.transpose()), Eigen::EigenvaluesOnly);
-  std::vector<double> mu;
-  const double top = es.eigenvalues().cwiseAbs().maxCoeff();
-  for (Eigen::Index i = 0; i < m; ++i)
-    if (es.eigenvalues()[i] > 1e-12 * top) mu.push_back(1.0 / es.eigenvalues()[i]);
-  std::sort(mu.begin(), mu.end());
-  if (static_cast<int>(mu.size()) > count) mu.resize(count);
-  return Eigen::Map<Eigen::VectorXd>(mu.data(), static_cast<Eigen::Index>(mu.size()));
-}
-
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const std::function<void(int, int)>& onStep,
                          int buckling) {
+  StaticOptions o;
+  o.nev = nev;
+  o.loadSteps = loadSteps;
+  o.onStep = onStep;
+  o.buckling = buckling;
+  return staticAnalysis(model, o);
+}
+
+StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options) {
+  const int nev = options.nev, loadSteps = options.loadSteps, buckling = options.buckling;
+  const auto& onStep = options.onStep;
   StaticRun run;
   core::Linearization lin(model);
   // The kinematic residual must stay far below the equilibrium Newton's tolerance (relative 1e-10),
@@ -383,7 +286,7 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
       st.e = lin.kinematics().e();
       st.sigma = sys.sigma;
       st.system = sys;
-      if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev);
+      if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev, options.eigenPath);
       if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
       run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/Modes.hpp"
 #include "core/Linearization.hpp"
 #include "solvers/StaticEquilibrium.hpp"
 
@@ -30,35 +31,6 @@ namespace flexmb::analysis {
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
                                   const solvers::NewtonOptions& options = {}, double initialFactor = 1.0);
 
-// Natural frequencies (rad/s, ascending) of (K + G) v = w^2 M v; negative eigenvalues give -sqrt(|l|).
-struct Frequencies {
-  Eigen::VectorXd lambda, omega;
-  Eigen::MatrixXd modes;       // M-orthonormal columns in eta
-  Eigen::MatrixXd nodalModes;  // the same modes in x (nx x k; F_q V modes); empty from the sys-only overload
-  std::string method;          // "dense" or "arpack-shift-invert" on the dense pencil, "sparse-constrained"
-};
-// lowestShift: ARPACK's shift found by inverse iteration instead of the diagonal ratios
-// (solvers::EigenOptions), for pencils whose diagonals are axial (spatial beams: EA over bending,
-// ~1e8 in the cross-spring pivot, where the diagonal shift costs ten times the restarts).
-Frequencies naturalFrequencies(const core::LinearizedSystem& sys, int nev, bool lowestShift = false);
-
-// Which eigenanalysis: the dense independent-coordinate pencil (Kbar + Gbar, Mbar), or ARPACK
-// shift-invert on the sparse nodal pencil with the constraints (core::ConstrainedPencil, one sparse
-// LU of [K - sigma M, C^T; C, 0]; full models only). Auto: sparse from kSparseEigenFrom degrees of
-// freedom (below it the dense path is as fast and its q-space pencil is better conditioned: the nodal
-// pencil carries axial over bending stiffness, ~1e-7 relative on a 999-DOF chain); the environment variable
-// FLEXMB_EIGEN=dense|sparse forces either (comparisons, tests).
-enum class EigenPath { Auto, Dense, Sparse };
-constexpr int kSparseEigenFrom = 400;
-EigenPath eigenPathFromEnvironment();
-// After lin.atRest(..., withMass = true) gave sys. The sparse path falls back to the dense one when
-// ARPACK does not converge on it. Spatial models take the lowest shift on the dense path.
-Frequencies naturalFrequencies(const core::Linearization& lin, const core::LinearizedSystem& sys, int nev,
-                               EigenPath path = EigenPath::Auto);
-// Sparse path only, after lin.nodalAtRest(..., withMass = true): no dense matrix of the model's size
-// is formed. Throws std::runtime_error when ARPACK fails.
-Frequencies sparseFrequencies(const core::Linearization& lin, int nev);
-
 // One point of the load schedule: mu (initial loads) and s (DEL* increments, 1 = the total).
 struct LoadPoint {
   double initial = 1.0;
@@ -66,11 +38,6 @@ struct LoadPoint {
 };
 // The schedule described above; loadSteps > 0 overrides ITERSTEP's nsteps (--steps).
 std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps = 0);
-// Buckling load factors (SPACAR mode 8): mu with (K0 + mu G0) v = 0, K0 the structural and G0 the
-// geometric stiffness of sys; the smallest positive ones, ascending (at most count). The load that
-// produced G0 times mu is the critical load (linear pre-buckling). Empty when K0 is not definite.
-Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count);
-
 struct StaticStep {
   double loadFactor = 0.0;     // s: fraction of the DEL* increments (1 at the last step)
   double initialFactor = 1.0;  // mu: fraction of the initial loads
@@ -88,7 +55,15 @@ struct StaticRun {
   std::string stopReason;
 };
 
-// onStep(i, n): progress, called before load step i (0-based) of n.
+struct StaticOptions {
+  int nev = 6;        // eigenfrequencies per equilibrium (0: none)
+  int loadSteps = 0;  // > 0 overrides ITERSTEP's number of load steps
+  int buckling = 0;   // buckling load factors per equilibrium
+  EigenPath eigenPath = EigenPath::Auto;
+  std::function<void(int, int)> onStep;  // progress: called before load step i (0-based) of n
+};
+StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options);
+// The same with the options as arguments; onStep(i, n): progress, called before load step i of n.
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
                          const std::function<void(int, int)>& onStep = {},
                          int buckling = 0 /* number of buckling load factors per step */);

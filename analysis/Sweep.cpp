@@ -2,61 +2,17 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
-#include "analysis/Statics.hpp"
+#include "analysis/Modes.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/Linearization.hpp"
+#include "core/PrescribedEquilibrium.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {
-
-namespace {
-// Bordered Newton on [eta; P]: Q(eta) + P b(eta) = 0, x_k(eta) = value, with b = (F_q V)^T e_k.
-std::string prescribedEquilibrium(core::Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta,
-                                  double& P) {
-  const int m = lin.size();
-  Eigen::VectorXd f, R(m + 1), dz;
-  Eigen::MatrixXd A(m + 1, m + 1);
-  core::LinearizedSystem sys;
-  // Scales: the model size for lengths, the holding load (or a stiffness times a small motion) for forces.
-  double L = 0.0;
-  for (int i = 0; i < lin.model().nx; ++i)
-    if (lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::Position ||
-        lin.model().nodes[lin.model().xOwnerNode[i]].kind == core::NodeKind::SpatialPosition)
-      L = std::max(L, std::abs(lin.model().x0[i]));
-  if (L == 0.0) L = 1.0;
-  for (int it = 0; it < 60; ++it) {
-    lin.kinematics().solvePositions(t, lin.basis() ? Eigen::VectorXd(*lin.basis() * eta) : eta);
-    lin.appliedForces(t, 0.0, f);
-    f[k] += P;
-    lin.atRest(t, eta, f, sys, false);
-    const Eigen::VectorXd b = lin.transfer().row(k).transpose();
-    R.head(m) = sys.Q;
-    R[m] = lin.kinematics().x()[k] - value;
-    // Floors above the kinematic round-off (positions to ~1e-12 of the model size).
-    const double forceScale = std::max({std::abs(P) * b.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>(),
-                                        1e-3 * L * sys.K.diagonal().cwiseAbs().maxCoeff()});
-    if (R.head(m).lpNorm<Eigen::Infinity>() <= 1e-8 * forceScale && std::abs(R[m]) <= 1e-10 * L) return "";
-    A.topLeftCorner(m, m) = -(sys.K + sys.G);
-    A.topRightCorner(m, 1) = b;
-    A.bottomLeftCorner(1, m) = b.transpose();
-    A(m, m) = 0.0;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
-    dz = lu.solve(-R);
-    if (!dz.allFinite()) return "singular bordered system (the prescribed coordinate cannot move the mechanism)";
-    // Damp steps larger than a tenth of the model size (Newton far from the solution).
-    const double stepNorm = dz.head(m).lpNorm<Eigen::Infinity>();
-    const double alpha = stepNorm > 0.1 * L ? 0.1 * L / stepNorm : 1.0;
-    eta += alpha * dz.head(m);
-    P += alpha * dz[m];
-    if (it > 0 && alpha == 1.0 && stepNorm <= 1e-12 * L && std::abs(R[m]) <= 1e-10 * L) return "";
-  }
-  std::ostringstream s;
-  s << "no equilibrium found with the coordinate at " << value << " (60 iterations)";
-  return s.str();
-}
-}  // namespace
 
 SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   SweepResult res;
@@ -73,6 +29,11 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
                                 ", it cannot be prescribed");
   if (o.steps < 1) throw std::invalid_argument("sweep: steps must be at least 1");
 
+  std::optional<solvers::Partition> held;
+  if (o.heldCoordinates) {
+    if (o.basis) throw std::invalid_argument("sweep: held coordinates apply to the full model only");
+    held = solvers::Partition::make(model.numDofs(), *o.heldCoordinates);
+  }
   core::Linearization lin(model, o.basis);
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
@@ -87,10 +48,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   // sub-step is accepted only when Newton's correction of the prediction is small against the
   // predicted change (else Newton jumped to another equilibrium: the sub-step is halved). When
   // even a tiny sub-step fails the check, the path branches or turns there and the sweep stops.
-  double L = 0.0;
-  for (int i = 0; i < model.nx; ++i)
-    if (model.nodes[model.xOwnerNode[i]].kind == core::NodeKind::Position) L = std::max(L, std::abs(model.x0[i]));
-  if (L == 0.0) L = 1.0;
+  const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
   const double maxIncrement = 0.025 * L, minIncrement = maxIncrement / 4096;
   double h = maxIncrement / 8;
   double current = start;
@@ -99,7 +57,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   bool havePrev = false;
   auto solveAt = [&](double v) -> std::string {
     try {
-      return prescribedEquilibrium(lin, o.t, k, v, eta, P);
+      return core::prescribedEquilibrium(lin, o.t, k, v, eta, P);
     } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
       std::ostringstream s;
       s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
@@ -189,7 +147,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         res.stopReason = s.str();
         return res;
       }
-      const Frequencies fr = naturalFrequencies(lin, sys, o.nev);
+      const Frequencies fr = held ? subproblemModes(*held, sys, o.nev) : naturalFrequencies(lin, sys, o.nev);
       SweepPoint pt;
       pt.value = v;
       pt.load = P;
@@ -197,6 +155,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
       lin.dofs(eta, pt.q);
       pt.x = lin.kinematics().x();
       Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
+      pt.modesAscending = modesQ;
       for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
       pt.omega = fr.omega;
       pt.omegaSorted = fr.omega;
@@ -212,10 +171,6 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         pt.omega = w;
       }
       pt.modes = modesQ;
-      if (o.keepMatrices) {
-        pt.stiffness = sys.K + sys.G;
-        pt.mass = sys.M;
-      }
       previousModes = modesQ;
       res.points.push_back(std::move(pt));
     } catch (const std::exception& e) {

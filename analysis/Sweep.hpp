@@ -19,21 +19,27 @@ struct SweepOptions {
   double from = 0.0, to = 0.0;
   int steps = 10;  // number of configurations (equidistant, both ends included)
   int nev = 4;
-  std::optional<Eigen::MatrixXd> basis;              // q = V eta; empty = full model
-  double t = 0.0;                                    // time at which the loads of the file are taken (XF, XFT)
-  bool keepMatrices = false;                         // keep K + G and M of every configuration (for SVD-modal bases)
+  std::optional<Eigen::MatrixXd> basis;  // q = V eta; empty = full model
+  double t = 0.0;                        // time at which the loads of the file are taken (XF, XFT)
+  // q indices held at zero in the eigenproblem (full models): the q_s subproblem of Eq. 21 that
+  // reduction bases are built from (analysis::buildBasis reuses these modes), solved as
+  // analysis::subproblemModes solves it (also when the list is empty). Not set: the whole model's
+  // natural frequencies (analysis::naturalFrequencies).
+  std::optional<std::vector<int>> heldCoordinates;
   std::function<void(int done, int total)> onPoint;  // progress: called before each point's eigenproblem
 };
 
 struct SweepPoint {
-  double value = 0.0;               // the prescribed coordinate
-  double load = 0.0;                // the dead load that holds it
-  Eigen::VectorXd eta, q;           // configuration
-  Eigen::VectorXd x;                // its nodal coordinates (nx)
-  Eigen::VectorXd omega;            // rad/s, tracked order (column j continues column j of the previous point)
-  Eigen::VectorXd omegaSorted;      // rad/s, ascending (the i-th eigenfrequency, as the paper plots it)
-  Eigen::MatrixXd modes;            // in q coordinates (nq x nev), tracked order, unit Euclidean length
-  Eigen::MatrixXd stiffness, mass;  // K + G and M in eta coordinates, when keepMatrices
+  double value = 0.0;           // the prescribed coordinate
+  double load = 0.0;            // the dead load that holds it
+  Eigen::VectorXd eta, q;       // configuration
+  Eigen::VectorXd x;            // its nodal coordinates (nx)
+  Eigen::VectorXd omega;        // rad/s, tracked order (column j continues column j of the previous point)
+  Eigen::VectorXd omegaSorted;  // rad/s, ascending (the i-th eigenfrequency, as the paper plots it)
+  Eigen::MatrixXd modes;        // in q coordinates (nq x nev), tracked order, unit Euclidean length
+  // The eigenvectors in q as the eigensolver gave them (ascending frequencies, omegaSorted; not
+  // normalised; zero at heldCoordinates), for reduction bases.
+  Eigen::MatrixXd modesAscending;
 };
 
 struct SweepResult {

@@ -136,6 +136,16 @@ void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
   if (projectG) project(nodal_.G(), out.G);
 }
 
+void Linearization::initialRest(LinearizedSystem& out, Eigen::VectorXd& eta, bool withMass) {
+  const double t0 = model_.settings.t0;
+  const Eigen::VectorXd q0 = gtf_.initialDofs();
+  gtf_.solvePositions(t0, q0);
+  Eigen::VectorXd f;
+  appliedForces(t0, 0.0, f);
+  eta = basis() ? Eigen::VectorXd::Zero(m_) : q0;
+  atRest(t0, eta, f, out, withMass);
+}
+
 void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, LinearizedSystem& out,
                            bool withMass) {
   staticForces(t, eta, f, out.Q);

@@ -60,6 +60,11 @@ class Linearization {
   // Everything at rest in configuration eta under nodal loads f (Eq. 16). Throws KinematicsError.
   void atRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, LinearizedSystem& out,
               bool withMass = true);
+  // The recipe "linearise at rest in the initial configuration": the positions solved at t0 from the
+  // initial degrees of freedom, the loads of t0 without increments (XF, XFT(t0), gravity; load factor
+  // 0), and atRest there with eta = q0 (full model) or 0 (a basis measures from the initial
+  // configuration). What modes, reduction, model diagnostics and the stiffness estimate share.
+  void initialRest(LinearizedSystem& out, Eigen::VectorXd& eta, bool withMass = true);
   // Everything about a moving state (eta, etad, etadd) at time t under the model's loads (Eq. 15,
   // ref. [13]). Throws KinematicsError.
   void inMotion(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& etad, const Eigen::VectorXd& etadd,

@@ -1,5 +1,7 @@
 #include "core/Model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace flexmb::core {
@@ -29,6 +31,13 @@ void Rheonomic::evaluate(double t, double& x, double& xd, double& xdd) const {
   x = x0 + v * dt + 0.5 * a * dt * dt;
   xd = v + a * dt;
   xdd = a;
+}
+
+double Model::lengthScale() const {
+  double L = 0.0;
+  for (int i = 0; i < nx; ++i)
+    if (isTranslational(nodes[xOwnerNode[i]].kind)) L = std::max(L, std::abs(x0[i]));
+  return L;
 }
 
 std::string Model::coordName(int xIndex) const {

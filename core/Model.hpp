@@ -157,6 +157,9 @@ struct Model {
   // Human-readable names for messages: "x(node 3, 2)" and "e(element 5, 3)".
   std::string coordName(int xIndex) const;
   std::string deformationName(int eIndex) const;
+  // The model's extent: the largest |x0| of a position coordinate (planar or spatial; 0 when all
+  // positions are at the origin). The scale of lengths in tolerances and step sizes.
+  double lengthScale() const;
 };
 
 }  // namespace flexmb::core

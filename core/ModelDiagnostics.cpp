@@ -73,12 +73,9 @@ std::vector<std::string> masslessDegreesOfFreedom(const Model& model) {
   std::vector<std::string> names;
   if (model.numDofs() == 0) return names;
   Linearization lin(model);
-  const Eigen::VectorXd q0 = lin.kinematics().initialDofs();
-  lin.kinematics().solvePositions(model.settings.t0, q0);
-  Eigen::VectorXd f;
-  lin.appliedForces(model.settings.t0, 0.0, f);
+  Eigen::VectorXd q0;
   LinearizedSystem sys;
-  lin.atRest(model.settings.t0, q0, f, sys);
+  lin.initialRest(sys, q0);
   const Eigen::VectorXd m = sys.M.diagonal();
   const double scale = m.cwiseAbs().maxCoeff();
   for (int i = 0; i < model.numDofs(); ++i) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
+#include "solvers/NumberText.hpp"
 
 namespace flexmb::io {
 namespace {
@@ -23,17 +24,8 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-void appendG17(std::string& out, double v) {
-  char buf[64];
-  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
-  out.append(buf, r.ptr);
-}
-
-std::string g17(double v) {
-  std::string s;
-  appendG17(s, v);
-  return s;
-}
+using solvers::appendG17;
+using solvers::g17;
 
 // Shortened quote of user text for messages.
 std::string quote(std::string_view s) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <stdexcept>
+#include "solvers/NumberText.hpp"
 
 namespace flexmb::io {
 
@@ -17,9 +18,7 @@ using core::Role;
 std::string num(double v) {
   if (!std::isfinite(v)) throw std::invalid_argument("restart state: a value is not finite");
   if (v == 0.0) return "0";
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
+  return solvers::shortest(v);
 }
 
 std::string quoted(const core::TimeFunctionPtr& f) { return "\"" + (f ? f->text() : std::string("0")) + "\""; }

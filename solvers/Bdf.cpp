@@ -15,15 +15,12 @@
 #include <limits>
 #include <stdexcept>
 #include <utility>
+#include "solvers/NumberText.hpp"
 
 namespace flexmb::solvers {
 namespace {
 
-std::string num(double v) {  // shortest round-trip text
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+using solvers::shortest;
 
 double epsAt(double t) {  // spacing of doubles at |t|
   const double a = std::fabs(t);
@@ -74,7 +71,7 @@ struct Session {
       abortError = e.what();
       return -1;
     } catch (const RhsError& e) {
-      rhsError = std::string(what) + " failed at t = " + num(t) + ": " + e.what();
+      rhsError = std::string(what) + " failed at t = " + shortest(t) + ": " + e.what();
       return 1;
     } catch (...) {
       unexpected = std::current_exception();
@@ -88,13 +85,13 @@ int rhsCallback(realtype t, N_Vector y, N_Vector ydot, void* data) {
   ++s.calls;
   s.load(y, s.y);
   if (!s.y.allFinite()) {
-    s.rhsError = "right-hand side failed at t = " + num(t) + ": non-finite state y";
+    s.rhsError = "right-hand side failed at t = " + shortest(t) + ": non-finite state y";
     return 1;
   }
   const int rc = s.guarded(t, "right-hand side", [&] { (*s.f)(t, s.y, s.dy); });
   if (rc != 0) return rc;
   if (s.dy.size() != s.y.size() || !s.dy.allFinite()) {
-    s.rhsError = "right-hand side failed at t = " + num(t) + ": " +
+    s.rhsError = "right-hand side failed at t = " + shortest(t) + ": " +
                  (s.dy.size() != s.y.size() ? "wrong size of dydt" : "non-finite value in dydt");
     if (s.dy.size() != s.y.size()) s.dy.resize(s.y.size());
     return 1;
@@ -112,7 +109,7 @@ int jacCallback(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_
   const int rc = s.guarded(t, "Jacobian", [&] { (*s.jac)(t, s.y, s.fy, Jm); });
   if (rc != 0) return rc;
   if (!Jm.allFinite()) {
-    s.rhsError = "Jacobian failed at t = " + num(t) + ": non-finite entry";
+    s.rhsError = "Jacobian failed at t = " + shortest(t) + ": non-finite entry";
     return 1;
   }
   return 0;
@@ -183,13 +180,9 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
                          const Eigen::VectorXd& y0, const OdeObserver& observer, const OdeStepHook& accepted) const {
   const Eigen::Index n = y0.size();
   const std::size_t ntspan = tspan.size();
-  if (ntspan < 2) throw std::invalid_argument("Bdf: tspan needs at least 2 entries");
+  checkTimeSpan(tspan, "Bdf");
   const double t0 = tspan.front(), tf = tspan.back();
-  if (!(t0 != tf) || !std::isfinite(t0) || !std::isfinite(tf))
-    throw std::invalid_argument("Bdf: tspan must have distinct finite end points");
   const double tdir = tf > t0 ? 1.0 : -1.0;
-  for (std::size_t i = 1; i < ntspan; ++i)
-    if (!(tdir * (tspan[i] - tspan[i - 1]) > 0.0)) throw std::invalid_argument("Bdf: tspan must be strictly monotonic");
   if (n == 0) throw std::invalid_argument("Bdf: empty state y0");
   if (!y0.allFinite()) throw std::invalid_argument("Bdf: y0 is not finite");
 
@@ -258,7 +251,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
   };
 
   if (!observer(t0, y0)) {
-    fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(t0));
+    fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(t0));
     return res;
   }
   Eigen::VectorXd y(n), yout(n);
@@ -267,7 +260,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     try {
       accepted(t, state);
     } catch (const RhsError& e) {
-      fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + num(t) + ": " + e.what() +
+      fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + shortest(t) + ": " + e.what() +
                                      "; results up to there are kept");
       return false;
     }
@@ -287,9 +280,9 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
       std::string msg;
       if (!session.abortError.empty()) {
         status = OdeStatus::RhsFailed;
-        msg = session.abortError + " (at t = " + num(tcur) + ")";
+        msg = session.abortError + " (at t = " + shortest(tcur) + ")";
       } else {
-        msg = "BDF integration stopped at t = " + num(tcur) + ": " + why;
+        msg = "BDF integration stopped at t = " + shortest(tcur) + ": " + why;
         if (!session.cvodeError.empty()) msg += " (" + session.cvodeError + ")";
         if (!session.rhsError.empty()) msg += "; last failure: " + session.rhsError;
         msg += "; results up to there are kept";
@@ -303,7 +296,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     if (everyStep) {
       if (!observer(done ? tf : tcur, y)) {
         collectStats();
-        fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tcur));
+        fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tcur));
         return res;
       }
     } else {
@@ -313,7 +306,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
         if (tq != tcur && !(done && next == ntspan)) {  // tf itself: the stop time, exactly
           if (CVodeGetDky(sd.mem, tq, 0, sd.dky) < 0) {
             collectStats();
-            fail(OdeStatus::SolverFailure, "interpolation failed at t = " + num(tq));
+            fail(OdeStatus::SolverFailure, "interpolation failed at t = " + shortest(tq));
             return res;
           }
           session.load(sd.dky, yout);
@@ -321,7 +314,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
         }
         if (!observer(tq, *out)) {
           collectStats();
-          fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tcur));
+          fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tcur));
           return res;
         }
       }

@@ -6,7 +6,9 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
+#include "solvers/NumberText.hpp"
 
 namespace flexmb::solvers {
 namespace {
@@ -37,12 +39,7 @@ double epsAt(double t) {
   return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
 }
 
-// Shortest round-trip text of v (so a time just below 1 does not print as 1).
-std::string num(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
+using solvers::shortest;
 
 }  // namespace
 
@@ -64,250 +61,280 @@ std::string Ode45::formatStats(const OdeStats& s) {
   return out;
 }
 
-OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
-                           const OdeObserver& observer, const OdeStepHook& accepted, const OdeStepHook& retry) const {
-  using Eigen::VectorXd;
-  const Eigen::Index n = y0.size();
-  const std::size_t ntspan = tspan.size();
-  if (ntspan < 2) throw std::invalid_argument("Ode45: tspan needs at least 2 entries");
-  const double t0 = tspan.front(), tf = tspan.back();
-  if (!(t0 != tf) || !std::isfinite(t0) || !std::isfinite(tf))
-    throw std::invalid_argument("Ode45: tspan must have distinct finite end points");
-  const double tdir = tf > t0 ? 1.0 : -1.0;
-  for (std::size_t i = 1; i < ntspan; ++i)
-    if (!(tdir * (tspan[i] - tspan[i - 1]) > 0.0))
-      throw std::invalid_argument("Ode45: tspan must be strictly monotonic");
-  if (opt_.absTol.size() != 0 && opt_.absTol.size() != 1 && opt_.absTol.size() != n)
-    throw std::invalid_argument("Ode45: absTol must have size 0, 1 or y0.size()");
-  if (!y0.allFinite()) throw std::invalid_argument("Ode45: y0 is not finite");
+namespace {
 
-  // Options (ode45.md "Options and defaults").
-  const double rtol = std::max(opt_.relTol, 100.0 * std::numeric_limits<double>::epsilon());
-  VectorXd threshold(n);
-  if (opt_.absTol.size() == 0)
-    threshold.setConstant(1e-6 / rtol);
-  else if (opt_.absTol.size() == 1)
-    threshold.setConstant(opt_.absTol[0] / rtol);
-  else
-    threshold = opt_.absTol / rtol;
-  const double span = std::fabs(tf - t0);
-  const double hmax = opt_.maxStep > 0.0 ? std::min(span, opt_.maxStep) : 0.1 * span;
-  const bool refineOutput = ntspan == 2;
-  const int refine = opt_.refine;
+// One integration (ode45.md steps 1-7): the state of the run and its steps as methods, so the main
+// loop reads as the algorithm. Work vectors are allocated once, in the constructor.
+class Ode45Run {
+ public:
+  using VectorXd = Eigen::VectorXd;
 
-  // All work vectors, allocated once.
-  std::array<VectorXd, 7> k;
-  for (auto& v : k) v.resize(n);
-  VectorXd y = y0, ynew(n), ytmp(n), yout(n);
+  Ode45Run(const Ode45Options& opt, const OdeRhs& f, const std::vector<double>& tspan, const VectorXd& y0,
+           const OdeObserver& observer, const OdeStepHook& accepted, const OdeStepHook& retry)
+      : opt_(opt), f_(f), tspan_(tspan), observer_(observer), accepted_(accepted), retry_(retry), n_(y0.size()) {
+    checkTimeSpan(tspan, "Ode45");
+    t0_ = tspan.front(), tf_ = tspan.back();
+    tdir_ = tf_ > t0_ ? 1.0 : -1.0;
+    if (opt.absTol.size() != 0 && opt.absTol.size() != 1 && opt.absTol.size() != n_)
+      throw std::invalid_argument("Ode45: absTol must have size 0, 1 or y0.size()");
+    if (!y0.allFinite()) throw std::invalid_argument("Ode45: y0 is not finite");
+    // Options (ode45.md "Options and defaults").
+    rtol_ = std::max(opt.relTol, 100.0 * std::numeric_limits<double>::epsilon());
+    threshold_.resize(n_);
+    if (opt.absTol.size() == 0)
+      threshold_.setConstant(1e-6 / rtol_);
+    else if (opt.absTol.size() == 1)
+      threshold_.setConstant(opt.absTol[0] / rtol_);
+    else
+      threshold_ = opt.absTol / rtol_;
+    const double span = std::fabs(tf_ - t0_);
+    hmax_ = opt.maxStep > 0.0 ? std::min(span, opt.maxStep) : 0.1 * span;
+    refineOutput_ = tspan.size() == 2;
+    for (auto& v : k_) v.resize(n_);
+    y_ = y0;
+    ynew_.resize(n_), ytmp_.resize(n_), yout_.resize(n_);
+    res_.tLast = t0_;
+  }
 
-  OdeResult res;
-  res.tLast = t0;
-  OdeStats& st = res.stats;
-  std::string failure;   // reason of a failed rhs evaluation
-  bool aborted = false;  // the failure was an RhsAbort: stop at once
+  OdeResult run() {
+    t_ = t0_;
+    // Step 1: f1 = f(t0, y0).
+    if (!eval(t_, y_, k_[0])) return fail(OdeStatus::RhsFailed, failure_);
+    if (!hook(accepted_, t_, y_)) return fail(OdeStatus::RhsFailed, failure_);
+    if (!observer_(t_, y_)) return stopped(t_);
+    absh_ = initialStep();
+    bool done = false;
+    while (true) {
+      // Step 3: clip the step, the 1.1 rule.
+      const double hmin = 16.0 * epsAt(t_);
+      absh_ = std::min(hmax_, std::max(hmin, absh_));
+      h_ = tdir_ * absh_;
+      if (1.1 * absh_ >= std::fabs(tf_ - t_)) {
+        h_ = tf_ - t_;
+        absh_ = std::fabs(h_);
+        done = true;
+      }
+      nofailed_ = true;
+      // Steps 4-6: attempts until one is accepted (or the run fails).
+      while (true) {
+        const bool rhsFailed = !attempt(done);
+        if (aborted_) return fail(OdeStatus::RhsFailed, failure_);
+        if (!rhsFailed && err_ <= rtol_) break;
+        if (auto stop = reject(rhsFailed, hmin)) return *stop;
+        done = false;
+      }
+      // Step 7: accepted; emit output.
+      if (auto stop = accept()) return *stop;
+      if (done) break;
+      // Growth only after a step without failure (MATLAB: absh / (1.25*(err/rtol)^(1/5)), factor <= 5).
+      if (nofailed_) {
+        const double temp = 1.25 * std::pow(err_ / rtol_, kPow);
+        absh_ = temp > 0.2 ? absh_ / temp : 5.0 * absh_;
+      }
+      t_ = tnew_;
+      y_.swap(ynew_);
+      k_[0].swap(k_[6]);  // FSAL
+    }
+    return res_;
+  }
 
-  // One rhs evaluation; false (with `failure` set) on RhsError or a non-finite input or value.
-  auto eval = [&](double tt, const VectorXd& yy, VectorXd& dy) -> bool {
+ private:
+  // One rhs evaluation; false (with `failure_` set) on RhsError or a non-finite input or value.
+  bool eval(double tt, const VectorXd& yy, VectorXd& dy) {
     if (!yy.allFinite()) {
-      failure = "right-hand side failed at t = " + num(tt) + ": non-finite state y";
+      failure_ = "right-hand side failed at t = " + shortest(tt) + ": non-finite state y";
       return false;
     }
-    ++st.nfevals;
+    ++res_.stats.nfevals;
     try {
-      f(tt, yy, dy);
+      f_(tt, yy, dy);
     } catch (const RhsAbort& e) {
-      failure = "right-hand side failed at t = " + num(tt) + ": " + e.what();
-      aborted = true;
+      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " + e.what();
+      aborted_ = true;
       return false;
     } catch (const RhsError& e) {
-      failure = "right-hand side failed at t = " + num(tt) + ": " + e.what();
+      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " + e.what();
       return false;
     }
-    if (dy.size() != n || !dy.allFinite()) {
-      failure = "right-hand side failed at t = " + num(tt) + ": " +
-                (dy.size() != n ? "wrong size of dydt" : "non-finite value in dydt");
+    if (dy.size() != n_ || !dy.allFinite()) {
+      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " +
+                 (dy.size() != n_ ? "wrong size of dydt" : "non-finite value in dydt");
       return false;
     }
     return true;
-  };
-  auto fail = [&](OdeStatus s, std::string msg) {
-    res.status = s;
-    res.message = std::move(msg);
-    return res;
-  };
+  }
+
+  OdeResult fail(OdeStatus s, std::string msg) {
+    res_.status = s;
+    res_.message = std::move(msg);
+    return res_;
+  }
+  OdeResult stopped(double tt) { return fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tt)); }
+
   // A right-hand side that fails at every trial state down to the minimum step: the solution itself
   // runs into the failure (MATLAB's ode45 has no such outcome: its right-hand sides do not fail).
-  auto atMinimumStep = [&](double tt, double hh) {
-    return " (trial steps from the accepted state at t = " + num(tt) + " failed down to the minimum step " + num(hh) +
+  static std::string atMinimumStep(double tt, double hh) {
+    return " (trial steps from the accepted state at t = " + shortest(tt) + " failed down to the minimum step " +
+           shortest(hh) +
            "; results up to there are kept. The model itself fails there, e.g. a singular "
            "configuration or a load it cannot carry)";
-  };
+  }
+
   // The hooks may throw RhsError: the run stops with its message.
-  auto hook = [&](const OdeStepHook& h, double tt, const VectorXd& yy) -> bool {
+  bool hook(const OdeStepHook& h, double tt, const VectorXd& yy) {
     if (!h) return true;
     try {
       h(tt, yy);
     } catch (const RhsError& e) {
-      failure = e.what();
+      failure_ = e.what();
       return false;
     }
     return true;
-  };
-  auto stopped = [&](double tt) { return fail(OdeStatus::Stopped, "stopped by the observer at t = " + num(tt)); };
-
-  double t = t0;
-  // Step 1: f1 = f(t0, y0).
-  if (!eval(t, y, k[0])) return fail(OdeStatus::RhsFailed, failure);
-  if (!hook(accepted, t, y)) return fail(OdeStatus::RhsFailed, failure);
-  if (!observer(t, y)) return stopped(t);
-
-  // Step 2: initial step.
-  double absh;
-  {
-    const double hmin = 16.0 * epsAt(t);
-    if (opt_.initialStep > 0.0) {
-      absh = std::min(hmax, std::max(hmin, opt_.initialStep));
-    } else {
-      absh = std::min(hmax, std::fabs(tspan[1] - tspan[0]));
-      double rh = 0.0;
-      for (Eigen::Index i = 0; i < n; ++i)
-        rh = std::max(rh, std::fabs(k[0][i]) / std::max(std::fabs(y[i]), threshold[i]));
-      rh /= 0.8 * std::pow(rtol, kPow);
-      if (absh * rh > 1.0) absh = 1.0 / rh;
-      absh = std::max(absh, hmin);
-    }
   }
 
-  std::size_t next = 1;  // next requested output time (tspan longer than 2)
-  // Interpolated output at tq inside the step [t, t+h] (k[6] is the FSAL stage of the step).
-  auto interp = [&](double tq, double h) {
-    const double s = (tq - t) / h, s2 = s * s, s3 = s2 * s, s4 = s3 * s;
-    yout = y;
-    for (int j = 0; j < 7; ++j) {
-      const double w = h * (BI[j][0] * s + BI[j][1] * s2 + BI[j][2] * s3 + BI[j][3] * s4);
-      if (w != 0.0) yout += w * k[j];
-    }
-  };
+  // Step 2: the initial step.
+  double initialStep() const {
+    const double hmin = 16.0 * epsAt(t_);
+    if (opt_.initialStep > 0.0) return std::min(hmax_, std::max(hmin, opt_.initialStep));
+    double absh = std::min(hmax_, std::fabs(tspan_[1] - tspan_[0]));
+    double rh = 0.0;
+    for (Eigen::Index i = 0; i < n_; ++i)
+      rh = std::max(rh, std::fabs(k_[0][i]) / std::max(std::fabs(y_[i]), threshold_[i]));
+    rh /= 0.8 * std::pow(rtol_, kPow);
+    if (absh * rh > 1.0) absh = 1.0 / rh;
+    return std::max(absh, hmin);
+  }
 
   // out = sum_{i<m} A[row][i] k_i (zero coefficients skipped).
-  auto combine = [&](int row, int m, VectorXd& out) {
-    out = A[row][0] * k[0];
+  void combine(int row, int m, VectorXd& out) const {
+    out = A[row][0] * k_[0];
     for (int i = 1; i < m; ++i)
-      if (A[row][i] != 0.0) out += A[row][i] * k[i];
-  };
+      if (A[row][i] != 0.0) out += A[row][i] * k_[i];
+  }
 
+  // Step 4: stages k2..k6 (y + h*(sum_i a_ji k_i), the order of MATLAB's ode45), then tnew, the
+  // purified h = tnew - t, ynew from b and the FSAL stage k7; step 5: the error estimate
+  // err = absh * max_i |sum_j E_j k_j,i| / max(|y_i|, |ynew_i|, threshold_i). False when a stage's
+  // right-hand side failed.
+  bool attempt(bool done) {
+    for (int j = 1; j <= 5; ++j) {
+      combine(j - 1, j, ytmp_);
+      ytmp_ = y_ + h_ * ytmp_;
+      if (!eval(t_ + C[j] * h_, ytmp_, k_[j])) return false;
+    }
+    tnew_ = done ? tf_ : t_ + h_;
+    h_ = tnew_ - t_;
+    combine(5, 6, ynew_);
+    ynew_ = y_ + h_ * ynew_;
+    if (!eval(tnew_, ynew_, k_[6])) return false;
+    double m = 0.0;
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      double e = 0.0;
+      for (int j = 0; j < 7; ++j) e += E[j] * k_[j][i];
+      const double sc = std::max({std::fabs(y_[i]), std::fabs(ynew_[i]), threshold_[i]});
+      m = std::max(m, std::fabs(e) / sc);
+    }
+    err_ = absh_ * m;
+    return true;
+  }
+
+  // Step 6: rejected. A failed right-hand side counts as an infinite error: a trial state far off
+  // the solution (stages of a step much too large for the stiffest mode) may have no configuration
+  // at all, where the solution has one. The run's end when the step cannot shrink further.
+  std::optional<OdeResult> reject(bool rhsFailed, double hmin) {
+    ++res_.stats.nfailed;
+    if (rhsFailed) ++res_.stats.nrhsfailed, streakFailure_ = failure_;
+    if (absh_ <= hmin) {
+      if (rhsFailed) return fail(OdeStatus::RhsFailed, failure_ + atMinimumStep(t_, absh_));
+      return fail(OdeStatus::StepSizeUnderflow,
+                  "step size underflow at t = " + shortest(t_) + ": tolerance cannot be met (h = " + shortest(absh_) +
+                      " <= hmin = " + shortest(hmin) + ")" +
+                      (streakFailure_.empty()
+                           ? ""
+                           : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure_));
+    }
+    if (nofailed_) {
+      nofailed_ = false;
+      const double shrink = rhsFailed ? 0.1 : std::max(0.1, 0.8 * std::pow(rtol_ / err_, kPow));
+      absh_ = std::max(hmin, absh_ * shrink);
+    } else {
+      absh_ = std::max(hmin, 0.5 * absh_);
+    }
+    h_ = tdir_ * absh_;
+    // An attempt far off the solution (a failed right-hand side, or an error estimate of more than
+    // 100% relative) may have left the caller's state (a warm start) anywhere: the caller resets it.
+    if ((rhsFailed || err_ > 1.0) && !hook(retry_, t_, y_)) return fail(OdeStatus::RhsFailed, failure_);
+    return std::nullopt;
+  }
+
+  // Interpolated output at tq inside the step [t, t+h] (k[6] is the FSAL stage of the step).
+  void interp(double tq) {
+    const double s = (tq - t_) / h_, s2 = s * s, s3 = s2 * s, s4 = s3 * s;
+    yout_ = y_;
+    for (int j = 0; j < 7; ++j) {
+      const double w = h_ * (BI[j][0] * s + BI[j][1] * s2 + BI[j][2] * s3 + BI[j][3] * s4);
+      if (w != 0.0) yout_ += w * k_[j];
+    }
+  }
+
+  // Step 7: the accepted step's statistics, hook and output (Refine points or the requested times).
+  std::optional<OdeResult> accept() {
+    ++res_.stats.nsteps;
+    if (nofailed_) streakFailure_.clear();
+    res_.tLast = tnew_;
+    if (!hook(accepted_, tnew_, ynew_)) return fail(OdeStatus::RhsFailed, failure_);
+    if (refineOutput_) {
+      for (int j = 1; j < opt_.refine; ++j) {  // interior points at s = j/refine
+        const double tq = t_ + h_ * (static_cast<double>(j) / opt_.refine);
+        interp(tq);
+        if (!yout_.allFinite())
+          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + shortest(tq));
+        if (!observer_(tq, yout_)) return stopped(tnew_);
+      }
+      if (!observer_(tnew_, ynew_)) return stopped(tnew_);
+      return std::nullopt;
+    }
+    while (next_ < tspan_.size() && tdir_ * (tnew_ - tspan_[next_]) >= 0.0) {
+      const double tq = tspan_[next_++];
+      const VectorXd* out = &ynew_;
+      if (tq != tnew_) {
+        interp(tq);
+        if (!yout_.allFinite())
+          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + shortest(tq));
+        out = &yout_;
+      }
+      if (!observer_(tq, *out)) return stopped(tnew_);
+    }
+    return std::nullopt;
+  }
+
+  const Ode45Options& opt_;
+  const OdeRhs& f_;
+  const std::vector<double>& tspan_;
+  const OdeObserver& observer_;
+  const OdeStepHook &accepted_, &retry_;
+  const Eigen::Index n_;
+  double t0_ = 0.0, tf_ = 0.0, tdir_ = 1.0, rtol_ = 0.0, hmax_ = 0.0;
+  bool refineOutput_ = false;
+  VectorXd threshold_;
+  std::array<VectorXd, 7> k_;  // stages; k_[6] the FSAL stage of the last attempt
+  VectorXd y_, ynew_, ytmp_, yout_;
+  double t_ = 0.0, tnew_ = 0.0, h_ = 0.0, absh_ = 0.0, err_ = 0.0;
+  bool nofailed_ = true;  // the current step has had no rejected attempt
+  std::size_t next_ = 1;  // next requested output time (tspan longer than 2)
+  OdeResult res_;
+  std::string failure_;   // reason of a failed rhs evaluation
+  bool aborted_ = false;  // the failure was an RhsAbort: stop at once
   // The last right-hand-side failure since a step was last accepted at its first attempt: the reason
   // a step-size underflow at the end of such a streak names (the solution running into a fold).
-  std::string streakFailure;
-  bool done = false;
-  while (true) {
-    // Step 3: clip the step, the 1.1 rule.
-    const double hmin = 16.0 * epsAt(t);
-    absh = std::min(hmax, std::max(hmin, absh));
-    double h = tdir * absh;
-    if (1.1 * absh >= std::fabs(tf - t)) {
-      h = tf - t;
-      absh = std::fabs(h);
-      done = true;
-    }
-    bool nofailed = true;
-    double err = 0.0, tnew;
-    while (true) {
-      // Step 4: stages k2..k6 (y + h*(sum_i a_ji k_i), the order of MATLAB's ode45), then tnew,
-      // the purified h = tnew - t, ynew from b and the FSAL stage k7.
-      bool rhsFailed = false;
-      for (int j = 1; j <= 5 && !rhsFailed; ++j) {
-        combine(j - 1, j, ytmp);
-        ytmp = y + h * ytmp;
-        rhsFailed = !eval(t + C[j] * h, ytmp, k[j]);
-      }
-      if (!rhsFailed) {
-        tnew = done ? tf : t + h;
-        h = tnew - t;
-        combine(5, 6, ynew);
-        ynew = y + h * ynew;
-        rhsFailed = !eval(tnew, ynew, k[6]);
-      }
-      if (aborted) return fail(OdeStatus::RhsFailed, failure);
+  std::string streakFailure_;
+};
 
-      if (!rhsFailed) {
-        // Step 5: err = absh * max_i |sum_j E_j k_j,i| / max(|y_i|, |ynew_i|, threshold_i).
-        double m = 0.0;
-        for (Eigen::Index i = 0; i < n; ++i) {
-          double e = 0.0;
-          for (int j = 0; j < 7; ++j) e += E[j] * k[j][i];
-          const double sc = std::max({std::fabs(y[i]), std::fabs(ynew[i]), threshold[i]});
-          m = std::max(m, std::fabs(e) / sc);
-        }
-        err = absh * m;
-        if (err <= rtol) break;
-      }
+}  // namespace
 
-      // Step 6: rejected. A failed right-hand side counts as an infinite error: a trial state far
-      // off the solution (stages of a step much too large for the stiffest mode) may have no
-      // configuration at all, where the solution has one.
-      ++st.nfailed;
-      if (rhsFailed) ++st.nrhsfailed, streakFailure = failure;
-      if (absh <= hmin) {
-        if (rhsFailed) return fail(OdeStatus::RhsFailed, failure + atMinimumStep(t, absh));
-        return fail(OdeStatus::StepSizeUnderflow,
-                    "step size underflow at t = " + num(t) + ": tolerance cannot be met (h = " + num(absh) +
-                        " <= hmin = " + num(hmin) + ")" +
-                        (streakFailure.empty()
-                             ? ""
-                             : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure));
-      }
-      if (nofailed) {
-        nofailed = false;
-        const double shrink = rhsFailed ? 0.1 : std::max(0.1, 0.8 * std::pow(rtol / err, kPow));
-        absh = std::max(hmin, absh * shrink);
-      } else {
-        absh = std::max(hmin, 0.5 * absh);
-      }
-      h = tdir * absh;
-      done = false;
-      // An attempt far off the solution (a failed right-hand side, or an error estimate of more than
-      // 100% relative) may have left the caller's state (a warm start) anywhere: the caller resets it.
-      if ((rhsFailed || err > 1.0) && !hook(retry, t, y)) return fail(OdeStatus::RhsFailed, failure);
-    }
-
-    // Step 7: accepted; emit output.
-    ++st.nsteps;
-    if (nofailed) streakFailure.clear();
-    res.tLast = tnew;
-    if (!hook(accepted, tnew, ynew)) return fail(OdeStatus::RhsFailed, failure);
-    if (refineOutput) {
-      for (int j = 1; j < refine; ++j) {  // interior points at s = j/refine
-        const double tq = t + h * (static_cast<double>(j) / refine);
-        interp(tq, h);
-        if (!yout.allFinite()) return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
-        if (!observer(tq, yout)) return stopped(tnew);
-      }
-      if (!observer(tnew, ynew)) return stopped(tnew);
-    } else {
-      while (next < ntspan && tdir * (tnew - tspan[next]) >= 0.0) {
-        const double tq = tspan[next++];
-        const VectorXd* out = &ynew;
-        if (tq != tnew) {
-          interp(tq, h);
-          if (!yout.allFinite()) return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + num(tq));
-          out = &yout;
-        }
-        if (!observer(tq, *out)) return stopped(tnew);
-      }
-    }
-    if (done) break;
-
-    // Growth only after a step without failure (MATLAB: absh / (1.25*(err/rtol)^(1/5)), factor <= 5).
-    if (nofailed) {
-      const double temp = 1.25 * std::pow(err / rtol, kPow);
-      absh = temp > 0.2 ? absh / temp : 5.0 * absh;
-    }
-    t = tnew;
-    y.swap(ynew);
-    k[0].swap(k[6]);  // FSAL
-  }
-  return res;
+OdeResult Ode45::integrate(const OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
+                           const OdeObserver& observer, const OdeStepHook& accepted, const OdeStepHook& retry) const {
+  return Ode45Run(opt_, f, tspan, y0, observer, accepted, retry).run();
 }
 
 }  // namespace flexmb::solvers

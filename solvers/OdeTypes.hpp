@@ -4,9 +4,11 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace flexmb::solvers {
 
@@ -57,5 +59,19 @@ using OdeObserver = std::function<bool(double t, const Eigen::VectorXd& y)>;
 // Called with a state (t, y) of the solution: the accepted ones (t0 included) or the one a rejected
 // step is retried from. Throwing RhsError stops the run (status RhsFailed) with its message.
 using OdeStepHook = std::function<void(double t, const Eigen::VectorXd& y)>;
+
+// The output times an integrator accepts: at least two, distinct finite end points, strictly
+// monotonic. Throws std::invalid_argument naming the integrator (`who`).
+inline void checkTimeSpan(const std::vector<double>& tspan, const char* who) {
+  const std::string w(who);
+  if (tspan.size() < 2) throw std::invalid_argument(w + ": tspan needs at least 2 entries");
+  const double t0 = tspan.front(), tf = tspan.back();
+  if (!(t0 != tf) || !std::isfinite(t0) || !std::isfinite(tf))
+    throw std::invalid_argument(w + ": tspan must have distinct finite end points");
+  const double tdir = tf > t0 ? 1.0 : -1.0;
+  for (std::size_t i = 1; i < tspan.size(); ++i)
+    if (!(tdir * (tspan[i] - tspan[i - 1]) > 0.0))
+      throw std::invalid_argument(w + ": tspan must be strictly monotonic");
+}
 
 }  // namespace flexmb::solvers

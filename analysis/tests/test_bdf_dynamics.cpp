@@ -64,7 +64,7 @@ struct Blocks {
 Blocks compare(const JacobianCase& c, double relEta, double relRate) {
   const core::Model m = io::readDatFile(dat(c.file));
   std::optional<MatrixXd> V;
-  if (c.reduction) V = analysis::buildBasis(m, dat(c.file), *c.reduction).V;
+  if (c.reduction) V = analysis::buildBasis(m, *c.reduction).V;
   const VectorXd y = stateAt(m, V, c.t);
   core::EquationsOfMotion eom(m, V);
   eom.kinematics().setRelativeTolerance(1e-15);
@@ -233,7 +233,7 @@ TEST(BdfDynamics, ShortManipulatorRunAgreesWithOde45) {
 // of the 0.083 m deflection).
 TEST(BdfDynamics, ReducedGuidanceAgreesWithOde45) {
   const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
-  const MatrixXd V = analysis::buildBasis(m, dat("straight_guidance.dat"), modal(3)).V;
+  const MatrixXd V = analysis::buildBasis(m, modal(3)).V;
   const Response r0 = response(m, run(m, analysis::Integrator::Ode45, 1e-9, 2, std::nullopt, std::nullopt, V), 6);
   const Response r1 = response(m, run(m, analysis::Integrator::Bdf, 1e-7, 2, std::nullopt, std::nullopt, V), 6);
   const Response r2 = response(m, run(m, analysis::Integrator::Bdf, 1e-7, 5, std::nullopt, std::nullopt, V), 6);

@@ -58,7 +58,7 @@ TEST(Reduction, ModalBasisReproducesModalTruncation) {
     analysis::ReductionOptions o;
     o.method = "modal";
     o.modes = r;
-    const analysis::ReductionResult basis = analysis::buildBasis(m, "straight_guidance.dat", o);
+    const analysis::ReductionResult basis = analysis::buildBasis(m, o);
     ASSERT_EQ(basis.V.cols(), r);
     const Eigen::VectorXd red = omegasAtInitial(m, basis.V);
     for (int i = 0; i < r; ++i) EXPECT_NEAR(red[i] / full[i], 1.0, 1e-10) << "mode " << i + 1 << " of MODAL-" << r;
@@ -71,7 +71,7 @@ TEST(Reduction, ManipulatorModalBasisKeepsHingesAsIdentityColumns) {
   ASSERT_EQ(large.size(), 2u);
   analysis::ReductionOptions o;
   o.modes = 2;
-  const analysis::ReductionResult basis = analysis::buildBasis(m, "manipulator.dat", o);
+  const analysis::ReductionResult basis = analysis::buildBasis(m, o);
   ASSERT_EQ(basis.V.rows(), 18);
   ASSERT_EQ(basis.V.cols(), 4);  // MODAL-2: two hinges + two modes
   for (int j = 0; j < 2; ++j) {
@@ -94,7 +94,7 @@ TEST(Reduction, SvdModalOfOneConfigurationSpansTheModalBasis) {
   svd.weight = 0.0;
   svd.threshold = 0.0;
   svd.count = 3;
-  const auto a = analysis::buildBasis(m, "", modal), b = analysis::buildBasis(m, "", svd);
+  const auto a = analysis::buildBasis(m, modal), b = analysis::buildBasis(m, svd);
   ASSERT_EQ(b.V.cols(), 3);
   EXPECT_LT((projector(a.V) - projector(b.V)).norm(), 1e-8);
 }
@@ -120,9 +120,9 @@ TEST(Reduction, ModalBasisIsMassNormalisedByDefaultAndUnitOnRequest) {
   const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
   analysis::ReductionOptions o;
   o.modes = 3;
-  const analysis::ReductionResult mass = analysis::buildBasis(m, "", o);
+  const analysis::ReductionResult mass = analysis::buildBasis(m, o);
   o.normalise = "unit";
-  const analysis::ReductionResult unit = analysis::buildBasis(m, "", o);
+  const analysis::ReductionResult unit = analysis::buildBasis(m, o);
   const std::vector<int> large = analysis::defaultLargeCoordinates(m);
   std::vector<int> small;
   for (int i = 0; i < m.numDofs(); ++i)
@@ -139,7 +139,7 @@ TEST(Reduction, ModalBasisIsMassNormalisedByDefaultAndUnitOnRequest) {
     EXPECT_NEAR(Vu.col(k).dot(Vm.col(k)) / Vm.col(k).norm(), 1.0, 1e-12) << "same direction and sign, mode " << k;
   }
   o.normalise = "length";
-  EXPECT_THROW(analysis::buildBasis(m, "", o), std::invalid_argument);
+  EXPECT_THROW(analysis::buildBasis(m, o), std::invalid_argument);
 }
 
 // The paper's counts (Table 2: MODAL-3 697, MODAL-5 1213 evaluations) were made with MATLAB's
@@ -152,7 +152,7 @@ TEST(Reduction, MassNormalisedModalCountsNearThePapers) {
     analysis::ReductionOptions o;
     o.modes = r;
     analysis::SimulationOptions so;
-    so.basis = analysis::buildBasis(m, "", o).V;
+    so.basis = analysis::buildBasis(m, o).V;
     const core::Trajectory t = analysis::simulate(m, so);
     ASSERT_TRUE(t.completed) << t.stopReason;
     EXPECT_NEAR(t.nfevals / paper, 1.0, 0.15) << "MODAL-" << r << ": " << t.nfevals << " evaluations, paper " << paper;
@@ -180,7 +180,7 @@ TEST(Reduction, PlainOde45CallRunsThePaperModels) {
   for (const auto& [r, paper] : {std::pair<int, double>{3, 697.0}, {5, 1213.0}}) {
     analysis::ReductionOptions o;
     o.modes = r;
-    const core::Trajectory t = count(g, analysis::buildBasis(g, "", o).V);
+    const core::Trajectory t = count(g, analysis::buildBasis(g, o).V);
     EXPECT_NEAR(t.nfevals / paper, 1.0, 0.10) << "MODAL-" << r << ": " << t.nfevals << " evaluations, paper " << paper;
     EXPECT_GT(full.nfevals, 30 * t.nfevals);
   }
@@ -190,6 +190,6 @@ TEST(Reduction, PlainOde45CallRunsThePaperModels) {
   EXPECT_GE(mfull.nrhsfailed, 1);  // the first trial step has no configuration
   analysis::ReductionOptions o;
   o.modes = 2;
-  const core::Trajectory mred = count(m, analysis::buildBasis(m, "", o).V);
+  const core::Trajectory mred = count(m, analysis::buildBasis(m, o).V);
   EXPECT_GT(mfull.nfevals, 30 * mred.nfevals);
 }

@@ -221,7 +221,7 @@ TEST(SpatialDynamics, ParallelGuidanceReducedWithModalAndSvdModalBases) {
   std::optional<Eigen::MatrixXd> V3;
   core::Trajectory red3;
   for (const Case& c : {Case{"MODAL-3", modal3, 0.06}, Case{"MODAL-6", modal6, 0.01}, Case{"SVD-MODAL", svd, 0.02}}) {
-    const analysis::ReductionResult b = analysis::buildBasis(m, path, c.o);
+    const analysis::ReductionResult b = analysis::buildBasis(m, c.o);
     if (std::string(c.name) == "MODAL-3") V3 = b.V;
     double t = 0;
     const core::Trajectory red = run(b.V, t);

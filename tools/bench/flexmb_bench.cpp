@@ -552,9 +552,9 @@ int main(int argc, char** argv) {
     methods.push_back({"full", "ode45", std::nullopt, ""});
     auto addBasis = [&](const std::string& label, analysis::ReductionOptions ro) {
       const auto b0 = Clock::now();
-      const analysis::ReductionResult rr = analysis::buildBasis(model, cs.file, ro);
+      const analysis::ReductionResult rr = analysis::buildBasis(model, ro);
       const double bt = since(b0);
-      const int nl = static_cast<int>(rr.info.large.size());
+      const int nl = static_cast<int>(rr.large.size());
       std::string lab = label;
       if (ro.method == "svd-modal") {  // the label's mode count is the number the 1% criterion keeps
         const int kept = static_cast<int>(rr.V.cols()) - nl;

@@ -7,11 +7,11 @@
 #include <iomanip>
 #include <iostream>
 
+#include "analysis/ModelCheck.hpp"
+#include "analysis/Modes.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
-#include "core/Linearization.hpp"
-#include "core/ModelDiagnostics.hpp"
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
 #include "io/ResultWriter.hpp"
@@ -79,26 +79,18 @@ int runModes(const std::vector<std::string>& args) {
     return kInputError;
   }
   try {
-    core::Linearization lin(model, basis);
-    Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size()), f;
-    lin.kinematics().solvePositions(model.settings.t0, lin.kinematics().initialDofs());
-    lin.appliedForces(model.settings.t0, 0.0, f);
-    core::LinearizedSystem sys;
-    if (!lin.basis()) eta = lin.kinematics().initialDofs();
-    lin.atRest(model.settings.t0, eta, f, sys);
-    const analysis::Frequencies fr = analysis::naturalFrequencies(lin, sys, std::min<int>(nev, lin.size()));
+    const analysis::InitialModes im = analysis::initialModes(model, basis, nev);
+    const analysis::Frequencies& fr = im.frequencies;
     if (!fr.omega.allFinite() || fr.omega.size() == 0)
       throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
-    std::cout << "eigenfrequencies in the initial configuration (" << lin.size() << " degrees of freedom):\n";
+    std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
     printFrequencies(std::cout, fr.omega);
     if (out.empty()) out = std::filesystem::path(m.file).stem().string();
     const io::SpacarResults sr =
-        analysis::spacarFromModes(model, model.settings.t0, eta, sys, fr.omega, fr.modes, basis);
+        analysis::spacarFromModes(model, model.settings.t0, im.eta, im.system, fr.omega, fr.modes, basis);
     for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
     if (!svg.empty()) {
-      ModeSet set{
-          "", {}, lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes, fr.omega, model.settings.t0};
-      lin.dofs(eta, set.q);
+      ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
       writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
       std::cout << "wrote " << svg << "\n";
     }
@@ -133,15 +125,12 @@ int runStatic(const std::vector<std::string>& args) {
               << "the limit is " << kMaxLoadSteps << "): lower ITERSTEP's second field or give --steps\n";
     return kInputError;
   }
-  try {
-    const auto massless = core::masslessDegreesOfFreedom(model);
-    if (!massless.empty() && nev > 0) {
-      if (!m.quiet)
-        std::cerr << "flexmb: note: no eigenfrequencies: " << massless.size()
-                  << " degree(s) of freedom have no mass (give EM or XM), e.g. " << massless.front() << "\n";
-      nev = 0;
-    }
-  } catch (const std::exception&) {}
+  if (const auto massless = analysis::checkAssembly(model, true).massless; !massless.empty() && nev > 0) {
+    if (!m.quiet)
+      std::cerr << "flexmb: note: no eigenfrequencies: " << massless.size()
+                << " degree(s) of freedom have no mass (give EM or XM), e.g. " << massless.front() << "\n";
+    nev = 0;
+  }
   nev = std::min(nev, model.numDofs());
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis.
   std::string csvPath;

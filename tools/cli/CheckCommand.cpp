@@ -1,9 +1,7 @@
 #include <boost/program_options.hpp>
 #include <iostream>
 
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/KinematicCheck.hpp"
-#include "core/ModelDiagnostics.hpp"
+#include "analysis/ModelCheck.hpp"
 #include "io/DatReader.hpp"
 #include "io/KeywordTable.hpp"
 #include "tools/cli/Commands.hpp"
@@ -20,28 +18,27 @@ int runCheck(const std::vector<std::string>& args) {
   core::Model model;
   if (!loadModel(m, model)) return kInputError;
   std::cout << "model: " << model.sourceFile << " (" << io::dialectName(model.dialect) << ")\n";
-  const core::KinematicReport r = core::checkKinematics(model);
-  std::cout << core::formatReport(r);
-  bool ok = r.wellPosed();
-  const core::ModelDiagnosis diag = core::diagnoseModel(model);
-  if (!diag.mechanismDeformations.empty()) {
-    std::cout << "mechanism degrees of freedom: " << diag.mechanismDeformations.size()
+  const analysis::ModelCheck c = analysis::checkModel(model);
+  if (!c.kinematicsError.empty()) {
+    std::cout << "kinematic check failed: " << c.kinematicsError << "\n";
+    return kInputError;
+  }
+  std::cout << c.kinematicsText();
+  bool ok = c.kinematics.wellPosed();
+  if (!c.diagnosis.mechanismDeformations.empty()) {
+    std::cout << "mechanism degrees of freedom: " << c.diagnosis.mechanismDeformations.size()
               << " dynamic (DYNE) deformation(s) without stiffness move freely:\n";
-    for (const auto& s : diag.mechanismDeformations) std::cout << "  " << s << "\n";
+    for (const auto& s : c.diagnosis.mechanismDeformations) std::cout << "  " << s << "\n";
     std::cout << "  intended for a free hinge; for a flexible element give ESTIFF (else `modes` shows zero or\n"
                  "  negative frequencies and `static` has no unique equilibrium)\n";
   }
-  if (ok) {
-    try {
-      const std::string assembly = core::initialAssemblyProblem(model);
-      if (!assembly.empty()) {
-        std::cout << "initial configuration: " << assembly << "\n";
-        ok = false;
-      }
-    } catch (const core::KinematicsError& e) {
-      std::cout << "initial configuration: cannot be assembled: " << e.what() << "\n";
-      ok = false;
-    }
+  if (ok && !c.assembly.problem.empty()) {
+    std::cout << "initial configuration: " << c.assembly.problem << "\n";
+    ok = false;
+  }
+  if (ok && !c.assembly.error.empty()) {
+    std::cout << "initial configuration: cannot be assembled: " << c.assembly.error << "\n";
+    ok = false;
   }
   return ok ? kOk : kInputError;
 }

@@ -5,8 +5,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/ModelDiagnostics.hpp"
+#include "analysis/ModelCheck.hpp"
 #include "io/DatReader.hpp"
 #include "tools/cli/Commands.hpp"
 
@@ -147,7 +146,7 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
     std::cerr << o.file << ": " << e.what() << "\n";
     return false;
   }
-  const core::ModelDiagnosis d = core::diagnoseModel(model);
+  const core::ModelDiagnosis d = analysis::diagnose(model);
   if (!d.overflow.empty()) {
     std::cerr << o.file << ": values too large to compute with (above " << core::kOverflowLimit
               << "; products of them overflow): " << listed(d.overflow) << ". Check the units and the exponents.\n";
@@ -169,25 +168,21 @@ bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass) {
                  "that carry the motion DYNE (with ESTIFF), see `flexmb check`.\n";
     return false;
   }
-  try {
-    const std::string assembly = core::initialAssemblyProblem(model);
-    if (!assembly.empty()) {
-      std::cerr << o.file << ": " << assembly << "\n";
-      return false;
-    }
-    if (needsMass) {
-      const auto massless = core::masslessDegreesOfFreedom(model);
-      if (!massless.empty()) {
-        std::cerr << o.file << ": no mass on " << massless.size() << " of " << model.numDofs()
-                  << " degrees of freedom: " << listed(massless)
-                  << ". Dynamics and eigenfrequencies need mass on every one: give EM (mass per length) of the "
-                     "elements or XM (lumped masses) at the nodes that move.\n";
-        return false;
-      }
-    }
-  } catch (const core::KinematicsError& e) {
-    std::cerr << o.file << ": the initial configuration cannot be assembled: " << e.what()
+  const analysis::AssemblyCheck a = analysis::checkAssembly(model, needsMass);
+  if (!a.error.empty()) {
+    std::cerr << o.file << ": the initial configuration cannot be assembled: " << a.error
               << " (run `flexmb check` for the kinematic rank analysis)\n";
+    return false;
+  }
+  if (!a.problem.empty()) {
+    std::cerr << o.file << ": " << a.problem << "\n";
+    return false;
+  }
+  if (!a.massless.empty()) {
+    std::cerr << o.file << ": no mass on " << a.massless.size() << " of " << model.numDofs()
+              << " degrees of freedom: " << listed(a.massless)
+              << ". Dynamics and eigenfrequencies need mass on every one: give EM (mass per length) of the "
+                 "elements or XM (lumped masses) at the nodes that move.\n";
     return false;
   }
   return true;

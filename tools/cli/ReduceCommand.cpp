@@ -84,7 +84,7 @@ int runReduce(const std::vector<std::string>& args) {
   try {
     Progress progress("reduce", !m.quiet);
     o.onConfig = [&](int i, int n) { progress.update(i, n, "configurations"); };
-    r = analysis::buildBasis(model, m.file, o);
+    r = analysis::buildBasis(model, o);
   } catch (const std::invalid_argument& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -94,13 +94,13 @@ int runReduce(const std::vector<std::string>& args) {
   }
   try {
     const std::string temp = io::temporaryName(out);
-    io::writeBasis(temp, r.V, r.info);
+    io::writeBasis(temp, r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});
     io::commitTemporary(temp, out);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.info.large.size()
+  std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.large.size()
             << " identity columns) written to " << out << "\n";
   if (r.scaledSingularValues.size()) {
     std::cout << "scaled singular values:";

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "core/KinematicCheck.hpp"
+#include "analysis/ModelCheck.hpp"
 #include "io/DatReader.hpp"
 #include "io/MechanismSvg.hpp"
 #include "tools/cli/Commands.hpp"
@@ -64,8 +64,9 @@ int runShow(const std::vector<std::string>& args) {
 
   drawing.title = std::filesystem::path(m.file).filename().string() + " (" + io::dialectName(model.dialect) + ")";
   bool wellPosed = true;
-  try {
-    const core::KinematicReport r = core::checkKinematics(model);
+  const analysis::ModelCheck check = analysis::checkModel(model);
+  if (check.kinematicsError.empty()) {
+    const core::KinematicReport& r = check.kinematics;
     std::vector<std::string> dofs;
     for (const auto& q : model.dofs)
       dofs.push_back(q.isDeformation ? model.deformationName(q.index) : model.coordName(q.index));
@@ -82,8 +83,8 @@ int runShow(const std::vector<std::string>& args) {
       if (!r.overdetermined.empty())
         drawing.notes.push_back("kinematic check: OVER-DETERMINED, redundant " + joined(r.overdetermined, 4));
     }
-  } catch (const std::exception& e) {
-    drawing.notes.push_back(std::string("kinematic check failed: ") + e.what());
+  } else {
+    drawing.notes.push_back("kinematic check failed: " + check.kinematicsError);
     wellPosed = false;
   }
   try {

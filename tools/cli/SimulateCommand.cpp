@@ -1,6 +1,5 @@
 #include <unistd.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -10,17 +9,15 @@
 #include <iostream>
 #include <sstream>
 
+#include "analysis/Modes.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 #include "io/OutputFile.hpp"
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
-#include "solvers/Bdf.hpp"
-#include "solvers/Ode45.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 
@@ -47,36 +44,19 @@ std::string bytes(double b) {
   return s.str();
 }
 
-// The highest eigenfrequency of the (reduced) model at rest in the initial configuration, and the
-// coordinates its mode lives in. An explicit Runge-Kutta method needs h < ~3.3 / omega_max.
+// The highest eigenfrequency at rest (analysis::highestMode) and the coordinates its mode lives in.
 struct Stiffness {
   double omegaMax = 0.0, omegaMin = 0.0;
   std::vector<std::string> where;
 };
 Stiffness highestFrequency(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis) {
   Stiffness s;
-  core::Linearization lin(model, basis);
-  if (lin.size() == 0 || lin.size() > 600) return s;  // dense eigenproblem: small models only
-  const Eigen::VectorXd q0 = lin.kinematics().initialDofs();
-  lin.kinematics().solvePositions(model.settings.t0, q0);
-  Eigen::VectorXd f, eta = basis ? Eigen::VectorXd::Zero(lin.size()) : q0;
-  lin.appliedForces(model.settings.t0, 0.0, f);
-  core::LinearizedSystem sys;
-  lin.atRest(model.settings.t0, eta, f, sys);
-  const Eigen::MatrixXd K = 0.5 * ((sys.K + sys.G) + (sys.K + sys.G).transpose());
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, sys.M);
-  if (es.info() != Eigen::Success) return s;
-  const Eigen::VectorXd lambda = es.eigenvalues();
-  s.omegaMax = std::sqrt(std::max(0.0, lambda.maxCoeff()));
-  for (Eigen::Index i = 0; i < lambda.size(); ++i)
-    if (lambda[i] > 1e-9 * lambda.maxCoeff()) {
-      s.omegaMin = std::sqrt(lambda[i]);
-      break;
-    }
-  Eigen::VectorXd v = es.eigenvectors().col(lambda.size() - 1);
-  if (basis) v = *basis * v;
+  const analysis::HighestMode h = analysis::highestMode(model, basis);
+  if (!h.found) return s;
+  s.omegaMax = h.omegaMax;
+  s.omegaMin = h.omegaMin;
   std::vector<std::pair<double, int>> w;
-  for (Eigen::Index i = 0; i < v.size(); ++i) w.emplace_back(std::abs(v[i]), static_cast<int>(i));
+  for (Eigen::Index i = 0; i < h.modeQ.size(); ++i) w.emplace_back(std::abs(h.modeQ[i]), static_cast<int>(i));
   std::sort(w.rbegin(), w.rend());
   for (size_t i = 0; i < w.size() && i < 3 && w[i].first > 0.3 * w[0].first; ++i) {
     const auto& dof = model.dofs[w[i].second];
@@ -84,110 +64,111 @@ Stiffness highestFrequency(const core::Model& model, const std::optional<Eigen::
   }
   return s;
 }
-}  // namespace
 
-int runSimulate(const std::vector<std::string>& args) {
+// The command's arguments, parsed and checked.
+struct SimulateArgs {
   ModelOptions m;
-  po::options_description d = commonModelOptions(m);
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
-  int intervals = -1;
+  int intervals = -1, linearize = 0, bdfOrder = 0;
   std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
   bool matrices = false, vtk = false, html = false;
-  int linearize = 0, bdfOrder = 0;
-  d.add_options()("t-end", po::value(&tEnd)->notifier(positive("t-end")), "end time (overrides TIMESTEP)")(
-      "reltol", po::value(&relTol)->notifier(positive("reltol")), "relative tolerance (default from the file or 1e-3)")(
-      "abstol", po::value(&absTol)->notifier(positive("abstol")), "absolute tolerance (default from the file or 1e-6)")(
-      "max-step", po::value(&maxStep)->notifier(positive("max-step")), "maximum step size")(
-      "intervals", po::value(&intervals)->notifier(atLeast("intervals", 0)),
+  analysis::Integrator chosen = analysis::Integrator::Ode45;
+  core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
+  bool bdf() const { return chosen == analysis::Integrator::Bdf; }
+  bool csv() const { return format == "csv" || format == "both"; }
+  bool mat() const { return format == "mat" || format == "both"; }
+};
+
+// Parses and checks the options; an exit code when the command should stop (help, usage errors).
+std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateArgs& a) {
+  po::options_description d = commonModelOptions(a.m);
+  d.add_options()("t-end", po::value(&a.tEnd)->notifier(positive("t-end")), "end time (overrides TIMESTEP)")(
+      "reltol", po::value(&a.relTol)->notifier(positive("reltol")),
+      "relative tolerance (default from the file or 1e-3)")("abstol",
+                                                            po::value(&a.absTol)->notifier(positive("abstol")),
+                                                            "absolute tolerance (default from the file or 1e-6)")(
+      "max-step", po::value(&a.maxStep)->notifier(positive("max-step")), "maximum step size")(
+      "intervals", po::value(&a.intervals)->notifier(atLeast("intervals", 0)),
       "output intervals (0: every step; ode45 adds Refine 4's 3 points inside each)")(
-      "integrator", po::value(&integrator),
+      "integrator", po::value(&a.integrator),
       "ode45 (default: explicit, MATLAB's ode45 step by step) or bdf (implicit: SUNDIALS CVODE's BDF with the "
       "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step)")(
-      "bdf-order", po::value(&bdfOrder)->notifier(atLeast("bdf-order", 1)),
+      "bdf-order", po::value(&a.bdfOrder)->notifier(atLeast("bdf-order", 1)),
       "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
       "step but let undamped stiff modes bound the step)")(
-      "out", po::value(&out),
+      "out", po::value(&a.out),
       "output prefix or folder (default: the model's name in the current folder; with --basis the basis name is "
-      "appended)")("format", po::value(&format), "csv, mat, both or none")(
-      "echo", po::value(&echo),
+      "appended)")("format", po::value(&a.format), "csv, mat, both or none")(
+      "echo", po::value(&a.echo),
       "write the end-of-run state as a .dat input that continues the run (SPACAR95 restart: elements, XY/BETA, "
       "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
-      "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
-      "dynamics", po::value(&dynamics),
+      "basis", po::value(&a.basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
+      "dynamics", po::value(&a.dynamics),
       (std::string("how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), "
                    "saddle-point (sparse nodal form, full models) or auto (saddle-point from ") +
        std::to_string(flexmb::core::kSaddlePointDofs) + " DOF; reduced models always project)")
           .c_str())(
-      "linearize", po::value(&linearize)->notifier(atLeast("linearize", 0)),
+      "linearize", po::value(&a.linearize)->notifier(atLeast("linearize", 0)),
       "mode 4: the N lowest eigenfrequencies of the linearised equations (Eq. 15) along the trajectory (CSV)")(
-      "matrices", po::bool_switch(&matrices),
+      "matrices", po::bool_switch(&a.matrices),
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
-      "unless given)")("vtk", po::bool_switch(&vtk),
+      "unless given)")("vtk", po::bool_switch(&a.vtk),
                        "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
-      "html", po::bool_switch(&html), "<out>.html: a self-contained page that plays the motion in a browser");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb simulate model.dat [options]")) return *rc;
-  if (format != "csv" && format != "mat" && format != "both" && format != "none") {
-    std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
+      "html", po::bool_switch(&a.html), "<out>.html: a self-contained page that plays the motion in a browser");
+  if (auto rc = parseCommand(args, d, a.m, "usage: flexmb simulate model.dat [options]")) return *rc;
+  if (!a.csv() && !a.mat() && a.format != "none") {
+    std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << a.format << "'\n";
     return kUsageError;
   }
-  const std::optional<analysis::Integrator> chosen = analysis::parseIntegrator(integrator);
+  const std::optional<analysis::Integrator> chosen = analysis::parseIntegrator(a.integrator);
   if (!chosen) {
-    std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << integrator << "'\n";
+    std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << a.integrator << "'\n";
     return kUsageError;
   }
-  const bool bdf = *chosen == analysis::Integrator::Bdf;
-  if (bdfOrder > 5) {
-    std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << bdfOrder << "\n";
+  a.chosen = *chosen;
+  if (a.bdfOrder > 5) {
+    std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << a.bdfOrder << "\n";
     return kUsageError;
   }
-  if (bdfOrder > 0 && !bdf) {
+  if (a.bdfOrder > 0 && !a.bdf()) {
     std::cerr << "flexmb: --bdf-order needs --integrator bdf\n";
     return kUsageError;
   }
-  core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
-  if (dynamics == "projected")
-    dynamicsForm = core::DynamicsForm::Projected;
-  else if (dynamics == "saddle-point")
-    dynamicsForm = core::DynamicsForm::SaddlePoint;
-  else if (dynamics != "auto") {
-    std::cerr << "flexmb: --dynamics must be auto, projected or saddle-point, not '" << dynamics << "'\n";
+  if (a.dynamics == "projected")
+    a.dynamicsForm = core::DynamicsForm::Projected;
+  else if (a.dynamics == "saddle-point")
+    a.dynamicsForm = core::DynamicsForm::SaddlePoint;
+  else if (a.dynamics != "auto") {
+    std::cerr << "flexmb: --dynamics must be auto, projected or saddle-point, not '" << a.dynamics << "'\n";
     return kUsageError;
   }
-  std::vector<io::AnalysisStage> stages;
-  if (!loadStages(m, stages, true)) return kInputError;
-  // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
-  std::vector<const core::Model*> runs;
-  for (const auto& st : stages)
-    if (st.runs) runs.push_back(&st.model);
-  if (runs.empty()) runs.push_back(&stages.back().model);
-  const core::Model& model = *runs.back();
-  if (runs.size() > 1 && !m.quiet) std::cout << runs.size() << " analysis blocks, run in sequence\n";
-  if (matrices && linearize <= 0) linearize = 6;
+  if (a.matrices && a.linearize <= 0) a.linearize = 6;
+  return std::nullopt;
+}
 
+analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
   analysis::SimulationOptions opt;
-  opt.integrator = *chosen;
-  if (bdfOrder > 0) opt.bdfMaxOrder = bdfOrder;
-  if (tEnd > 0) opt.tEnd = tEnd;
-  if (relTol > 0) opt.relTol = relTol;
-  if (absTol > 0) opt.absTol = absTol;
-  if (maxStep > 0) opt.maxStep = maxStep;
-  if (intervals >= 0) opt.intervals = intervals;
-  opt.dynamics = dynamicsForm;
-  opt.progress = !m.quiet;
-  try {
-    opt.basis = readBasisFor(basisFile, model);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  opt.integrator = a.chosen;
+  if (a.bdfOrder > 0) opt.bdfMaxOrder = a.bdfOrder;
+  if (a.tEnd > 0) opt.tEnd = a.tEnd;
+  if (a.relTol > 0) opt.relTol = a.relTol;
+  if (a.absTol > 0) opt.absTol = a.absTol;
+  if (a.maxStep > 0) opt.maxStep = a.maxStep;
+  if (a.intervals >= 0) opt.intervals = a.intervals;
+  opt.dynamics = a.dynamicsForm;
+  opt.progress = !a.m.quiet;
+  return opt;
+}
+
+// Estimates the work and the output before running: refuses (an exit code) what cannot finish or
+// fit, and warns when the highest eigenfrequency, not accuracy, sets ode45's step.
+std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::SimulationOptions& opt, bool quiet) {
   const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
   if (!(t1 > t0)) {
     std::cerr << "flexmb: the end time " << t1 << " is not after the start time " << t0
               << " (TIMESTEP's end time or --t-end)\n";
     return kInputError;
   }
-
-  // Estimate the work and the output before running: refuse what cannot finish or fit.
   const double span = t1 - t0;
   const double h = opt.maxStep.value_or(model.settings.hmax);
   if (h > 0 && span / h > kMaxSteps) {
@@ -212,13 +193,13 @@ int runSimulate(const std::vector<std::string>& args) {
   // The explicit integrator's stability limit; an implicit integrator's step is not bounded by it.
   Stiffness stiff;
   try {
-    if (!bdf) stiff = highestFrequency(model, opt.basis);
+    if (opt.integrator != analysis::Integrator::Bdf) stiff = highestFrequency(model, opt.basis);
   } catch (const std::exception&) {}
   if (stiff.omegaMax > 0) {
     const double steps = span * stiff.omegaMax / 3.3;
     // Warn when the stability limit, not the output or the accuracy, sets the step: many more steps
     // than output intervals.
-    if (steps > 1e4 && steps > 20.0 * std::max(1L, nOut) && !m.quiet) {
+    if (steps > 1e4 && steps > 20.0 * std::max(1L, nOut) && !quiet) {
       std::cerr << "flexmb: warning: the highest eigenfrequency, " << stiff.omegaMax / (2 * M_PI)
                 << " Hz, limits the explicit integrator's step to about " << 3.3 / stiff.omegaMax << " s: at least "
                 << steps << " steps for " << span << " s. It lives in ";
@@ -232,35 +213,151 @@ int runSimulate(const std::vector<std::string>& args) {
       return kInputError;
     }
   }
+  return std::nullopt;
+}
 
-  // Output location checked before the analysis.
-  std::string suffix;
-  if (!basisFile.empty() && (out.empty() || out.back() == '/' || std::filesystem::is_directory(out)))
-    suffix = "_" + std::filesystem::path(basisFile).stem().string();
-  io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
+// The run manifest's settings.
+void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
+                 const analysis::SimulationOptions& opt) {
+  files.setting("command", "simulate");
+  files.setting("model", a.m.file);
+  if (!a.basisFile.empty()) files.setting("basis", a.basisFile);
+  files.setting("integrator", analysis::integratorDescription(opt));
+  std::ostringstream s;
+  s.precision(17);
+  s << model.settings.t0 << " to " << opt.tEnd.value_or(model.settings.tEnd) << " s, "
+    << opt.intervals.value_or(model.settings.outputIntervals) << " output intervals, reltol "
+    << opt.relTol.value_or(model.settings.relTol) << ", abstol " << opt.absTol.value_or(model.settings.absTol)
+    << ", max step " << opt.maxStep.value_or(model.settings.hmax);
+  files.setting("integration", s.str());
+  files.setting("dynamics", a.dynamics);
+}
+
+// Modes 4 and 3: eigenfrequencies (CSV) and matrices (_linear.mat) along the trajectory; returns them
+// for the .sbm when the SPACAR files are written.
+std::optional<analysis::TrajectoryModes> writeTrajectoryModes(io::OutputSet& files, const SimulateArgs& a,
+                                                              const core::Model& model,
+                                                              const analysis::SimulationOptions& opt,
+                                                              const core::Trajectory& traj) {
+  const auto lt = std::chrono::steady_clock::now();
+  auto tm = analysis::trajectoryModes(model, traj, a.linearize, opt.basis, a.matrices || a.mat());
+  std::cout << "linearised at " << tm.time.size() << " output times in "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
+  if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
+  const int linearize = a.linearize;
+  {
+    // f: natural frequencies |s| of Eq. 15 (with C, D, N); zeta: damping ratios;
+    // frozen_f: (K + G) v = w^2 M v at the same configuration, without C and N.
+    std::ofstream f(files.temporaryFor("_frequencies.csv"));
+    f.precision(12);
+    f << "time";
+    for (int i = 0; i < linearize; ++i) f << ",f" << i + 1 << "_Hz";
+    for (int i = 0; i < linearize; ++i) f << ",zeta" << i + 1;
+    for (int i = 0; i < linearize; ++i) f << ",frozen_f" << i + 1 << "_Hz";
+    f << "\n";
+    auto cells = [&](const Eigen::VectorXd& v, double scale) {
+      for (int i = 0; i < linearize; ++i) {
+        f << ",";
+        if (i < v.size()) f << v[i] * scale;
+      }
+    };
+    for (size_t k = 0; k < tm.time.size(); ++k) {
+      f << tm.time[k];
+      cells(tm.omega[k], 1 / (2 * M_PI));
+      cells(tm.damping[k], 1.0);
+      cells(tm.omegaFrozen[k], 1 / (2 * M_PI));
+      f << "\n";
+    }
+    f.flush();
+    if (!f) throw std::runtime_error("cannot write '" + files.prefix() + "_frequencies.csv': write failed");
+    f.close();
+  }
+  if (a.matrices)
+    io::writeThroughMemory(files.temporaryFor("_linear.mat"),
+                           [&](const std::string& p) { io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega); });
+  if (a.mat()) return tm;
+  return std::nullopt;
+}
+
+// Every result file of the run (temporary names, committed with the manifest), the pictures and the
+// restart echo; the list of files written.
+std::vector<std::string> writeSimulationResults(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
+                                                const analysis::SimulationOptions& opt, const core::Trajectory& traj,
+                                                bool interrupted) {
+  if (!traj.time.empty()) {
+    if (a.csv()) {
+      for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
+        files.temporaryFor(std::string(q) + ".csv");
+      io::writeCsv(files.temporaryPrefix(), model, traj);
+      if (io::hasOrientationNodes(model)) {
+        files.temporaryFor("_rot.csv");
+        io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
+      }
+    }
+    if (a.mat())  // through memory: matio does not report a full disk
+      io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+    std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
+    if (a.linearize > 0 && !interrupted) kept = writeTrajectoryModes(files, a, model, opt, traj);
+    if (a.mat()) {  // SPACAR's <name>.sbd / .sbm (io/results.md), renamed into place with the rest
+      analysis::SpacarOutputOptions so;
+      so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+      const int mode = a.matrices ? 3 : a.linearize > 0 ? 4 : 1;
+      const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr, mode, so);
+      const std::string temp = files.temporaryPrefix();
+      for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
+    }
+  }
+  std::vector<std::string> report = files.commit(traj.completed ? "complete" : "stopped: " + traj.stopReason);
+  if (!traj.time.empty()) {  // pictures of the motion, beside the committed result files
+    if (a.vtk) writeVtk(files.prefix(), model, traj);
+    if (a.html) writeAnimation(files.prefix(), model, traj);
+  }
+  if (!a.echo.empty() && !traj.time.empty()) {
+    const std::string temp = io::temporaryName(a.echo);
+    io::writeRestart(temp, model, traj.time.back(), traj.states.back());
+    io::commitTemporary(temp, a.echo);
+    report.push_back(a.echo);
+  }
+  return report;
+}
+
+}  // namespace
+
+int runSimulate(const std::vector<std::string>& args) {
+  SimulateArgs a;
+  if (auto rc = parseSimulate(args, a)) return *rc;
+  std::vector<io::AnalysisStage> stages;
+  if (!loadStages(a.m, stages, true)) return kInputError;
+  // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
+  std::vector<const core::Model*> runs;
+  for (const auto& st : stages)
+    if (st.runs) runs.push_back(&st.model);
+  if (runs.empty()) runs.push_back(&stages.back().model);
+  const core::Model& model = *runs.back();
+  if (runs.size() > 1 && !a.m.quiet) std::cout << runs.size() << " analysis blocks, run in sequence\n";
+
+  analysis::SimulationOptions opt = simulationOptions(a);
   try {
-    files.checkWritable();
-    if (!echo.empty()) io::OutputSet(echo).checkWritable();
+    opt.basis = readBasisFor(a.basisFile, model);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
   }
-  files.setting("command", "simulate");
-  files.setting("model", m.file);
-  if (!basisFile.empty()) files.setting("basis", basisFile);
-  files.setting("integrator", bdf ? "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" +
-                                        std::to_string(opt.bdfMaxOrder) +
-                                        ", Newton, dense LU, analytic Jacobian of Eq. 15)"
-                                  : std::string("ode45 (Dormand-Prince 5(4), MATLAB's step control)"));
-  {
-    std::ostringstream s;
-    s.precision(17);
-    s << t0 << " to " << t1 << " s, " << nOut << " output intervals, reltol "
-      << opt.relTol.value_or(model.settings.relTol) << ", abstol " << opt.absTol.value_or(model.settings.absTol)
-      << ", max step " << h;
-    files.setting("integration", s.str());
-    files.setting("dynamics", dynamics);
+  if (auto rc = refuseOversizedRun(model, opt, a.m.quiet)) return *rc;
+
+  // Output location checked before the analysis.
+  std::string suffix;
+  if (!a.basisFile.empty() && (a.out.empty() || a.out.back() == '/' || std::filesystem::is_directory(a.out)))
+    suffix = "_" + std::filesystem::path(a.basisFile).stem().string();
+  io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file, suffix));
+  try {
+    files.checkWritable();
+    if (!a.echo.empty()) io::OutputSet(a.echo).checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
   }
+  describeRun(files, a, model, opt);
 
   installInterruptHandler();
   opt.interrupt = interruptFlag();
@@ -274,91 +371,13 @@ int runSimulate(const std::vector<std::string>& args) {
     return kNumericalFailure;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  solvers::OdeStats st{traj.nsteps, traj.nfailed, traj.nfevals};
-  st.njacevals = traj.njacevals;
-  st.nrhsfailed = traj.nrhsfailed;
-  st.nlinsetups = traj.nlinsetups;
-  std::cout << (bdf ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
+  std::cout << analysis::formatStatistics(traj, opt.integrator);
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
   if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
 
   std::vector<std::string> report;
   try {
-    if (!traj.time.empty()) {
-      if (format == "csv" || format == "both") {
-        for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
-          files.temporaryFor(std::string(q) + ".csv");
-        io::writeCsv(files.temporaryPrefix(), model, traj);
-        if (io::hasOrientationNodes(model)) {
-          files.temporaryFor("_rot.csv");
-          io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
-        }
-      }
-      if (format == "mat" || format == "both")  // through memory: matio does not report a full disk
-        io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
-      const bool spacarFiles = format == "mat" || format == "both";
-      std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
-      if (linearize > 0 && !interrupted) {
-        const auto lt = std::chrono::steady_clock::now();
-        const auto tm = analysis::trajectoryModes(model, traj, linearize, opt.basis, matrices || spacarFiles);
-        std::cout << "linearised at " << tm.time.size() << " output times in "
-                  << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
-        if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
-        // f: natural frequencies |s| of Eq. 15 (with C, D, N); zeta: damping ratios;
-        // frozen_f: (K + G) v = w^2 M v at the same configuration, without C and N.
-        std::ofstream f(files.temporaryFor("_frequencies.csv"));
-        f.precision(12);
-        f << "time";
-        for (int i = 0; i < linearize; ++i) f << ",f" << i + 1 << "_Hz";
-        for (int i = 0; i < linearize; ++i) f << ",zeta" << i + 1;
-        for (int i = 0; i < linearize; ++i) f << ",frozen_f" << i + 1 << "_Hz";
-        f << "\n";
-        auto cells = [&](const Eigen::VectorXd& v, double scale) {
-          for (int i = 0; i < linearize; ++i) {
-            f << ",";
-            if (i < v.size()) f << v[i] * scale;
-          }
-        };
-        for (size_t k = 0; k < tm.time.size(); ++k) {
-          f << tm.time[k];
-          cells(tm.omega[k], 1 / (2 * M_PI));
-          cells(tm.damping[k], 1.0);
-          cells(tm.omegaFrozen[k], 1 / (2 * M_PI));
-          f << "\n";
-        }
-        f.flush();
-        if (!f) throw std::runtime_error("cannot write '" + files.prefix() + "_frequencies.csv': write failed");
-        f.close();
-        if (matrices)
-          io::writeThroughMemory(files.temporaryFor("_linear.mat"), [&](const std::string& p) {
-            io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega);
-          });
-        if (spacarFiles) kept = tm;
-      }
-      if (spacarFiles) {  // SPACAR's <name>.sbd / .sbm (io/results.md), renamed into place with the rest
-        analysis::SpacarOutputOptions so;
-        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-        const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr,
-                                                                    matrices        ? 3
-                                                                    : linearize > 0 ? 4
-                                                                                    : 1,
-                                                                    so);
-        const std::string temp = files.temporaryPrefix();
-        for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
-      }
-    }
-    std::string status = traj.completed ? "complete" : "stopped: " + traj.stopReason;
-    report = files.commit(status);
-    if (!traj.time.empty()) {  // pictures of the motion, beside the committed result files
-      if (vtk) writeVtk(files.prefix(), model, traj);
-      if (html) writeAnimation(files.prefix(), model, traj);
-    }
-    if (!echo.empty() && !traj.time.empty()) {
-      const std::string temp = io::temporaryName(echo);
-      io::writeRestart(temp, model, traj.time.back(), traj.states.back());
-      io::commitTemporary(temp, echo);
-      report.push_back(echo);
-    }
+    report = writeSimulationResults(files, a, model, opt, traj, interrupted);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;

@@ -1,0 +1,36 @@
+#include "analysis/ModelCheck.hpp"
+
+#include <exception>
+
+#include "core/GeometricTransferFunctions.hpp"
+
+namespace flexmb::analysis {
+
+AssemblyCheck checkAssembly(const core::Model& model, bool mass) {
+  AssemblyCheck a;
+  try {
+    a.problem = core::initialAssemblyProblem(model);
+    if (a.problem.empty() && mass) a.massless = core::masslessDegreesOfFreedom(model);
+  } catch (const core::KinematicsError& e) {
+    a.error = e.what();
+  }
+  return a;
+}
+
+core::ModelDiagnosis diagnose(const core::Model& model) { return core::diagnoseModel(model); }
+
+std::string ModelCheck::kinematicsText() const { return core::formatReport(kinematics); }
+
+ModelCheck checkModel(const core::Model& model) {
+  ModelCheck c;
+  try {
+    c.kinematics = core::checkKinematics(model);
+  } catch (const std::exception& e) {
+    c.kinematicsError = e.what();
+  }
+  c.diagnosis = core::diagnoseModel(model);
+  if (c.kinematicsError.empty() && c.kinematics.wellPosed()) c.assembly = checkAssembly(model, false);
+  return c;
+}
+
+}  // namespace flexmb::analysis
