@@ -50,9 +50,9 @@ Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count);
 // modes`, SPACAR's modes of the initial state): core::Linearization::initialRest, then
 // naturalFrequencies. Throws KinematicsError / std::runtime_error.
 struct InitialModes {
-  Eigen::VectorXd eta, q;          // the configuration (q = the degrees of freedom)
-  core::LinearizedSystem system;   // M0, K0, G0 ... there
-  Frequencies frequencies;         // ascending; modes in eta
+  Eigen::VectorXd eta, q;         // the configuration (q = the degrees of freedom)
+  core::LinearizedSystem system;  // M0, K0, G0 ... there
+  Frequencies frequencies;        // ascending; modes in eta
 };
 InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev);
 

@@ -7,8 +7,7 @@
 
 namespace flexmb::core {
 
-std::string prescribedEquilibrium(Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta,
-                                  double& P) {
+std::string prescribedEquilibrium(Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta, double& P) {
   const int m = lin.size();
   Eigen::VectorXd f, R(m + 1), dz;
   Eigen::MatrixXd A(m + 1, m + 1);
