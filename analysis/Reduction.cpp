@@ -14,10 +14,8 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
   for (int j = 0; j < model.numDofs(); ++j) {
     const auto& d = model.dofs[j];
     if (d.isDeformation) {
-      if (model.elements[model.eOwnerElement[d.index]].type->keyword == "PLHINGE" ||
-          (model.elements[model.eOwnerElement[d.index]].type->keyword == "HINGE" &&
-           d.index == model.elements[model.eOwnerElement[d.index]].firstDef))
-        large.push_back(j);
+      const core::ElementEntry& el = model.elements[model.eOwnerElement[d.index]];
+      if (el.type->isLargeRotation(d.index - el.firstDef)) large.push_back(j);
     } else if (!core::isTranslational(model.nodes[model.xOwnerNode[d.index]].kind)) {
       large.push_back(j);
     }

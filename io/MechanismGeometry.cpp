@@ -6,10 +6,8 @@
 namespace flexmb::io {
 
 namespace {
-bool isPlanarBeam(const core::ElementEntry& el) {
-  const std::string& k = el.type->keyword;
-  return (k == "PLBEAM" || k == "PLBEAMNL") && el.nodes.size() == 4 && el.impl;
-}
+// Drawn with its displacement field (the planar beam's, below): the registry says which types are.
+bool drawnCurved(const core::ElementEntry& el) { return el.type->drawnCurved && el.nodes.size() == 4 && el.impl; }
 
 Point3 positionOf(const core::Model& m, int node, const Eigen::VectorXd& x) {
   const core::Node& n = m.nodes[node];
@@ -58,7 +56,7 @@ MechanismGeometry::MechanismGeometry(const core::Model& model, int beamSegments)
     std::vector<int> positions;
     for (int n : el.nodes)
       if (model.nodes[n].kind == NodeKind::Position) positions.push_back(n);
-    if (isPlanarBeam(el)) {
+    if (drawnCurved(el)) {
       d.numPoints = beamSegments_ + 1;
       pointNode_.push_back(el.nodes[0]);
       for (int k = 1; k < beamSegments_; ++k) pointNode_.push_back(-1);
@@ -90,7 +88,7 @@ void MechanismGeometry::points(const Eigen::VectorXd& x, std::vector<Point3>& ou
   core::DefVec e;
   for (const DrawnElement& d : drawn_) {
     const auto& el = model_.elements[d.element];
-    if (d.shape == DrawnShape::Curve && isPlanarBeam(el)) {
+    if (d.shape == DrawnShape::Curve && drawnCurved(el)) {
       // The beam's own field (PlanarBeam.hpp): chord plus n(alpha) (H2 e2 + H3 e3).
       el.gather(x, xe);
       el.impl->deformations(xe, e);

@@ -9,8 +9,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "core/elements/SpatialBeam.hpp"
-
 namespace flexmb::io {
 namespace {
 
@@ -208,10 +206,9 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
 Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows) {
   if (!model.spatial) return Eigen::MatrixXd(0, 0);
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, 9);
+  Eigen::Matrix3d A;
   for (const auto& el : model.elements) {
-    const auto* beam = dynamic_cast<const core::SpatialBeam*>(el.impl.get());
-    if (!beam || el.label < 1 || el.label > rows) continue;
-    const Eigen::Matrix3d& A = beam->triadP();
+    if (!el.impl || el.label < 1 || el.label > rows || !el.impl->elementFrame(A)) continue;
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) R(el.label - 1, 3 * c + r) = A(r, c);
   }

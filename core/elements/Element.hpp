@@ -145,6 +145,12 @@ class Element {
   }
   // Reference (undeformed) length l0, 0 for an element without one (hinge). Written as LENGTH0.
   virtual double referenceLength() const { return 0.0; }
+  // The element triad at its first orientation node in that node's body frame (columns e_x along
+  // the chord, e_y, e_z): the `.sbd` variable rxyz. False for an element that keeps none.
+  virtual bool elementFrame(Eigen::Matrix3d& A) const {
+    (void)A;
+    return false;
+  }
   // True for a deformation that is an angle known only modulo 2 pi (a spatial hinge's rotation,
   // a principal value): the kinematics keep it continuous along the motion.
   virtual bool isPeriodicAngle(int /*i*/) const { return false; }
@@ -180,8 +186,15 @@ struct ElementTypeInfo {
   // EM layout when it differs from the planar "rhoA [rhoI]".
   std::vector<ParameterSpec> inertia = {};
   bool internal = false;  // created by flexmb (L2MIN1), not a user keyword
+  // Deformations (0-based) that are large rotations, such as a hinge's angle: a DYNE one keeps an
+  // identity column in a reduction basis (the q_l of Eq. 21, analysis::defaultLargeCoordinates).
+  std::vector<int> largeRotations = {};
+  // Drawn as the curve of its displacement field from its deformations (the planar beam's cubic,
+  // PlanarBeam.hpp) instead of straight lines between its position nodes (io/MechanismGeometry).
+  bool drawnCurved = false;
   int numCoords() const;
   int numDeformations() const { return static_cast<int>(deformationNames.size()); }
+  bool isLargeRotation(int deformation) const;
 };
 
 // The registry (one list, in ElementRegistry.cpp). Keyword lookup is case-insensitive.

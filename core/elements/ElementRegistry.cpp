@@ -21,6 +21,10 @@ int ElementTypeInfo::numCoords() const {
   return n;
 }
 
+bool ElementTypeInfo::isLargeRotation(int deformation) const {
+  return std::find(largeRotations.begin(), largeRotations.end(), deformation) != largeRotations.end();
+}
+
 const std::vector<ElementTypeInfo>& elementTypes() {
   using enum NodeKind;
   static const std::vector<ElementTypeInfo> types = [] {
@@ -29,31 +33,40 @@ const std::vector<ElementTypeInfo>& elementTypes() {
         {"EA", "N", "axial stiffness (EDAMP: axial damping coefficient)"},
         {"EI", "N m^2", "bending stiffness (EDAMP: bending damping coefficient)"}};
     std::vector<ElementTypeInfo> t;
-    t.push_back({"PLBEAM",
-                 "planar flexible beam; elongation l - l0 (SPACAR95) or with bending correction "
-                 "(Eq. 3a, SPACAR 2013+), bending at p and q (Eq. 3b, 3c)",
-                 {Position, Orientation, Position, Orientation},
-                 beamDefs,
-                 beamParams,
-                 &PlanarBeam::create});
-    t.push_back({"PLBEAMNL",
-                 "planar flexible beam, elongation always with the bending correction (Eq. 3a)",
-                 {Position, Orientation, Position, Orientation},
-                 beamDefs,
-                 beamParams,
-                 &PlanarBeam::createNonlinear});
-    t.push_back({"PLTRUSS",
-                 "planar truss, elongation l - l0",
-                 {Position, Position},
-                 {"elongation"},
-                 {{"EA", "N", "axial stiffness (EDAMP: axial damping coefficient)"}},
-                 &PlanarTruss::create});
-    t.push_back({"PLHINGE",
-                 "planar hinge, relative rotation of node q with respect to node p (Eq. 5)",
-                 {Orientation, Orientation},
-                 {"relative rotation"},
-                 {{"k", "N m/rad", "rotational stiffness (EDAMP: N m s/rad damping coefficient)"}},
-                 &PlanarHinge::create});
+    {
+      ElementTypeInfo b{"PLBEAM",
+                        "planar flexible beam; elongation l - l0 (SPACAR95) or with bending correction "
+                        "(Eq. 3a, SPACAR 2013+), bending at p and q (Eq. 3b, 3c)",
+                        {Position, Orientation, Position, Orientation},
+                        beamDefs,
+                        beamParams,
+                        &PlanarBeam::create};
+      b.drawnCurved = true;
+      t.push_back(b);
+      b.keyword = "PLBEAMNL";
+      b.description = "planar flexible beam, elongation always with the bending correction (Eq. 3a)";
+      b.create = &PlanarBeam::createNonlinear;
+      t.push_back(b);
+    }
+    {
+      ElementTypeInfo tr{"PLTRUSS",
+                         "planar truss, elongation l - l0",
+                         {Position, Position},
+                         {"elongation"},
+                         {{"EA", "N", "axial stiffness (EDAMP: axial damping coefficient)"}},
+                         &PlanarTruss::create};
+      t.push_back(tr);
+    }
+    {
+      ElementTypeInfo h{"PLHINGE",
+                        "planar hinge, relative rotation of node q with respect to node p (Eq. 5)",
+                        {Orientation, Orientation},
+                        {"relative rotation"},
+                        {{"k", "N m/rad", "rotational stiffness (EDAMP: N m s/rad damping coefficient)"}},
+                        &PlanarHinge::create};
+      h.largeRotations = {0};
+      t.push_back(h);
+    }
 
     // Spatial elements (spatial-elements.md): position nodes x y z, orientation nodes with four
     // Euler parameters.
@@ -112,6 +125,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         nullptr};
       h.vector = {{"a1", "-", "hinge axis, x component"}, {"a2", "-", "y component"}, {"a3", "-", "z component"}};
       h.createWithVector = &SpatialHinge::create;
+      h.largeRotations = {0};  // the rotation about the axis; the tilts stay small
       t.push_back(h);
     }
     {

@@ -50,9 +50,11 @@ class SpatialBeam final : public Element {
   void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
   double l0() const { return l0_; }
-  // Body-frame element triads of the two ends (columns e_x, e_y, e_z).
-  const Eigen::Matrix3d& triadP() const { return Ap_; }
-  const Eigen::Matrix3d& triadQ() const { return Aq_; }
+  // The body-frame triad A_p of end p (columns e_x, e_y, e_z).
+  bool elementFrame(Eigen::Matrix3d& A) const override {
+    A = Ap_;
+    return true;
+  }
 
  private:
   using Vec14 = Eigen::Matrix<double, 14, 1>;

@@ -106,6 +106,14 @@ double relErr(const A& a, const B& ref, double floor = 1e-9) {
   return (a - ref).cwiseAbs().maxCoeff() / scale;
 }
 
+// Every element type: the keyword registry and the automatic L2MIN1.
+std::vector<const ElementTypeInfo*> allElementTypes() {
+  std::vector<const ElementTypeInfo*> all;
+  for (const ElementTypeInfo& t : elementTypes()) all.push_back(&t);
+  all.push_back(&normalisationType());
+  return all;
+}
+
 constexpr int kConfigs = 25;
 constexpr double kH = 1e-6;
 
@@ -397,6 +405,26 @@ TEST(Elements, Registry) {
     auto el = info.create(randomInitial(info, rng), {});
     EXPECT_EQ(el->numCoords(), info.numCoords()) << info.keyword;
     EXPECT_EQ(el->numDeformations(), info.numDeformations()) << info.keyword;
+  }
+  // Element knowledge kept in the registry: hinge angles are large rotations (a reduction basis
+  // keeps them), beams are drawn curved.
+  EXPECT_EQ(h->largeRotations, std::vector<int>{0});
+  EXPECT_TRUE(h->isLargeRotation(0));
+  EXPECT_FALSE(b->isLargeRotation(0));
+  EXPECT_TRUE(b->drawnCurved);
+  EXPECT_FALSE(t->drawnCurved);
+  ASSERT_NE(findElementType("HINGE"), nullptr);
+  EXPECT_EQ(findElementType("HINGE")->largeRotations, std::vector<int>{0});  // the tilts stay small
+  for (const ElementTypeInfo* info : allElementTypes()) {
+    for (int i : info->largeRotations) {
+      EXPECT_GE(i, 0) << info->keyword;
+      EXPECT_LT(i, info->numDeformations()) << info->keyword;
+    }
+    // The curve is the planar beam's field from its bending deformations e2, e3 (MechanismGeometry).
+    if (info->drawnCurved) {
+      EXPECT_EQ(info->slots, (std::vector<NodeKind>{Position, Orientation, Position, Orientation})) << info->keyword;
+      EXPECT_EQ(info->numDeformations(), 3) << info->keyword;
+    }
   }
   // PLBEAMNL ignores the elongation option; PLBEAM follows it.
   ElemVec x0(6);
