@@ -162,12 +162,7 @@ SpacarLayout spacarLayout(const core::Model& model) {
   return L;
 }
 
-int elementTypeId(const core::ElementTypeInfo* type) {
-  const auto& types = core::elementTypes();
-  for (std::size_t k = 0; k < types.size(); ++k)
-    if (&types[k] == type || (type && types[k].keyword == type->keyword)) return static_cast<int>(k) + 1;
-  return 0;
-}
+int elementTypeId(const core::ElementTypeInfo* type) { return type ? type->spacarTypeId : 0; }
 
 SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   int maxNode = 0, width = 0, maxEl = 0, nodesPerEl = 0, defsPerEl = 0;

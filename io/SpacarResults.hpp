@@ -48,8 +48,8 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layo
 // zeros for elements without a triad; 0 x 0 for planar models.
 Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows);
 
-// Element type id written to `it`: the 1-based place of the element's type in the element table
-// (core::elementTypes()), listed in io/results.md.
+// Element type id written to `it`: SPACAR's code of the element's type (ElementTypeInfo::spacarTypeId,
+// listed in io/results.md); 0 without a type.
 int elementTypeId(const core::ElementTypeInfo* type);
 
 struct SpacarStep {

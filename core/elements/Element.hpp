@@ -186,6 +186,9 @@ struct ElementTypeInfo {
   // EM layout when it differs from the planar "rhoA [rhoI]".
   std::vector<ParameterSpec> inertia = {};
   bool internal = false;  // created by flexmb (L2MIN1), not a user keyword
+  // SPACAR's element type code: the `.sbd` variable `it` that SPACAR's viewer (spadraw) and stress
+  // tool (stressbeam) read; io/results.md lists the codes and where they come from.
+  int spacarTypeId = 0;
   // Deformations (0-based) that are large rotations, such as a hinge's angle: a DYNE one keeps an
   // identity column in a reduction basis (the q_l of Eq. 21, analysis::defaultLargeCoordinates).
   std::vector<int> largeRotations = {};

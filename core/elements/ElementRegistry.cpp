@@ -25,6 +25,14 @@ bool ElementTypeInfo::isLargeRotation(int deformation) const {
   return std::find(largeRotations.begin(), largeRotations.end(), deformation) != largeRotations.end();
 }
 
+namespace {
+// SPACAR type codes (`it`; io/results.md has the evidence): SPACAR's own where they are known
+// (BEAM 1, TRUSS 2, PLBEAM 5, PLTRUSS 7). The NL variants differ only in the elongation, which SPACAR
+// keeps as a per-element flag, not as a type: they share their element's code. Types whose SPACAR
+// code is unknown get flexmb's own codes from 101, clear of every code SPACAR's tools use (1-18).
+constexpr int kOwnTypeIds = 100;
+}  // namespace
+
 const std::vector<ElementTypeInfo>& elementTypes() {
   using enum NodeKind;
   static const std::vector<ElementTypeInfo> types = [] {
@@ -41,6 +49,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         beamDefs,
                         beamParams,
                         &PlanarBeam::create};
+      b.spacarTypeId = 5;
       b.drawnCurved = true;
       t.push_back(b);
       b.keyword = "PLBEAMNL";
@@ -55,6 +64,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                          {"elongation"},
                          {{"EA", "N", "axial stiffness (EDAMP: axial damping coefficient)"}},
                          &PlanarTruss::create};
+      tr.spacarTypeId = 7;
       t.push_back(tr);
     }
     {
@@ -64,6 +74,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         {"relative rotation"},
                         {{"k", "N m/rad", "rotational stiffness (EDAMP: N m s/rad damping coefficient)"}},
                         &PlanarHinge::create};
+      h.spacarTypeId = kOwnTypeIds + 1;
       h.largeRotations = {0};
       t.push_back(h);
     }
@@ -101,6 +112,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       b.vector = yAxis;
       b.createWithVector = &SpatialBeam::create;
       b.inertia = spatialBeamMass;
+      b.spacarTypeId = 1;
       t.push_back(b);
       b.keyword = "BEAMNL";
       b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";
@@ -111,6 +123,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       ElementTypeInfo tr{"TRUSS",        "spatial truss, elongation l - l0", {SpatialPosition, SpatialPosition},
                          {"elongation"}, {{"EA", "N", "axial stiffness"}},   &SpatialTruss::create};
       tr.inertia = rhoAOnly;
+      tr.spacarTypeId = 2;
       t.push_back(tr);
     }
     {
@@ -125,6 +138,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         nullptr};
       h.vector = {{"a1", "-", "hinge axis, x component"}, {"a2", "-", "y component"}, {"a3", "-", "z component"}};
       h.createWithVector = &SpatialHinge::create;
+      h.spacarTypeId = kOwnTypeIds + 2;
       h.largeRotations = {0};  // the rotation about the axis; the tilts stay small
       t.push_back(h);
     }
@@ -139,6 +153,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       r.vector = yAxis;
       r.createWithVector = &RigidBeam::create;
       r.inertia = rhoAOnly;
+      r.spacarTypeId = kOwnTypeIds + 3;
       t.push_back(r);
     }
     return t;
@@ -156,6 +171,7 @@ const ElementTypeInfo& normalisationType() {
                       {},
                       &EulerNormalisation::create};
     i.internal = true;
+    i.spacarTypeId = kOwnTypeIds + 4;
     return i;
   }();
   return n;

@@ -426,6 +426,22 @@ TEST(Elements, Registry) {
       EXPECT_EQ(info->numDeformations(), 3) << info->keyword;
     }
   }
+  // SPACAR's type codes (the .sbd `it`, io/results.md) where they are known, flexmb's own above 100
+  // otherwise; only an element's variants (the NL beams: same slots and deformations) share a code.
+  EXPECT_EQ(b->spacarTypeId, 5);
+  EXPECT_EQ(findElementType("PLBEAMNL")->spacarTypeId, 5);
+  EXPECT_EQ(t->spacarTypeId, 7);
+  EXPECT_EQ(findElementType("BEAM")->spacarTypeId, 1);
+  EXPECT_EQ(findElementType("BEAMNL")->spacarTypeId, 1);
+  EXPECT_EQ(findElementType("TRUSS")->spacarTypeId, 2);
+  for (const ElementTypeInfo* info : allElementTypes()) {
+    EXPECT_GT(info->spacarTypeId, 0) << info->keyword;
+    for (const ElementTypeInfo* other : allElementTypes())
+      if (other != info && other->spacarTypeId == info->spacarTypeId) {
+        EXPECT_EQ(other->slots, info->slots) << info->keyword << " and " << other->keyword;
+        EXPECT_EQ(other->deformationNames, info->deformationNames) << info->keyword << " and " << other->keyword;
+      }
+  }
   // PLBEAMNL ignores the elongation option; PLBEAM follows it.
   ElemVec x0(6);
   x0 << 0, 0, 0, 1, 0, 0;
