@@ -9,15 +9,9 @@ namespace flexmb::core {
 
 namespace {
 using namespace spatial;
-using S10 = Scalar<10>;
 using Vec10 = Eigen::Matrix<double, 10, 1>;
-using Mat10 = Eigen::Matrix<double, 10, 10>;
 constexpr int XP = 0, LP = 3, XQ = 7;
 }  // namespace
-
-struct RigidBeam::Defs {
-  S10 e[3];
-};
 
 RigidBeam::RigidBeam(const ElemVec& x0, const double* y) {
   if (x0.size() != 10) throw std::invalid_argument("rigid beam: expected 10 initial coordinates");
@@ -39,37 +33,6 @@ void RigidBeam::evaluate(const ElemVec& xe, int order, Defs& D) const {
   D.e[0].v -= l0_;
   rotatedOnChord<10>(x, LP, Ap_.col(1), XP, XQ, order, D.e[1]);
   rotatedOnChord<10>(x, LP, Ap_.col(2), XP, XQ, order, D.e[2]);
-}
-
-void RigidBeam::deformations(const ElemVec& x, DefVec& e) const {
-  Defs D;
-  evaluate(x, 0, D);
-  e.resize(3);
-  for (int i = 0; i < 3; ++i) e[i] = D.e[i].v;
-}
-
-void RigidBeam::jacobian(const ElemVec& x, DefJac& De) const {
-  Defs D;
-  evaluate(x, 1, D);
-  De.resize(3, 10);
-  for (int i = 0; i < 3; ++i) De.row(i) = D.e[i].g.transpose();
-}
-
-void RigidBeam::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const {
-  Defs D;
-  evaluate(x, 2, D);
-  const Vec10 vv = v;
-  d2.resize(3);
-  for (int i = 0; i < 3; ++i) d2[i] = vv.dot(D.e[i].H * vv);
-}
-
-void RigidBeam::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const {
-  Defs D;
-  evaluate(x, 2, D);
-  Mat10 Hs = Mat10::Zero();
-  for (int i = 0; i < 3; ++i)
-    if (sigma[i] != 0.0) Hs += sigma[i] * D.e[i].H;
-  H = Hs;
 }
 
 void RigidBeam::constitutive(std::span<const double>, DefMat& S) const { S.setZero(3, 3); }

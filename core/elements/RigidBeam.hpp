@@ -6,26 +6,21 @@
 // (rhoA l0/6) [[2I, I], [I, 2I]] on (x_p, x_q).
 #include <Eigen/Core>
 
-#include "core/elements/Element.hpp"
+#include "core/elements/EvaluatedElement.hpp"
 
 namespace flexmb::core {
 
-class RigidBeam final : public Element {
+class RigidBeam final : public EvaluatedElement<RigidBeam, 10, 3> {
  public:
   RigidBeam(const ElemVec& x0, const double* y);
   static std::unique_ptr<Element> create(const ElemVec& x0, const double* y, const ElementOptions& o);
-  int numCoords() const override { return 10; }
-  int numDeformations() const override { return 3; }
-  void deformations(const ElemVec& x, DefVec& e) const override;
-  void jacobian(const ElemVec& x, DefJac& De) const override;
-  void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
-  void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   void constitutive(std::span<const double> params, DefMat& S) const override;
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
   void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
  private:
-  struct Defs;
+  friend class EvaluatedElement<RigidBeam, 10, 3>;
+  // e1..e3 of the header with their derivatives up to order (EvaluatedElement).
   void evaluate(const ElemVec& x, int order, Defs& d) const;
   double l0_ = 0.0;
   Eigen::Matrix3d Ap_;

@@ -20,10 +20,6 @@ constexpr double kGaussW[4] = {0.5 * 0.3478548451374538, 0.5 * 0.652145154862546
                                0.5 * 0.3478548451374538};
 }  // namespace
 
-struct SpatialBeam::Defs {
-  S14 e[6];
-};
-
 SpatialBeam::SpatialBeam(const ElemVec& x0, const double* y, bool bendingCorrected) : corrected_(bendingCorrected) {
   if (x0.size() != 14) throw std::invalid_argument("spatial beam: expected 14 initial coordinates");
   const Vec3 d = x0.segment<3>(XQ) - x0.segment<3>(XP);
@@ -49,7 +45,7 @@ void SpatialBeam::evaluate(const ElemVec& xe, int order, Defs& D) const {
   S14 l, a, b;
   chordLength<14>(x, XP, XQ, order, l);
   // Elongation.
-  D.e[0] = l;
+  D.e[0].assign(l, order);
   D.e[0].v -= l0_;
   // Torsion.
   rotatedProduct<14>(x, LP, Ap_.col(2), LQ, Aq_.col(1), order, a);
@@ -84,37 +80,6 @@ void SpatialBeam::evaluate(const ElemVec& xe, int order, Defs& D) const {
                    (e5->g * e6->g.transpose() + e6->g * e5->g.transpose()));
     }
   }
-}
-
-void SpatialBeam::deformations(const ElemVec& x, DefVec& e) const {
-  Defs D;
-  evaluate(x, 0, D);
-  e.resize(6);
-  for (int i = 0; i < 6; ++i) e[i] = D.e[i].v;
-}
-
-void SpatialBeam::jacobian(const ElemVec& x, DefJac& De) const {
-  Defs D;
-  evaluate(x, 1, D);
-  De.resize(6, 14);
-  for (int i = 0; i < 6; ++i) De.row(i) = D.e[i].g.transpose();
-}
-
-void SpatialBeam::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const {
-  Defs D;
-  evaluate(x, 2, D);
-  const Vec14 vv = v;
-  d2.resize(6);
-  for (int i = 0; i < 6; ++i) d2[i] = vv.dot(D.e[i].H * vv);
-}
-
-void SpatialBeam::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const {
-  Defs D;
-  evaluate(x, 2, D);
-  Mat14 Hs = Mat14::Zero();
-  for (int i = 0; i < 6; ++i)
-    if (sigma[i] != 0.0) Hs += sigma[i] * D.e[i].H;
-  H = Hs;
 }
 
 void SpatialBeam::constitutive(std::span<const double> p, DefMat& S) const {

@@ -22,11 +22,11 @@
 // M = 4 G^T J G, h = 8 G(lambdad)^T J G lambdad.
 #include <Eigen/Core>
 
-#include "core/elements/Element.hpp"
+#include "core/elements/EvaluatedElement.hpp"
 
 namespace flexmb::core {
 
-class SpatialBeam final : public Element {
+class SpatialBeam final : public EvaluatedElement<SpatialBeam, 14, 6> {
  public:
   // x0: 14 initial coordinates; y: the cross-section y direction. Throws std::invalid_argument for
   // coincident end nodes or y along the chord.
@@ -34,12 +34,6 @@ class SpatialBeam final : public Element {
   static std::unique_ptr<Element> create(const ElemVec& x0, const double* y, const ElementOptions& o);
   static std::unique_ptr<Element> createNonlinear(const ElemVec& x0, const double* y, const ElementOptions& o);
 
-  int numCoords() const override { return 14; }
-  int numDeformations() const override { return 6; }
-  void deformations(const ElemVec& x, DefVec& e) const override;
-  void jacobian(const ElemVec& x, DefJac& De) const override;
-  void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
-  void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   // params = [EA, GIt, EIy, EIz, cy, cz] (missing trailing entries 0), spatial-elements.md 4.2:
   // S11 = EA/l0, S22 = GIt/l0^3, per bending pair EI/(l0^3 (1+F)) [[4+F, F-2], [F-2, 4+F]],
   // F = 12 c/l0^2 (shear flexibility c = EI/(k G A)).
@@ -57,9 +51,10 @@ class SpatialBeam final : public Element {
   }
 
  private:
-  using Vec14 = Eigen::Matrix<double, 14, 1>;
-  using Mat14 = Eigen::Matrix<double, 14, 14>;
-  struct Defs;
+  friend class EvaluatedElement<SpatialBeam, 14, 6>;
+  using Vec14 = Vec;
+  using Mat14 = Mat;
+  // The six deformations of the header with their derivatives up to order (EvaluatedElement).
   void evaluate(const ElemVec& x, int order, Defs& d) const;
   Eigen::Matrix3d rotaryInertia(const Eigen::Matrix3d& A, const ElementInertia& in) const;
 

@@ -12,13 +12,8 @@ namespace {
 using namespace spatial;
 using S8 = Scalar<8>;
 using Vec8 = Eigen::Matrix<double, 8, 1>;
-using Mat8 = Eigen::Matrix<double, 8, 8>;
 constexpr int LP = 0, LQ = 4;
 }  // namespace
-
-struct SpatialHinge::Defs {
-  S8 e[3];
-};
 
 SpatialHinge::SpatialHinge(const ElemVec& x0, const double* axis) {
   if (x0.size() != 8) throw std::invalid_argument("spatial hinge: expected 8 initial coordinates");
@@ -70,37 +65,6 @@ void SpatialHinge::evaluate(const ElemVec& xe, int order, Defs& D) const {
   prod(1, 0, a);
   D.e[2].clear(order);
   D.e[2].add(1.0, a, order);
-}
-
-void SpatialHinge::deformations(const ElemVec& x, DefVec& e) const {
-  Defs D;
-  evaluate(x, 0, D);
-  e.resize(3);
-  for (int i = 0; i < 3; ++i) e[i] = D.e[i].v;
-}
-
-void SpatialHinge::jacobian(const ElemVec& x, DefJac& De) const {
-  Defs D;
-  evaluate(x, 1, D);
-  De.resize(3, 8);
-  for (int i = 0; i < 3; ++i) De.row(i) = D.e[i].g.transpose();
-}
-
-void SpatialHinge::secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const {
-  Defs D;
-  evaluate(x, 2, D);
-  const Vec8 vv = v;
-  d2.resize(3);
-  for (int i = 0; i < 3; ++i) d2[i] = vv.dot(D.e[i].H * vv);
-}
-
-void SpatialHinge::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const {
-  Defs D;
-  evaluate(x, 2, D);
-  Mat8 Hs = Mat8::Zero();
-  for (int i = 0; i < 3; ++i)
-    if (sigma[i] != 0.0) Hs += sigma[i] * D.e[i].H;
-  H = Hs;
 }
 
 void SpatialHinge::constitutive(std::span<const double> p, DefMat& S) const {

@@ -12,26 +12,21 @@
 // the angle (a DOF, an input or an output) runs on continuously through pi.
 #include <Eigen/Core>
 
-#include "core/elements/Element.hpp"
+#include "core/elements/EvaluatedElement.hpp"
 
 namespace flexmb::core {
 
-class SpatialHinge final : public Element {
+class SpatialHinge final : public EvaluatedElement<SpatialHinge, 8, 3> {
  public:
   SpatialHinge(const ElemVec& x0, const double* axis);
   static std::unique_ptr<Element> create(const ElemVec& x0, const double* axis, const ElementOptions& o);
-  int numCoords() const override { return 8; }
-  int numDeformations() const override { return 3; }
-  void deformations(const ElemVec& x, DefVec& e) const override;
-  void jacobian(const ElemVec& x, DefJac& De) const override;
-  void secondDerivative(const ElemVec& x, const ElemVec& v, DefVec& d2) const override;
-  void stressWeightedHessian(const ElemVec& x, const DefVec& sigma, ElemMat& H) const override;
   // params = [St, (S2, S3)]: diagonal (rotational stiffness about the axis, optional tilts).
   void constitutive(std::span<const double> params, DefMat& S) const override;
   bool isPeriodicAngle(int i) const override { return i == 0; }
 
  private:
-  struct Defs;
+  friend class EvaluatedElement<SpatialHinge, 8, 3>;
+  // e1..e3 of the header with their derivatives up to order (EvaluatedElement).
   void evaluate(const ElemVec& x, int order, Defs& d) const;
   Eigen::Matrix3d Ap_, Aq_;
 };

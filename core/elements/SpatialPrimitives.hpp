@@ -27,6 +27,12 @@ struct Scalar {
     if (order >= 1) g.setZero();
     if (order >= 2) H.setZero();
   }
+  // this = s, as far as order (what s holds)
+  void assign(const Scalar& s, int order) {
+    v = s.v;
+    if (order >= 1) g = s.g;
+    if (order >= 2) H = s.H;
+  }
   // this += c * s
   void add(double c, const Scalar& s, int order) {
     v += c * s.v;

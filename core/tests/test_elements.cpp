@@ -14,6 +14,7 @@
 #include "core/elements/PlanarBeam.hpp"
 #include "core/elements/PlanarHinge.hpp"
 #include "core/elements/PlanarTruss.hpp"
+#include "core/tests/ElementSamples.hpp"
 
 using namespace flexmb::core;
 
@@ -104,14 +105,6 @@ template <class A, class B>
 double relErr(const A& a, const B& ref, double floor = 1e-9) {
   const double scale = std::max({a.cwiseAbs().maxCoeff(), ref.cwiseAbs().maxCoeff(), floor});
   return (a - ref).cwiseAbs().maxCoeff() / scale;
-}
-
-// Every element type: the keyword registry and the automatic L2MIN1.
-std::vector<const ElementTypeInfo*> allElementTypes() {
-  std::vector<const ElementTypeInfo*> all;
-  for (const ElementTypeInfo& t : elementTypes()) all.push_back(&t);
-  all.push_back(&normalisationType());
-  return all;
 }
 
 constexpr int kConfigs = 25;
@@ -415,7 +408,7 @@ TEST(Elements, Registry) {
   EXPECT_FALSE(t->drawnCurved);
   ASSERT_NE(findElementType("HINGE"), nullptr);
   EXPECT_EQ(findElementType("HINGE")->largeRotations, std::vector<int>{0});  // the tilts stay small
-  for (const ElementTypeInfo* info : allElementTypes()) {
+  for (const ElementTypeInfo* info : test::allElementTypes()) {
     for (int i : info->largeRotations) {
       EXPECT_GE(i, 0) << info->keyword;
       EXPECT_LT(i, info->numDeformations()) << info->keyword;
@@ -434,9 +427,9 @@ TEST(Elements, Registry) {
   EXPECT_EQ(findElementType("BEAM")->spacarTypeId, 1);
   EXPECT_EQ(findElementType("BEAMNL")->spacarTypeId, 1);
   EXPECT_EQ(findElementType("TRUSS")->spacarTypeId, 2);
-  for (const ElementTypeInfo* info : allElementTypes()) {
+  for (const ElementTypeInfo* info : test::allElementTypes()) {
     EXPECT_GT(info->spacarTypeId, 0) << info->keyword;
-    for (const ElementTypeInfo* other : allElementTypes())
+    for (const ElementTypeInfo* other : test::allElementTypes())
       if (other != info && other->spacarTypeId == info->spacarTypeId) {
         EXPECT_EQ(other->slots, info->slots) << info->keyword << " and " << other->keyword;
         EXPECT_EQ(other->deformationNames, info->deformationNames) << info->keyword << " and " << other->keyword;
