@@ -429,7 +429,6 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
     }
     if (converged) {
       lastIterations_ = it;
-      totalIterations_ += it;
       consistent_ = true;
       return;
     }

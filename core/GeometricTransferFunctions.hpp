@@ -114,7 +114,6 @@ class GeometricTransferFunctions {
   int lastIterations() const { return lastIterations_; }
   // The kinematic equations form an open chain solved in one pass (no Newton iteration).
   bool isSequential() const { return !placements_.empty(); }
-  long totalIterations() const { return totalIterations_; }
 
   // Index maps (for diagnostics and the kinematic check).
   const std::vector<int>& calculableCoords() const { return calcCoords_; }
@@ -179,7 +178,6 @@ class GeometricTransferFunctions {
   double inputLoadFactor_ = 0.0;
   double initialLoadFactor_ = 1.0;
   int lastIterations_ = 0;
-  long totalIterations_ = 0;
 };
 
 }  // namespace flexmb::core

@@ -280,19 +280,6 @@ void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::Ve
   }
 }
 
-void Inertia::addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
-                                 Eigen::MatrixXd& Y) const {
-  if (!model_.hasGravity) return;
-  ElemVec xe;
-  for (int el : massive_) {
-    const auto& E = model_.elements[el];
-    E.gather(x, xe);
-    const Element& impl = *E.impl;
-    auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces3(xx, E.inertia, model_.gravity, out); };
-    addDirectional(E, el, xe, force, A, steps, Y);
-  }
-}
-
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor) {
   f = model.f0;
@@ -311,14 +298,6 @@ Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M) {
   Eigen::Matrix4d Z;
   Z << 0.0, -M[0], -M[1], -M[2], M[0], 0.0, -M[2], M[1], M[1], M[2], 0.0, -M[0], M[2], -M[1], M[0], 0.0;
   return 2.0 * Z;
-}
-
-void addMomentLoadJacobian(const Model& model, double initialFactor, double loadFactor, const Eigen::MatrixXd& A,
-                           Eigen::MatrixXd& Y) {
-  for (const auto& mo : model.moments) {
-    const int at = model.nodes[mo.node].firstCoord;
-    Y.middleRows<4>(at) += momentMatrix(initialFactor * mo.value + loadFactor * mo.increment) * A.middleRows<4>(at);
-  }
 }
 
 }  // namespace flexmb::core

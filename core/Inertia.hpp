@@ -39,9 +39,6 @@ class Inertia {
   // Y += d(M(x) xdd + h(x, xd))/dx A at fixed xd, xdd (element Richardson; lumped masses are constant).
   void addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& xdd,
                                 const Eigen::MatrixXd& A, const ElementSteps& steps, Eigen::MatrixXd& Y) const;
-  // Y += (dg/dx) A: gravity on distributed masses turns with the elements (a load stiffness).
-  void addGravityJacobian(const Eigen::VectorXd& x, const Eigen::MatrixXd& A, const ElementSteps& steps,
-                          Eigen::MatrixXd& Y) const;
   // The element blocks of the last update (for sparse assembly): element index and its block.
   const std::vector<int>& massiveElements() const { return massive_; }
   const ElemMat& block(size_t k) const { return blocks_[k]; }
@@ -67,8 +64,5 @@ void appliedLoads(const Model& model, const Inertia& inertia, double t, double l
 
 // Generalised force on the Euler parameters of a global moment M: 2 E(lambda)^T M = momentMatrix(M) lambda.
 Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M);
-// Y += d(moment loads)/dx A (spatial XF moments, exact: the loads are linear in lambda).
-void addMomentLoadJacobian(const Model& model, double initialFactor, double loadFactor, const Eigen::MatrixXd& A,
-                           Eigen::MatrixXd& Y);
 
 }  // namespace flexmb::core

@@ -69,9 +69,6 @@ class Linearization {
   // ref. [13]). Throws KinematicsError.
   void inMotion(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& etad, const Eigen::VectorXd& etadd,
                 LinearizedSystem& out);
-  // The sparse nodal matrices of the last atRest / inMotion / nodalAtRest (K_x, D_x, G_x; M_x when
-  // the mass was asked for).
-  const NodalMatrices& nodal() const { return nodal_; }
   // The nodal matrices at rest without F_q (the sparse eigenanalysis): K_x, G_x with the reaction
   // stresses of the residual f - D_x^T sigma, and M_x. Throws KinematicsError.
   void nodalAtRest(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, bool withMass = true);

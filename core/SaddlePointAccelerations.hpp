@@ -28,8 +28,6 @@ class SaddlePointAccelerations {
              Eigen::VectorXd& qdd, Eigen::VectorXd& xdd);
 
   int size() const { return n_; }
-  long nonZeros() const { return static_cast<long>(rowIdx_.size()); }
-  long factorNonZeros() const { return lu_.factorNonzeros(); }
 
  private:
   void assemble(const GeometricTransferFunctions& gtf);

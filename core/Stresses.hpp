@@ -13,7 +13,6 @@ class Stresses {
  public:
   explicit Stresses(const Model& model);
   bool hasDamping() const { return hasDamping_; }
-  bool isTimeDependent() const { return !model_.references.empty() || !model_.timeStresses.empty(); }
   // ed may be null when there is no damping (or the rates are zero).
   void evaluate(double t, const Eigen::VectorXd& e, const Eigen::VectorXd* ed, Eigen::VectorXd& sigma) const;
   // The constitutive matrix restricted to active deformations, as (element, active mask).

@@ -25,7 +25,6 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   ~OutputFile();  // removes the temporary when not committed
-  std::ostream& stream() { return out_; }
   template <class T>
   OutputFile& operator<<(const T& v) {
     out_ << v;

@@ -113,11 +113,6 @@ Eigen::VectorXd SpacarLayout::unsortX(const Eigen::VectorXd& v) const {
   for (Eigen::Index i = 0; i < v.size(); ++i) s[xOrder[i]] = v[i];
   return s;
 }
-Eigen::VectorXd SpacarLayout::unsortE(const Eigen::VectorXd& v) const {
-  Eigen::VectorXd s(v.size());
-  for (Eigen::Index i = 0; i < v.size(); ++i) s[eOrder[i]] = v[i];
-  return s;
-}
 
 SpacarLayout spacarLayout(const core::Model& model) {
   SpacarLayout L;

@@ -31,7 +31,6 @@ struct SpacarLayout {
   Eigen::VectorXd sortX(const Eigen::VectorXd& v) const;  // model order -> SPACAR order
   Eigen::VectorXd sortE(const Eigen::VectorXd& v) const;
   Eigen::VectorXd unsortX(const Eigen::VectorXd& v) const;  // SPACAR order -> model order
-  Eigen::VectorXd unsortE(const Eigen::VectorXd& v) const;
 };
 SpacarLayout spacarLayout(const core::Model& model);
 

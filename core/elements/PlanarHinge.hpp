@@ -29,7 +29,6 @@ class PlanarHinge final : public Element {
   // params = [k] (N m/rad): S = k.
   void constitutive(std::span<const double> params, DefMat& S) const override;
 
-  double initialAngle() const { return delta0_; }
   // Restart: delta0 such that e1 = e at x (a hinge has no length; length0 is not used).
   void setReference(const ElemVec& x, const DefVec& e, double) override { delta0_ = (x[1] - x[0]) - e[0]; }
 
