@@ -68,7 +68,9 @@ template <int M>
 void addElementProjections(const Model& model, const std::vector<int>& massive, const std::vector<ElemMat>& blocks,
                            const Eigen::MatrixXd& F, Eigen::MatrixXd& Mbar) {
   constexpr int MaxM = M == Eigen::Dynamic ? Inertia::kMaxProjectedColumns : M;
-  const int m = static_cast<int>(F.cols());
+  // The number of columns is M where fixed (the caller dispatches on F.cols()): the compiler then
+  // knows every loop bound below (with a run-time m it warned of reads past acc, -Warray-bounds).
+  const int m = M == Eigen::Dynamic ? static_cast<int>(F.cols()) : M;
   using Acc = Eigen::Matrix<double, M, M, 0, MaxM, MaxM>;
   using Rows6 = Eigen::Matrix<double, 6, M, 0, 6, MaxM>;
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, M, 0, kMaxElemCoords, MaxM>;
@@ -94,9 +96,8 @@ void addElementProjections(const Model& model, const std::vector<int>& massive, 
     for (int b = 0; b < m; ++b)
       for (int a = 0; a <= b; ++a) acc(a, b) += Fe.col(a).dot(T.col(b));
   }
-  for (int b = 0; b < m; ++b)
-    for (int a = 0; a < b; ++a) acc(b, a) = acc(a, b);
-  Mbar += acc;
+  for (int b = 0; b < m; ++b)  // the lower triangle mirrored from the upper one
+    for (int a = 0; a < m; ++a) Mbar(a, b) += a <= b ? acc(a, b) : acc(b, a);
 }
 }  // namespace
 
