@@ -99,6 +99,15 @@ struct ModelBuilder::Impl {
   std::vector<std::string> notes;
 };
 
+namespace {
+// A reader note, each kept once (Model::notes).
+void addOnce(std::vector<std::string>& notes, std::string note) {
+  for (const auto& n : notes)
+    if (n == note) return;
+  notes.push_back(std::move(note));
+}
+}  // namespace
+
 ModelBuilder::ModelBuilder(std::string sourceFile) : impl_(std::make_unique<Impl>()) {
   impl_->file = std::move(sourceFile);
 }
@@ -190,11 +199,7 @@ void ModelBuilder::setCoordinateRate(int node, int comp, double v, int line) {
 void ModelBuilder::setReferenceLength(int element, double length0, int line) {
   impl_->referenceLengths.push_back({element, length0, line});
 }
-void ModelBuilder::addNote(std::string note) {
-  for (const auto& n : impl_->notes)
-    if (n == note) return;
-  impl_->notes.push_back(std::move(note));
-}
+void ModelBuilder::addNote(std::string note) { addOnce(impl_->notes, std::move(note)); }
 void ModelBuilder::addTimeStress(int element, int comp, TimeFunctionPtr f, int line) {
   impl_->timeStresses.push_back({element, comp, std::move(f), line});
 }
@@ -295,15 +300,75 @@ struct Resolver {
 
 }  // namespace
 
-Model ModelBuilder::finalize(const ElementOptions& options) {
-  Impl& in = *impl_;
-  Model m;
-  m.sourceFile = in.file;
-  m.dialect = in.dialect;
-  m.settings = in.settings;
-  Resolver r{m, {}, {}, {}};
+// finalize() in its phases, each a function below, in the order they depend on each other: the
+// topology (elements, nodes, coordinate and deformation indices), the initial coordinates, the
+// roles, the automatic L2MIN1 elements, the element objects with (restart) their references, then
+// what refers to them: constitutive matrices, inertia, loads, stresses, rheonomic inputs and the
+// initial deformations.
+struct ModelBuilder::Finalizer {
   using R = Resolver;
+  Impl& in;
+  Model m;
+  Resolver r{m, {}, {}, {}};
+  std::vector<int> inputXOrder, inputEOrder;  // input coordinates and deformations, as declared
+  std::map<int, int> normalisationOf;         // orientation node index -> its L2MIN1 element index
+  std::map<int, size_t> inputXAt, inputEAt;   // x / e index of an input -> its Rheonomic
 
+  explicit Finalizer(Impl& impl) : in(impl) {
+    m.sourceFile = in.file;
+    m.dialect = in.dialect;
+    m.settings = in.settings;
+  }
+  Finalizer(const Finalizer&) = delete;  // r refers to m
+  Finalizer& operator=(const Finalizer&) = delete;
+
+  void elements();
+  int slotNode(const Impl::ElemStmt& st, size_t s, int ei, const ElementEntry& el);
+  void initialCoordinates();
+  void coordinateRoles();
+  void deformationRoles();
+  void normalisationElements();
+  void elementObjects(const ElementOptions& options);
+  void restartReferences();
+  void constitutive(const std::vector<Impl::VectorStmt>& stmts, bool damping);
+  void elementInertia();
+  void nodeInertia();
+  void lumpedMasses();
+  void nodalLoads(const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f, bool increment,
+                  std::map<int, size_t>& momentAt);
+  void loads();
+  void stresses();
+  void rheonomicInputs();
+  Rheonomic& inputX(int node, int comp, int line);
+  Rheonomic& inputE(int element, int comp, int line);
+  static void setValues(Rheonomic& rh, const Impl::CompValues& st);
+  void initialDeformations();
+  void note(std::string text) { addOnce(in.notes, std::move(text)); }
+};
+
+Model ModelBuilder::finalize(const ElementOptions& options) {
+  Finalizer f(*impl_);
+  f.elements();
+  f.initialCoordinates();
+  f.coordinateRoles();
+  f.deformationRoles();
+  f.normalisationElements();
+  f.elementObjects(options);
+  f.restartReferences();
+  f.constitutive(impl_->stiffness, false);
+  f.constitutive(impl_->damping, true);
+  f.elementInertia();
+  f.nodeInertia();
+  f.lumpedMasses();
+  f.loads();
+  f.stresses();
+  f.rheonomicInputs();
+  f.initialDeformations();
+  f.m.notes = impl_->notes;  // the reader's and the phases' (coordinateRoles)
+  return std::move(f.m);
+}
+
+void ModelBuilder::Finalizer::elements() {
   if (in.elements.empty()) R::fail(0, "the model defines no elements");
 
   // Elements, nodes (kind and x indices in order of first use), deformation indices.
@@ -349,35 +414,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
           R::fail(st.line, "node " + std::to_string(label) + " appears twice in " + type.keyword + " " +
                                std::to_string(st.label) + " (" + slotName(type, s2) + " and " + slotName(type, s) +
                                ")");
-      const NodeKind kind = type.slots[s];
-      auto it = m.nodeByLabel.find(label);
-      int ni;
-      if (it == m.nodeByLabel.end()) {
-        ni = static_cast<int>(m.nodes.size());
-        Node n;
-        n.label = label;
-        n.kind = kind;
-        n.firstCoord = m.nx;
-        n.line = st.line;
-        m.nodes.push_back(n);
-        m.nodeByLabel[label] = ni;
-        r.firstUse.push_back({ei, static_cast<int>(s)});
-        m.nx += n.dim();
-        for (int c = 0; c < n.dim(); ++c) m.xOwnerNode.push_back(ni);
-      } else {
-        ni = it->second;
-        const Node& n = m.nodes[ni];
-        if (n.kind != kind) {
-          const auto [fe, fs] = r.firstUse[ni];
-          const ElementEntry& first = fe == ei ? el : m.elements[fe];
-          R::fail(st.line, "node " + std::to_string(label) + " is used as " +
-                               (isTranslational(kind) ? "a position" : "an orientation") + " node here (" +
-                               type.keyword + " " + std::to_string(st.label) + ", " + slotName(type, s) + ") but as " +
-                               (isTranslational(n.kind) ? "a position" : "an orientation") + " node by " +
-                               first.type->keyword + " " + std::to_string(first.label) + " (" +
-                               slotName(*first.type, fs) + ") at line " + std::to_string(first.line));
-        }
-      }
+      const int ni = slotNode(st, s, ei, el);
       el.nodes.push_back(ni);
       for (int c = 0; c < m.nodes[ni].dim(); ++c) el.coords.push_back(m.nodes[ni].firstCoord + c);
     }
@@ -387,8 +424,45 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     m.elementByLabel[st.label] = ei;
     m.elements.push_back(std::move(el));
   }
+}
 
-  // Initial coordinates.
+// The node of slot s of element statement st (element index ei, entry el being built): created at
+// its first use (kind from the slot, x indices next in order), else checked against its kind.
+int ModelBuilder::Finalizer::slotNode(const Impl::ElemStmt& st, size_t s, int ei, const ElementEntry& el) {
+  const ElementTypeInfo& type = *st.type;
+  const int label = st.nodes[s];
+  const NodeKind kind = type.slots[s];
+  auto it = m.nodeByLabel.find(label);
+  if (it == m.nodeByLabel.end()) {
+    const int ni = static_cast<int>(m.nodes.size());
+    Node n;
+    n.label = label;
+    n.kind = kind;
+    n.firstCoord = m.nx;
+    n.line = st.line;
+    m.nodes.push_back(n);
+    m.nodeByLabel[label] = ni;
+    r.firstUse.push_back({ei, static_cast<int>(s)});
+    m.nx += n.dim();
+    for (int c = 0; c < n.dim(); ++c) m.xOwnerNode.push_back(ni);
+    return ni;
+  }
+  const int ni = it->second;
+  const Node& n = m.nodes[ni];
+  if (n.kind != kind) {
+    const auto [fe, fs] = r.firstUse[ni];
+    const ElementEntry& first = fe == ei ? el : m.elements[fe];
+    R::fail(st.line, "node " + std::to_string(label) + " is used as " +
+                         (isTranslational(kind) ? "a position" : "an orientation") + " node here (" + type.keyword +
+                         " " + std::to_string(st.label) + ", " + slotName(type, s) + ") but as " +
+                         (isTranslational(n.kind) ? "a position" : "an orientation") + " node by " +
+                         first.type->keyword + " " + std::to_string(first.label) + " (" + slotName(*first.type, fs) +
+                         ") at line " + std::to_string(first.line));
+  }
+  return ni;
+}
+
+void ModelBuilder::Finalizer::initialCoordinates() {
   m.x0 = Eigen::VectorXd::Zero(m.nx);
   for (const Node& n : m.nodes)
     if (n.kind == NodeKind::EulerParameters) m.x0[n.firstCoord] = 1.0;  // default 1 0 0 0
@@ -403,19 +477,17 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       m.x0[n.firstCoord + c] = st.values[c];
     }
   }
+}
 
-  // Roles.
+void ModelBuilder::Finalizer::coordinateRoles() {
   m.xRole.assign(m.nx, Role::Calculable);
-  m.eRole.assign(m.ne, Role::Fixed);
   r.xRoleLine.assign(m.nx, 0);
-  r.eRoleLine.assign(m.ne, 0);
-  std::vector<int> inputXOrder, inputEOrder;
   for (const auto& st : in.xRoles) {
     // SPACAR accepts FIX on a node no element uses (SPACAR Light writes one for the warping node
     // of every fixed node, BEAMW or not): nothing to fix, so a note instead of an error.
     if (st.role == Role::Fixed && st.comps.empty() && !m.nodeByLabel.count(st.id)) {
-      addNote("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) + "): node " +
-              std::to_string(st.id) + " is not used by any element; ignored");
+      note("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) + "): node " + std::to_string(st.id) +
+           " is not used by any element; ignored");
       continue;
     }
     const int ni = r.node(st.id, st.line);
@@ -436,6 +508,11 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       }
     }
   }
+}
+
+void ModelBuilder::Finalizer::deformationRoles() {
+  m.eRole.assign(m.ne, Role::Fixed);
+  r.eRoleLine.assign(m.ne, 0);
   for (const auto& st : in.eRoles) {
     const int ei = r.element(st.id, st.line);
     std::vector<int> comps = st.comps;
@@ -454,10 +531,11 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       }
     }
   }
+}
 
+void ModelBuilder::Finalizer::normalisationElements() {
   // L2MIN1: the normalisation constraint of every orientation node with a calculable parameter
   // (with all four parameters known it has no unknown and drops out). Labels follow the user's.
-  std::map<int, int> normalisationOf;  // node index -> element index
   {
     int label = m.elementByLabel.empty() ? 0 : m.elementByLabel.rbegin()->first;
     for (size_t ni = 0; ni < m.nodes.size(); ++ni) {
@@ -480,8 +558,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       m.elements.push_back(std::move(el));
     }
   }
+}
 
-  // Element objects (reference geometry from the initial coordinates).
+void ModelBuilder::Finalizer::elementObjects(const ElementOptions& options) {
   for (size_t ei = 0; ei < m.elements.size(); ++ei) {
     ElementEntry& el = m.elements[ei];
     const int nc = slotsCoords(*el.type);
@@ -505,11 +584,12 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     el.S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
     el.Sd = el.S;
   }
+}
 
+void ModelBuilder::Finalizer::restartReferences() {
   // Restart state (LENGTH0 given): X is the current configuration; every element's reference is
   // re-derived so that its deformations there are the given E values (0 where not given), with
   // the reference length from LENGTH0 where given.
-  m.notes = in.notes;
   m.restartState = !in.referenceLengths.empty();
   if (m.restartState) {
     std::vector<double> length0(m.elements.size(), 0.0);
@@ -539,42 +619,41 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       }
     }
   }
+}
 
-  // Constitutive data.
-  auto constitutive = [&](const std::vector<Impl::VectorStmt>& stmts, bool damping) {
-    for (const auto& st : stmts) {
-      const int ei = r.element(st.id, st.line);
-      ElementEntry& el = m.elements[ei];
-      const auto& layout = el.type->stiffness;
-      // Spatial elements: trailing parameters may be omitted (0), as SPACAR files do.
-      const bool tooFew =
-          isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty() : st.values.size() != layout.size();
-      if (tooFew || st.values.size() > layout.size()) {
-        std::string names;
-        for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
-        R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
-                             (damping ? "damping" : "stiffness") + " parameter" + (layout.size() == 1 ? "" : "s") +
-                             " (" + names + "), found " + std::to_string(st.values.size()));
-      }
-      for (double v : st.values)
-        if (!std::isfinite(v)) R::fail(st.line, "parameter is not finite");
-      DefMat S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
-      el.impl->constitutive(st.values, S);
-      if (damping) {
-        el.Sd = S;
-        el.hasDamping = true;
-        el.dampingParams = st.values;
-      } else {
-        el.S = S;
-        el.hasStiffness = true;
-        el.stiffnessParams = st.values;
-      }
+void ModelBuilder::Finalizer::constitutive(const std::vector<Impl::VectorStmt>& stmts, bool damping) {
+  for (const auto& st : stmts) {
+    const int ei = r.element(st.id, st.line);
+    ElementEntry& el = m.elements[ei];
+    const auto& layout = el.type->stiffness;
+    // Spatial elements: trailing parameters may be omitted (0), as SPACAR files do.
+    const bool tooFew =
+        isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty() : st.values.size() != layout.size();
+    if (tooFew || st.values.size() > layout.size()) {
+      std::string names;
+      for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
+      R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
+                           (damping ? "damping" : "stiffness") + " parameter" + (layout.size() == 1 ? "" : "s") + " (" +
+                           names + "), found " + std::to_string(st.values.size()));
     }
-  };
-  constitutive(in.stiffness, false);
-  constitutive(in.damping, true);
+    for (double v : st.values)
+      if (!std::isfinite(v)) R::fail(st.line, "parameter is not finite");
+    DefMat S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
+    el.impl->constitutive(st.values, S);
+    if (damping) {
+      el.Sd = S;
+      el.hasDamping = true;
+      el.dampingParams = st.values;
+    } else {
+      el.S = S;
+      el.hasStiffness = true;
+      el.stiffnessParams = st.values;
+    }
+  }
+}
 
-  // Inertia.
+// EMASS / EM: distributed inertia in the element type's layout.
+void ModelBuilder::Finalizer::elementInertia() {
   for (const auto& st : in.inertias) {
     const int ei = r.element(st.element, st.line);
     if (!(st.rhoA >= 0.0) || !std::isfinite(st.rhoA))
@@ -594,11 +673,11 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       for (size_t k = 0; k < 4 && k + 1 < st.values.size(); ++k)
         if (st.values[k + 1] < 0.0 && k < 3)
           R::fail(st.line, "negative mass moment of inertia " + num(st.values[k + 1]) + " for " + r.elemName(ei));
-      ElementInertia in;
+      ElementInertia inertia;
       auto at = [&](size_t k) { return k < st.values.size() ? st.values[k] : 0.0; };
-      in.rhoA = at(0);
-      in.jxx = at(1), in.jyy = at(2), in.jzz = at(3), in.jyz = at(4);
-      m.elements[ei].inertia = in;
+      inertia.rhoA = at(0);
+      inertia.jxx = at(1), inertia.jyy = at(2), inertia.jzz = at(3), inertia.jyz = at(4);
+      m.elements[ei].inertia = inertia;
       continue;
     }
     if (st.values.size() > 2)
@@ -606,6 +685,10 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
               r.elemName(ei) + " takes 1 or 2 mass parameters (rhoA, rhoI), found " + std::to_string(st.values.size()));
     m.elements[ei].inertia = {st.rhoA, st.rhoI};
   }
+}
+
+// XM with a tensor: the rigid-body inertia of a spatial orientation node, carried by its L2MIN1.
+void ModelBuilder::Finalizer::nodeInertia() {
   for (const auto& st : in.nodeInertias) {
     const int ni = r.node(st.id, st.line);
     const Node& n = m.nodes[ni];
@@ -621,17 +704,21 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
       if (!std::isfinite(v)) R::fail(st.line, "inertia is not finite");
     auto it = normalisationOf.find(ni);
     if (it == normalisationOf.end()) continue;  // all four parameters known: the node does not move
-    ElementInertia& in = m.elements[it->second].inertia;
+    ElementInertia& J = m.elements[it->second].inertia;
     if (st.values.size() == 1) {
-      in.jxx = in.jyy = in.jzz = st.values[0];
-      in.jxy = in.jxz = in.jyz = 0.0;
+      J.jxx = J.jyy = J.jzz = st.values[0];
+      J.jxy = J.jxz = J.jyz = 0.0;
     } else {
-      in.jxx = st.values[0], in.jxy = st.values[1], in.jxz = st.values[2];
-      in.jyy = st.values[3], in.jyz = st.values[4], in.jzz = st.values[5];
+      J.jxx = st.values[0], J.jxy = st.values[1], J.jxz = st.values[2];
+      J.jyy = st.values[3], J.jyz = st.values[4], J.jzz = st.values[5];
     }
-    if (in.jxx < 0.0 || in.jyy < 0.0 || in.jzz < 0.0)
+    if (J.jxx < 0.0 || J.jyy < 0.0 || J.jzz < 0.0)
       R::fail(st.line, "negative moment of inertia at node " + std::to_string(n.label));
   }
+}
+
+// MASS / XM with one value: lumped masses (isotropic rigid-body inertia on a spatial orientation node).
+void ModelBuilder::Finalizer::lumpedMasses() {
   std::map<int, double> massByCoord;
   for (const auto& st : in.masses) {
     const int ni = r.node(st.id, st.line);
@@ -641,9 +728,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
                            num(st.value) + " at node " + std::to_string(n.label));
     if (n.kind == NodeKind::EulerParameters) {  // XM n I: isotropic rigid-body inertia
       if (auto it = normalisationOf.find(ni); it != normalisationOf.end()) {
-        ElementInertia& in = m.elements[it->second].inertia;
-        in.jxx = in.jyy = in.jzz = st.value;
-        in.jxy = in.jxz = in.jyz = 0.0;
+        ElementInertia& J = m.elements[it->second].inertia;
+        J.jxx = J.jyy = J.jzz = st.value;
+        J.jxy = J.jxz = J.jyz = 0.0;
       }
       continue;
     }
@@ -651,41 +738,46 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   }
   for (const auto& [coord, value] : massByCoord)
     if (value != 0.0) m.lumpedMasses.push_back({coord, value});
+}
 
-  // Loads.
+// XF / FORCE (increment false) or DELXF (true) into f; three values on a spatial orientation node are a
+// global moment (SPACAR 2017+; four values: forces on lambda0..3), one entry of m.moments per node.
+void ModelBuilder::Finalizer::nodalLoads(const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f, bool increment,
+                                         std::map<int, size_t>& momentAt) {
+  for (const auto& st : stmts) {
+    const int ni = r.node(st.id, st.line);
+    const Node& n = m.nodes[ni];
+    if (n.kind == NodeKind::EulerParameters && st.values.size() == 3) {
+      // SPACAR 2017+: a moment in global components (four values: forces on lambda0..3).
+      for (double v : st.values)
+        if (!std::isfinite(v)) R::fail(st.line, "load is not finite");
+      auto [it, fresh] = momentAt.try_emplace(ni, m.moments.size());
+      if (fresh) m.moments.push_back({ni, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+      const Eigen::Vector3d v(st.values[0], st.values[1], st.values[2]);
+      (increment ? m.moments[it->second].increment : m.moments[it->second].value) += v;
+      continue;
+    }
+    if (isSpatial(n.kind) && static_cast<int>(st.values.size()) > n.dim())
+      R::fail(st.line, r.nodeDescription(ni) + ": expected at most " + std::to_string(n.dim()) + " load components" +
+                           (n.kind == NodeKind::EulerParameters ? " (3: moment Mx My Mz)" : "") + ", found " +
+                           std::to_string(st.values.size()));
+    if (static_cast<int>(st.values.size()) > n.dim())
+      R::fail(st.line, "node " + std::to_string(n.label) +
+                           " is an orientation node: expected 1 component (moment), found " +
+                           std::to_string(st.values.size()));
+    for (size_t c = 0; c < st.values.size(); ++c) {
+      if (!std::isfinite(st.values[c])) R::fail(st.line, "load is not finite");
+      f[n.firstCoord + static_cast<int>(c)] += st.values[c];
+    }
+  }
+}
+
+void ModelBuilder::Finalizer::loads() {
   m.f0 = Eigen::VectorXd::Zero(m.nx);
   m.delf = Eigen::VectorXd::Zero(m.nx);
   std::map<int, size_t> momentAt;
-  auto nodalLoads = [&](const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f) {
-    for (const auto& st : stmts) {
-      const int ni = r.node(st.id, st.line);
-      const Node& n = m.nodes[ni];
-      if (n.kind == NodeKind::EulerParameters && st.values.size() == 3) {
-        // SPACAR 2017+: a moment in global components (four values: forces on lambda0..3).
-        for (double v : st.values)
-          if (!std::isfinite(v)) R::fail(st.line, "load is not finite");
-        auto [it, fresh] = momentAt.try_emplace(ni, m.moments.size());
-        if (fresh) m.moments.push_back({ni, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
-        const Eigen::Vector3d v(st.values[0], st.values[1], st.values[2]);
-        (&f == &m.f0 ? m.moments[it->second].value : m.moments[it->second].increment) += v;
-        continue;
-      }
-      if (isSpatial(n.kind) && static_cast<int>(st.values.size()) > n.dim())
-        R::fail(st.line, r.nodeDescription(ni) + ": expected at most " + std::to_string(n.dim()) + " load components" +
-                             (n.kind == NodeKind::EulerParameters ? " (3: moment Mx My Mz)" : "") + ", found " +
-                             std::to_string(st.values.size()));
-      if (static_cast<int>(st.values.size()) > n.dim())
-        R::fail(st.line, "node " + std::to_string(n.label) +
-                             " is an orientation node: expected 1 component (moment), found " +
-                             std::to_string(st.values.size()));
-      for (size_t c = 0; c < st.values.size(); ++c) {
-        if (!std::isfinite(st.values[c])) R::fail(st.line, "load is not finite");
-        f[n.firstCoord + static_cast<int>(c)] += st.values[c];
-      }
-    }
-  };
-  nodalLoads(in.forces, m.f0);
-  nodalLoads(in.forceIncrements, m.delf);
+  nodalLoads(in.forces, m.f0, false, momentAt);
+  nodalLoads(in.forceIncrements, m.delf, true, momentAt);
   for (const auto& st : in.timeForces) m.timeForces.push_back({r.x(st.id, st.comp, st.line), st.f});
   if (in.gravity) {
     m.gravity[0] = in.gravity->first;
@@ -693,8 +785,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     m.gravity[2] = in.gravityZ;
     m.hasGravity = true;
   }
+}
 
-  // Stresses.
+void ModelBuilder::Finalizer::stresses() {
   m.sigma0 = Eigen::VectorXd::Zero(m.ne);
   for (const auto& st : in.prestress) {
     int comp = st.comp;
@@ -722,9 +815,9 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     referenceLine[di] = st.line;
     m.references.push_back({di, st.f});
   }
+}
 
-  // Rheonomic inputs.
-  std::map<int, size_t> inputXAt, inputEAt;
+void ModelBuilder::Finalizer::rheonomicInputs() {
   for (int xi : inputXOrder) {
     inputXAt[xi] = m.inputX.size();
     Rheonomic rh;
@@ -740,27 +833,6 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
     rh.tRef = m.settings.t0;
     m.inputE.push_back(rh);
   }
-  auto inputX = [&](int node, int comp, int line) -> Rheonomic& {
-    const int xi = r.x(node, comp, line);
-    auto it = inputXAt.find(xi);
-    if (it == inputXAt.end())
-      R::fail(line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
-                        "); declare it with INPUTX in the kinematic block");
-    return m.inputX[it->second];
-  };
-  auto inputE = [&](int element, int comp, int line) -> Rheonomic& {
-    const int di = r.e(element, comp, line);
-    auto it = inputEAt.find(di);
-    if (it == inputEAt.end())
-      R::fail(line, m.deformationName(di) + " is not an input deformation (it is " + roleName(m.eRole[di]) +
-                        "); declare it with INPUTE in the kinematic block");
-    return m.inputE[it->second];
-  };
-  auto setValues = [](Rheonomic& rh, const Impl::CompValues& st) {
-    if (st.x) rh.x0 = *st.x;
-    if (st.v) rh.v = *st.v;
-    if (st.a) rh.a = *st.a;
-  };
   for (const auto& st : in.inputXValues) setValues(inputX(st.id, st.comp, st.line), st);
   for (const auto& st : in.inputEValues) setValues(inputE(st.id, st.comp, st.line), st);
   for (const auto& st : in.inputXFunctions) {
@@ -784,8 +856,33 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
                            "); XD gives the rate of an input (INPUTX) or dynamic (DYNX) coordinate");
     }
   }
+}
 
-  // Initial deformations.
+Rheonomic& ModelBuilder::Finalizer::inputX(int node, int comp, int line) {
+  const int xi = r.x(node, comp, line);
+  auto it = inputXAt.find(xi);
+  if (it == inputXAt.end())
+    R::fail(line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
+                      "); declare it with INPUTX in the kinematic block");
+  return m.inputX[it->second];
+}
+
+Rheonomic& ModelBuilder::Finalizer::inputE(int element, int comp, int line) {
+  const int di = r.e(element, comp, line);
+  auto it = inputEAt.find(di);
+  if (it == inputEAt.end())
+    R::fail(line, m.deformationName(di) + " is not an input deformation (it is " + roleName(m.eRole[di]) +
+                      "); declare it with INPUTE in the kinematic block");
+  return m.inputE[it->second];
+}
+
+void ModelBuilder::Finalizer::setValues(Rheonomic& rh, const Impl::CompValues& st) {
+  if (st.x) rh.x0 = *st.x;
+  if (st.v) rh.v = *st.v;
+  if (st.a) rh.a = *st.a;
+}
+
+void ModelBuilder::Finalizer::initialDeformations() {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   m.e0 = Eigen::VectorXd::Constant(m.ne, nan);
   m.ed0 = Eigen::VectorXd::Constant(m.ne, nan);
@@ -808,7 +905,6 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
                              "deformations");
     }
   }
-  return m;
 }
 
 }  // namespace flexmb::core

@@ -83,6 +83,7 @@ class ModelBuilder {
 
  private:
   struct Impl;
+  struct Finalizer;  // finalize() in its phases (ModelBuilder.cpp)
   std::unique_ptr<Impl> impl_;
 };
 
