@@ -9,22 +9,19 @@
 #include <Eigen/QR>
 #include <cstdio>
 #include <optional>
-#include <sstream>
 #include <string>
 
-#include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
-#include "io/DatReader.hpp"
+#include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-using test::dat;
-using test::swungArm;
+namespace samples = flexmb::core::samples;
 
 namespace {
 
@@ -195,13 +192,13 @@ TEST(LinearizationInMotion, MatricesMatchFiniteDifferencesOfTheEquationsOfMotion
   std::vector<Case> cases;
   {
     // Rheonomic, damped, gravity, flexible: all terms present.
-    core::Model m = io::readDatString(swungArm(), "swung_arm.dat");
+    core::Model m = samples::swungArm();
     const int n = m.numDofs();
     VectorXd eta = 1e-3 * pattern(n, -1, 1, 1), etad = 0.2 * pattern(n, -1, 1, 2), etadd = 30.0 * pattern(n, -1, 1, 3);
     cases.push_back({"swung arm (input hinge, damping)", m, std::nullopt, eta, etad, etadd, 0.37});
   }
   {
-    core::Model m = io::readDatFile(dat("manipulator.dat"));
+    core::Model m = samples::manipulator();
     const int n = m.numDofs();
     core::GeometricTransferFunctions g(m);
     VectorXd q0 = g.initialDofs();
@@ -217,7 +214,7 @@ TEST(LinearizationInMotion, MatricesMatchFiniteDifferencesOfTheEquationsOfMotion
                      40.0 * pattern(5, -1, 1, 9), 0.33});
   }
   {
-    core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+    core::Model m = samples::fourBar();
     const int n = m.numDofs();
     core::GeometricTransferFunctions g(m);
     cases.push_back({"four-bar (rigid, closed loop)", m, std::nullopt, g.initialDofs() + 0.1 * pattern(n, -1, 1, 11),
@@ -229,7 +226,7 @@ TEST(LinearizationInMotion, MatricesMatchFiniteDifferencesOfTheEquationsOfMotion
 TEST(LinearizationInMotion, AtRestEqualsTheStaticLinearization) {
   // With etad = etadd = 0 and a time-independent model, C = N = 0 (Eq. 16a) and the other matrices
   // are those of atRest.
-  const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  const core::Model m = samples::straightGuidance();
   core::Linearization lin(m);
   const VectorXd eta = 1e-3 * pattern(lin.size(), -1, 1, 3), zero = VectorXd::Zero(lin.size());
   core::LinearizedSystem moving, rest;
@@ -247,16 +244,7 @@ TEST(LinearizationInMotion, AtRestEqualsTheStaticLinearization) {
 TEST(LinearizationInMotion, StaticTangentIncludesGravityLoadStiffness) {
   // Distributed masses under gravity: their consistent nodal loads turn with the elements, so
   // -dQ/dq = K + G needs the load stiffness -A^T (dg/dx) A (the static Newton tangent).
-  std::ostringstream s;
-  for (int k = 1; k <= 4; ++k)
-    s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
-  for (int k = 1; k <= 5; ++k) s << "X " << k << " " << 0.3 * (k - 1) << " " << 0.1 * (k - 1) << "\n";
-  s << "FIX 1\nFIX 101\n";
-  for (int k = 1; k <= 4; ++k) s << "DYNE " << k << " 1 2 3\n";
-  s << "END\nHALT\n";
-  for (int k = 1; k <= 4; ++k) s << "EM " << k << " 2.5 3e-3\nESTIFF " << k << " 1e3 4\n";
-  s << "GRAVITY 0.5 -9.81\nEND\nEND\n";
-  const core::Model m = io::readDatString(s.str(), "gravity_cantilever.dat");
+  const core::Model m = samples::gravityCantilever();
   core::Linearization lin(m);
   lin.kinematics().setRelativeTolerance(1e-15);
   const VectorXd eta = 1e-2 * pattern(lin.size(), -1, 1, 5);

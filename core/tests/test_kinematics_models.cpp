@@ -1,5 +1,6 @@
-// Kinematics on real .dat models: mode-0 counts, culprits, and the geometric transfer functions
-// of a rigid four-bar against the closed-form position analysis and finite differences.
+// Kinematics on the sample models (SampleModels.hpp: the shipped .dat files built in code): mode-0
+// counts, culprits, and the geometric transfer functions of a rigid four-bar against the
+// closed-form position analysis and finite differences.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,13 +9,12 @@
 
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/KinematicCheck.hpp"
-#include "io/DatReader.hpp"
+#include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
+namespace samples = flexmb::core::samples;
 
 namespace {
-std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
-
 bool mentions(const std::vector<std::string>& list, const std::string& s) {
   return std::any_of(list.begin(), list.end(), [&](const std::string& x) { return x.find(s) != std::string::npos; });
 }
@@ -24,10 +24,13 @@ TEST(KinematicCheck, PaperModelsDegreesOfFreedom) {
   struct Case {
     const char* file;
     int dof;
+    core::Model (*build)();
   };
-  for (const Case c : {Case{"straight_guidance.dat", 17}, Case{"manipulator.dat", 18}, Case{"slider_crank_s95.dat", 4},
-                       Case{"tests/fourbar.dat", 1}}) {
-    const core::Model m = io::readDatFile(dat(c.file));
+  for (const Case c :
+       {Case{"straight_guidance.dat", 17, samples::straightGuidance}, Case{"manipulator.dat", 18, samples::manipulator},
+        Case{"slider_crank_s95.dat", 4, samples::sliderCrankS95},
+        Case{"tests/fourbar.dat", 1, [] { return samples::fourBar(); }}}) {
+    const core::Model m = c.build();
     const core::KinematicReport r = core::checkKinematics(m);
     EXPECT_EQ(r.dof, c.dof) << c.file;
     EXPECT_TRUE(r.wellPosed()) << c.file << "\n" << core::formatReport(r);
@@ -36,17 +39,18 @@ TEST(KinematicCheck, PaperModelsDegreesOfFreedom) {
 }
 
 TEST(KinematicCheck, NamesUnderdeterminedCoordinate) {
-  const core::Model m = io::readDatFile(dat("tests/underconstrained.dat"));
+  const core::Model m = samples::fourBar(samples::FourBar::Underconstrained);
   const core::KinematicReport r = core::checkKinematics(m);
   ASSERT_FALSE(r.wellPosed());
   ASSERT_FALSE(r.underdetermined.empty());
-  // The orientation node 32 at C is free: nothing constrains it (see the file's header).
+  // The orientation node 32 at C is free: nothing constrains it (see the header of
+  // datfiles/tests/underconstrained.dat).
   EXPECT_NE(r.underdetermined.front().find("node 32"), std::string::npos) << core::formatReport(r);
   EXPECT_EQ(r.underdetermined.size(), 1u) << core::formatReport(r);
 }
 
 TEST(KinematicCheck, NamesOverdeterminedLoop) {
-  const core::Model m = io::readDatFile(dat("tests/overconstrained.dat"));
+  const core::Model m = samples::fourBar(samples::FourBar::Overconstrained);
   const core::KinematicReport r = core::checkKinematics(m);
   ASSERT_FALSE(r.wellPosed());
   EXPECT_TRUE(r.underdetermined.empty()) << core::formatReport(r);
@@ -75,7 +79,7 @@ int coordOf(const core::Model& m, int node, int comp) { return m.nodes[m.nodeByL
 }  // namespace
 
 TEST(GeometricTransferFunctions, FourBarMatchesClosedFormOverFullTurn) {
-  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  core::Model m = samples::fourBar();
   m.settings.kinematicTol = 1e-14;
   core::GeometricTransferFunctions gtf(m);
   FourBar fb;
@@ -99,7 +103,7 @@ TEST(GeometricTransferFunctions, FourBarMatchesClosedFormOverFullTurn) {
 }
 
 TEST(GeometricTransferFunctions, FirstOrderAndConvectiveTermsMatchFiniteDifferences) {
-  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  core::Model m = samples::fourBar();
   m.settings.kinematicTol = 1e-15;
   core::GeometricTransferFunctions gtf(m);
   const double h = 1e-5;
@@ -129,7 +133,7 @@ TEST(GeometricTransferFunctions, FirstOrderAndConvectiveTermsMatchFiniteDifferen
 }
 
 TEST(GeometricTransferFunctions, StraightGuidanceFirstOrderMatchesFiniteDifferences) {
-  core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  core::Model m = samples::straightGuidance();
   m.settings.kinematicTol = 1e-15;
   core::GeometricTransferFunctions gtf(m);
   const int nq = gtf.nq();
@@ -162,7 +166,7 @@ TEST(GeometricTransferFunctions, StraightGuidanceFirstOrderMatchesFiniteDifferen
 // fails from its warm start starts again, and where restartFromAnchor puts the warm start (an
 // integrator retrying a rejected step whose trial states converged on another assembly branch).
 TEST(GeometricTransferFunctions, AnchorIsTheFallbackStartAndTheRestartPoint) {
-  core::Model m = io::readDatFile(dat("tests/fourbar.dat"));
+  core::Model m = samples::fourBar();
   m.settings.kinematicTol = 1e-14;
   FourBar fb;
   const int cx = coordOf(m, 3, 0), cy = coordOf(m, 3, 1), bx = coordOf(m, 2, 0), by = coordOf(m, 2, 1);
@@ -215,7 +219,7 @@ TEST(GeometricTransferFunctions, AnchorIsTheFallbackStartAndTheRestartPoint) {
 }
 
 TEST(GeometricTransferFunctions, SingularOrUnsquareKinematicsAreReportedNotIgnored) {
-  const core::Model m = io::readDatFile(dat("tests/underconstrained.dat"));
+  const core::Model m = samples::fourBar(samples::FourBar::Underconstrained);
   core::GeometricTransferFunctions gtf(m);
   try {
     gtf.solvePositions(0.25, gtf.initialDofs());
@@ -230,12 +234,19 @@ TEST(GeometricTransferFunctions, OpenChainsArePlacedInOnePassWithoutIteration) {
   // The manipulator is an open chain of PLHINGEs and PLBEAMs: every calculable coordinate follows
   // from the element before it in closed form (Element::place), so a solve needs no Newton
   // correction, even far from the last configuration. Closed loops keep Newton.
-  const core::Model m = io::readDatFile(dat("manipulator.dat"));
+  const core::Model m = samples::manipulator();
   core::GeometricTransferFunctions gtf(m);
   ASSERT_TRUE(gtf.isSequential());
-  for (const char* f : {"straight_guidance.dat", "slider_crank_s95.dat", "tests/fourbar.dat", "portal.dat"})
-    EXPECT_FALSE(core::GeometricTransferFunctions(io::readDatFile(dat(f))).isSequential()) << f;
-  EXPECT_TRUE(core::GeometricTransferFunctions(io::readDatFile(dat("cantilever.dat"))).isSequential());
+  for (const auto& [f, build] :
+       {std::pair<const char*, core::Model (*)()>{"straight_guidance.dat", samples::straightGuidance},
+        {"slider_crank_s95.dat", samples::sliderCrankS95},
+        {"tests/fourbar.dat", [] { return samples::fourBar(); }},
+        {"portal.dat", samples::portal}}) {
+    const core::Model closed = build();
+    EXPECT_FALSE(core::GeometricTransferFunctions(closed).isSequential()) << f;
+  }
+  const core::Model cantilever = samples::cantilever();
+  EXPECT_TRUE(core::GeometricTransferFunctions(cantilever).isSequential());
   Eigen::VectorXd q = gtf.initialDofs();
   for (int trial = 0; trial < 5; ++trial) {
     for (int j = 0; j < q.size(); ++j) {
