@@ -1,6 +1,7 @@
 #include "analysis/Simulation.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -13,6 +14,12 @@
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {
+
+namespace {
+// A default ode45 run "stability-bound for long": this many steps at the stability limit (at
+// least 6,000 evaluations spent where an implicit integrator would take a few large steps).
+constexpr long kStiffHintSteps = 1000;
+}  // namespace
 
 double kinematicTolerance(const core::AnalysisSettings& s, double relTol) {
   // 1e-10 at most: a stiff full model integrates far more accurately than RelTol says (its step is
@@ -31,13 +38,45 @@ solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::O
       [&](double, const Eigen::VectorXd&) { kinematics.restartFromAnchor(); });
 }
 
-const char* integratorName(Integrator i) { return i == Integrator::Bdf ? "bdf" : "ode45"; }
+const char* integratorName(Integrator i) {
+  switch (i) {
+    case Integrator::Bdf:
+      return "bdf";
+    case Integrator::Auto:
+      return "auto";
+    case Integrator::Ode45:
+      break;
+  }
+  return "ode45";
+}
 
 std::string integratorDescription(const SimulationOptions& o) {
-  if (o.integrator == Integrator::Bdf)
-    return "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" + std::to_string(o.bdfMaxOrder) +
-           ", Newton, dense LU, analytic Jacobian of Eq. 15)";
-  return "ode45 (Dormand-Prince 5(4), MATLAB's step control)";
+  const std::string bdf = "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" + std::to_string(o.bdfMaxOrder) +
+                          ", Newton, dense LU, analytic Jacobian of Eq. 15)";
+  const std::string ode45 = "ode45 (Dormand-Prince 5(4), MATLAB's step control)";
+  if (o.integrator == Integrator::Bdf) return bdf;
+  if (o.integrator == Integrator::Auto)
+    return "auto: " + ode45 + ", switching to " + bdf + " once ode45's step is bound by stability (" +
+           std::to_string(StiffnessTest::kStiffSteps) + " steps at h |lambda| > 3.25)";
+  return ode45;
+}
+
+bool StiffnessTest::step(double t, double h, double hLambda) {
+  if (hLambda > kBoundary) {
+    calm_ = 0;
+    lambda_ = hLambda / h;
+    if (stiff_) {
+      ++bound_;
+    } else if (++hits_ >= kStiffSteps) {
+      stiff_ = true;
+      since_ = t;
+      bound_ = hits_;
+    }
+  } else if (++calm_ >= kCalmSteps) {
+    hits_ = 0;
+    stiff_ = false;  // a transient: the next stiff stretch is counted afresh
+  }
+  return stiff_;
 }
 
 std::string formatStatistics(const core::Trajectory& run, Integrator integrator) {
@@ -45,12 +84,23 @@ std::string formatStatistics(const core::Trajectory& run, Integrator integrator)
   st.njacevals = run.njacevals;
   st.nrhsfailed = run.nrhsfailed;
   st.nlinsetups = run.nlinsetups;
-  return integrator == Integrator::Bdf ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st);
+  const bool implicit = integrator == Integrator::Bdf || run.integrator != "ode45";
+  std::ostringstream s;
+  s << (implicit ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
+  if (!std::isnan(run.switchedAt))
+    s << "(auto: ode45's step was bound by stability at t = " << run.switchedAt << " s (|lambda| about "
+      << run.stiffLambda << " 1/s): bdf from there on)\n";
+  else if (integrator == Integrator::Ode45 && run.stiffBoundSteps >= kStiffHintSteps)
+    s << "(ode45's step was bound by stability from t = " << run.stiffSince << " s on (" << run.stiffBoundSteps
+      << " steps at the stability limit of |lambda| about " << run.stiffLambda
+      << " 1/s): --integrator bdf or auto would be faster)\n";
+  return s.str();
 }
 
 std::optional<Integrator> parseIntegrator(const std::string& name) {
   if (name == "ode45") return Integrator::Ode45;
   if (name == "bdf") return Integrator::Bdf;
+  if (name == "auto") return Integrator::Auto;
   return std::nullopt;
 }
 
@@ -65,7 +115,7 @@ struct Continuation {
 struct StageSettings {
   double t0 = 0.0, tEnd = 0.0, relTol = 0.0, absTol = 0.0, maxStep = 0.0, kinematicTol = 0.0;
   std::vector<double> tspan;  // [t0, tEnd] (Refine output) or the output grid
-  bool bdf = false;
+  bool bdf = false;           // BDF from the start
 
   StageSettings(const core::Model& model, const SimulationOptions& opt) {
     const auto& s = model.settings;
@@ -94,6 +144,17 @@ class ProgressLine {
       : t0_(t0), tEnd_(tEnd), exactSteps_(exactSteps), start_(std::chrono::steady_clock::now()), last_(start_) {}
   ~ProgressLine() {
     if (printed_) std::fprintf(stderr, "\n");
+  }
+  // Once, on a default ode45 run whose step has been bound by stability for long: that an implicit
+  // integrator would be faster.
+  void stiffNote(const StiffnessTest& test) {
+    if (notedStiff_ || !printed_ || test.boundSteps() < kStiffHintSteps) return;
+    std::fprintf(stderr,
+                 "\nflexmb: note: since t = %.6g s ode45's step is bound by stability, not accuracy (%ld steps at "
+                 "the stability limit of the stiffest mode, |lambda| about %.3g 1/s): --integrator bdf or "
+                 "--integrator auto would be faster.\n",
+                 test.since(), test.boundSteps(), test.lambda());
+    notedStiff_ = true;
   }
   // steps: accepted steps when exactSteps, else estimated from the evaluations (ode45: 6 per step).
   void update(double t, long evaluations, long steps) {
@@ -124,7 +185,7 @@ class ProgressLine {
   const bool exactSteps_;
   const std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_;
-  bool printed_ = false, warnedSlow_ = false;
+  bool printed_ = false, warnedSlow_ = false, notedStiff_ = false;
 };
 
 // One stage's integration: the evaluators (eom integrates; probe computes the output quantities
@@ -139,16 +200,11 @@ class StageRun {
         end_(end),
         eom_(model, opt.basis, opt.dynamics),
         probe_(model, opt.basis, opt.dynamics),
-        progress_(set_.t0, set_.tEnd, set_.bdf),
+        progress_(set_.t0, set_.tEnd, true),
         tReached_(set_.t0) {
-    // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
-    if (set_.bdf) {
-      jacobian_.emplace(model, opt.basis);
-      anchored_.emplace(eom_, &*jacobian_);
-    }
     eom_.kinematics().setRelativeTolerance(set_.kinematicTol);
     probe_.kinematics().setRelativeTolerance(set_.kinematicTol);
-    if (jacobian_) jacobian_->kinematics().setRelativeTolerance(set_.kinematicTol);
+    if (set_.bdf) startImplicit();
     if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
       eom_.kinematics().setConfiguration(from->x);
       probe_.kinematics().setConfiguration(from->x);
@@ -158,35 +214,85 @@ class StageRun {
   }
 
   core::Trajectory run(bool* interrupted) {
-    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
-    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
     solvers::OdeResult r;
     if (set_.bdf) {
-      solvers::BdfOptions o;
-      o.relTol = set_.relTol;
-      o.absTol = set_.absTol;
-      o.maxStep = set_.maxStep;
-      o.maxOrder = opt_.bdfMaxOrder;
-      auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
-        kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
-      };
-      auto accept = [this](double t, const Eigen::VectorXd& y) {
-        ++accepted_;
-        kinematicsAsRhsError([&] { anchored_->accept(t, y); });
-      };
-      r = solvers::Bdf(o).integrate(f, jac, set_.tspan, y0_, observer, accept);
+      r = integrateImplicit(set_.tspan, y0_);
     } else {
-      solvers::Ode45Options o;
-      o.relTol = set_.relTol;
-      o.absTol = Eigen::VectorXd::Constant(1, set_.absTol);
-      o.maxStep = set_.maxStep;
-      r = integrateOde45(eom_, o, f, set_.tspan, y0_, observer);
+      r = integrateExplicit();
+      if (switchAt_) {  // auto: on with BDF from the accepted state where ode45 became stability-bound
+        traj_.switchedAt = *switchAt_;
+        std::vector<double> rest{*switchAt_};
+        if (set_.tspan.size() == 2) {
+          if (set_.tEnd > *switchAt_) rest.push_back(set_.tEnd);
+        } else
+          for (double t : set_.tspan)
+            if (t > *switchAt_) rest.push_back(t);
+        solvers::OdeResult r2;
+        if (rest.size() > 1) {
+          startImplicit();
+          jacobian_->kinematics().setConfiguration(eom_.kinematics().x());
+          skipObservation_ = true;  // the switch state: output already given by ode45, or not an output time
+          r2 = integrateImplicit(rest, ySwitch_);
+        }
+        r2.stats.nsteps += r.stats.nsteps, r2.stats.nfailed += r.stats.nfailed, r2.stats.nfevals += r.stats.nfevals;
+        r2.stats.nrhsfailed += r.stats.nrhsfailed;
+        r = std::move(r2);
+      }
     }
     finish(r, interrupted);
     return std::move(traj_);
   }
 
  private:
+  // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
+  void startImplicit() {
+    jacobian_.emplace(model_, opt_.basis);
+    anchored_.emplace(eom_, &*jacobian_);
+    jacobian_->kinematics().setRelativeTolerance(set_.kinematicTol);
+  }
+
+  solvers::OdeResult integrateImplicit(const std::vector<double>& tspan, const Eigen::VectorXd& y0) {
+    solvers::BdfOptions o;
+    o.relTol = set_.relTol;
+    o.absTol = set_.absTol;
+    o.maxStep = set_.maxStep;
+    o.maxOrder = opt_.bdfMaxOrder;
+    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
+    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
+    auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
+      kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
+    };
+    auto accept = [this](double t, const Eigen::VectorXd& y) {
+      ++accepted_;
+      kinematicsAsRhsError([&] { anchored_->accept(t, y); });
+    };
+    return solvers::Bdf(o).integrate(f, jac, tspan, y0, observer, accept);
+  }
+
+  // ode45 with the stiffness test on its accepted steps: auto stops it (and keeps the state) once
+  // the step is bound by stability; a default run notes it on the progress line.
+  solvers::OdeResult integrateExplicit() {
+    solvers::Ode45Options o;
+    o.relTol = set_.relTol;
+    o.absTol = Eigen::VectorXd::Constant(1, set_.absTol);
+    o.maxStep = set_.maxStep;
+    const bool autoSwitch = opt_.integrator == Integrator::Auto;
+    o.stepMonitor = [this, autoSwitch](double t, const Eigen::VectorXd& y, double h, double hLambda) {
+      ++accepted_;
+      if (!stiffness_.step(t, h, hLambda)) return true;
+      if (autoSwitch) {
+        switchAt_ = t;
+        ySwitch_ = y;
+        return false;
+      }
+      if (opt_.progress) progress_.stiffNote(stiffness_);
+      return true;
+    };
+    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
+    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
+    return integrateOde45(eom_, o, f, set_.tspan, y0_, observer);
+  }
+
   template <class F>
   static void kinematicsAsRhsError(F&& f) {
     try {
@@ -222,6 +328,10 @@ class StageRun {
 
   // An output time: the output quantities from the probe, checked (finite, every element valid).
   bool observe(double t, const Eigen::VectorXd& y) {
+    if (skipObservation_) {
+      skipObservation_ = false;
+      return true;
+    }
     if (end_) end_->y = y;
     if (opt_.keepStates) {
       core::StateOutputs out;
@@ -261,7 +371,10 @@ class StageRun {
 
   // Statistics and the stop reason of the run.
   void finish(const solvers::OdeResult& r, bool* interrupted) {
-    traj_.integrator = integratorName(opt_.integrator);
+    traj_.integrator = set_.bdf ? "bdf" : switchAt_ ? "ode45+bdf" : "ode45";
+    traj_.stiffSince = stiffness_.since();
+    traj_.stiffLambda = stiffness_.lambda();
+    traj_.stiffBoundSteps = stiffness_.stiff() || switchAt_ ? stiffness_.boundSteps() : 0;
     traj_.nsteps = r.stats.nsteps;
     traj_.nfailed = r.stats.nfailed;
     traj_.nfevals = r.stats.nfevals;
@@ -291,8 +404,12 @@ class StageRun {
   Eigen::VectorXd y0_;
   core::Trajectory traj_;
   std::string userError_;          // a failing USERSIG / USERINP: reported as the stop reason as it is
-  long calls_ = 0, accepted_ = 0;  // accepted: BDF steps (ode45's are estimated from the evaluations)
+  long calls_ = 0, accepted_ = 0;  // accepted steps (ode45's and BDF's)
   bool stoppedByUser_ = false;
+  StiffnessTest stiffness_;
+  std::optional<double> switchAt_;  // auto: the time ode45 stopped to hand over to BDF
+  Eigen::VectorXd ySwitch_;         // and its state there
+  bool skipObservation_ = false;    // the next observation is the BDF start at the switch
   double tReached_;
 };
 
@@ -337,6 +454,9 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     all.nrhsfailed += part.nrhsfailed;
     all.njacevals += part.njacevals;
     all.nlinsetups += part.nlinsetups;
+    if (std::isnan(all.switchedAt)) all.switchedAt = part.switchedAt;
+    if (part.stiffBoundSteps > all.stiffBoundSteps)
+      all.stiffSince = part.stiffSince, all.stiffLambda = part.stiffLambda, all.stiffBoundSteps = part.stiffBoundSteps;
     if (!part.completed || end.y.size() == 0) {
       all.completed = false;
       all.stopReason =

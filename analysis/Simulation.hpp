@@ -17,9 +17,35 @@ namespace flexmb::analysis {
 
 enum class Integrator {
   Ode45,  // explicit, MATLAB's ode45 step by step (solvers::Ode45)
-  Bdf     // implicit: CVODE BDF + Newton with the analytic Jacobian (solvers::Bdf), anchored kinematics
+  Bdf,    // implicit: CVODE BDF + Newton with the analytic Jacobian (solvers::Bdf), anchored kinematics
+  // ode45 until its step is bound by stability rather than accuracy (StiffnessTest: the stiffest
+  // mode, not the tolerance, sets the step), then Bdf from that accepted state to the end.
+  Auto
 };
-// "ode45" or "bdf" (the command line's names); parseIntegrator returns nothing for other text.
+// Stiffness test on ode45's accepted steps (Hairer's test of DOPRI5, Hairer & Wanner, Solving ODEs
+// II, Sec. IV.2): a step whose h |lambda| (solvers::Ode45Options::stepMonitor) exceeds 3.25 sits at
+// the explicit method's stability boundary (about 3.3 for Dormand-Prince). The run counts as
+// stability-bound after kStiffSteps such steps with never kCalmSteps ordinary ones in a row between
+// them: an accuracy-bound step stays below the boundary, so the boundary is not met that often by
+// chance, while a stiff run meets it at nearly every step (its controller keeps hitting it).
+class StiffnessTest {
+ public:
+  static constexpr double kBoundary = 3.25;
+  static constexpr int kStiffSteps = 15, kCalmSteps = 6;
+  // One accepted step ending at t; true while the run is stability-bound.
+  bool step(double t, double h, double hLambda);
+  bool stiff() const { return stiff_; }
+  double since() const { return since_; }     // the time the run became stability-bound
+  double lambda() const { return lambda_; }   // |lambda| of the last boundary step (1/s)
+  long boundSteps() const { return bound_; }  // steps at the boundary since then
+
+ private:
+  int hits_ = 0, calm_ = 0;
+  bool stiff_ = false;
+  double since_ = 0.0, lambda_ = 0.0;
+  long bound_ = 0;
+};
+// "ode45", "bdf" or "auto" (the command line's names); parseIntegrator returns nothing for other text.
 const char* integratorName(Integrator i);
 std::optional<Integrator> parseIntegrator(const std::string& name);
 struct SimulationOptions;
@@ -46,7 +72,8 @@ struct SimulationOptions {
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
 // A run's integrator statistics (steps, failed attempts, evaluations, Jacobians) as its integrator
-// prints them.
+// prints them; an Auto run that switched says when, and a default ode45 run whose step was bound
+// by stability for long says that bdf or auto would be faster.
 std::string formatStatistics(const core::Trajectory& run, Integrator integrator);
 
 // The kinematic Newton tolerance (relative to the model size) of a simulation at relTol: residuals

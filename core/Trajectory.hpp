@@ -1,6 +1,7 @@
 #pragma once
 // What a time simulation produces: output times, SPACAR's quantities at each, and integrator
 // statistics. Filled by the simulate analysis, written by io's result writers.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,9 +14,16 @@ struct Trajectory {
   std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
   long nsteps = 0, nfailed = 0, nfevals = 0;
   long nrhsfailed = 0;  // ode45: failed attempts whose right-hand side failed at a trial state
-  // The integrator ("ode45" or "bdf") and, for bdf, its Jacobian evaluations and linear-solver set-ups.
+  // The integrator ("ode45", "bdf", or "ode45+bdf" for an auto run that switched) and, for bdf, its
+  // Jacobian evaluations and linear-solver set-ups.
   std::string integrator = "ode45";
   long njacevals = 0, nlinsetups = 0;
+  // ode45's step bound by stability (the stiffest mode) rather than accuracy: from stiffSince on,
+  // stiffBoundSteps steps at the boundary, |lambda| about stiffLambda (1/s); stiffBoundSteps = 0:
+  // never. switchedAt: the time an auto run went on with bdf (NaN: it did not).
+  double stiffSince = 0.0, stiffLambda = 0.0;
+  long stiffBoundSteps = 0;
+  double switchedAt = std::numeric_limits<double>::quiet_NaN();
   bool completed = true;
   std::string stopReason;  // why the run stopped early (time and reason); empty when completed
 };

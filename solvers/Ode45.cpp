@@ -277,8 +277,22 @@ class Ode45Run {
     }
   }
 
-  // Step 7: the accepted step's statistics, hook and output (Refine points or the requested times).
+  // Step 7: the accepted step's statistics, hook and output (Refine points or the requested times),
+  // then the step monitor.
   std::optional<OdeResult> accept() {
+    if (auto stop = acceptAndOutput()) return stop;
+    if (opt_.stepMonitor && !opt_.stepMonitor(tnew_, ynew_, std::fabs(h_), stiffnessEstimate()))
+      return fail(OdeStatus::Stopped, "stopped by the step monitor at t = " + shortest(tnew_));
+    return std::nullopt;
+  }
+
+  // h |lambda| of Hairer's stiffness test: stages 6 (at y6, in ytmp_) and 7 (at ynew) share t + h.
+  double stiffnessEstimate() const {
+    const double num = (k_[6] - k_[5]).squaredNorm(), den = (ynew_ - ytmp_).squaredNorm();
+    return den > 0.0 ? std::fabs(h_) * std::sqrt(num / den) : 0.0;
+  }
+
+  std::optional<OdeResult> acceptAndOutput() {
     ++res_.stats.nsteps;
     if (nofailed_) streakFailure_.clear();
     res_.tLast = tnew_;

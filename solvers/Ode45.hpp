@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,13 @@ struct Ode45Options {
   double maxStep = 0.0;      // 0 -> 0.1*|tf-t0|; a user value is clipped to |tf-t0|
   double initialStep = 0.0;  // 0 -> automatic rule of ode45.md
   int refine = 4;            // used when tspan has exactly 2 entries
+  // Called after every accepted step (after its hook and outputs) with the new state, the step
+  // size and h |lambda|, |lambda| = |f(ynew) - f(y6)| / |ynew - y6| estimating the dominant
+  // eigenvalue of df/dy from the two stages at t + h (Hairer's stiffness test of DOPRI5, Hairer &
+  // Wanner, Solving ODEs II, Sec. IV.2): near 3.3 and above, the step sits at the stability
+  // boundary. Returning false stops the run there (status Stopped, every output up to t given).
+  // Empty: nothing is computed (MATLAB's ode45 has no such test; the steps do not depend on it).
+  std::function<bool(double t, const Eigen::VectorXd& y, double h, double hLambda)> stepMonitor;
 };
 
 class Ode45 {

@@ -242,3 +242,65 @@ TEST(BdfDynamics, ReducedGuidanceAgreesWithOde45) {
   EXPECT_LT(d2, 1e-5);
   EXPECT_LT(d5, 1e-7);
 }
+
+// A stiff damped probe (datfiles/tests/damped_probe.dat: a clamped pin of two PLBEAMs with large
+// EDAMP under a tip force): ode45's step is bound by the damped modes (|lambda| ~ 6e11 1/s) while
+// the tip creeps towards the static deflection P L^3 / (3 EI) with the Kelvin-Voigt time constant
+// tau = EDAMP / ESTIFF of bending. Integrator::Auto starts with ode45, detects the stability bound
+// within its first steps and finishes with BDF in a few hundred evaluations; its tip deflection
+// equals a tight-tolerance BDF reference (order <= 5, RelTol 1e-9) within the file's tolerance and
+// the creep law y(t) = y_s (1 - exp(-t / tau)) within 1 %. A default ode45 run over the first 0.2 us
+// (thousands of steps at the stability limit) reports the bound (Trajectory::stiffBoundSteps) and
+// formatStatistics says that bdf or auto would be faster.
+TEST(BdfDynamics, AutoSwitchesToBdfOnAStiffDampedProbe) {
+  const core::Model m = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/tests/damped_probe.dat");
+  auto tip = [&](const core::Trajectory& t) {
+    std::vector<double> y;
+    const int first = m.nodes[m.nodeByLabel.at(3)].firstCoord;
+    for (const auto& s : t.states) y.push_back(s.x[first + 1]);
+    return y;
+  };
+  analysis::SimulationOptions a;
+  a.integrator = analysis::Integrator::Auto;
+  const core::Trajectory autoRun = analysis::simulate(m, a);
+  ASSERT_TRUE(autoRun.completed) << autoRun.stopReason;
+  EXPECT_EQ(autoRun.integrator, "ode45+bdf");
+  EXPECT_LT(autoRun.switchedAt, 1e-6);
+  EXPECT_GT(autoRun.stiffLambda, 1e9);
+  EXPECT_LT(autoRun.nfevals, 3000);
+  EXPECT_NE(analysis::formatStatistics(autoRun, a.integrator).find("bdf from there on"), std::string::npos);
+
+  analysis::SimulationOptions r;
+  r.integrator = analysis::Integrator::Bdf;
+  r.relTol = 1e-9;
+  r.absTol = 1e-16;
+  r.bdfMaxOrder = 5;
+  const core::Trajectory ref = analysis::simulate(m, r);
+  ASSERT_TRUE(ref.completed) << ref.stopReason;
+  const std::vector<double> ya = tip(autoRun), yr = tip(ref);
+  ASSERT_EQ(ya.size(), yr.size());
+  const double P = 0.1, L = 0.01, EI = 1.031e-2, ys = P * L * L * L / (3 * EI), tau = 1e-3 / EI;
+  double worstRef = 0.0, worstTheory = 0.0;
+  for (std::size_t k = 1; k < ya.size(); ++k) {
+    const double creep = ys * (1.0 - std::exp(-autoRun.time[k] / tau));
+    worstRef = std::max(worstRef, std::abs(ya[k] - yr[k]) / std::abs(yr.back()));
+    worstTheory = std::max(worstTheory, std::abs(yr[k] - creep) / creep);
+  }
+  std::printf(
+      "  auto: switched at t = %.3g s (|lambda| %.3g 1/s), %ld steps, %ld evaluations; reference %ld "
+      "evaluations; auto vs reference %.2e, reference vs creep law %.2e\n",
+      autoRun.switchedAt, autoRun.stiffLambda, autoRun.nsteps, autoRun.nfevals, ref.nfevals, worstRef, worstTheory);
+  EXPECT_LT(worstRef, 1e-3);
+  EXPECT_LT(worstTheory, 1e-2);
+
+  analysis::SimulationOptions o;
+  o.tEnd = 2e-7;
+  o.intervals = 2;
+  const core::Trajectory ode = analysis::simulate(m, o);
+  ASSERT_TRUE(ode.completed) << ode.stopReason;
+  EXPECT_EQ(ode.integrator, "ode45");
+  EXPECT_GT(ode.stiffBoundSteps, 1000);
+  EXPECT_LT(ode.stiffSince, 1e-6);
+  EXPECT_NE(analysis::formatStatistics(ode, o.integrator).find("--integrator bdf or auto would be faster"),
+            std::string::npos);
+}

@@ -446,3 +446,45 @@ TEST(Ode45, RejectsBadArguments) {
   o.relTol = 0.0;
   EXPECT_THROW(Ode45{o}, std::invalid_argument);
 }
+
+// The step monitor's h |lambda| (Hairer's stiffness estimate from the stages at t + h) on
+// y' = lambda y: exactly h |lambda| for a linear problem. On a stiff one (lambda = -1e4 over 1 s, the
+// solution gone after 1e-3 s) the steps sit at the stability boundary of Dormand-Prince (|h lambda|
+// about 3.3) instead of growing; the monitor changes no step, and returning false stops the run
+// with every output up to there given.
+TEST(Ode45, StepMonitorEstimatesTheStiffestEigenvalue) {
+  const double lambda = -1e4;
+  auto f = [&](double, const VectorXd& y, VectorXd& dy) { dy[0] = lambda * y[0]; };
+  Ode45Options o;
+  long monitored = 0, late = 0;
+  double worst = 0.0, sum = 0.0;
+  o.stepMonitor = [&](double t, const VectorXd&, double h, double hLambda) {
+    ++monitored;
+    if (t > 0.01) {  // the transient (an accuracy-bound start) is over
+      worst = std::max(worst, std::abs(hLambda / (h * std::abs(lambda)) - 1.0));
+      sum += hLambda;
+      ++late;
+    }
+    return true;
+  };
+  const Trace with = run(f, {0.0, 1.0}, vec({1.0}), o);
+  const Trace without = run(f, {0.0, 1.0}, vec({1.0}));
+  ASSERT_EQ(with.res.status, OdeStatus::Success);
+  EXPECT_EQ(with.res.stats.nsteps, without.res.stats.nsteps);
+  EXPECT_EQ(with.res.stats.nfevals, without.res.stats.nfevals);
+  EXPECT_EQ(monitored, with.res.stats.nsteps);
+  EXPECT_LT(worst, 1e-6);
+  // Bound by stability: the controller hovers around the boundary (h |lambda| on average near 3.3),
+  // about |lambda| / 3.3 steps per second.
+  ASSERT_GT(late, 0);
+  EXPECT_GT(sum / late, 2.8);
+  EXPECT_LT(sum / late, 3.6);
+  EXPECT_GT(with.res.stats.nsteps, 2000);
+
+  o.stepMonitor = [](double t, const VectorXd&, double, double) { return t < 0.5; };
+  const Trace stopped = run(f, {0.0, 1.0}, vec({1.0}), o);
+  EXPECT_EQ(stopped.res.status, OdeStatus::Stopped);
+  ASSERT_FALSE(stopped.t.empty());
+  EXPECT_GE(stopped.t.back(), 0.5);
+  EXPECT_LT(stopped.t.back(), 0.5 + 1e-3);
+}

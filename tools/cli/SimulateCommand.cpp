@@ -74,7 +74,6 @@ struct SimulateArgs {
   bool matrices = false, vtk = false, html = false;
   analysis::Integrator chosen = analysis::Integrator::Ode45;
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
-  bool bdf() const { return chosen == analysis::Integrator::Bdf; }
   bool csv() const { return format == "csv" || format == "both"; }
   bool mat() const { return format == "mat" || format == "both"; }
 };
@@ -91,8 +90,9 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "intervals", po::value(&a.intervals)->notifier(atLeast("intervals", 0)),
       "output intervals (0: every step; ode45 adds Refine 4's 3 points inside each)")(
       "integrator", po::value(&a.integrator),
-      "ode45 (default: explicit, MATLAB's ode45 step by step) or bdf (implicit: SUNDIALS CVODE's BDF with the "
-      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step)")(
+      "ode45 (default: explicit, MATLAB's ode45 step by step), bdf (implicit: SUNDIALS CVODE's BDF with the "
+      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step) or auto "
+      "(ode45, switching to bdf once ode45's step is bound by stability rather than accuracy; says when)")(
       "bdf-order", po::value(&a.bdfOrder)->notifier(atLeast("bdf-order", 1)),
       "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
       "step but let undamped stiff modes bound the step)")(
@@ -122,7 +122,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
   }
   const std::optional<analysis::Integrator> chosen = analysis::parseIntegrator(a.integrator);
   if (!chosen) {
-    std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << a.integrator << "'\n";
+    std::cerr << "flexmb: --integrator must be ode45, bdf or auto, not '" << a.integrator << "'\n";
     return kUsageError;
   }
   a.chosen = *chosen;
@@ -130,8 +130,8 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
     std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << a.bdfOrder << "\n";
     return kUsageError;
   }
-  if (a.bdfOrder > 0 && !a.bdf()) {
-    std::cerr << "flexmb: --bdf-order needs --integrator bdf\n";
+  if (a.bdfOrder > 0 && a.chosen == analysis::Integrator::Ode45) {
+    std::cerr << "flexmb: --bdf-order needs --integrator bdf or auto\n";
     return kUsageError;
   }
   if (a.dynamics == "projected")
@@ -193,7 +193,7 @@ std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::
   // The explicit integrator's stability limit; an implicit integrator's step is not bounded by it.
   Stiffness stiff;
   try {
-    if (opt.integrator != analysis::Integrator::Bdf) stiff = highestFrequency(model, opt.basis);
+    if (opt.integrator == analysis::Integrator::Ode45) stiff = highestFrequency(model, opt.basis);
   } catch (const std::exception&) {}
   if (stiff.omegaMax > 0) {
     const double steps = span * stiff.omegaMax / 3.3;
@@ -205,7 +205,8 @@ std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::
                 << steps << " steps for " << span << " s. It lives in ";
       for (size_t i = 0; i < stiff.where.size(); ++i) std::cerr << (i ? ", " : "") << stiff.where[i];
       std::cerr << ". A reduced model removes it (flexmb reduce, then simulate --basis), the implicit "
-                   "--integrator bdf steps over it, or make those deformations rigid.\n";
+                   "--integrator bdf steps over it (--integrator auto switches to it when ode45 meets the limit), or "
+                   "make those deformations rigid.\n";
     }
     if (steps > kMaxSteps) {
       std::cerr << "flexmb: " << steps << " steps are more than the limit " << kMaxSteps
@@ -374,6 +375,13 @@ int runSimulate(const std::vector<std::string>& args) {
   std::cout << analysis::formatStatistics(traj, opt.integrator);
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
   if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
+  if (!std::isnan(traj.switchedAt)) {
+    std::ostringstream sw;
+    sw << "ode45 until t = " << traj.switchedAt << " s, where its step was bound by stability (|lambda| about "
+       << traj.stiffLambda << " 1/s); bdf from there on";
+    files.setting("auto switch", sw.str());
+    if (!a.m.quiet) std::cerr << "flexmb: note: " << sw.str() << "\n";
+  }
 
   std::vector<std::string> report;
   try {
