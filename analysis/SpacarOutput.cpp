@@ -22,8 +22,10 @@ io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, co
   io::SpacarStep st;
   rq.setState(t, dofsOf(model, s, 0), loadFactor);
   Eigen::VectorXd sig, fxt;
-  rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt);
+  core::ResultQuantities::AppliedForces applied;
+  rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt, &applied);
   st.x = L.sortX(s.x), st.xd = L.sortX(s.xd), st.xdd = L.sortX(s.xdd), st.fxt = L.sortX(fxt);
+  st.fx = L.sortX(applied.loads), st.fxgrav = L.sortX(applied.gravity);
   st.e = L.sortE(s.e), st.ed = L.sortE(s.ed), st.edd = L.sortE(s.edd), st.sig = L.sortE(sig);
   if (o.transferFunctions) {
     Eigen::MatrixXd dx;
@@ -160,7 +162,7 @@ io::SpacarResults spacarKinematic(const core::Model& model) {
     for (int i = 0; i < model.ne; ++i)
       for (int j = 0; j < model.nx; ++j) st.bigd(i, j) = D(L.eOrder[i], L.xOrder[j]);
     st.x = L.sortX(x), st.e = L.sortE(e);
-    st.xd = st.xdd = st.fxt = Eigen::VectorXd::Zero(model.nx);
+    st.xd = st.xdd = st.fxt = st.fx = st.fxgrav = Eigen::VectorXd::Zero(model.nx);
     st.ed = st.edd = st.sig = Eigen::VectorXd::Zero(model.ne);
     r.time.push_back(t);
     r.steps.push_back(std::move(st));

@@ -231,6 +231,10 @@ void EquationsOfMotion::outputs(double t, const Eigen::VectorXd& y, StateOutputs
   gtf_.deformationRates(xd_, out.ed);
   gtf_.deformationAccelerations(xd_, out.xdd, out.edd);
   out.sig = sigma_;
+  if (model_.userFunctions && model_.userFunctions->hasLoads())
+    out.userForces = userForces_;
+  else
+    out.userForces.resize(0);
 }
 
 }  // namespace flexmb::core

@@ -30,6 +30,9 @@ constexpr int kSaddlePointDofs = 4;
 // Everything SPACAR reports at an output time.
 struct StateOutputs {
   Eigen::VectorXd x, xd, xdd, e, ed, edd, sig;
+  // The USERSIG nodal forces at this state (nx, model order), which `sig` and `xdd` include; empty
+  // without USERSIG. Kept so that result files report them without calling the user again.
+  Eigen::VectorXd userForces;
 };
 
 class EquationsOfMotion {

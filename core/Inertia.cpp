@@ -283,11 +283,16 @@ void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::Ve
 
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor) {
+  nodalLoads(model, t, loadFactor, x, f, initialFactor);
+  inertia.addGravity(x, f);
+}
+
+void nodalLoads(const Model& model, double t, double loadFactor, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                double initialFactor) {
   f = model.f0;
   if (initialFactor != 1.0) f *= initialFactor;
   if (loadFactor != 0.0 && model.delf.size() == f.size()) f += loadFactor * model.delf;
   for (const auto& tf : model.timeForces) f[tf.index] += tf.f->value(t);
-  inertia.addGravity(x, f);
   for (const auto& mo : model.moments) {
     const int at = model.nodes[mo.node].firstCoord;
     f.segment<4>(at) += momentMatrix(initialFactor * mo.value + loadFactor * mo.increment) * x.segment<4>(at);

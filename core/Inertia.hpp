@@ -61,6 +61,9 @@ class Inertia {
 // ramps the initial loads (initialFactor < 1) and the DEL* increments (loadFactor = step / steps).
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor = 1.0);
+// The same without gravity (result files report gravity apart: SPACAR's fx and fxgrav).
+void nodalLoads(const Model& model, double t, double loadFactor, const Eigen::VectorXd& x, Eigen::VectorXd& f,
+                double initialFactor = 1.0);
 
 // Generalised force on the Euler parameters of a global moment M: 2 E(lambda)^T M = momentMatrix(M) lambda.
 Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M);

@@ -39,6 +39,7 @@ struct ElementEntry {
   ElementInertia inertia;
   bool hasStiffness = false, hasDamping = false;
   std::vector<double> stiffnessParams, dampingParams;  // as given (ESTIFF / EDAMP), for echoes
+  std::vector<double> inertiaParams;                   // as given (EM / EMASS), for result files
   DefMat S, Sd;                                        // constitutive stiffness and damping (ndef x ndef)
   // The element's entries of a global nodal vector (positions, velocities, forces ...).
   void gather(const Eigen::VectorXd& v, ElemVec& out) const {

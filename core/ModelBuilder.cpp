@@ -94,7 +94,7 @@ struct ModelBuilder::Impl {
   std::vector<VectorStmt> nodeInertias;
   std::vector<CompValues> inputXValues, inputEValues, initialDeformations;
   std::vector<CompFns> inputXFunctions, inputEFunctions;
-  std::vector<CompScalar> inputIncrements, prestress, coordinateRates;
+  std::vector<CompScalar> inputIncrements, prestress, coordinateRates, coordinateAccelerations;
   std::vector<ScalarStmt> referenceLengths;
   std::vector<std::string> notes;
 };
@@ -195,6 +195,9 @@ void ModelBuilder::setPrestress(int element, int comp, double sigma, int line) {
 }
 void ModelBuilder::setCoordinateRate(int node, int comp, double v, int line) {
   impl_->coordinateRates.push_back({node, comp, v, line});
+}
+void ModelBuilder::setCoordinateAcceleration(int node, int comp, double a, int line) {
+  impl_->coordinateAccelerations.push_back({node, comp, a, line});
 }
 void ModelBuilder::setReferenceLength(int element, double length0, int line) {
   impl_->referenceLengths.push_back({element, length0, line});
@@ -678,12 +681,14 @@ void ModelBuilder::Finalizer::elementInertia() {
       inertia.rhoA = at(0);
       inertia.jxx = at(1), inertia.jyy = at(2), inertia.jzz = at(3), inertia.jyz = at(4);
       m.elements[ei].inertia = inertia;
+      m.elements[ei].inertiaParams = st.values;
       continue;
     }
     if (st.values.size() > 2)
       R::fail(st.line,
               r.elemName(ei) + " takes 1 or 2 mass parameters (rhoA, rhoI), found " + std::to_string(st.values.size()));
     m.elements[ei].inertia = {st.rhoA, st.rhoI};
+    m.elements[ei].inertiaParams = st.values.empty() ? std::vector<double>{st.rhoA, st.rhoI} : st.values;
   }
 }
 
@@ -854,6 +859,15 @@ void ModelBuilder::Finalizer::rheonomicInputs() {
     } else {
       R::fail(st.line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
                            "); XD gives the rate of an input (INPUTX) or dynamic (DYNX) coordinate");
+    }
+  }
+  for (const auto& st : in.coordinateAccelerations) {
+    const int xi = r.x(st.id, st.comp, st.line);
+    if (m.xRole[xi] == Role::Input) {
+      inputX(st.id, st.comp, st.line).a = st.value;
+    } else if (m.xRole[xi] != Role::Dynamic) {
+      R::fail(st.line, m.coordName(xi) + " is not an input coordinate (it is " + roleName(m.xRole[xi]) +
+                           "); XDD gives the acceleration of an input (INPUTX) or dynamic (DYNX) coordinate");
     }
   }
 }

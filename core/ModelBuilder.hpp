@@ -67,6 +67,9 @@ class ModelBuilder {
   void setPrestress(int element, int comp, double sigma, int line);
   // SPACAR95 XD: the rate of an input coordinate, or the initial rate of a DYNX coordinate.
   void setCoordinateRate(int node, int comp, double v, int line);
+  // SPACAR95 XDD: the acceleration of an input coordinate; on a DYNX coordinate (SPACAR95's echo of
+  // an end state writes it) it is accepted and not used: the equations of motion give it.
+  void setCoordinateAcceleration(int node, int comp, double a, int line);
   // LENGTH0 (a SPACAR95 restart state): the reference length of an element. Any LENGTH0 makes the
   // model a restart state (Model::restartState): X is the current configuration, the deformations
   // there are E (0 where not given), and element references are derived from them.

@@ -13,15 +13,27 @@ void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double input
 }
 
 void ResultQuantities::forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt) {
+                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, AppliedForces* applied) {
   const Eigen::VectorXd& x = gtf_.x();
   Eigen::VectorXd f;
   appliedLoads(model_, inertia_, t, loadFactor, x, f);
-  if (userForces.size() == f.size()) f += userForces;
-  if (model_.userFunctions && model_.userFunctions->hasLoads() && userForces.size() == 0) {
-    Eigen::VectorXd us, uf;  // USERSIG forces at this state (its stresses are in s.sig already)
-    model_.userFunctions->loads(t, x, s.xd, s.e, s.ed, us, uf);
-    f += uf;
+  Eigen::VectorXd user;
+  if (userForces.size() == f.size()) {
+    user = userForces;
+  } else if (model_.userFunctions && model_.userFunctions->hasLoads()) {
+    if (s.userForces.size() == f.size()) {
+      user = s.userForces;
+    } else {
+      Eigen::VectorXd us;  // USERSIG at this state (its stresses are in s.sig already)
+      model_.userFunctions->loads(t, x, s.xd, s.e, s.ed, us, user);
+    }
+  }
+  if (user.size()) f += user;
+  if (applied) {
+    applied->gravity = Eigen::VectorXd::Zero(model_.nx);
+    inertia_.addGravity(x, applied->gravity);
+    nodalLoads(model_, t, loadFactor, x, applied->loads);
+    if (user.size()) applied->loads += user;
   }
   // Inertia forces M xdd + h of the state (zero at rest).
   Eigen::VectorXd inert = Eigen::VectorXd::Zero(model_.nx);

@@ -28,11 +28,17 @@ class ResultQuantities {
   explicit ResultQuantities(const Model& model);
   // Positions and Jacobians at (t, q), input coordinates at load factor s. Throws KinematicsError.
   void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0);
+  // The applied part of fxt: nodal loads (XF, XFT, DELXF at the load factor, moments, USERSIG)
+  // and, apart, the gravity loads; fxt = applied + gravity on free coordinates.
+  struct AppliedForces {
+    Eigen::VectorXd loads, gravity;  // nx each
+  };
   // After setState: sigma~ and fxt for the state's rates and its elastic stresses sig (size ne;
   // entries of constrained deformations are replaced by reaction stresses, elastic ones kept).
-  // userForces (size nx) are nodal loads beyond the model's; empty: the model's USERSIG forces.
+  // userForces (size nx) are nodal loads beyond the model's; empty: the state's USERSIG forces
+  // (s.userForces, or the model's user functions called at the state when it holds none).
   void forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt);
+              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, AppliedForces* applied = nullptr);
   // After setState: dx (nx x cols.size()), column j = dx / d cols[j] with the other listed
   // coordinates and all fixed ones held.
   void transfer(const std::vector<FreeCoordinate>& cols, Eigen::MatrixXd& dx);

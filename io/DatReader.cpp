@@ -662,7 +662,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       b.setCoordinateRate(integer(s, 0), integer(s, 1), real(s, 2), line);
       break;
     case Action::XDD:
-      b.setInputCoordinate(integer(s, 0), integer(s, 1), std::nullopt, std::nullopt, real(s, 2), line);
+      b.setCoordinateAcceleration(integer(s, 0), integer(s, 1), real(s, 2), line);
       break;
     case Action::E:
       b.setInitialDeformation(integer(s, 0), integer(s, 1), real(s, 2), std::nullopt, std::nullopt, line);

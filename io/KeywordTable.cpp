@@ -175,7 +175,8 @@ std::vector<KeywordInfo> buildTable() {
                  "rate of an input coordinate at the current time, x(t) = x + v (t - TIME) + a (t - TIME)^2/2 "
                  "(X gives x); on a DYNX coordinate its initial rate"));
   t.push_back(kw("XDD", kSpacar95, B::Dynamic, A::XDD, {node(), component(), real("acceleration", "a")},
-                 "acceleration of an input coordinate: x(t) = x + v (t - TIME) + a (t - TIME)^2/2"));
+                 "acceleration of an input coordinate: x(t) = x + v (t - TIME) + a (t - TIME)^2/2; on a DYNX "
+                 "coordinate (an echoed end state) accepted and not used: the equations of motion give it"));
   t.push_back(kw("INPUTX", kBothDialects, B::Dynamic, A::InputXValues,
                  {node(), component(), real("x"), optReal("v"), optReal("a")},
                  "value, rate, acceleration of an input coordinate: x(t) = x + v t + a t^2/2 "
@@ -189,7 +190,8 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("ED", kSpacar95, B::Dynamic, A::ED, {element(), component(), real("rate", "v")},
                  "initial rate of a deformation (the rate of an input deformation)"));
   t.push_back(kw("EDD", kSpacar95, B::Dynamic, A::EDD, {element(), component(), real("acceleration", "v")},
-                 "initial acceleration of a deformation (the acceleration of an input deformation)"));
+                 "acceleration of an input deformation; on a dynamic one (an echoed end state) accepted and not "
+                 "used: the equations of motion give it"));
   t.push_back(kw("STARTDE", kSpacar2013, B::Dynamic, A::StartDE, {element(), component(), real("e0"), optReal("ed0")},
                  "initial value and rate of a deformation"));
   t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement, {node(), component(), real("increment", "dx")},

@@ -167,12 +167,14 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
       w.line("INPUTE " + w.eId(r.index) + " " + num(x) + " " + num(v) + " " + num(a));
     }
   }
-  // Rates of DYNX coordinates.
+  // Rates (and, SPACAR95, accelerations) of DYNX coordinates.
+  const bool accelerations = state.xdd.size() == m.nx && state.edd.size() == m.ne;
   for (const auto& d : m.dofs) {
     if (d.isDeformation) continue;
     const double v = state.xd[d.index];
     if (w.s95) {
       if (v != 0.0) w.line("XD " + w.xId(d.index) + " " + num(v));
+      if (accelerations && state.xdd[d.index] != 0.0) w.line("XDD " + w.xId(d.index) + " " + num(state.xdd[d.index]));
     } else if (v != 0.0) {
       throw std::invalid_argument("restart state: SPACAR 2013+ has no keyword for the rate of a DYNX coordinate (" +
                                   m.coordName(d.index) + " moves); write the model in SPACAR95 form to restart it");
@@ -185,6 +187,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     if (w.s95) {
       w.line("E " + w.eId(di) + " " + num(state.e[di]));
       if (role == Role::Dynamic) w.line("ED " + w.eId(di) + " " + num(state.ed[di]));
+      if (role == Role::Dynamic && accelerations) w.line("EDD " + w.eId(di) + " " + num(state.edd[di]));
     } else {
       w.line("STARTDE " + w.eId(di) + " " + num(state.e[di]) +
              (role == Role::Dynamic ? " " + num(state.ed[di]) : std::string()));

@@ -162,6 +162,9 @@ int elementTypeId(const core::ElementTypeInfo* type) { return type ? type->spaca
 SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   int maxNode = 0, width = 0, maxEl = 0, nodesPerEl = 0, defsPerEl = 0;
   for (const auto& n : model.nodes) maxNode = std::max(maxNode, n.label), width = std::max(width, n.dim());
+  // Spatial models: 4 columns, as SPACAR's (FIS's USERSIG reads x(lnp(n, :)) as an orientation
+  // node's 4 Euler parameters); a node with fewer coordinates has zeros after them.
+  if (model.spatial) width = std::max(width, 4);
   for (const auto& E : model.elements) {
     maxEl = std::max(maxEl, E.label);
     nodesPerEl = std::max(nodesPerEl, static_cast<int>(E.nodes.size()));
@@ -193,6 +196,30 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   return {lnp, ln, le, it, rl0};
 }
 
+Eigen::MatrixXd spacarElementConstants(const core::Model& model, ElementConstant which, Eigen::Index rows,
+                                       Eigen::Index minCols) {
+  auto values = [which](const core::ElementEntry& el) -> const std::vector<double>& {
+    switch (which) {
+      case ElementConstant::Stiffness:
+        return el.stiffnessParams;
+      case ElementConstant::Damping:
+        return el.dampingParams;
+      case ElementConstant::Mass:
+        break;
+    }
+    return el.inertiaParams;
+  };
+  Eigen::Index cols = minCols;
+  for (const auto& el : model.elements) cols = std::max<Eigen::Index>(cols, values(el).size());
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(rows, cols);
+  for (const auto& el : model.elements) {
+    if (el.label < 1 || el.label > rows) continue;
+    const auto& v = values(el);
+    for (std::size_t k = 0; k < v.size(); ++k) C(el.label - 1, static_cast<Eigen::Index>(k)) = v[k];
+  }
+  return C;
+}
+
 Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows) {
   if (!model.spatial) return Eigen::MatrixXd(0, 0);
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, 9);
@@ -211,7 +238,7 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
   if (r.steps.size() != nt)
     throw std::invalid_argument("SPACAR results '" + base + "': " + std::to_string(nt) + " times, " +
                                 std::to_string(r.steps.size()) + " steps");
-  bool hasDx = nt > 0, hasD = nt > 0, hasSys = false;
+  bool hasDx = nt > 0, hasD = nt > 0, hasFx = true, hasSys = false;
   std::size_t m = 0, nev = 0;
   for (std::size_t k = 0; k < nt; ++k) {
     const SpacarStep& s = r.steps[k];
@@ -224,6 +251,9 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
         throw std::invalid_argument("SPACAR results '" + base + "': non-finite " + name + " at " + stepText(r, k));
     };
     check("x", s.x, nx, 1), check("xd", s.xd, nx, 1), check("xdd", s.xdd, nx, 1), check("fxt", s.fxt, nx, 1);
+    hasFx = hasFx && s.fx.size() > 0 && s.fxgrav.size() > 0;
+    if (s.fx.size()) check("fx", s.fx, nx, 1);
+    if (s.fxgrav.size()) check("fxgrav", s.fxgrav, nx, 1);
     check("e", s.e, ne, 1), check("ed", s.ed, ne, 1), check("edd", s.edd, ne, 1), check("sig", s.sig, ne, 1);
     hasDx = hasDx && s.dx.size() > 0;
     hasD = hasD && s.bigd.size() > 0;
@@ -263,6 +293,10 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.matrix("it", it);
     w.matrix("rl0", rl0);
     w.matrix("rxyz", spacarElementTriads(model, le.rows()));
+    w.matrix("estiff", spacarElementConstants(model, ElementConstant::Stiffness, le.rows()));
+    w.matrix("stif", spacarElementConstants(model, ElementConstant::Stiffness, le.rows(), 6));
+    w.matrix("edamp", spacarElementConstants(model, ElementConstant::Damping, le.rows()));
+    w.matrix("em", spacarElementConstants(model, ElementConstant::Mass, le.rows()));
     w.matrix("x0", L.sortX(model.x0));
     // Per step: one row per stored step.
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
@@ -275,6 +309,7 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     rows("x", &SpacarStep::x, nx), rows("xd", &SpacarStep::xd, nx), rows("xdd", &SpacarStep::xdd, nx);
     rows("e", &SpacarStep::e, ne), rows("ed", &SpacarStep::ed, ne), rows("edd", &SpacarStep::edd, ne);
     rows("sig", &SpacarStep::sig, ne), rows("fxt", &SpacarStep::fxt, nx);
+    if (hasFx) rows("fx", &SpacarStep::fx, nx), rows("fxgrav", &SpacarStep::fxgrav, nx);
     auto pages = [&](const char* name, Eigen::MatrixXd SpacarStep::*member, std::size_t a, std::size_t b) {
       std::vector<double> data;
       data.reserve(a * b * nt);

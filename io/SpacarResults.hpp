@@ -47,12 +47,21 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layo
 // zeros for elements without a triad; 0 x 0 for planar models.
 Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows);
 
+// The element constants as the file gives them (io/results.md): row el = element el's ESTIFF,
+// EDAMP or EM values (trailing ones the file omits and unused labels are 0); at least `minCols`
+// columns (stif: 6, as spatools reads the BEAM shear coefficients from columns 5:6).
+enum class ElementConstant { Stiffness, Damping, Mass };
+Eigen::MatrixXd spacarElementConstants(const core::Model& model, ElementConstant which, Eigen::Index rows,
+                                       Eigen::Index minCols = 1);
+
 // Element type id written to `it`: SPACAR's code of the element's type (ElementTypeInfo::spacarTypeId,
 // listed in io/results.md); 0 without a type.
 int elementTypeId(const core::ElementTypeInfo* type);
 
 struct SpacarStep {
   Eigen::VectorXd x, xd, xdd, fxt;  // nx, SPACAR order
+  Eigen::VectorXd fx, fxgrav;       // nx, SPACAR order: applied nodal loads (USERSIG's included) and
+                                    // gravity loads; written when every step has them
   Eigen::VectorXd e, ed, edd, sig;  // ne, SPACAR order
   Eigen::MatrixXd dx;               // nx x ndof (rows SPACAR order), when requested
   Eigen::MatrixXd bigd;             // ne x nx (both SPACAR order), when requested

@@ -79,6 +79,21 @@ TEST(Restart, Spacar95RestartFromEchoEqualsOneRun) {
   const core::Trajectory a = analysis::simulate(first, o);
   ASSERT_TRUE(a.completed) << a.stopReason;
   const std::string echo = io::restartText(first, a.time.back(), a.states.back());
+  // The echo also writes the accelerations of the dynamic deformations (EDD), as the SPACAR95
+  // manual's echo does; reading it back accepts them (the equations of motion give them).
+  int echoed = 0;
+  for (const auto& el : first.elements)
+    for (int k = 0; el.impl && k < el.impl->numDeformations(); ++k) {
+      const int di = el.firstDef + k;
+      if (first.eRole[di] != core::Role::Dynamic) continue;
+      const std::string key = "EDD " + std::to_string(el.label) + " " + std::to_string(k + 1) + " ";
+      const std::size_t at = echo.find(key);
+      ASSERT_NE(at, std::string::npos) << "no " << key << "in the echo:\n" << echo;
+      const double v = std::stod(echo.substr(at + key.size()));
+      EXPECT_NEAR(v, a.states.back().edd[di], 1e-12 * std::max(1.0, std::abs(v))) << key;
+      ++echoed;
+    }
+  EXPECT_EQ(echoed, 4);
   const auto stages = io::readDatStagesString(echo, "echo.dat");
   ASSERT_EQ(stages.size(), 1u);
   const core::Model& second = stages[0].model;
