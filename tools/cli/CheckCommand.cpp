@@ -16,8 +16,16 @@ int runCheck(const std::vector<std::string>& args) {
   if (auto rc = parseCommand(args, d, m, "usage: flexmb check model.dat [options]")) return *rc;
   m.quiet = true;  // the notes are part of the report below
   core::Model model;
-  if (!loadModel(m, model)) return kInputError;
+  if (!loadModel(m, model, true)) return kInputError;
   std::cout << "model: " << model.sourceFile << " (" << io::dialectName(model.dialect) << ")\n";
+  for (const auto& [name, line, key, what] :
+       {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG", "loads and stresses"},
+        std::tuple{model.userInputFunction, model.userInputLine, "USERINP", "input motion"}})
+    if (!name.empty())
+      std::cout << "note: " << model.sourceFile << ":" << line << ": " << key << " " << name << " (" << what
+                << "): a MATLAB function that runs only when the model is run through spacar() in Octave or "
+                   "MATLAB; this check does not call it"
+                << (std::string(key) == "USERINP" ? " (the input coordinates are at their X values)" : "") << "\n";
   const analysis::ModelCheck c = analysis::checkModel(model);
   if (!c.kinematicsError.empty()) {
     std::cout << "kinematic check failed: " << c.kinematicsError << "\n";

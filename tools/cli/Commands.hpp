@@ -40,7 +40,9 @@ struct ModelOptions {
   std::string elongation;  // "", "plain", "corrected"
   bool quiet = false;      // --quiet: no progress, no notes
 };
-bool loadModel(const ModelOptions& o, core::Model& model);
+// acceptUserFunctions: a file naming USERSIG / USERINP is read (mode 0 never calls them); else it is
+// refused with a message that they run only through spacar().
+bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctions = false);
 // loadModel, then the model diagnostics (core/ModelDiagnostics) that make an analysis meaningless:
 // no degrees of freedom, no mass where the analysis needs it, overflowing values, an initial
 // assembly on another branch. Prints them; false = input error.

@@ -124,7 +124,7 @@ io::ReadOptions readOptions(const ModelOptions& o) {
 
 }  // namespace
 
-bool loadModel(const ModelOptions& o, core::Model& model) {
+bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctions) {
   try {
     model = io::readDatFile(o.file, readOptions(o));
     if (!o.quiet)
@@ -132,7 +132,7 @@ bool loadModel(const ModelOptions& o, core::Model& model) {
     // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
     for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
                                           std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
-      if (!name.empty()) {
+      if (!name.empty() && !acceptUserFunctions) {
         std::cerr << o.file << ":" << line << ": " << key << " " << name
                   << ": a MATLAB user function runs only when the model is run through spacar() in Octave or "
                      "MATLAB (addpath the folder with spacar.mex, see README); from the command line give the "
