@@ -2,9 +2,13 @@
 
 #include "mex.h"
 
+#include "tools/octave/OctaveInterrupt.hpp"
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <sstream>
 
 namespace flexmb::octave_gateway {
@@ -16,8 +20,10 @@ std::string timeText(double t) {
   return buf;
 }
 
-mxArray* column(const Eigen::VectorXd& v) {
-  mxArray* a = mxCreateDoubleMatrix(v.size(), 1, mxREAL);
+// A 1 x n row: SPACAR passes vectors to user functions as rows (FIS's FFESFVA indexes
+// x(lnp(n, :)) and multiplies 2*Q_bar'*qp', which needs 1 x 4 rows).
+mxArray* row(const Eigen::VectorXd& v) {
+  mxArray* a = mxCreateDoubleMatrix(1, v.size(), mxREAL);
   if (v.size()) std::memcpy(mxGetPr(a), v.data(), v.size() * sizeof(double));
   return a;
 }
@@ -28,16 +34,38 @@ mxArray* matrix(const Eigen::MatrixXd& m) {
 }
 
 // Calls fname(args...) with nout outputs through flexmb_usercall.m (which traps the function's
-// error). Takes ownership of args; returns the outputs (caller destroys them). Throws
-// core::UserFunctionError with `what` (e.g. "USERSIG function 'f' at t = 0.1") and the reason.
-std::vector<mxArray*> call(const std::string& fname, int nout, std::vector<mxArray*> args, const std::string& what) {
+// error). Takes ownership of args; returns the outputs (caller destroys them); adds the call and its
+// wall time to `stats`. Throws core::UserFunctionError with `what` (e.g. "USERSIG function 'f' at
+// t = 0.1") and the reason.
+std::vector<mxArray*> call(const std::string& fname, int nout, std::vector<mxArray*> args, const std::string& what,
+                           MatlabUserFunctions::CallStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  struct Clock {  // counts the call however it ends
+    MatlabUserFunctions::CallStats& s;
+    std::chrono::steady_clock::time_point t0;
+    ~Clock() {
+      ++s.calls;
+      s.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+  } clock{stats, start};
   std::vector<mxArray*> in;
   in.push_back(mxCreateString(fname.c_str()));
   in.push_back(mxCreateDoubleScalar(nout));
   in.insert(in.end(), args.begin(), args.end());
   std::vector<mxArray*> out(2 + nout, nullptr);
-  mxArray* trap =
-      mexCallMATLABWithTrap(2 + nout, out.data(), static_cast<int>(in.size()), in.data(), "flexmb_usercall");
+  mxArray* trap = nullptr;
+  try {
+    trap = mexCallMATLABWithTrap(2 + nout, out.data(), static_cast<int>(in.size()), in.data(), "flexmb_usercall");
+  } catch (...) {
+    // Not an error of the function (flexmb_usercall traps those): Ctrl-C in the interpreter, which
+    // unwinds through here. It must not unwind through the integrator: the run stops as interrupted.
+    for (mxArray* a : in) mxDestroyArray(a);
+    if (isInterpreterInterrupt(std::current_exception())) {
+      noteInterpreterInterrupt();
+      throw core::UserFunctionError(what + ": interrupted (Ctrl-C)");
+    }
+    throw core::UserFunctionError(what + ": the interpreter raised an exception that is not an error");
+  }
   for (mxArray* a : in) mxDestroyArray(a);
   if (trap) {
     mxDestroyArray(trap);
@@ -116,39 +144,82 @@ MatlabUserFunctions::MatlabUserFunctions(core::Model& model)
 }
 
 double MatlabUserFunctions::input(double t, int order, bool deformation, int index) {
-  Cached& c = cache_[order];
-  if (!c.valid || c.t != t) {
-    const std::string what =
-        "USERINP function '" + inputFunction_ + "' at t = " + timeText(t) + " (is = " + std::to_string(order) + ")";
-    std::vector<mxArray*> out = call(inputFunction_, 3, {mxCreateDoubleScalar(t), mxCreateDoubleScalar(order)}, what);
+  if (!cache_.valid || cache_.t != t) {
+    // One call gives value, rate and acceleration of every input (SPACAR's convention; `is` is
+    // passed as 0 and FIS's USERINP ignores it).
+    const std::string what = "USERINP function '" + inputFunction_ + "' at t = " + timeText(t);
+    std::vector<mxArray*> out =
+        call(inputFunction_, 3, {mxCreateDoubleScalar(t), mxCreateDoubleScalar(0.0)}, what, inputStats_);
     Release release{out};
-    const std::size_t nie = inputE_.size(), nix = inputX_.size();
-    c.x = Eigen::VectorXd::Zero(model_.nx);
-    c.e = Eigen::VectorXd::Zero(model_.ne);
-    auto read = [&](const mxArray* a, const char* name, std::size_t nInputs, std::size_t nAll,
-                    const std::vector<int>& inputs, const std::vector<int>& order, Eigen::VectorXd& dst) {
-      if (nInputs == 0 && isEmpty(a)) return;
-      const bool compact = vectorOf(a, nInputs), full = vectorOf(a, nAll);
-      if (!compact && !full) {
-        std::ostringstream m;
-        m << what << " returned " << name << " of size " << (a ? mxGetM(a) : 0) << " x " << (a ? mxGetN(a) : 0)
-          << "; expected " << nInputs << " values (the inputs) or " << nAll << " (all, SPACAR order)";
-        throw core::UserFunctionError(m.str());
-      }
-      const double* p = mxGetPr(a);
-      if (compact) {
-        for (std::size_t k = 0; k < nInputs; ++k) dst[inputs[k]] = p[k];
-      } else {
-        for (std::size_t k = 0; k < nAll; ++k) dst[order[k]] = p[k];
-      }
-      if (!dst.allFinite()) throw core::UserFunctionError(what + " returned a non-finite value in " + name);
-    };
-    read(out[1], "e", nie, model_.ne, inputE_, layout_.eOrder, c.e);
-    read(out[2], "x", nix, model_.nx, inputX_, layout_.xOrder, c.x);
-    c.valid = true;
-    c.t = t;
+    readInputRows(out[1], true, what, cache_.e);
+    readInputRows(out[2], false, what, cache_.x);
+    cache_.valid = true;
+    cache_.t = t;
   }
-  return deformation ? c.e[index] : c.x[index];
+  return (deformation ? cache_.e : cache_.x)(index, order);
+}
+
+void MatlabUserFunctions::readInputRows(const mxArray* a, bool deformation, const std::string& what,
+                                        Eigen::MatrixXd& dst) const {
+  const char* name = deformation ? "e" : "x";
+  const std::vector<int>& inputs = deformation ? inputE_ : inputX_;
+  const int n = deformation ? model_.ne : model_.nx;
+  dst.setConstant(n, 3, std::numeric_limits<double>::quiet_NaN());
+  const std::string form =
+      deformation ? "[element deformation value rate acceleration]" : "[node component value rate acceleration]";
+  if (isEmpty(a)) {
+    if (inputs.empty()) return;
+  } else if (!mxIsDouble(a) || mxIsComplex(a) || mxGetN(a) != 5) {
+    throw core::UserFunctionError(what + " returned " + name + " of size " + std::to_string(mxGetM(a)) + " x " +
+                                  std::to_string(mxGetN(a)) + "; expected one row " + form + " per input " +
+                                  (deformation ? "deformation" : "coordinate") + " (" + std::to_string(inputs.size()) +
+                                  (inputs.empty() ? ", so [])" : ")"));
+  }
+  const std::size_t rows = isEmpty(a) ? 0 : mxGetM(a);
+  const double* p = rows ? mxGetPr(a) : nullptr;
+  for (std::size_t r = 0; r < rows; ++r) {
+    const double label = p[r], comp = p[rows + r];
+    const std::string row = what + ": " + name + " row " + std::to_string(r + 1) + " ";
+    int index = -1;
+    if (deformation) {
+      const auto it = model_.elementByLabel.find(static_cast<int>(label));
+      if (label != std::floor(label) || it == model_.elementByLabel.end())
+        throw core::UserFunctionError(row + "names element " + timeText(label) + ", which the model does not have");
+      const core::ElementEntry& el = model_.elements[it->second];
+      const int nd = el.impl ? el.impl->numDeformations() : 0;
+      if (comp != std::floor(comp) || comp < 1 || comp > nd)
+        throw core::UserFunctionError(row + "names deformation " + timeText(comp) + " of element " +
+                                      std::to_string(el.label) + ", which has " + std::to_string(nd));
+      index = el.firstDef + static_cast<int>(comp) - 1;
+      if (model_.eRole[index] != core::Role::Input)
+        throw core::UserFunctionError(row + "names " + model_.deformationName(index) +
+                                      ", which is not an input deformation (INPUTE)");
+    } else {
+      const auto it = model_.nodeByLabel.find(static_cast<int>(label));
+      if (label != std::floor(label) || it == model_.nodeByLabel.end())
+        throw core::UserFunctionError(row + "names node " + timeText(label) + ", which the model does not have");
+      const core::Node& nd = model_.nodes[it->second];
+      if (comp != std::floor(comp) || comp < 1 || comp > nd.dim())
+        throw core::UserFunctionError(row + "names component " + timeText(comp) + " of node " +
+                                      std::to_string(nd.label) + ", which has " + std::to_string(nd.dim()));
+      index = nd.firstCoord + static_cast<int>(comp) - 1;
+      if (model_.xRole[index] != core::Role::Input)
+        throw core::UserFunctionError(row + "names " + model_.coordName(index) +
+                                      ", which is not an input coordinate (INPUTX)");
+    }
+    if (!std::isnan(dst(index, 0)))
+      throw core::UserFunctionError(
+          row + "names " + (deformation ? model_.deformationName(index) : model_.coordName(index)) + " a second time");
+    for (int k = 0; k < 3; ++k) {
+      dst(index, k) = p[(2 + k) * rows + r];
+      if (!std::isfinite(dst(index, k))) throw core::UserFunctionError(row + "holds a non-finite value");
+    }
+  }
+  for (int i : inputs)
+    if (std::isnan(dst(i, 0)))
+      throw core::UserFunctionError(what + " returned no row of " + name + " for the input " +
+                                    (deformation ? model_.deformationName(i) : model_.coordName(i)) + " (rows " + form +
+                                    ")");
 }
 
 void MatlabUserFunctions::loads(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& e,
@@ -157,10 +228,10 @@ void MatlabUserFunctions::loads(double t, const Eigen::VectorXd& x, const Eigen:
   const Eigen::VectorXd zx = Eigen::VectorXd::Zero(model_.nx), ze = Eigen::VectorXd::Zero(model_.ne);
   std::vector<mxArray*> out =
       call(stressFunction_, 3,
-           {mxCreateDoubleScalar(t), mxCreateDoubleScalar(model_.ne), matrix(topology_.le), column(layout_.sortE(e)),
-            column(ed.size() ? layout_.sortE(ed) : ze), mxCreateDoubleScalar(model_.nx), matrix(topology_.lnp),
-            column(layout_.sortX(x)), column(xd.size() ? layout_.sortX(xd) : zx)},
-           what);
+           {mxCreateDoubleScalar(t), mxCreateDoubleScalar(model_.ne), matrix(topology_.le), row(layout_.sortE(e)),
+            row(ed.size() ? layout_.sortE(ed) : ze), mxCreateDoubleScalar(model_.nx), matrix(topology_.lnp),
+            row(layout_.sortX(x)), row(xd.size() ? layout_.sortX(xd) : zx)},
+           what, stressStats_);
   Release release{out};
   sigma = Eigen::VectorXd::Zero(model_.ne);
   f = Eigen::VectorXd::Zero(model_.nx);
@@ -194,6 +265,18 @@ void MatlabUserFunctions::loads(double t, const Eigen::VectorXd& x, const Eigen:
     }
   }
   if (!sigma.allFinite() || !f.allFinite()) throw core::UserFunctionError(what + " returned a non-finite value");
+}
+
+std::string MatlabUserFunctions::timing() const {
+  std::ostringstream s;
+  auto one = [&](const char* key, const std::string& name, const CallStats& c) {
+    if (name.empty()) return;
+    s << (s.tellp() > 0 ? "; " : "") << key << " " << name << ": " << c.calls << " calls, " << c.seconds << " s";
+    if (c.calls) s << " (" << 1e3 * c.seconds / static_cast<double>(c.calls) << " ms per call)";
+  };
+  one("USERSIG", stressFunction_, stressStats_);
+  one("USERINP", inputFunction_, inputStats_);
+  return s.str();
 }
 
 }  // namespace flexmb::octave_gateway

@@ -1,13 +1,15 @@
 function out = getfrsbf(file, var, step)
 % GETFRSBF  A variable from flexmb's SPACAR result files (.sbd, .sbm), as SPACAR's getfrsbf.
 %   v = getfrsbf(file, var)        the whole history: per-step quantities (x, xd, xdd, e, ed, edd,
-%                                  sig, fxt, time) as tdef x n, one row per step; per-step matrices
+%                                  sig, fxt (also as fxtot), fx, fxgrav, time) as tdef x n, one row
+%                                  per step; per-step matrices
 %                                  (dx, bigd, m0, k0, g0, c0, d0, n0, modeq, modex) as tdef x (rows*cols),
 %                                  row k the step's matrix flattened column-wise; with one stored step
 %                                  the step's value in its natural shape (a column, or the matrix).
 %   v = getfrsbf(file, var, step)  the value at one step (1..tdef): a column vector or the matrix.
-%   Topology and counts (lnp, ln, le, it, nx, ne, nxp, nep, ndof, nddof, tdef, rxyz, rl0, x0) are
-%   returned as stored, whatever step. Names are case-insensitive. Layouts: io/results.md.
+%   Topology, counts and element constants (lnp, ln, le, it, nx, ne, nxp, nep, ndof, nddof, tdef,
+%   rxyz, rl0, x0, estiff, stif, edamp, em) are returned as stored, whatever step. Names are
+%   case-insensitive. Layouts: io/results.md.
   if nargin < 2 || ~ischar(file) || ~ischar(var)
     error('getfrsbf:usage', 'usage: getfrsbf(file, var[, step])');
   end
@@ -16,6 +18,9 @@ function out = getfrsbf(file, var, step)
   end
   s = load(file, '-mat');
   names = fieldnames(s);
+  if strcmpi(var, 'fxtot') && ~any(strcmpi(names, 'fxtot'))
+    var = 'fxt';  % SPACAR's workspace name of the total nodal forces; the file holds fxt
+  end
   k = find(strcmpi(names, var), 1);
   if isempty(k)
     error('getfrsbf:var', 'getfrsbf: %s holds no variable ''%s'' (it holds: %s)', file, var, ...
@@ -23,7 +28,7 @@ function out = getfrsbf(file, var, step)
   end
   v = s.(names{k});
   key = lower(var);
-  rows = {'time', 'x', 'xd', 'xdd', 'e', 'ed', 'edd', 'sig', 'fxt', 'freq'};
+  rows = {'time', 'x', 'xd', 'xdd', 'e', 'ed', 'edd', 'sig', 'fxt', 'fx', 'fxgrav', 'freq'};
   pages = {'dx', 'bigd', 'm0', 'k0', 'g0', 'c0', 'd0', 'n0', 'modeq', 'modex'};
   isRows = any(strcmp(key, rows));
   isPages = any(strcmp(key, pages));

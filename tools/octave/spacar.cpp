@@ -1,16 +1,19 @@
-// spacar(mode, name): SPACAR's MATLAB entry point over the flexmb libraries (MEX API only, so that
-// Octave's `mkoctfile --mex` and MATLAB's `mex` both build it). Reads name.dat, runs the analysis
+// spacar(mode, name[, opts]): SPACAR's MATLAB entry point over the flexmb libraries (MEX API only, so
+// that Octave's `mkoctfile --mex` and MATLAB's `mex` both build it). Reads name.dat, runs the analysis
 // of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices, 4 eigenfrequencies along the
 // trajectory, 10 statics; a negative mode runs the same without console output), writes
 // name.sbd / name.sbm (io/results.md), puts their variables into the caller's workspace and, when
-// an output is requested, returns them in a struct. Errors (input file:line, a failed run, a failing
-// user function) are MATLAB errors; a run that stops keeps and assigns the steps it stored.
+// an output is requested, returns them in a struct. opts (modes 1, 3, 4): a struct choosing the
+// integrator and its settings (parseOptions). Errors (input file:line, a failed run, a failing user
+// function, Ctrl-C) are MATLAB errors; a run that stops writes and assigns the steps it stored first.
 // USERSIG / USERINP functions named in the file are called back through mexCallMATLAB
 // (tools/octave/MatlabUserFunctions.hpp).
 #include "mex.h"
 
 #include <matio.h>
 
+#include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -28,6 +31,7 @@
 #include "io/DatReader.hpp"
 #include "io/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
+#include "tools/octave/OctaveInterrupt.hpp"
 
 using namespace flexmb;
 
@@ -54,6 +58,48 @@ void readBack(const std::string& path, Variables& vars, bool skipTime) {
   Mat_Close(mat);
 }
 
+// spacar(mode, name, opts): the fields of opts (names case-insensitive), all optional:
+//   integrator  'ode45' (default), 'bdf' or 'auto' (analysis::Integrator)
+//   reltol, abstol, maxstep, tend   positive numbers overriding the file's ERROR / TIMESTEP / HMAX
+//   intervals   output intervals (a whole number >= 0; 0: every step)
+//   bdforder    the highest BDF order, 1 to 5 (bdf and auto)
+// Returns an error message (empty: fine).
+std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt) {
+  if (!mxIsStruct(o) || mxGetNumberOfElements(o) != 1)
+    return "spacar: the third argument must be a struct of options (integrator, reltol, abstol, maxstep, tend, "
+           "intervals, bdforder)";
+  for (int k = 0; k < mxGetNumberOfFields(o); ++k) {
+    std::string name = mxGetFieldNameByNumber(o, k);
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const mxArray* v = mxGetFieldByNumber(o, 0, k);
+    if (name == "integrator") {
+      char* text = v && mxIsChar(v) ? mxArrayToString(v) : nullptr;
+      const std::string value = text ? text : "";
+      mxFree(text);
+      const auto integrator = analysis::parseIntegrator(value);
+      if (!integrator) return "spacar: opts.integrator must be 'ode45', 'bdf' or 'auto'";
+      opt.integrator = *integrator;
+      continue;
+    }
+    const bool scalar = v && mxIsNumeric(v) && !mxIsComplex(v) && mxGetNumberOfElements(v) == 1;
+    const double x = scalar ? mxGetScalar(v) : std::nan("");
+    if (name == "intervals") {
+      if (!(x >= 0 && x == std::floor(x) && x < 1e9)) return "spacar: opts.intervals must be a whole number >= 0";
+      opt.intervals = static_cast<int>(x);
+    } else if (name == "bdforder") {
+      if (!(x >= 1 && x <= 5 && x == std::floor(x))) return "spacar: opts.bdforder must be 1, 2, 3, 4 or 5";
+      opt.bdfMaxOrder = static_cast<int>(x);
+    } else if (name == "reltol" || name == "abstol" || name == "maxstep" || name == "tend") {
+      if (!(std::isfinite(x) && x > 0)) return "spacar: opts." + name + " must be a positive finite number";
+      (name == "reltol" ? opt.relTol : name == "abstol" ? opt.absTol : name == "maxstep" ? opt.maxStep : opt.tEnd) = x;
+    } else {
+      return "spacar: unknown option '" + name +
+             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder)";
+    }
+  }
+  return "";
+}
+
 struct Run {
   std::string error;  // empty: success
   std::string errorId = "flexmb:spacar:run";
@@ -64,7 +110,7 @@ void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
 }
 
-void runSpacar(int mode, bool silent, std::string name, Run& run) {
+void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
   core::Model model;
@@ -85,6 +131,7 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
   }
   io::SpacarResults results;
   std::ostringstream out;
+  bool interrupted = false;
   try {
     switch (mode) {
       case 0:
@@ -95,10 +142,37 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
       case 1:
       case 3:
       case 4: {
-        analysis::SimulationOptions opt;
-        const core::Trajectory traj = analysis::simulate(model, opt);
+        analysis::SimulationOptions opt = simOptions;
+        core::Trajectory traj;
+        const auto start = std::chrono::steady_clock::now();
+        {
+          octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
+          opt.interrupt = watch.flag();
+          traj = analysis::simulate(model, opt);
+          interrupted = watch.interrupted();
+        }
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
-            << " failed attempts, " << traj.nfevals << " function evaluations\n";
+            << " failed attempts, " << traj.nfevals << " function evaluations ("
+            << (traj.integrator == "ode45+bdf" ? "auto: ode45, then bdf" : traj.integrator) << ")\n";
+        // Where the time goes: the interpreter (user functions) against flexmb itself.
+        if (user->active()) {
+          const double inUser = user->stressCalls().seconds + user->inputCalls().seconds;
+          out << "spacar: wall time " << wall << " s: " << user->timing() << "; flexmb " << wall - inUser << " s";
+          if (traj.nfevals > 0)
+            out << " (" << 1e3 * (wall - inUser) / static_cast<double>(traj.nfevals) << " ms per evaluation)";
+          out << "\n";
+        } else {
+          out << "spacar: wall time " << wall << " s\n";
+        }
+        if (!std::isnan(traj.switchedAt))
+          out << "spacar: auto: ode45's step was bound by stability at t = " << traj.switchedAt << " s (|lambda| about "
+              << traj.stiffLambda << " 1/s): bdf from there on\n";
+        else if (opt.integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
+          out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
+              << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda
+              << " 1/s): spacar(" << mode << ", '" << name << "', struct('integrator', 'auto')) or 'bdf' would be "
+              << "faster\n";
         analysis::SpacarOutputOptions so;
         so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
         std::optional<analysis::TrajectoryModes> tm;
@@ -127,7 +201,17 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
   }
   // A user-function failure stops the integration like any right-hand-side failure: its message
   // (function, time, reason) is the stop reason.
-  if (!results.completed) run.error = datFile + ": run stopped: " + results.stopReason;
+  if (interrupted) {
+    std::ostringstream m;
+    m << datFile << ": interrupted (Ctrl-C)";
+    if (!results.time.empty()) m << " after t = " << results.time.back();
+    m << "; the " << results.time.size() << " output times computed so far are in " << name
+      << ".sbd and the workspace (tdef)";
+    run.error = m.str();
+    run.errorId = "flexmb:spacar:interrupted";
+  } else if (!results.completed) {
+    run.error = datFile + ": run stopped: " + results.stopReason;
+  }
   say(silent, out.str());
   if (!results.warning.empty() && !silent)
     mexWarnMsgIdAndTxt("flexmb:spacar:kinematics", "%s: %s", datFile.c_str(), results.warning.c_str());
@@ -136,6 +220,9 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
     for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
     readBack(written[0], run.vars, false);
     if (written.size() > 1) readBack(written[1], run.vars, true);
+    // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.
+    for (std::size_t k = 0, n = run.vars.size(); k < n; ++k)
+      if (run.vars[k].first == "fxt") run.vars.emplace_back("fxtot", mxDuplicateArray(run.vars[k].second));
   } catch (const std::exception& e) {
     if (run.error.empty()) run.error = e.what();
   }
@@ -144,20 +231,27 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
 }  // namespace
 
 void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
-  if (nrhs != 2 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
+  if (nrhs < 2 || nrhs > 3 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
     mexErrMsgIdAndTxt("flexmb:spacar:usage",
-                      "usage: spacar(mode, 'name') with mode 0, 1, 3, 4 or 10 (negative: silent)");
+                      "usage: spacar(mode, 'name'[, opts]) with mode 0, 1, 3, 4 or 10 (negative: silent) and opts a "
+                      "struct (integrator, reltol, abstol, maxstep, tend, intervals, bdforder) for modes 1, 3, 4");
   if (nlhs > 1) mexErrMsgIdAndTxt("flexmb:spacar:usage", "spacar returns at most one output (a struct)");
   const double m = mxGetScalar(prhs[0]);
   char* nameC = mxArrayToString(prhs[1]);
   const std::string name = nameC ? nameC : "";
   mxFree(nameC);
   Run run;
+  analysis::SimulationOptions options;
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";
+  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options)).empty()) {
+    run.errorId = "flexmb:spacar:usage";
+  } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4) {
+    run.error = "spacar: options (the third argument) apply to modes 1, 3 and 4 (time integration)";
+    run.errorId = "flexmb:spacar:usage";
   } else {
-    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, run);
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, run);
   }
   // Results so far go to the workspace even when the run stopped.
   // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().

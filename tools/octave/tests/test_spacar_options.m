@@ -1,0 +1,85 @@
+function test_spacar_options(src, flexmb)
+% spacar(mode, name, opts): the integrator and its settings from Octave (issue 23). The stiff damped
+% probe (datfiles/tests/damped_probe.dat) with opts.integrator 'bdf' and 'auto' equals a
+% tight-tolerance BDF reference and the Kelvin-Voigt creep law of its tip; tend / intervals set the
+% span and the output grid; bad options are usage errors. Ctrl-C (SIGINT to Octave) during a run,
+% inside flexmb and inside a user function, stops it with the identifier flexmb:spacar:interrupted
+% after the steps so far were written to the .sbd and assigned (tdef says how many), and Octave and
+% the gateway go on working. Timings are printed, not asserted.
+  copyfile(fullfile(src, 'datfiles', 'tests', 'damped_probe.dat'), '.');
+  copyfile(fullfile(src, 'tools', 'octave', 'tests', 'data', 'rod_user.dat'), 'rod_slow.dat');
+  t0 = tic;
+  b = spacar(-1, 'damped_probe', struct('integrator', 'bdf'));
+  tb = toc(t0);
+  t0 = tic;
+  a = spacar(-1, 'damped_probe', struct('Integrator', 'auto'));
+  ta = toc(t0);
+  r = spacar(-1, 'damped_probe', struct('integrator', 'bdf', 'reltol', 1e-9, 'abstol', 1e-16, 'bdforder', 5));
+  assert(b.tdef == 101 && a.tdef == 101 && r.tdef == 101, 'steps: %d %d %d', b.tdef, a.tdef, r.tdef);
+  tip = b.lnp(3, 2);
+  yr = r.x(:, tip);
+  db = max(abs(b.x(:, tip) - yr)) / abs(yr(end));
+  da = max(abs(a.x(:, tip) - yr)) / abs(yr(end));
+  EI = 1.031e-2;
+  ys = 0.1 * 0.01^3 / (3 * EI);
+  creep = ys * (1 - exp(-r.time(2:end) / (1e-3 / EI)));
+  dr = max(abs(yr(2:end) - creep) ./ creep);
+  fprintf('damped probe: bdf %.3f s, auto %.3f s; vs reference (bdf order 5, RelTol 1e-9): bdf %.2e, auto %.2e; reference vs creep law %.2e\n', ...
+          tb, ta, db, da, dr);
+  assert(db < 1e-3 && da < 1e-3, 'bdf / auto differ from the reference by %g / %g', db, da);
+  assert(dr < 1e-2, 'the reference differs from the creep law by %g', dr);
+  % tend and intervals.
+  c = spacar(-1, 'damped_probe', struct('integrator', 'bdf', 'tend', 0.002, 'intervals', 4));
+  assert(c.tdef == 5 && abs(c.time(end) - 0.002) < 1e-15, 'tend / intervals: %d steps to %g', c.tdef, c.time(end));
+  % Bad options.
+  bad = {struct('integrator', 'rk4'), struct('reltol', -1), struct('intervals', 1.5), struct('bdforder', 6), ...
+         struct('stepsize', 1), 3};
+  for k = 1:numel(bad)
+    try
+      spacar(-1, 'damped_probe', bad{k});
+      error('option set %d was accepted', k);
+    catch err
+      assert(strcmp(err.identifier, 'flexmb:spacar:usage'), 'option set %d: %s (%s)', k, err.message, err.identifier);
+    end
+  end
+  try
+    spacar(-10, 'damped_probe', struct('integrator', 'bdf'));
+    error('statics took integrator options');
+  catch err
+    assert(strcmp(err.identifier, 'flexmb:spacar:usage'), '%s', err.message);
+  end
+  % Ctrl-C inside flexmb: a default ode45 run of the probe over 0.1 ms takes about half a minute
+  % (steps of ~3e-11 s); its outputs are 1e-8 s apart.
+  interrupt('damped_probe', struct('tend', 1e-4, 'intervals', 10000));
+  % Ctrl-C while Octave runs a user function (20 ms per call).
+  interrupt('rod_slow', struct('tend', 100, 'intervals', 100000), 'flexmb_test_slow_loads');
+  d = spacar(-1, 'damped_probe', struct('integrator', 'bdf'));
+  assert(isequal(d.x, b.x), 'the gateway differs after the interrupts');
+end
+
+function interrupt(name, opts, usersig)
+  if nargin > 2
+    text = fileread([name '.dat']);
+    text = strrep(text, 'USERSIG flexmb_test_fis_loads', ['USERSIG ' usersig]);
+    fid = fopen([name '.dat'], 'w');
+    fprintf(fid, '%s', text);
+    fclose(fid);
+  end
+  system(sprintf('(sleep 2; kill -INT %d) >/dev/null 2>&1 &', getpid()));
+  t0 = tic;
+  try
+    spacar(-1, name, opts);
+    error('%s: not interrupted', name);
+  catch err
+    elapsed = toc(t0);
+    assert(strcmp(err.identifier, 'flexmb:spacar:interrupted'), '%s: %s (%s)', name, err.message, err.identifier);
+  end
+  assert(elapsed < 20, '%s: the interrupt took %.1f s', name, elapsed);
+  % The workspace (this function's) got the steps so far, and the file holds the same.
+  assert(exist('tdef', 'var') == 1 && exist('x', 'var') == 1, '%s: no tdef / x in the workspace', name);
+  assert(tdef >= 1 && size(x, 1) == tdef, '%s: tdef %d, x %d rows', name, tdef, size(x, 1));
+  xs = getfrsbf([name '.sbd'], 'x');
+  assert(getfrsbf([name '.sbd'], 'tdef') == tdef && isequal(reshape(xs, size(x)), x), ...
+         '%s: the .sbd differs from the workspace', name);
+  fprintf('%s: interrupted after %.2f s: %s\n', name, elapsed, err.message);
+end
