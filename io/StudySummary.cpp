@@ -153,13 +153,17 @@ StudyRecord readStudyRecord(const std::string& path) {
 }
 
 std::vector<std::string> plottableQuantities(const std::vector<StudyRecord>& records) {
+  // Counts that describe the run rather than the design.
+  static const std::set<std::string> bookkeeping = {"dofs", "rank", "static_steps", "sim_steps", "sim_fevals"};
   std::vector<std::string> out;
-  for (const auto& q : quantityColumns(records))
+  for (const auto& q : quantityColumns(records)) {
+    if (bookkeeping.count(q)) continue;
     for (const auto& r : records)
       if (std::isfinite(valueIn(r.quantities, q))) {
         out.push_back(q);
         break;
       }
+  }
   return out;
 }
 
@@ -220,8 +224,8 @@ std::string renderStudyReport(const StudyReport& report, const std::vector<Study
     for (const auto& q : quantities)
       for (const auto& p : params) {
         Plot plot = studyPlot(records, q, p);
-        plot.width = 560;
-        plot.height = 360;
+        plot.width = 480;
+        plot.height = 320;
         h << "<figure>" << renderSvg(plot) << "</figure>\n";
       }
   }

@@ -50,7 +50,8 @@ struct StudyReport {
 // The HTML page: title, summary counts, plots (inline SVG), the failed variants with reasons, and
 // the table.
 std::string renderStudyReport(const StudyReport& report, const std::vector<StudyRecord>& records);
-// The quantities plotted by default: every quantity column with a finite value in some record.
+// The quantities plotted by default: every quantity column with a finite value in some record,
+// except the counts (dofs, rank, static_steps, sim_steps, sim_fevals).
 std::vector<std::string> plottableQuantities(const std::vector<StudyRecord>& records);
 
 }  // namespace flexmb::io

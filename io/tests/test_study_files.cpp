@@ -108,16 +108,16 @@ TEST(StudySummary, RecordRoundTripWithQuotedReasonAndEmptyCells) {
 }
 
 TEST(StudySummary, CollectedTableTakesTheUnionOfColumns) {
-  StudyRecord a{1, "v0001", {{"t", 1}}, "ok", "", {{"f1_Hz", 10}, {"buckling1", 3}}};
+  StudyRecord a{1, "v0001", {{"t", 1}}, "ok", "", {{"dofs", 4}, {"f1_Hz", 10}, {"buckling1", 3}}};
   StudyRecord b{2, "v0002", {{"t", 2}}, "failed", "no mass", {}};
   StudyRecord c{3, "v0003", {{"t", 3}}, "ok", "", {{"f1_Hz", 30}, {"k_node3_x", 5}}};
   std::ostringstream out;
   writeStudyTable(out, {a, b, c});
   EXPECT_EQ(out.str(),
-            "variant,name,t,status,f1_Hz,buckling1,k_node3_x,reason\n"
-            "1,v0001,1,ok,10,3,,\n"
-            "2,v0002,2,failed,,,,no mass\n"
-            "3,v0003,3,ok,30,,5,\n");
+            "variant,name,t,status,dofs,f1_Hz,buckling1,k_node3_x,reason\n"
+            "1,v0001,1,ok,4,10,3,,\n"
+            "2,v0002,2,failed,,,,,no mass\n"
+            "3,v0003,3,ok,,30,,5,\n");
   EXPECT_EQ(plottableQuantities({a, b, c}), (std::vector<std::string>{"f1_Hz", "buckling1", "k_node3_x"}));
 }
 

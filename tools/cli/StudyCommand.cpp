@@ -424,7 +424,7 @@ std::string studyDescription(const Study& s, const std::vector<std::string>& arg
   for (const auto& [n, v] : s.variants.front().values) o << " " << n;
   o << "\n";
   std::istringstream a(s.analyses.describe());
-  for (std::string line; std::getline(a, line);) o << "analysis " << line << "\n";
+  for (std::string line; std::getline(a, line);) o << "analysis: " << line << "\n";
   if (!s.plot.empty()) {
     o << "plot:";
     for (const auto& p : s.plot) o << " " << p;
@@ -519,7 +519,7 @@ int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
   }
   if (plot.empty() && setup.count("plot")) plot = splitList(setup.at("plot"), ' ');
   io::StudyReport report;
-  report.title = "Study of " + setup.at("template");
+  report.title = "Study of " + fs::path(setup.at("template")).filename().string();
   report.lines.push_back("template: " + setup.at("template"));
   if (setup.count("analysis"))
     for (const auto& l : splitList(setup.at("analysis"), '\n')) report.lines.push_back("analysis: " + l);

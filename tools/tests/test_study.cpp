@@ -292,7 +292,8 @@ TEST_F(StudyCli, SummaryFrequenciesEqualFlexmbModesOnTheInstantiatedModel) {
   for (std::string x; std::getline(h, x, ',');) header.push_back(x);
   for (std::string x; std::getline(c, x, ',');) cells.push_back(x);
   for (int i = 0; i < 6; ++i) {
-    const auto at = std::find(header.begin(), header.end(), "f" + std::to_string(i + 1) + "_Hz") - header.begin();
+    const std::string name = std::string("f").append(std::to_string(i + 1)).append("_Hz");
+    const auto at = std::find(header.begin(), header.end(), name) - header.begin();
     ASSERT_LT(static_cast<size_t>(at), cells.size());
     EXPECT_NEAR(std::stod(cells[at]) / printed[i], 1.0, 1e-7) << i;
   }
