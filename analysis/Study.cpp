@@ -37,23 +37,6 @@ std::string listed(const std::vector<std::string>& v, size_t shown = 6) {
 
 double hertz(double omega) { return omega / (2 * M_PI); }
 
-// The eigenfrequencies in the initial configuration as `flexmb modes` computes them: the model
-// assembled at t0, linearised at rest under its initial loads (load factor 0).
-Frequencies initialModes(const core::Model& model, int nev) {
-  core::Linearization lin(model);
-  const double t = model.settings.t0;
-  lin.kinematics().solvePositions(t, lin.kinematics().initialDofs());
-  Eigen::VectorXd f;
-  lin.appliedForces(t, 0.0, f);
-  const Eigen::VectorXd eta = lin.kinematics().initialDofs();
-  core::LinearizedSystem sys;
-  lin.atRest(t, eta, f, sys);
-  Frequencies fr = naturalFrequencies(lin, sys, std::min(nev, lin.size()));
-  if (!fr.omega.allFinite() || fr.omega.size() == 0)
-    throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
-  return fr;
-}
-
 // Nodes that carry a static load (XF, DELXF, moments), by label, ascending.
 std::vector<int> loadedNodes(const core::Model& m) {
   std::set<int> labels;
@@ -341,7 +324,9 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   if (a.modes > 0) {
     addFrequencies("f", std::min(a.modes, model.numDofs()), nullptr, q);
     stage("modes", [&] {
-      r.modes = initialModes(model, a.modes);
+      r.modes = initialModes(model, std::nullopt, a.modes).frequencies;  // as `flexmb modes`
+      if (!r.modes->omega.allFinite() || r.modes->omega.size() == 0)
+        throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
       const size_t at = q.size() - std::min(a.modes, model.numDofs());
       for (Eigen::Index i = 0; i < r.modes->omega.size() && at + i < q.size(); ++i)
         q[at + i].second = hertz(r.modes->omega[i]);

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/Modes.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"

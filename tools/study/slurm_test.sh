@@ -72,6 +72,7 @@ ClusterName=flexmbtest
 SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
+MailProg=/bin/true
 SlurmctldPort=$port
 SlurmdPort=$((port + 1))
 AuthType=auth/munge
