@@ -458,7 +458,8 @@ std::string variantFingerprint(const std::string& templateText, const io::Parame
   return hex64(h);
 }
 
-VariantState variantState(const std::string& manifestPath, const std::string& fingerprint) {
+VariantState variantState(const std::string& manifestPath, const std::string& fingerprint,
+                          const std::string& summaryPath) {
   std::ifstream in(manifestPath);
   if (!in) return VariantState::NotRun;
   std::string status, print;
@@ -468,6 +469,11 @@ VariantState variantState(const std::string& manifestPath, const std::string& fi
   }
   if (status.empty()) return VariantState::NotRun;
   if (print != fingerprint) return VariantState::Stale;
+  try {
+    io::readStudyRecord(summaryPath);
+  } catch (const std::exception&) {
+    return VariantState::NotRun;
+  }
   return status.rfind("failed", 0) == 0 ? VariantState::FinishedFailed : VariantState::Finished;
 }
 

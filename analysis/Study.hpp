@@ -112,9 +112,12 @@ std::string variantFingerprint(const std::string& templateText, const io::Parame
                                const StudyAnalyses& analyses, const std::string& version);
 
 enum class VariantState { NotRun, Finished, FinishedFailed, Stale };
-// From the variant's manifest (<prefix>_run.txt, io/OutputFile.hpp): finished when it exists and
-// names the same fingerprint; FinishedFailed when its status is "failed: ..."; Stale when the
-// fingerprint differs (the template or the analyses changed since).
-VariantState variantState(const std::string& manifestPath, const std::string& fingerprint);
+// From the variant's manifest (<prefix>_run.txt, io/OutputFile.hpp) and summary: finished when the
+// manifest exists and names the same fingerprint and the summary reads back (the variants' files
+// are committed without fsync, io::OutputSet::setSync: after a power failure a manifest may stand
+// beside an empty summary, and the variant runs again); FinishedFailed when its status is
+// "failed: ..."; Stale when the fingerprint differs (the template or the analyses changed since).
+VariantState variantState(const std::string& manifestPath, const std::string& fingerprint,
+                          const std::string& summaryPath);
 
 }  // namespace flexmb::analysis

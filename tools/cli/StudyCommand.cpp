@@ -20,6 +20,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -208,6 +209,7 @@ int runVariantFiles(const Study& s, int k) {
   removeStaleTemporaries(folder);
   try {
     io::OutputSet files(s.prefix(k));
+    files.setSync(false);  // resume checks the summary (analysis::variantState); see io::OutputSet::setSync
     files.checkWritable();
     io::StudyRecord record;
     std::string status = "complete";
@@ -273,6 +275,7 @@ void recordCrash(const Study& s, int k, int signal) {
   removeStaleTemporaries(folder);
   const std::string reason = "the analysis crashed (signal " + std::to_string(signal) + ": " + strsignal(signal) + ")";
   io::OutputSet files(s.prefix(k));
+  files.setSync(false);
   files.checkWritable();
   writeRecord(files, analysis::failedRecord(s.variants[k], reason));
   files.setting("command", "study");
@@ -503,10 +506,16 @@ int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
       // Finished for this study: its manifest names the fingerprint the study gave the variant.
       const auto manifest = readKeyValues(prefix + "_run.txt");
       const auto fp = manifest.find("fingerprint");
-      if (fp != manifest.end() && fp->second == cells[2] && fs::exists(prefix + "_summary.csv")) {
-        io::StudyRecord r = io::readStudyRecord(prefix + "_summary.csv");
-        r.variant = v.number;
-        records.push_back(std::move(r));
+      std::optional<io::StudyRecord> summary;
+      if (fp != manifest.end() && fp->second == cells[2]) {
+        try {
+          summary = io::readStudyRecord(prefix + "_summary.csv");
+        } catch (const std::exception&) {  // unsynced files after a power failure: missing, runs again
+        }
+      }
+      if (summary) {
+        summary->variant = v.number;
+        records.push_back(std::move(*summary));
       } else {
         io::StudyRecord r = analysis::failedRecord(v, "not run yet");
         r.status = "missing";
@@ -529,6 +538,7 @@ int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
   const auto quantities = plot.empty() ? io::plottableQuantities(records) : plot;
   try {
     io::OutputSet files((fs::path(dir) / "study").string());
+    files.setSync(false);  // made again from the variants by `flexmb study collect` at any time
     files.checkWritable();
     {
       std::ofstream f(files.temporaryFor("_summary.csv"));
@@ -758,7 +768,8 @@ int runStudy(const std::vector<std::string>& args) {
   std::vector<int> pending;
   int done = 0, stale = 0;
   for (int k : share) {
-    const auto state = analysis::variantState(s.prefix(k) + "_run.txt", s.fingerprints[k]);
+    const auto state =
+        analysis::variantState(s.prefix(k) + "_run.txt", s.fingerprints[k], s.prefix(k) + "_summary.csv");
     if (state == analysis::VariantState::Finished ||
         (state == analysis::VariantState::FinishedFailed && !rerunFailed)) {
       ++done;
