@@ -33,9 +33,9 @@ void syncFile(const std::string& path) {
 
 std::string temporaryName(const std::string& path) { return path + ".part-" + std::to_string(::getpid()); }
 
-void commitTemporary(const std::string& temp, const std::string& path) {
+void commitTemporary(const std::string& temp, const std::string& path, bool sync) {
   try {
-    syncFile(temp);
+    if (sync) syncFile(temp);
   } catch (...) {
     std::remove(temp.c_str());
     throw;
@@ -121,7 +121,7 @@ void checkMatFileComplete(const std::string& path) {
   std::fclose(f);
 }
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)), temp_(temporaryName(path_)) {
+OutputFile::OutputFile(std::string path, bool sync) : path_(std::move(path)), temp_(temporaryName(path_)), sync_(sync) {
   out_.open(temp_, std::ios::binary);
   if (!out_) throw std::runtime_error("cannot write '" + path_ + "': " + reason(errno, "cannot create it"));
   out_.precision(17);
@@ -146,7 +146,7 @@ void OutputFile::commit() {
     throw std::runtime_error("cannot write '" + path_ + "': " + reason(err, "write failed"));
   }
   done_ = true;
-  commitTemporary(temp_, path_);
+  commitTemporary(temp_, path_, sync_);
 }
 
 std::string OutputSet::resolvePrefix(const std::string& out, const std::string& modelFile, const std::string& suffix) {
@@ -208,11 +208,11 @@ std::vector<std::string> OutputSet::commit(const std::string& status) {
         throw std::runtime_error(e.what());
       }
     }
-    commitTemporary(temp, final);
+    commitTemporary(temp, final, sync_);
     written.push_back(final);
   }
   committed_ = true;
-  OutputFile m(manifestPath());
+  OutputFile m(manifestPath(), sync_);
   m << "flexmb run\nstatus: " << status << "\n";
   for (const auto& [name, value] : settings_) m << name << ": " << value << "\n";
   for (const auto& w : written) m << "file: " << fs::path(w).filename().string() << "\n";

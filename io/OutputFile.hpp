@@ -21,7 +21,9 @@ namespace flexmb::io {
 
 class OutputFile {
  public:
-  explicit OutputFile(std::string path);  // throws std::runtime_error when the temporary cannot be opened
+  // sync = false: rename without fsync (see OutputSet::setSync). Throws std::runtime_error when the
+  // temporary cannot be opened.
+  explicit OutputFile(std::string path, bool sync = true);
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   ~OutputFile();  // removes the temporary when not committed
@@ -37,12 +39,14 @@ class OutputFile {
   std::string path_, temp_;
   std::ofstream out_;
   bool done_ = false;
+  bool sync_ = true;
 };
 
 // Temporary name of path: "<path>.part-<pid>" (same folder, so rename() is atomic).
 std::string temporaryName(const std::string& path);
-// fsync + rename temp to path; throws std::runtime_error (and removes temp) on failure.
-void commitTemporary(const std::string& temp, const std::string& path);
+// fsync (unless sync is false) + rename temp to path; throws std::runtime_error (and removes temp)
+// on failure.
+void commitTemporary(const std::string& temp, const std::string& path, bool sync = true);
 // Runs writer(p) on a path p in memory (a memfd), then copies the bytes to path with checked
 // writes: for writers that do not report failed writes (matio ignores a full disk). Falls back to
 // writer(path) where memfd is unavailable.
@@ -77,12 +81,20 @@ class OutputSet {
   // ("complete" or why the run stopped). Returns the final paths. Throws on failure.
   std::vector<std::string> commit(const std::string& status);
   std::string manifestPath() const { return prefix_ + "_run.txt"; }
+  // false: commit renames without fsync. For many small file sets that can be made again (the
+  // variants of a design study: four fsyncs cost more than a variant's analysis and queue the
+  // workers on the disk's journal). Failed writes are still errors where the file system reports
+  // them on write or close (ext4 reserves delayed-allocation blocks on write, NFS reports on close);
+  // given up is that the bytes reach the disk before the manifest does, across a power failure:
+  // a reader of such a set checks the files itself.
+  void setSync(bool sync) { sync_ = sync; }
 
  private:
   std::string prefix_;
   std::vector<std::pair<std::string, std::string>> files_;  // final, temporary
   std::vector<std::pair<std::string, std::string>> settings_;
   bool committed_ = false;
+  bool sync_ = true;
 };
 
 }  // namespace flexmb::io

@@ -31,6 +31,7 @@ int runStatic(const std::vector<std::string>& args);
 int runSweep(const std::vector<std::string>& args);
 int runReduce(const std::vector<std::string>& args);
 int runValidate(const std::vector<std::string>& args);
+int runStudy(const std::vector<std::string>& args);  // StudyCommand.cpp: design studies, `study collect`
 std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model);
 
 // Reads a model with the common options (--dialect, --elongation); prints errors, returns false.

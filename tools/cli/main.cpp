@@ -28,6 +28,8 @@ void usage(std::ostream& o) {
        "  static     mode 10: equilibrium over the load steps, eigenfrequencies in each\n"
        "  sweep      eigenfrequencies over a range of motion (one nodal coordinate prescribed)\n"
        "  reduce     build a modal or SVD-modal reduction basis (q = V eta)\n"
+       "  study      a design study: a template model, a table of parameter values, the same analyses on\n"
+       "             every variant on all cores (or Slurm), one table and report (`study collect`)\n"
        "  validate   reproduce the paper's Section 4 into validation/report/\n"
        "  keywords   list every .dat keyword flexmb reads\n"
        "Run `flexmb <command> --help` for a command's options; `flexmb --version` for the version.\n"
@@ -74,9 +76,9 @@ int main(int argc, char** argv) {
     command = it->second;
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
-      {"check", runCheck},   {"simulate", runSimulate}, {"keywords", runKeywords},
-      {"modes", runModes},   {"static", runStatic},     {"sweep", runSweep},
-      {"reduce", runReduce}, {"validate", runValidate}, {"show", runShow}};
+      {"check", runCheck},   {"simulate", runSimulate}, {"keywords", runKeywords}, {"modes", runModes},
+      {"static", runStatic}, {"sweep", runSweep},       {"reduce", runReduce},     {"validate", runValidate},
+      {"show", runShow},     {"study", runStudy}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "flexmb: unknown command '" << command << "'\n";

@@ -1,0 +1,480 @@
+#include "analysis/Study.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "core/GeometricTransferFunctions.hpp"
+#include "core/Inertia.hpp"
+#include "core/Linearization.hpp"
+#include "core/ModelDiagnostics.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string variantName(int number) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "v%04d", number);
+  return buf;
+}
+
+std::string listed(const std::vector<std::string>& v, size_t shown = 6) {
+  std::string s;
+  for (size_t i = 0; i < v.size() && i < shown; ++i) s += (i ? ", " : "") + v[i];
+  if (v.size() > shown) s += " and " + std::to_string(v.size() - shown) + " more";
+  return s;
+}
+
+double hertz(double omega) { return omega / (2 * M_PI); }
+
+// Nodes that carry a static load (XF, DELXF, moments), by label, ascending.
+std::vector<int> loadedNodes(const core::Model& m) {
+  std::set<int> labels;
+  for (int i = 0; i < m.nx; ++i) {
+    const bool loaded = (m.f0.size() == m.nx && m.f0[i] != 0.0) || (m.delf.size() == m.nx && m.delf[i] != 0.0);
+    if (loaded) labels.insert(m.nodes[m.xOwnerNode[i]].label);
+  }
+  for (const auto& mo : m.moments)
+    if (!mo.value.isZero(0.0) || !mo.increment.isZero(0.0)) labels.insert(m.nodes[mo.node].label);
+  return {labels.begin(), labels.end()};
+}
+
+bool isPositionNode(core::NodeKind k) { return k == core::NodeKind::Position || k == core::NodeKind::SpatialPosition; }
+
+// Largest node displacement |x_n - x0_n| over the position nodes.
+double maxDisplacement(const core::Model& m, const Eigen::VectorXd& x) {
+  double d = 0.0;
+  for (const auto& n : m.nodes)
+    if (isPositionNode(n.kind))
+      d = std::max(d, (x.segment(n.firstCoord, n.dim()) - m.x0.segment(n.firstCoord, n.dim())).norm());
+  return d;
+}
+
+// The element's reference length: its own where it keeps one (PLBEAM), else the distance between
+// its first and last position node in the initial configuration.
+double elementLength(const core::Model& m, const core::ElementEntry& el) {
+  if (el.impl && el.impl->referenceLength() > 0.0) return el.impl->referenceLength();
+  int first = -1, last = -1;
+  for (int n : el.nodes)
+    if (isPositionNode(m.nodes[n].kind)) (first < 0 ? first : last) = n;
+  if (first < 0 || last < 0) return 0.0;
+  const auto& a = m.nodes[first];
+  const auto& b = m.nodes[last];
+  return (m.x0.segment(b.firstCoord, b.dim()) - m.x0.segment(a.firstCoord, a.dim())).norm();
+}
+
+// The largest section forces over the elements that deform (any dynamic or released deformation;
+// the reaction stresses of their fixed deformations included: a leaf's axial force where its
+// elongation is rigid). Beams measure bending and torsion as l0 times an angle (Eq. 3b/3c;
+// core/elements/SpatialBeam.hpp), so their generalised stresses are moments over l0: times l0 they
+// are the end moments (N m). Spatial beams: bending about the section's local y and z axes apart.
+void addSectionForceMaxima(const core::Model& m, const Eigen::VectorXd& sigma,
+                           std::vector<std::pair<std::string, double>>& q) {
+  std::map<std::string, double> maxima;
+  for (const auto& el : m.elements) {
+    const int nd = el.type->numDeformations();
+    bool elastic = false;
+    for (int k = 0; k < nd; ++k) {
+      const core::Role r = m.eRole[el.firstDef + k];
+      elastic = elastic || r == core::Role::Dynamic || r == core::Role::Calculable;
+    }
+    if (!elastic || el.type->internal) continue;
+    const double l0 = elementLength(m, el);
+    for (int k = 0; k < nd; ++k) {
+      const std::string& name = el.type->deformationNames[k];
+      std::string column;
+      double scale = 1.0;
+      if (name == "elongation") {
+        column = "max_axial_force";
+      } else if (name == "torsion") {
+        column = "max_torsion_moment", scale = l0;
+      } else if (name.rfind("bending y", 0) == 0 || name.rfind("bending z", 0) == 0) {
+        column = std::string("max_bending_moment_") + name[8], scale = l0;
+      } else if (name.rfind("bending", 0) == 0) {
+        column = "max_bending_moment", scale = l0;
+      }
+      if (column.empty() || el.firstDef + k >= sigma.size()) continue;
+      double& v = maxima.emplace(column, 0.0).first->second;
+      v = std::max(v, std::abs(sigma[el.firstDef + k]) * scale);
+    }
+  }
+  for (const char* c :
+       {"max_axial_force", "max_bending_moment", "max_bending_moment_y", "max_bending_moment_z", "max_torsion_moment"})
+    if (auto it = maxima.find(c); it != maxima.end()) q.emplace_back(c, it->second);
+}
+
+void addFrequencies(const std::string& prefix, int count, const Eigen::VectorXd* omega,
+                    std::vector<std::pair<std::string, double>>& q) {
+  for (int i = 0; i < count; ++i)
+    q.emplace_back(prefix + std::to_string(i + 1) + "_Hz", omega && i < omega->size() ? hertz((*omega)[i]) : kNaN);
+}
+
+std::string hex64(std::uint64_t h) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+}  // namespace
+
+// ---- variants ----------------------------------------------------------------------------------
+
+std::vector<Variant> expandVariants(const io::ParameterTable* table, const std::vector<io::ParameterAxis>& grid) {
+  std::set<std::string> names;
+  if (table)
+    for (const auto& p : table->parameters) names.insert(p);
+  for (const auto& a : grid) {
+    if (!names.insert(a.name).second)
+      throw std::invalid_argument("the parameter '" + a.name + "' is given twice (" +
+                                  (table && std::count(table->parameters.begin(), table->parameters.end(), a.name)
+                                       ? "in the table and as --param"
+                                       : "as --param") +
+                                  ")");
+    if (a.values.empty()) throw std::invalid_argument("the parameter '" + a.name + "' has no values");
+  }
+  if (names.empty()) throw std::invalid_argument("no parameters: give a table (--table) or grid axes (--param)");
+  double count = table ? static_cast<double>(table->rows.size()) : 1.0;
+  for (const auto& a : grid) count *= static_cast<double>(a.values.size());
+  if (count > kMaxVariants)
+    throw std::invalid_argument(std::to_string(static_cast<long long>(count)) +
+                                " variants are too many (the limit is " + std::to_string(kMaxVariants) + ")");
+  std::vector<Variant> out;
+  const size_t rows = table ? table->rows.size() : 1;
+  for (size_t r = 0; r < rows; ++r) {
+    // Grid points of this row: odometer over the axes, the last axis fastest.
+    std::vector<size_t> at(grid.size(), 0);
+    for (;;) {
+      Variant v;
+      v.number = static_cast<int>(out.size()) + 1;
+      if (table)
+        for (size_t i = 0; i < table->parameters.size(); ++i)
+          v.values.emplace_back(table->parameters[i], table->rows[r][i]);
+      for (size_t i = 0; i < grid.size(); ++i) v.values.emplace_back(grid[i].name, grid[i].values[at[i]]);
+      const bool named = table && !table->names[r].empty();
+      v.name = named ? table->names[r] : variantName(v.number);
+      if (named && !grid.empty()) {  // a named row with grid axes: one folder per grid point
+        v.name += "_";
+        for (size_t i = 0; i < grid.size(); ++i) {
+          if (i) v.name += '_';
+          v.name += std::to_string(at[i] + 1);
+        }
+      }
+      out.push_back(std::move(v));
+      size_t k = grid.size();
+      while (k > 0 && ++at[k - 1] == grid[k - 1].values.size()) at[--k] = 0;
+      if (k == 0) break;
+    }
+  }
+  // A table's names and the generated ones must not collide (a row named v0002, say).
+  std::set<std::string> folders;
+  for (const auto& v : out)
+    if (!folders.insert(v.name).second)
+      throw std::invalid_argument("two variants are named '" + v.name +
+                                  "' (the table's names must differ from each "
+                                  "other and from the generated v0001, v0002, ...)");
+  return out;
+}
+
+std::vector<int> taskShare(int count, int task, int of) {
+  if (of < 1 || task < 0 || task >= of)
+    throw std::invalid_argument("task " + std::to_string(task) + " of " + std::to_string(of) +
+                                ": the task is a number from 0 to " + std::to_string(of - 1));
+  std::vector<int> share;
+  for (int k = task; k < count; k += of) share.push_back(k);
+  return share;
+}
+
+// ---- analyses ----------------------------------------------------------------------------------
+
+std::string StudyAnalyses::describe() const {
+  std::ostringstream s;
+  s.precision(17);
+  if (check) s << "check: rank\n";
+  if (modes > 0) s << "modes: nev " << modes << "\n";
+  if (statics)
+    s << "static: nev " << statics->nev << ", steps " << (statics->steps > 0 ? std::to_string(statics->steps) : "file")
+      << ", buckling " << statics->buckling << "\n";
+  if (sweep)
+    s << "sweep: node " << sweep->node << " component " << sweep->component << " from " << sweep->from << " to "
+      << sweep->to << " steps " << sweep->steps << " nev " << sweep->nev << "\n";
+  if (simulation) {
+    const auto& o = *simulation;
+    s << "simulate: integrator " << integratorName(o.integrator);
+    if (o.integrator == Integrator::Bdf) s << " order " << o.bdfMaxOrder;
+    auto opt = [&](const char* name, const auto& v) {
+      if (v) s << ", " << name << " " << *v;
+    };
+    opt("t-end", o.tEnd), opt("reltol", o.relTol), opt("abstol", o.absTol), opt("max-step", o.maxStep);
+    opt("intervals", o.intervals);
+    s << ", dynamics " << static_cast<int>(o.dynamics) << "\n";
+  }
+  if (!stiffnessNodes.empty()) {
+    s << "stiffness nodes:";
+    for (int n : stiffnessNodes) s << " " << n;
+    s << "\n";
+  }
+  for (const auto& [name, expression] : derived) s << "derived: " << name << " = " << expression << "\n";
+  return s.str();
+}
+
+std::vector<std::pair<std::string, double>> nodeStiffness(const core::Model& model, const StaticStep& step,
+                                                          int nodeLabel) {
+  std::vector<std::pair<std::string, double>> out;
+  const auto it = model.nodeByLabel.find(nodeLabel);
+  if (it == model.nodeByLabel.end()) return out;
+  const core::Node& node = model.nodes[it->second];
+  core::Linearization lin(model);
+  lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
+  const double t = model.settings.t0;
+  lin.kinematics().setInputLoadFactor(step.loadFactor, step.initialFactor);
+  lin.kinematics().setConfiguration(step.x);  // the equilibrium's assembly branch
+  Eigen::VectorXd q, f;
+  lin.dofs(step.eta, q);
+  lin.kinematics().solvePositions(t, q);
+  lin.appliedForces(t, step.loadFactor, f, step.initialFactor);
+  core::LinearizedSystem sys;
+  lin.atRest(t, step.eta, f, sys, false);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(sys.K + sys.G);
+  if (lu.rank() < sys.K.rows()) return out;
+  const Eigen::MatrixXd A = lin.transfer().middleRows(node.firstCoord, node.dim());  // d x m
+  Eigen::MatrixXd C = A * lu.solve(A.transpose());
+  std::vector<std::string> names;
+  const std::string base = "k_node" + std::to_string(nodeLabel) + "_";
+  switch (node.kind) {
+    case core::NodeKind::Position:
+      names = {"x", "y"};
+      break;
+    case core::NodeKind::SpatialPosition:
+      names = {"x", "y", "z"};
+      break;
+    case core::NodeKind::Orientation:
+      names = {"angle"};
+      break;
+    case core::NodeKind::EulerParameters: {
+      // A global moment M does the work of the generalised force 2 E(lambda)^T M = B M on the
+      // Euler parameters, so the rotation compliance is B^T C_lambda B.
+      const Eigen::Vector4d lambda = step.x.segment<4>(node.firstCoord);
+      Eigen::Matrix<double, 4, 3> B;
+      for (int k = 0; k < 3; ++k) B.col(k) = core::momentMatrix(Eigen::Vector3d::Unit(k)) * lambda;
+      C = (B.transpose() * C * B).eval();
+      names = {"rx", "ry", "rz"};
+      break;
+    }
+  }
+  for (size_t k = 0; k < names.size(); ++k)
+    if (C(k, k) != 0.0) out.emplace_back(base + names[k], 1.0 / C(k, k));  // 0: a fixed coordinate
+  return out;
+}
+
+VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, const io::ParameterValues& parameters) {
+  VariantResults r;
+  auto& q = r.quantities;
+  q.emplace_back("dofs", model.numDofs());
+  const bool needsMass = a.modes > 0 || a.sweep || a.simulation;
+  // What makes every analysis meaningless (as `flexmb` checks a model before it runs one).
+  auto diagnose = [&]() -> std::string {
+    if (!model.userStressFunction.empty() || !model.userInputFunction.empty())
+      return "USERSIG / USERINP name MATLAB functions, which run only through spacar() in Octave or MATLAB";
+    const core::ModelDiagnosis d = core::diagnoseModel(model);
+    if (!d.overflow.empty()) return "values too large to compute with: " + listed(d.overflow);
+    if (!d.mechanismDeformations.empty())
+      r.notes.push_back(std::to_string(d.mechanismDeformations.size()) +
+                        " dynamic deformation(s) without stiffness (mechanism degrees of freedom)");
+    if (model.numDofs() == 0) return "the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)";
+    if (const std::string assembly = core::initialAssemblyProblem(model); !assembly.empty()) return assembly;
+    if (needsMass)
+      if (const auto massless = core::masslessDegreesOfFreedom(model); !massless.empty())
+        return "no mass on " + std::to_string(massless.size()) + " of " + std::to_string(model.numDofs()) +
+               " degrees of freedom: " + listed(massless);
+    return "";
+  };
+  auto stage = [&](const char* name, const auto& body) {
+    if (!r.failure.empty()) return;
+    try {
+      body();
+    } catch (const core::KinematicsError& e) {
+      r.failure = std::string(name) + ": the configuration cannot be assembled: " + e.what();
+    } catch (const std::exception& e) {
+      r.failure = std::string(name) + ": " + e.what();
+    }
+  };
+  stage("model", [&] { r.failure = diagnose(); });
+  if (a.check) {
+    stage("check", [&] {
+      r.check = core::checkKinematics(model);
+      q.emplace_back("rank", r.check->rank);
+      if (!r.check->wellPosed()) {
+        std::string why = "check: the kinematics are not well posed";
+        if (!r.check->underdetermined.empty()) why += "; undetermined: " + listed(r.check->underdetermined);
+        if (!r.check->overdetermined.empty()) why += "; redundant: " + listed(r.check->overdetermined);
+        r.failure = why;
+      }
+    });
+  }
+  if (a.modes > 0) {
+    addFrequencies("f", std::min(a.modes, model.numDofs()), nullptr, q);
+    stage("modes", [&] {
+      r.modes = initialModes(model, std::nullopt, a.modes).frequencies;  // as `flexmb modes`
+      if (!r.modes->omega.allFinite() || r.modes->omega.size() == 0)
+        throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
+      const size_t at = q.size() - std::min(a.modes, model.numDofs());
+      for (Eigen::Index i = 0; i < r.modes->omega.size() && at + i < q.size(); ++i)
+        q[at + i].second = hertz(r.modes->omega[i]);
+    });
+  }
+  if (a.statics) {
+    stage("static", [&] {
+      int nev = std::min(a.statics->nev, model.numDofs());
+      if (nev > 0 && !core::masslessDegreesOfFreedom(model).empty()) {
+        r.notes.push_back("static: no eigenfrequencies (degrees of freedom without mass)");
+        nev = 0;
+      }
+      r.statics = staticAnalysis(model, nev, a.statics->steps, {}, a.statics->buckling);
+      const StaticRun& run = *r.statics;
+      const StaticStep* last = run.steps.empty() ? nullptr : &run.steps.back();
+      q.emplace_back("static_steps", static_cast<double>(run.steps.size()));
+      addFrequencies("static_f", nev, last ? &last->frequencies.omega : nullptr, q);
+      for (int i = 0; i < a.statics->buckling; ++i)
+        q.emplace_back("buckling" + std::to_string(i + 1),
+                       last && i < last->buckling.size() ? last->buckling[i] : kNaN);
+      q.emplace_back("max_displacement", last ? maxDisplacement(model, last->x) : kNaN);
+      if (last) addSectionForceMaxima(model, last->sigma, q);
+      if (last) {
+        const std::vector<int> nodes = a.stiffnessNodes.empty() ? loadedNodes(model) : a.stiffnessNodes;
+        for (int label : nodes) {
+          if (!model.nodeByLabel.count(label))
+            throw std::invalid_argument("no node " + std::to_string(label) + " (--stiffness)");
+          const auto k = nodeStiffness(model, *last, label);
+          if (k.empty())
+            r.notes.push_back("static: no stiffness at node " + std::to_string(label) + " (singular tangent)");
+          q.insert(q.end(), k.begin(), k.end());
+        }
+      }
+      if (!run.completed) r.failure = "static: " + run.stopReason;
+    });
+  }
+  if (a.sweep) {
+    stage("sweep", [&] {
+      SweepOptions o = *a.sweep;
+      o.nev = std::min(o.nev, model.numDofs());
+      const auto it = model.nodeByLabel.find(o.node);
+      if (it == model.nodeByLabel.end() || o.component < 1 || o.component > model.nodes[it->second].dim())
+        throw std::invalid_argument("the model has no node " + std::to_string(o.node) + " with component " +
+                                    std::to_string(o.component));
+      r.sweep = sweep(model, o);
+      for (int i = 0; i < o.nev; ++i) {
+        double lo = kNaN;
+        for (const auto& p : r.sweep->points)
+          if (i < p.omegaSorted.size()) lo = std::isnan(lo) ? p.omegaSorted[i] : std::min(lo, p.omegaSorted[i]);
+        q.emplace_back("sweep_f" + std::to_string(i + 1) + "_min_Hz", std::isnan(lo) ? kNaN : hertz(lo));
+      }
+      double load = r.sweep->points.empty() ? kNaN : 0.0;
+      for (const auto& p : r.sweep->points) load = std::max(load, std::abs(p.load));
+      q.emplace_back("sweep_max_load", load);
+      if (!r.sweep->completed) r.failure = "sweep: stopped " + r.sweep->stopReason;
+    });
+  }
+  if (a.simulation) {
+    stage("simulate", [&] {
+      SimulationOptions o = *a.simulation;
+      o.progress = false;
+      o.interrupt = nullptr;
+      r.trajectory = simulate(model, o);
+      const core::Trajectory& tr = *r.trajectory;
+      q.emplace_back("sim_t_end", tr.time.empty() ? kNaN : tr.time.back());
+      q.emplace_back("sim_steps", static_cast<double>(tr.nsteps));
+      q.emplace_back("sim_fevals", static_cast<double>(tr.nfevals));
+      double d = tr.states.empty() ? kNaN : 0.0;
+      for (const auto& s : tr.states) d = std::max(d, maxDisplacement(model, s.x));
+      q.emplace_back("sim_max_displacement", d);
+      if (!tr.completed) r.failure = "simulate: " + tr.stopReason;
+    });
+  }
+  if (r.failure.empty())
+    for (const auto& [name, expression] : a.derived) {
+      io::ParameterValues vars = parameters;
+      vars.insert(vars.end(), q.begin(), q.end());
+      try {
+        const double v = io::evaluateExpression(expression, vars);
+        q.emplace_back(name, std::isfinite(v) ? v : kNaN);
+      } catch (const std::exception& e) {
+        q.emplace_back(name, kNaN);
+        r.failure = "derived quantity " + name + ": " + e.what();
+        break;
+      }
+    }
+  return r;
+}
+
+io::StudyRecord summaryRecord(const Variant& variant, const VariantResults& results) {
+  io::StudyRecord rec;
+  rec.variant = variant.number;
+  rec.name = variant.name;
+  rec.parameters = variant.values;
+  rec.status = results.failure.empty() ? "ok" : "failed";
+  rec.reason = results.failure;
+  for (const auto& n : results.notes) rec.reason += (rec.reason.empty() ? "note: " : "; note: ") + n;
+  rec.quantities = results.quantities;
+  return rec;
+}
+
+io::StudyRecord failedRecord(const Variant& variant, const std::string& reason) {
+  io::StudyRecord rec;
+  rec.variant = variant.number;
+  rec.name = variant.name;
+  rec.parameters = variant.values;
+  rec.status = "failed";
+  rec.reason = reason;
+  return rec;
+}
+
+// ---- resume ------------------------------------------------------------------------------------
+
+std::string variantFingerprint(const std::string& templateText, const io::ParameterValues& values,
+                               const StudyAnalyses& analyses, const std::string& version) {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64
+  auto add = [&](const std::string& s) {
+    for (unsigned char c : s) {
+      h ^= c;
+      h *= 1099511628211ull;
+    }
+    h ^= 0xff;  // separator
+    h *= 1099511628211ull;
+  };
+  add(templateText);
+  for (const auto& [name, v] : values) add(name + "=" + io::roundTripNumber(v));
+  add(analyses.describe());
+  add(version);
+  return hex64(h);
+}
+
+VariantState variantState(const std::string& manifestPath, const std::string& fingerprint,
+                          const std::string& summaryPath) {
+  std::ifstream in(manifestPath);
+  if (!in) return VariantState::NotRun;
+  std::string status, print;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("status: ", 0) == 0) status = line.substr(8);
+    if (line.rfind("fingerprint: ", 0) == 0) print = line.substr(13);
+  }
+  if (status.empty()) return VariantState::NotRun;
+  if (print != fingerprint) return VariantState::Stale;
+  try {
+    io::readStudyRecord(summaryPath);
+  } catch (const std::exception&) {
+    return VariantState::NotRun;
+  }
+  return status.rfind("failed", 0) == 0 ? VariantState::FinishedFailed : VariantState::Finished;
+}
+
+}  // namespace flexmb::analysis

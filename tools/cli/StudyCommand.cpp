@@ -1,0 +1,821 @@
+// flexmb study: a design study, one template model and a table of parameter values, the same
+// analyses on every variant, run on all cores (one worker process per variant: the analyses share
+// nothing, ARPACK's state included), resumable, splittable into tasks (--task i --of n) and
+// submittable to Slurm (--slurm); `flexmb study collect` joins the summaries into a table and a
+// report. The recipe is analysis/Study.hpp; the file formats io/ModelTemplate, io/StudyTable and
+// io/StudySummary.
+#include <fcntl.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "analysis/Study.hpp"
+#include "io/DatReader.hpp"
+#include "io/ModelTemplate.hpp"
+#include "io/OutputFile.hpp"
+#include "io/ResultWriter.hpp"
+#include "io/StudySummary.hpp"
+#include "io/StudyTable.hpp"
+#include "io/SvgPlot.hpp"
+#include "tools/cli/Commands.hpp"
+#include "tools/cli/Progress.hpp"
+#include "tools/cli/StudySlurm.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace flexmb::cli {
+
+namespace {
+
+constexpr int kVariantBusy = 75;  // a worker's exit code: another process holds the variant's lock
+
+const char* kUsage =
+    "usage: flexmb study template.dat (--param name=from:to:count | --param name=v1,v2,... | --table values.csv)...\n"
+    "                    [--modes] [--static] [--buckling [N]] [--check] [--sweep-node N ...] [--simulate ...]\n"
+    "                    [--out folder] [--jobs N] [--task i --of n] [--slurm [--dry-run]]\n"
+    "       flexmb study collect folder [--plot q1,q2,...]\n\n"
+    "A design study: the template is a .dat file in which numbers may be placeholders, {t} or {2*t}\n"
+    "(muParser expressions in the parameters; {name = expr} defines a value, {name ?= expr} a default);\n"
+    "every variant (a table row, or a point of the --param grid) runs the analyses chosen here and\n"
+    "writes <folder>/variants/<name>/ with a one-line summary. Rerunning the command resumes: finished\n"
+    "variants are skipped. At the end the summaries are collected into <folder>/study_summary.csv and\n"
+    "<folder>/study_report.html (a plot per quantity against each parameter). Default analyses:\n"
+    "--modes --static. Reference: README (Design studies).";
+
+std::string studyStem(const std::string& templatePath) { return fs::path(templatePath).stem().string(); }
+
+std::string variantFolder(const std::string& dir, const std::string& name) {
+  return (fs::path(dir) / "variants" / name).string();
+}
+
+// Everything a worker needs, made once before the workers are forked.
+struct Study {
+  std::string templatePath, stem, dir;
+  io::ReadOptions readOptions;
+  std::optional<io::ModelTemplate> model;
+  analysis::StudyAnalyses analyses;
+  std::vector<analysis::Variant> variants;
+  std::vector<std::string> fingerprints;  // per variant
+  std::vector<std::string> plot;          // quantities to plot (empty: all)
+  bool quiet = false;
+  std::string prefix(int k) const { return (fs::path(variantFolder(dir, variants[k].name)) / stem).string(); }
+};
+
+std::string parametersText(const io::ParameterValues& values) {
+  std::string s;
+  for (const auto& [n, v] : values) s += (s.empty() ? "" : ", ") + n + " = " + io::roundTripNumber(v);
+  return s;
+}
+
+// ---- one variant's files ---------------------------------------------------------------------
+
+void writeChecked(std::ofstream& f, const std::string& what) {
+  f.flush();
+  if (!f) throw std::runtime_error("cannot write '" + what + "': write failed");
+}
+
+void writeText(io::OutputSet& files, const std::string& suffix, const std::string& text) {
+  std::ofstream f(files.temporaryFor(suffix), std::ios::binary);
+  f << text;
+  writeChecked(f, files.prefix() + suffix);
+}
+
+void writeModes(io::OutputSet& files, const analysis::Frequencies& fr) {
+  std::ofstream f(files.temporaryFor("_modes.csv"));
+  f << std::setprecision(17) << "mode,f_Hz,omega_rad_s\n";
+  for (Eigen::Index i = 0; i < fr.omega.size(); ++i)
+    f << i + 1 << "," << fr.omega[i] / (2 * M_PI) << "," << fr.omega[i] << "\n";
+  writeChecked(f, files.prefix() + "_modes.csv");
+}
+
+// The columns of `flexmb static`'s CSV.
+void writeStatic(io::OutputSet& files, const core::Model& model, const analysis::StaticRun& run, int buckling) {
+  Eigen::Index nev = 0;
+  for (const auto& st : run.steps) nev = std::max(nev, st.frequencies.omega.size());
+  std::ofstream f(files.temporaryFor("_static.csv"));
+  f << std::setprecision(17) << "load_factor";
+  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
+  for (Eigen::Index i = 0; i < nev; ++i) f << ",f" << i + 1 << "_Hz";
+  for (int i = 0; i < buckling; ++i) f << ",buckling" << i + 1;
+  f << "\n";
+  for (const auto& st : run.steps) {
+    f << st.loadFactor;
+    for (int i = 0; i < model.nx; ++i) f << "," << st.x[i];
+    for (Eigen::Index i = 0; i < nev; ++i) {
+      f << ",";
+      if (i < st.frequencies.omega.size()) f << st.frequencies.omega[i] / (2 * M_PI);
+    }
+    for (int i = 0; i < buckling; ++i) {
+      f << ",";
+      if (i < st.buckling.size()) f << st.buckling[i];
+    }
+    f << "\n";
+  }
+  writeChecked(f, files.prefix() + "_static.csv");
+}
+
+// The columns of `flexmb sweep`'s CSV.
+void writeSweep(io::OutputSet& files, const core::Model& model, const analysis::SweepResult& r) {
+  Eigen::Index nev = 0;
+  for (const auto& p : r.points) nev = std::max(nev, p.omegaSorted.size());
+  std::ofstream f(files.temporaryFor("_sweep.csv"));
+  f << std::setprecision(17) << "value,load";
+  for (Eigen::Index i = 0; i < nev; ++i) f << ",f" << i + 1 << "_Hz";
+  for (Eigen::Index i = 0; i < nev; ++i) f << ",tracked" << i + 1 << "_Hz";
+  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
+  f << "\n";
+  for (const auto& p : r.points) {
+    f << p.value << "," << p.load;
+    for (Eigen::Index i = 0; i < nev; ++i) {
+      f << ",";
+      if (i < p.omegaSorted.size()) f << p.omegaSorted[i] / (2 * M_PI);
+    }
+    for (Eigen::Index i = 0; i < nev; ++i) {
+      f << ",";
+      if (i < p.omega.size()) f << p.omega[i] / (2 * M_PI);
+    }
+    for (Eigen::Index i = 0; i < p.x.size(); ++i) f << "," << p.x[i];
+    f << "\n";
+  }
+  writeChecked(f, files.prefix() + "_sweep.csv");
+}
+
+void writeSimulation(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj) {
+  if (traj.time.empty()) return;
+  for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
+  io::writeCsv(files.temporaryPrefix(), model, traj);
+  if (io::hasOrientationNodes(model)) {
+    files.temporaryFor("_rot.csv");
+    io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
+  }
+  io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+}
+
+void writeRecord(io::OutputSet& files, const io::StudyRecord& record) {
+  std::ofstream f(files.temporaryFor("_summary.csv"));
+  io::writeStudyRecord(f, record);
+  writeChecked(f, files.prefix() + "_summary.csv");
+}
+
+// Holds the variant's lock file (flock: released when the process ends, however it ends).
+class VariantLock {
+ public:
+  explicit VariantLock(const std::string& folder) {
+    fd_ = ::open((fs::path(folder) / ".lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    held_ = fd_ >= 0 && ::flock(fd_, LOCK_EX | LOCK_NB) == 0;
+  }
+  ~VariantLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  bool held() const { return held_; }
+
+ private:
+  int fd_ = -1;
+  bool held_ = false;
+};
+
+// Temporaries a killed run left in the folder (*.part-<pid>); only while holding the lock.
+void removeStaleTemporaries(const std::string& folder) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder, ec))
+    if (e.path().filename().string().find(".part-") != std::string::npos) fs::remove(e.path(), ec);
+}
+
+// The worker: instantiates, reads and analyses variant k and writes its files, the manifest last.
+// Returns the process's exit code (0: finished, ok or failed; 75: busy; 4: a file failed).
+int runVariantFiles(const Study& s, int k) {
+  const analysis::Variant& v = s.variants[k];
+  const std::string folder = variantFolder(s.dir, v.name);
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  VariantLock lock(folder);
+  if (!lock.held()) return kVariantBusy;
+  removeStaleTemporaries(folder);
+  try {
+    io::OutputSet files(s.prefix(k));
+    files.setSync(false);  // resume checks the summary (analysis::variantState); see io::OutputSet::setSync
+    files.checkWritable();
+    io::StudyRecord record;
+    std::string status = "complete";
+    auto fail = [&](const std::string& reason) {
+      record = analysis::failedRecord(v, reason);
+      status = "failed: " + reason;
+    };
+    std::string text;
+    io::ParameterValues names = v.values;  // with the template's own definitions, for --derive
+    try {
+      text = s.model->instantiate(v.values, &names);
+    } catch (const io::TemplateError& e) {
+      fail(e.what());
+    }
+    double seconds = 0.0;
+    if (!text.empty()) {
+      writeText(files, ".dat", text);
+      const std::string shown = (fs::path("variants") / v.name / (s.stem + ".dat")).string();
+      core::Model model;
+      bool read = false;
+      try {
+        model = io::readDatString(text, shown, s.readOptions);
+        read = true;
+      } catch (const std::exception& e) {
+        fail(e.what());
+      }
+      if (read) {
+        // The analyses' own time: everything else (fork, template, reading, files) is the study's cost.
+        const auto start = std::chrono::steady_clock::now();
+        const analysis::VariantResults r = analysis::runVariant(model, s.analyses, names);
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (r.modes) writeModes(files, *r.modes);
+        if (r.statics) writeStatic(files, model, *r.statics, s.analyses.statics->buckling);
+        if (r.sweep) writeSweep(files, model, *r.sweep);
+        if (r.trajectory) writeSimulation(files, model, *r.trajectory);
+        record = analysis::summaryRecord(v, r);
+        if (!r.failure.empty()) status = "failed: " + r.failure;
+      }
+    }
+    writeRecord(files, record);
+    files.setting("command", "study");
+    files.setting("template", s.templatePath);
+    files.setting("variant", std::to_string(v.number) + " " + v.name);
+    files.setting("parameters", parametersText(v.values));
+    files.setting("fingerprint", s.fingerprints[k]);
+    std::ostringstream secs;
+    secs << seconds;
+    files.setting("analysis seconds", secs.str());
+    files.commit(status);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << v.name << ": " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  return kOk;
+}
+
+// A worker that died of a crash signal: the variant is recorded as failed (so the study goes on and
+// a resume does not crash again; --rerun-failed retries it).
+void recordCrash(const Study& s, int k, int signal) {
+  const std::string folder = variantFolder(s.dir, s.variants[k].name);
+  VariantLock lock(folder);
+  if (!lock.held()) return;
+  removeStaleTemporaries(folder);
+  const std::string reason = "the analysis crashed (signal " + std::to_string(signal) + ": " + strsignal(signal) + ")";
+  io::OutputSet files(s.prefix(k));
+  files.setSync(false);
+  files.checkWritable();
+  writeRecord(files, analysis::failedRecord(s.variants[k], reason));
+  files.setting("command", "study");
+  files.setting("variant", std::to_string(s.variants[k].number) + " " + s.variants[k].name);
+  files.setting("fingerprint", s.fingerprints[k]);
+  files.commit("failed: " + reason);
+}
+
+// ---- the worker pool -------------------------------------------------------------------------
+
+struct PoolReport {
+  int finished = 0, failed = 0, busy = 0, writeFailed = 0, killed = 0;
+  bool interrupted = false;
+  double analysisSeconds = 0.0;
+};
+
+// Status and analysis seconds of a finished variant, from its manifest.
+void readManifest(const std::string& path, std::string& status, double& seconds) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("status: ", 0) == 0) status = line.substr(8);
+    if (line.rfind("analysis seconds: ", 0) == 0) seconds = std::atof(line.c_str() + 18);
+  }
+}
+
+PoolReport runPool(const Study& s, const std::vector<int>& pending, int jobs) {
+  PoolReport rep;
+  installInterruptHandler();
+  const std::atomic<bool>* stop = interruptFlag();
+  std::map<pid_t, int> running;  // worker pid -> variant index
+  size_t next = 0;
+  int failuresShown = 0;
+  Progress progress("study", !s.quiet);
+  std::cout.flush();
+  std::cerr.flush();
+  while (next < pending.size() || !running.empty()) {
+    if (*stop && !rep.interrupted) {  // Ctrl-C (or SIGTERM from a scheduler): stop the workers too
+      rep.interrupted = true;
+      for (const auto& [p, k] : running) ::kill(p, SIGINT);
+    }
+    while (!*stop && next < pending.size() && static_cast<int>(running.size()) < jobs) {
+      const int k = pending[next++];
+      const pid_t pid = ::fork();
+      if (pid == 0) {  // the worker: default signal actions (Ctrl-C ends it; nothing is committed)
+        ::signal(SIGINT, SIG_DFL);
+        ::signal(SIGTERM, SIG_DFL);
+        const int devnull = ::open("/dev/null", O_WRONLY);
+        if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);
+        ::_exit(runVariantFiles(s, k));
+      }
+      if (pid < 0) {
+        std::cerr << "flexmb: cannot start a worker process: " << std::strerror(errno) << "\n";
+        rep.interrupted = true;
+        next = pending.size();
+        break;
+      }
+      running.emplace(pid, k);
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno != EINTR) break;
+      continue;  // a signal: the loop's first check forwards an interrupt
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const int k = it->second;
+    running.erase(it);
+    const analysis::Variant& v = s.variants[k];
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kOk) {
+      std::string st;
+      double seconds = 0.0;
+      readManifest(s.prefix(k) + "_run.txt", st, seconds);
+      rep.analysisSeconds += seconds;
+      ++rep.finished;
+      if (st.rfind("failed", 0) == 0) {
+        ++rep.failed;
+        if (failuresShown++ < 10) {
+          progress.finish();
+          std::cerr << "flexmb: " << v.name << " (" << parametersText(v.values) << ") " << st << "\n";
+        }
+      }
+    } else if (WIFEXITED(status) && WEXITSTATUS(status) == kVariantBusy) {
+      ++rep.busy;
+    } else if (WIFEXITED(status)) {
+      ++rep.writeFailed;
+    } else if (WIFSIGNALED(status)) {
+      const int sig = WTERMSIG(status);
+      if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL || rep.interrupted || *stop) {
+        // Stopped from outside (Ctrl-C, a scheduler, the OOM killer): run again on resume.
+        if (!*stop && !rep.interrupted) {
+          ++rep.killed;
+          progress.finish();
+          std::cerr << "flexmb: " << v.name << " was stopped by signal " << sig << " (" << strsignal(sig)
+                    << "; out of memory or a time limit?): it runs again when the study is resumed\n";
+        }
+      } else {
+        try {
+          recordCrash(s, k, sig);
+          ++rep.finished;
+          ++rep.failed;
+        } catch (const std::exception& e) {
+          ++rep.writeFailed;
+          std::cerr << "flexmb: " << v.name << ": " << e.what() << "\n";
+        }
+        progress.finish();
+        std::cerr << "flexmb: " << v.name << " (" << parametersText(v.values) << ") crashed (signal " << sig << ": "
+                  << strsignal(sig) << "); recorded as failed\n";
+      }
+    }
+    progress.update(rep.finished, static_cast<long>(pending.size()), "variants");
+  }
+  progress.finish();
+  if (*stop) rep.interrupted = true;
+  if (failuresShown > 10) std::cerr << "flexmb: ... " << failuresShown - 10 << " more failed (see the table)\n";
+  return rep;
+}
+
+// ---- study files -----------------------------------------------------------------------------
+
+// Writes path atomically unless it already holds exactly `text` (every task of a split writes the
+// same study files; two at once are harmless).
+void writeShared(const std::string& path, const std::string& text) {
+  {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream old;
+    old << in.rdbuf();
+    if (in && old.str() == text) return;
+  }
+  try {
+    io::OutputFile f(path);
+    f << text;
+    f.commit();
+  } catch (const std::exception&) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream now;
+    now << in.rdbuf();
+    if (!(in && now.str() == text)) throw;  // another task wrote the same text at the same moment
+  }
+}
+
+std::string studyDescription(const Study& s, const std::vector<std::string>& args) {
+  std::ostringstream o;
+  o << "flexmb study\n";
+  o << "template: " << s.templatePath << "\n";
+  o << "stem: " << s.stem << "\n";
+  o << "variants: " << s.variants.size() << "\n";
+  o << "parameters:";
+  for (const auto& [n, v] : s.variants.front().values) o << " " << n;
+  o << "\n";
+  std::istringstream a(s.analyses.describe());
+  for (std::string line; std::getline(a, line);) o << "analysis: " << line << "\n";
+  if (!s.plot.empty()) {
+    o << "plot:";
+    for (const auto& p : s.plot) o << " " << p;
+    o << "\n";
+  }
+  o << "command: flexmb study";  // as every task of a split has it (the same file from each)
+  for (const auto& x : taskArguments(args)) o << " " << shellQuote(x);
+  o << "\n";
+  return o.str();
+}
+
+std::string variantsTable(const Study& s) {
+  std::ostringstream o;
+  o << "variant,name,fingerprint";
+  for (const auto& [n, v] : s.variants.front().values) o << "," << n;
+  o << "\n";
+  for (size_t k = 0; k < s.variants.size(); ++k) {
+    o << s.variants[k].number << "," << s.variants[k].name << "," << s.fingerprints[k];
+    for (const auto& [n, v] : s.variants[k].values) o << "," << io::roundTripNumber(v);
+    o << "\n";
+  }
+  return o.str();
+}
+
+std::map<std::string, std::string> readKeyValues(const std::string& path) {
+  std::map<std::string, std::string> kv;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const auto c = line.find(": ");
+    if (c != std::string::npos) kv[line.substr(0, c)] += (kv.count(line.substr(0, c)) ? "\n" : "") + line.substr(c + 2);
+  }
+  return kv;
+}
+
+std::vector<std::string> splitList(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string x; std::getline(in, x, sep);)
+    if (!x.empty()) out.push_back(x);
+  return out;
+}
+
+std::string fileSafe(const std::string& s) {
+  std::string o;
+  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ? c : '_';
+  return o;
+}
+
+// Joins the variants' summaries into <dir>/study_summary.csv, study_report.html and one SVG per
+// quantity and parameter. Variants without a finished summary of the current study are "missing".
+int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
+  const auto setup = readKeyValues((fs::path(dir) / "study.txt").string());
+  if (!setup.count("stem")) {
+    std::cerr << "flexmb: " << dir << " is not a study folder (no study.txt; `flexmb study` writes it)\n";
+    return kInputError;
+  }
+  const std::string stem = setup.at("stem");
+  std::ifstream vin((fs::path(dir) / "variants.csv").string());
+  std::vector<io::StudyRecord> records;
+  int missing = 0;
+  try {
+    std::string line;
+    if (!std::getline(vin, line)) throw std::runtime_error((fs::path(dir) / "variants.csv").string() + ": empty");
+    const auto header = io::splitCsvLine(line);
+    while (std::getline(vin, line)) {
+      if (line.empty()) continue;
+      const auto cells = io::splitCsvLine(line);
+      if (cells.size() != header.size() || header.size() < 3)
+        throw std::runtime_error((fs::path(dir) / "variants.csv").string() + ": a row does not match the header");
+      analysis::Variant v;
+      v.number = std::stoi(cells[0]);
+      v.name = cells[1];
+      for (size_t i = 3; i < cells.size(); ++i) v.values.emplace_back(header[i], std::stod(cells[i]));
+      const std::string prefix = (fs::path(variantFolder(dir, v.name)) / stem).string();
+      // Finished for this study: its manifest names the fingerprint the study gave the variant.
+      const auto manifest = readKeyValues(prefix + "_run.txt");
+      const auto fp = manifest.find("fingerprint");
+      std::optional<io::StudyRecord> summary;
+      if (fp != manifest.end() && fp->second == cells[2]) {
+        try {
+          summary = io::readStudyRecord(prefix + "_summary.csv");
+        } catch (const std::exception&) {  // unsynced files after a power failure: missing, runs again
+        }
+      }
+      if (summary) {
+        summary->variant = v.number;
+        records.push_back(std::move(*summary));
+      } else {
+        io::StudyRecord r = analysis::failedRecord(v, "not run yet");
+        r.status = "missing";
+        records.push_back(std::move(r));
+        ++missing;
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  if (plot.empty() && setup.count("plot")) plot = splitList(setup.at("plot"), ' ');
+  io::StudyReport report;
+  report.title = "Study of " + fs::path(setup.at("template")).filename().string();
+  report.lines.push_back("template: " + setup.at("template"));
+  if (setup.count("analysis"))
+    for (const auto& l : splitList(setup.at("analysis"), '\n')) report.lines.push_back("analysis: " + l);
+  if (setup.count("command")) report.lines.push_back("command: " + setup.at("command"));
+  report.quantities = plot;
+  const auto quantities = plot.empty() ? io::plottableQuantities(records) : plot;
+  try {
+    io::OutputSet files((fs::path(dir) / "study").string());
+    files.setSync(false);  // made again from the variants by `flexmb study collect` at any time
+    files.checkWritable();
+    {
+      std::ofstream f(files.temporaryFor("_summary.csv"));
+      io::writeStudyTable(f, records);
+      writeChecked(f, files.prefix() + "_summary.csv");
+    }
+    writeText(files, "_report.html", io::renderStudyReport(report, records));
+    std::vector<std::string> params;
+    if (!records.empty())
+      for (const auto& [n, v] : records.front().parameters) params.push_back(n);
+    for (const auto& q : quantities)
+      for (const auto& p : params) {
+        std::string suffix = "_";
+        suffix.append(fileSafe(q)).append("_vs_").append(fileSafe(p)).append(".svg");
+        io::writeSvg(files.temporaryFor(suffix), io::studyPlot(records, q, p));
+      }
+    files.setting("command", "study collect");
+    files.setting("variants", std::to_string(records.size()));
+    files.setting("missing", std::to_string(missing));
+    files.commit(missing ? "incomplete: " + std::to_string(missing) + " variants not run yet" : "complete");
+    if (!quiet)
+      std::cout << "wrote " << files.prefix() << "_summary.csv and " << files.prefix() << "_report.html ("
+                << records.size() << " variants" << (missing ? ", " + std::to_string(missing) + " not run yet" : "")
+                << ")\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  return kOk;
+}
+
+int runCollect(const std::vector<std::string>& args) {
+  ModelOptions m;
+  std::string plot;
+  po::options_description d("options");
+  d.add_options()("plot", po::value(&plot),
+                  "quantities to plot, comma-separated (default: the study's --plot, else all)")(
+      "quiet,q", po::bool_switch(&m.quiet), "print nothing but errors");
+  if (auto rc = parseCommand(args, d, m, "usage: flexmb study collect folder [--plot q1,q2,...]")) return *rc;
+  return collect(m.file, splitList(plot, ','), m.quiet);
+}
+
+int availableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (::sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN));
+}
+
+}  // namespace
+
+int runStudy(const std::vector<std::string>& args) {
+  if (!args.empty() && args[0] == "collect") return runCollect({args.begin() + 1, args.end()});
+  ModelOptions m;
+  po::options_description d = commonModelOptions(m);
+  std::vector<std::string> params, derive, plot;
+  std::string table, out;
+  bool check = false, modes = false, statics = false, simulate = false, rerunFailed = false;
+  int nev = 6, steps = 0, buckling = 0, jobs = 0, task = -1, of = 0;
+  std::vector<int> stiffness;
+  analysis::SweepOptions sw;
+  sw.node = 0;
+  double tEnd = 0, relTol = 0, absTol = 0;
+  int intervals = -1;
+  std::string integrator = "ode45";
+  SlurmOptions slurm;
+  po::options_description pd("parameters");
+  pd.add_options()("param", po::value(&params)->composing(),
+                   "a grid axis: name=from:to:count, name=v1,v2,... or name=value (repeatable: every combination)")(
+      "table", po::value(&table),
+      "CSV of parameter values: one column per parameter (and optionally `name`), a row "
+      "per variant (combined with every --param grid point)");
+  po::options_description ad("analyses (chosen once for the study; default --modes --static)");
+  ad.add_options()("check", po::bool_switch(&check),
+                   "the kinematic rank check (a variant that is not well posed fails)")(
+      "modes", po::bool_switch(&modes), "eigenfrequencies in the initial configuration (flexmb modes)")(
+      "static", po::bool_switch(&statics), "static load steps (flexmb static) with frequencies in each equilibrium")(
+      "nev", po::value(&nev)->notifier(atLeast("nev", 1)), "eigenfrequencies (modes, static, sweep; default 6)")(
+      "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "static load steps (default: the file's ITERSTEP)")(
+      "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 1)),
+      "buckling load factors in each equilibrium (default 3 when given; implies --static)")(
+      "stiffness", po::value(&stiffness)->composing(),
+      "node label whose tangent stiffness the static step reports (repeatable; default: the loaded nodes)")(
+      "sweep-node", po::value(&sw.node), "sweep: node label of the prescribed coordinate (runs flexmb sweep)")(
+      "sweep-comp", po::value(&sw.component)->default_value(1)->notifier(atLeast("sweep-comp", 1)),
+      "sweep: its component")("sweep-from", po::value(&sw.from)->notifier(finite("sweep-from")), "sweep: first value")(
+      "sweep-to", po::value(&sw.to)->notifier(finite("sweep-to")), "sweep: last value")(
+      "sweep-steps", po::value(&sw.steps)->default_value(10)->notifier(atLeast("sweep-steps", 1)),
+      "sweep: configurations")("simulate", po::bool_switch(&simulate), "forward dynamics (flexmb simulate)")(
+      "t-end", po::value(&tEnd)->notifier(positive("t-end")), "simulate: end time")(
+      "reltol", po::value(&relTol)->notifier(positive("reltol")), "simulate: relative tolerance")(
+      "abstol", po::value(&absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
+      "intervals", po::value(&intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
+      "integrator", po::value(&integrator), "simulate: ode45 (default) or bdf")(
+      "derive", po::value(&derive)->composing(),
+      "a derived quantity name=expression in the parameters and quantities, e.g. "
+      "stress=6*max_bending/(w*t^2) (repeatable)");
+  po::options_description rd("running");
+  rd.add_options()("out", po::value(&out), "the study folder (default: <template>_study)")(
+      "jobs,j", po::value(&jobs)->notifier(atLeast("jobs", 1)), "variants at once (default: every core)")(
+      "task", po::value(&task)->notifier(atLeast("task", 0)), "run only task i's share: variants i, i+n, i+2n, ...")(
+      "of", po::value(&of)->notifier(atLeast("of", 1)), "the number of tasks n (with --task)")(
+      "rerun-failed", po::bool_switch(&rerunFailed), "run failed variants again (finished ones are skipped)")(
+      "plot", po::value<std::string>()->notifier([&](const std::string& v) { plot = splitList(v, ','); }),
+      "quantities to plot in the report, comma-separated (default: every quantity)");
+  po::options_description sd("Slurm");
+  addSlurmOptions(sd, slurm);
+  d.add(pd).add(ad).add(rd).add(sd);
+  if (auto rc = parseCommand(args, d, m, kUsage)) return *rc;
+  if ((task >= 0) != (of > 0)) {
+    std::cerr << "flexmb: --task and --of go together (task i of n, 0 <= i < n)\n";
+    return kUsageError;
+  }
+  if (task >= of && of > 0) {
+    std::cerr << "flexmb: --task " << task << " --of " << of << ": the task is a number from 0 to " << of - 1 << "\n";
+    return kUsageError;
+  }
+  if (slurm.submit && task >= 0) {
+    std::cerr << "flexmb: --slurm writes the tasks itself; leave out --task and --of\n";
+    return kUsageError;
+  }
+  if (slurm.dryRun && !slurm.submit) {
+    std::cerr << "flexmb: --dry-run goes with --slurm (it writes the scripts without submitting them)\n";
+    return kUsageError;
+  }
+  const bool sweepAsked = sw.node != 0;
+  Study s;
+  s.templatePath = m.file;
+  s.stem = studyStem(m.file);
+  s.quiet = m.quiet;
+  s.plot = plot;
+  if (m.dialect == "95" || m.dialect == "spacar95") s.readOptions.dialect = core::Dialect::Spacar95;
+  if (m.dialect == "2013" || m.dialect == "spacar2013") s.readOptions.dialect = core::Dialect::Spacar2013;
+  if (m.elongation == "plain") s.readOptions.elongation = core::ElongationDefinition::Plain;
+  if (m.elongation == "corrected") s.readOptions.elongation = core::ElongationDefinition::BendingCorrected;
+  // The analyses.
+  analysis::StudyAnalyses& a = s.analyses;
+  a.check = check;
+  if (buckling > 0) statics = true;
+  if (!check && !modes && !statics && !sweepAsked && !simulate) modes = statics = true;
+  if (modes) a.modes = nev;
+  if (statics) a.statics = analysis::StudyAnalyses::Statics{nev, steps, buckling};
+  if (sweepAsked) {
+    const auto given = [&](const char* o) {
+      for (const auto& x : args)
+        if (x == std::string("--") + o || x.rfind(std::string("--") + o + "=", 0) == 0) return true;
+      return false;
+    };
+    if (!given("sweep-from") || !given("sweep-to")) {
+      std::cerr << "flexmb: --sweep-node needs --sweep-from and --sweep-to\n";
+      return kUsageError;
+    }
+    sw.nev = nev;
+    a.sweep = sw;
+  }
+  if (simulate) {
+    analysis::SimulationOptions o;
+    const auto in = analysis::parseIntegrator(integrator);
+    if (!in) {
+      std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << integrator << "'\n";
+      return kUsageError;
+    }
+    o.integrator = *in;
+    if (tEnd > 0) o.tEnd = tEnd;
+    if (relTol > 0) o.relTol = relTol;
+    if (absTol > 0) o.absTol = absTol;
+    if (intervals >= 0) o.intervals = intervals;
+    o.keepStates = true;
+    a.simulation = o;
+  }
+  a.stiffnessNodes = stiffness;
+  for (const auto& dv : derive) {
+    const auto eq = dv.find('=');
+    const std::string name = eq == std::string::npos ? "" : dv.substr(0, eq);
+    if (!io::isParameterName(name) || eq + 1 >= dv.size()) {
+      std::cerr << "flexmb: --derive " << dv << ": write name=expression (a name is a letter or '_' then letters, "
+                << "digits or '_')\n";
+      return kUsageError;
+    }
+    a.derived.emplace_back(name, dv.substr(eq + 1));
+  }
+  // The template and the variants.
+  try {
+    s.model = io::ModelTemplate::fromFile(m.file);
+    std::vector<io::ParameterAxis> grid;
+    for (const auto& p : params) grid.push_back(io::parseParameterAxis(p));
+    std::optional<io::ParameterTable> t;
+    if (!table.empty()) t = io::readParameterTable(table);
+    s.variants = analysis::expandVariants(t ? &*t : nullptr, grid);
+    std::vector<std::string> names;
+    for (const auto& [n, v] : s.variants.front().values) names.push_back(n);
+    s.model->check(names);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kUsageError;
+  } catch (const std::exception& e) {
+    std::cerr << (dynamic_cast<const io::TemplateError*>(&e) ? "" : "flexmb: ") << e.what() << "\n";
+    return kInputError;
+  }
+  for (const auto& v : s.variants)
+    s.fingerprints.push_back(analysis::variantFingerprint(s.model->text(), v.values, a, FLEXMB_VERSION));
+  // The study folder.
+  s.dir = out.empty() ? s.stem + (s.stem.size() >= 6 && s.stem.ends_with("_study") ? "" : "_study") : out;
+  while (s.dir.size() > 1 && s.dir.back() == '/') s.dir.pop_back();
+  {
+    std::error_code ec;
+    fs::create_directory(s.dir, ec);
+    if (!fs::is_directory(s.dir)) {
+      std::cerr << "flexmb: cannot make the study folder '" << s.dir << "'"
+                << (ec ? ": " + ec.message() : std::string()) << " (its parent folder must exist)\n";
+      return kInputError;
+    }
+    fs::create_directories(fs::path(s.dir) / "variants", ec);
+  }
+  try {
+    writeShared((fs::path(s.dir) / "study.txt").string(), studyDescription(s, args));
+    writeShared((fs::path(s.dir) / "variants.csv").string(), variantsTable(s));
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  if (slurm.submit) return submitStudy(slurm, args, s.dir, static_cast<int>(s.variants.size()), m.quiet);
+
+  // What is left to run (resume).
+  const std::vector<int> share = task >= 0 ? analysis::taskShare(static_cast<int>(s.variants.size()), task, of)
+                                           : analysis::taskShare(static_cast<int>(s.variants.size()), 0, 1);
+  std::vector<int> pending;
+  int done = 0, stale = 0;
+  for (int k : share) {
+    const auto state =
+        analysis::variantState(s.prefix(k) + "_run.txt", s.fingerprints[k], s.prefix(k) + "_summary.csv");
+    if (state == analysis::VariantState::Finished ||
+        (state == analysis::VariantState::FinishedFailed && !rerunFailed)) {
+      ++done;
+      continue;
+    }
+    if (state == analysis::VariantState::Stale) ++stale;
+    pending.push_back(k);
+  }
+  if (jobs == 0) jobs = availableCores();
+  if (!m.quiet) {
+    std::cout << "study: " << s.variants.size() << " variants of " << m.file;
+    if (task >= 0) std::cout << ", task " << task << " of " << of << ": " << share.size() << " of them";
+    std::cout << "\n";
+    if (done > 0) std::cout << "  " << done << " finished before (skipped), " << pending.size() << " to run\n";
+    if (stale > 0)
+      std::cout << "  " << stale << " run before with another template, parameters or analyses: they run again\n";
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const PoolReport rep = runPool(s, pending, std::min<int>(jobs, std::max<size_t>(1, pending.size())));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!m.quiet && rep.finished > 0) {
+    std::cout << "  ran " << rep.finished << " variants in " << std::setprecision(3) << wall << " s with "
+              << std::min<int>(jobs, pending.size()) << " job(s): " << rep.finished - rep.failed << " ok, "
+              << rep.failed << " failed; their analyses took " << rep.analysisSeconds << " s";
+    if (jobs == 1)
+      std::cout << ", the study " << std::setprecision(2) << 1e3 * (wall - rep.analysisSeconds) / rep.finished
+                << " ms per variant besides";
+    std::cout << "\n";
+  }
+  if (rep.interrupted) {
+    std::cerr << "flexmb: study interrupted: " << done + rep.finished << " of " << share.size()
+              << " variants finished; run the same command again to resume\n";
+    return kInterrupted;
+  }
+  if (rep.busy > 0) std::cerr << "flexmb: " << rep.busy << " variants were being run by another process (skipped)\n";
+  if (rep.writeFailed > 0) {
+    std::cerr << "flexmb: " << rep.writeFailed << " variants could not be written (see above)\n";
+    return kWriteFailed;
+  }
+  if (task >= 0) {
+    if (!m.quiet)
+      std::cout << "task " << task << " of " << of << " done; when every task is: flexmb study collect " << s.dir
+                << "\n";
+    return kOk;
+  }
+  return collect(s.dir, s.plot, m.quiet);
+}
+
+}  // namespace flexmb::cli
