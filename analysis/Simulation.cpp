@@ -5,11 +5,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
+#include "analysis/Interrupt.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Bdf.hpp"
+#include "solvers/NumberText.hpp"
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {
@@ -155,6 +158,7 @@ class StageRun {
       if (jacobian_) jacobian_->kinematics().setConfiguration(from->x);
     }
     y0_ = from ? from->y : eom_.initialState();
+    if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
   }
 
   core::Trajectory run(bool* interrupted) {
@@ -183,6 +187,8 @@ class StageRun {
       r = integrateOde45(eom_, o, f, set_.tspan, y0_, observer);
     }
     finish(r, interrupted);
+    if (windows_ && traj_.completed)
+      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
     return std::move(traj_);
   }
 
@@ -245,6 +251,7 @@ class StageRun {
         return stop(msg.str());
       }
       if (end_) end_->x = out.x;
+      if (windows_) windows_->observe(t, y, out.x);
       traj_.time.push_back(t);
       traj_.states.push_back(std::move(out));
     }
@@ -270,7 +277,8 @@ class StageRun {
     traj_.nlinsetups = r.stats.nlinsetups;
     if (stoppedByUser_) {
       traj_.completed = false;
-      traj_.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached_) + "; results before it are kept";
+      traj_.stopReason = interruptCause(opt_.interruptSignal) + " after t = " + solvers::shortest(tReached_) +
+                         "; results before it are kept";
       if (interrupted) *interrupted = true;
     } else if (r.status != solvers::OdeStatus::Success && traj_.completed) {
       traj_.completed = false;
@@ -288,6 +296,7 @@ class StageRun {
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;
   ProgressLine progress_;
+  std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;
   core::Trajectory traj_;
   std::string userError_;          // a failing USERSIG / USERINP: reported as the stop reason as it is
@@ -306,6 +315,15 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt, bool* interrupted) {
   return simulateStage(model, opt, nullptr, nullptr, interrupted);
+}
+
+core::Trajectory simulateFrom(const core::Model& model, const SimulationOptions& opt, const Eigen::VectorXd& y0,
+                              const Eigen::VectorXd& x0, Eigen::VectorXd& yEnd) {
+  const Continuation from{y0, x0};
+  Continuation end;
+  core::Trajectory t = simulateStage(model, opt, &from, &end, nullptr);
+  yEnd = end.y;
+  return t;
 }
 
 core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& opt,
@@ -337,6 +355,10 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     all.nrhsfailed += part.nrhsfailed;
     all.njacevals += part.njacevals;
     all.nlinsetups += part.nlinsetups;
+    // The accuracy of the chain: the least converged stage.
+    const core::AccuracyEstimate& pa = part.accuracy;
+    if (pa.checked && (!all.accuracy.checked || pa.estimate / pa.limit > all.accuracy.estimate / all.accuracy.limit))
+      all.accuracy = pa;
     if (!part.completed || end.y.size() == 0) {
       all.completed = false;
       all.stopReason =
