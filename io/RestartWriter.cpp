@@ -21,7 +21,12 @@ std::string num(double v) {
   return solvers::shortest(v);
 }
 
-std::string quoted(const core::TimeFunctionPtr& f) { return "\"" + (f ? f->text() : std::string("0")) + "\""; }
+std::string quoted(const core::TimeFunctionPtr& f) {
+  std::string s = "\"";  // appended piecewise: `"\"" + std::string` trips GCC 12's -Wrestrict (tools/README.md)
+  s += f ? f->text() : std::string("0");
+  s += '"';
+  return s;
+}
 
 struct Writer {
   const Model& m;
