@@ -6,11 +6,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
+#include "analysis/Interrupt.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Bdf.hpp"
+#include "solvers/NumberText.hpp"
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {
@@ -211,6 +214,7 @@ class StageRun {
       if (jacobian_) jacobian_->kinematics().setConfiguration(from->x);
     }
     y0_ = from ? from->y : eom_.initialState();
+    if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
   }
 
   core::Trajectory run(bool* interrupted) {
@@ -240,6 +244,8 @@ class StageRun {
       }
     }
     finish(r, interrupted);
+    if (windows_ && traj_.completed)
+      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
     return std::move(traj_);
   }
 
@@ -355,6 +361,7 @@ class StageRun {
         return stop(msg.str());
       }
       if (end_) end_->x = out.x;
+      if (windows_) windows_->observe(t, y, out.x);
       traj_.time.push_back(t);
       traj_.states.push_back(std::move(out));
     }
@@ -383,7 +390,8 @@ class StageRun {
     traj_.nlinsetups = r.stats.nlinsetups;
     if (stoppedByUser_) {
       traj_.completed = false;
-      traj_.stopReason = "interrupted (Ctrl-C) after t = " + std::to_string(tReached_) + "; results before it are kept";
+      traj_.stopReason = interruptCause(opt_.interruptSignal) + " after t = " + solvers::shortest(tReached_) +
+                         "; results before it are kept";
       if (interrupted) *interrupted = true;
     } else if (r.status != solvers::OdeStatus::Success && traj_.completed) {
       traj_.completed = false;
@@ -401,6 +409,7 @@ class StageRun {
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;
   ProgressLine progress_;
+  std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;
   core::Trajectory traj_;
   std::string userError_;          // a failing USERSIG / USERINP: reported as the stop reason as it is
@@ -423,6 +432,15 @@ core::Trajectory simulateStage(const core::Model& model, const SimulationOptions
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& opt, bool* interrupted) {
   return simulateStage(model, opt, nullptr, nullptr, interrupted);
+}
+
+core::Trajectory simulateFrom(const core::Model& model, const SimulationOptions& opt, const Eigen::VectorXd& y0,
+                              const Eigen::VectorXd& x0, Eigen::VectorXd& yEnd) {
+  const Continuation from{y0, x0};
+  Continuation end;
+  core::Trajectory t = simulateStage(model, opt, &from, &end, nullptr);
+  yEnd = end.y;
+  return t;
 }
 
 core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, const SimulationOptions& opt,
@@ -457,6 +475,10 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     if (std::isnan(all.switchedAt)) all.switchedAt = part.switchedAt;
     if (part.stiffBoundSteps > all.stiffBoundSteps)
       all.stiffSince = part.stiffSince, all.stiffLambda = part.stiffLambda, all.stiffBoundSteps = part.stiffBoundSteps;
+    // The accuracy of the chain: the least converged stage.
+    const core::AccuracyEstimate& pa = part.accuracy;
+    if (pa.checked && (!all.accuracy.checked || pa.estimate / pa.limit > all.accuracy.estimate / all.accuracy.limit))
+      all.accuracy = pa;
     if (!part.completed || end.y.size() == 0) {
       all.completed = false;
       all.stopReason =

@@ -68,6 +68,10 @@ struct SimulationOptions {
   // Set asynchronously (Ctrl-C): the run stops at its next check (every 64 right-hand sides) with
   // interrupted = true; the output times before it are kept.
   const std::atomic<bool>* interrupt = nullptr;
+  const std::atomic<int>* interruptSignal = nullptr;  // the signal that set it (analysis::interruptCause)
+  // The a-posteriori accuracy check (analysis/AccuracyCheck.hpp) into Trajectory::accuracy, for a
+  // run that completes and keeps its states.
+  bool accuracyCheck = false;
 };
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);
@@ -87,6 +91,11 @@ double kinematicTolerance(const core::AnalysisSettings& settings, double relTol)
 solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::Ode45Options& options,
                                   const solvers::OdeRhs& f, const std::vector<double>& tspan, const Eigen::VectorXd& y0,
                                   const solvers::OdeObserver& observer);
+
+// One run of the model from a given state at its t0: y0 = [eta; etad] and the configuration x0
+// the kinematics start from (an accuracy-check window). yEnd: the state at the last output time.
+core::Trajectory simulateFrom(const core::Model& model, const SimulationOptions& options, const Eigen::VectorXd& y0,
+                              const Eigen::VectorXd& x0, Eigen::VectorXd& yEnd);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/Interrupt.hpp"
 #include "core/ElementValidity.hpp"
 #include "solvers/EigenSolver.hpp"
 
@@ -194,8 +195,17 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
   const bool loadControl =
       std::none_of(model.inputX.begin(), model.inputX.end(), [](const core::Rheonomic& r) { return r.delta != 0.0; });
   const double minStep = std::ldexp(1.0, -6);
+  auto interrupted = [&](int step) {
+    if (!stopRequested(options.interrupt)) return false;
+    run.completed = false;
+    run.interrupted = true;
+    run.stopReason = interruptCause(options.interruptSignal) + " before load step " + std::to_string(step) + " of " +
+                     std::to_string(n) + "; the " + std::to_string(run.steps.size()) + " load steps before it are kept";
+    return true;
+  };
   for (int i = 1; i <= n; ++i) {
     if (onStep) onStep(i - 1, n);
+    if (interrupted(i)) return run;
     const LoadPoint from = reachedPoint, to = schedule[i - 1];
     // Sub-steps in the fraction p of this step: halve it when Newton fails, down to 2^-6.
     double reached = 0.0, ds = 1.0;
@@ -206,6 +216,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
                        from.increment + p * (to.increment - from.increment)};
     };
     while (reached < 1.0 - 1e-12) {
+      if (interrupted(i)) return run;  // a load step cut into many sub-steps can take long
       Eigen::VectorXd trial = eta;
       const double p = std::min(1.0, reached + ds);
       const LoadPoint lp = at(p);

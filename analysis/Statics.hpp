@@ -13,6 +13,7 @@
 //   so XF with n steps gives n distinct equilibria (never one equilibrium n times). Gravity and
 //   time-dependent loads are not ramped.
 #include <Eigen/Core>
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -52,6 +53,7 @@ struct StaticStep {
 struct StaticRun {
   std::vector<StaticStep> steps;
   bool completed = true;
+  bool interrupted = false;  // stopped by StaticOptions::interrupt (then completed = false)
   std::string stopReason;
 };
 
@@ -61,6 +63,10 @@ struct StaticOptions {
   int buckling = 0;   // buckling load factors per equilibrium
   EigenPath eigenPath = EigenPath::Auto;
   std::function<void(int, int)> onStep;  // progress: called before load step i (0-based) of n
+  // Set asynchronously (Ctrl-C): the run stops before its next load step or Newton sub-step and
+  // keeps the equilibria reached (analysis/Interrupt.hpp); interruptSignal names the signal.
+  const std::atomic<bool>* interrupt = nullptr;
+  const std::atomic<int>* interruptSignal = nullptr;
 };
 StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options);
 // The same with the options as arguments; onStep(i, n): progress, called before load step i of n.

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/Interrupt.hpp"
 #include "analysis/Modes.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/Linearization.hpp"
@@ -66,10 +67,15 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
       return e.what();
     }
   };
+  bool stopped = false;  // the interrupt flag was seen
   auto advance = [&](double target) -> std::string {
     bool first = true;
     while (first || current != target) {
       first = false;
+      if (stopRequested(o.interrupt)) {
+        stopped = true;
+        return interruptCause(o.interruptSignal);
+      }
       const double gap = target - current;
       const bool canPredict = havePrev && current != valuePrev && (gap > 0) == (current > valuePrev);
       if (!canPredict) h = std::min(h, maxIncrement / 8);  // no secant (start, a new direction): small
@@ -119,7 +125,9 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     const std::string err = advance(values[0]);
     if (!err.empty()) {
       res.completed = false;
-      res.stopReason = "approaching the sweep start " + std::to_string(values[0]) + ": " + err;
+      res.interrupted = stopped;
+      res.stopReason = stopped ? err + " approaching the sweep start"
+                               : "approaching the sweep start " + std::to_string(values[0]) + ": " + err;
       return res;
     }
   }
@@ -130,7 +138,10 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     const std::string err = advance(v);
     if (!err.empty()) {
       res.completed = false;
-      res.stopReason = err;
+      res.interrupted = stopped;
+      res.stopReason = stopped ? err + " after " + std::to_string(res.points.size()) + " of " +
+                                     std::to_string(o.steps) + " configurations; the points before it are kept"
+                               : err;
       return res;
     }
     if (o.onPoint) o.onPoint(static_cast<int>(res.points.size()), o.steps);

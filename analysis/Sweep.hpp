@@ -4,6 +4,7 @@
 // load is the Lagrange multiplier of a bordered Newton system), and the natural frequencies of the
 // free system in each, with modes tracked between neighbours by MAC.
 #include <Eigen/Core>
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -27,6 +28,10 @@ struct SweepOptions {
   // natural frequencies (analysis::naturalFrequencies).
   std::optional<std::vector<int>> heldCoordinates;
   std::function<void(int done, int total)> onPoint;  // progress: called before each point's eigenproblem
+  // Set asynchronously (Ctrl-C): the sweep stops before its next continuation step and keeps the
+  // points reached (analysis/Interrupt.hpp); interruptSignal names the signal.
+  const std::atomic<bool>* interrupt = nullptr;
+  const std::atomic<int>* interruptSignal = nullptr;
 };
 
 struct SweepPoint {
@@ -45,6 +50,7 @@ struct SweepPoint {
 struct SweepResult {
   std::vector<SweepPoint> points;
   bool completed = true;
+  bool interrupted = false;  // stopped by SweepOptions::interrupt (then completed = false)
   std::string stopReason;
 };
 

@@ -128,8 +128,12 @@ struct Model {
   // A restart state (the file gives LENGTH0): the coordinates X are the current configuration, the
   // deformations there are E (0 where not given) and reference lengths come from LENGTH0.
   bool restartState = false;
-  // Reader notes for the user, each listed once (settings accepted and ignored, blocks not used).
+  // Reader notes for the user, each listed once (settings accepted and ignored, blocks not used,
+  // statements about nodes no element uses).
   std::vector<std::string> notes;
+  // Legal input that is probably a mistake and changes the model (a position node without an X
+  // line sits at the origin): shown by every command, `check` included.
+  std::vector<std::string> warnings;
 
   // Loads and stresses.
   Eigen::VectorXd f0;                // constant nodal forces (XF/FORCE), size nx

@@ -248,9 +248,12 @@ struct Resolver {
     return m.elements[ei].type->keyword + " " + std::to_string(m.elements[ei].label);
   }
 
-  int node(int label, int line) const {
+  // consequence: what the statement would lose on a node no element uses ("the load acts on nothing").
+  int node(int label, int line, const char* consequence = nullptr) const {
     auto it = m.nodeByLabel.find(label);
-    if (it == m.nodeByLabel.end()) fail(line, "node " + std::to_string(label) + " is not used by any element");
+    if (it == m.nodeByLabel.end())
+      fail(line, "node " + std::to_string(label) + " is not used by any element" +
+                     (consequence ? std::string(": ") + consequence : std::string()));
     return it->second;
   }
   int element(int label, int line) const {
@@ -469,8 +472,18 @@ void ModelBuilder::Finalizer::initialCoordinates() {
   m.x0 = Eigen::VectorXd::Zero(m.nx);
   for (const Node& n : m.nodes)
     if (n.kind == NodeKind::EulerParameters) m.x0[n.firstCoord] = 1.0;  // default 1 0 0 0
+  // Extras that change nothing are notes (SPACAR writers emit them: oopspa an X line for every
+  // keypoint's position node, used or not); what would change the model is an error or a warning
+  // (io/README.md, "Harmless extras and silent mistakes").
+  std::vector<char> placed(m.nodes.size(), 0);
   for (const auto& st : in.coords) {
+    if (!m.nodeByLabel.count(st.node)) {
+      note("coordinates of node " + std::to_string(st.node) + " (line " + std::to_string(st.line) + "): node " +
+           std::to_string(st.node) + " is not used by any element; ignored");
+      continue;
+    }
     const int ni = r.node(st.node, st.line);
+    placed[ni] = 1;
     const Node& n = m.nodes[ni];
     if (static_cast<int>(st.values.size()) != n.dim())
       R::fail(st.line, r.nodeDescription(ni) + ": expected " + std::to_string(n.dim()) + " coordinate" +
@@ -480,6 +493,18 @@ void ModelBuilder::Finalizer::initialCoordinates() {
       m.x0[n.firstCoord + c] = st.values[c];
     }
   }
+  // A position node no coordinate statement places sits at the origin (SPACAR's default, [C S95]:
+  // nodes default to 0 0 0): legal, but usually a forgotten X line that folds an element.
+  for (size_t ni = 0; ni < m.nodes.size(); ++ni) {
+    const Node& n = m.nodes[ni];
+    if (placed[ni] || !isTranslational(n.kind)) continue;
+    const auto [fe, fs] = r.firstUse[ni];
+    m.warnings.push_back(
+        "node " + std::to_string(n.label) + " (" + slotName(*m.elements[fe].type, fs) + " of " + r.elemName(fe) +
+        ", line " + std::to_string(m.elements[fe].line) + ") has no X line: it is placed at the origin (" +
+        (n.kind == NodeKind::SpatialPosition ? "0, 0, 0" : "0, 0") + "), as SPACAR does; write X " +
+        std::to_string(n.label) + (n.kind == NodeKind::SpatialPosition ? " 0 0 0" : " 0 0") + " if that is meant");
+  }
 }
 
 void ModelBuilder::Finalizer::coordinateRoles() {
@@ -487,10 +512,13 @@ void ModelBuilder::Finalizer::coordinateRoles() {
   r.xRoleLine.assign(m.nx, 0);
   for (const auto& st : in.xRoles) {
     // SPACAR accepts FIX on a node no element uses (SPACAR Light writes one for the warping node
-    // of every fixed node, BEAMW or not): nothing to fix, so a note instead of an error.
-    if (st.role == Role::Fixed && st.comps.empty() && !m.nodeByLabel.count(st.id)) {
-      note("FIX " + std::to_string(st.id) + " (line " + std::to_string(st.line) + "): node " + std::to_string(st.id) +
-           " is not used by any element; ignored");
+    // of every fixed node, BEAMW or not; oopspa `FIX n 1`): nothing to fix, so a note. An input
+    // or a degree of freedom there would be lost: an error.
+    if (st.role == Role::Fixed && !m.nodeByLabel.count(st.id)) {
+      std::string comps;
+      for (int c : st.comps) (comps += ' ') += std::to_string(c);
+      note("FIX " + std::to_string(st.id) + comps + " (line " + std::to_string(st.line) + "): node " +
+           std::to_string(st.id) + " is not used by any element; ignored (nothing is fixed)");
       continue;
     }
     const int ni = r.node(st.id, st.line);
@@ -695,7 +723,7 @@ void ModelBuilder::Finalizer::elementInertia() {
 // XM with a tensor: the rigid-body inertia of a spatial orientation node, carried by its L2MIN1.
 void ModelBuilder::Finalizer::nodeInertia() {
   for (const auto& st : in.nodeInertias) {
-    const int ni = r.node(st.id, st.line);
+    const int ni = r.node(st.id, st.line, "the inertia would belong to nothing");
     const Node& n = m.nodes[ni];
     if (n.kind != NodeKind::EulerParameters)
       R::fail(st.line, r.nodeDescription(ni) +
@@ -726,7 +754,7 @@ void ModelBuilder::Finalizer::nodeInertia() {
 void ModelBuilder::Finalizer::lumpedMasses() {
   std::map<int, double> massByCoord;
   for (const auto& st : in.masses) {
-    const int ni = r.node(st.id, st.line);
+    const int ni = r.node(st.id, st.line, "the mass would belong to nothing");
     const Node& n = m.nodes[ni];
     if (!(st.value >= 0.0) || !std::isfinite(st.value))
       R::fail(st.line, std::string("negative ") + (isTranslational(n.kind) ? "mass " : "rotary inertia ") +
@@ -750,7 +778,7 @@ void ModelBuilder::Finalizer::lumpedMasses() {
 void ModelBuilder::Finalizer::nodalLoads(const std::vector<Impl::VectorStmt>& stmts, Eigen::VectorXd& f, bool increment,
                                          std::map<int, size_t>& momentAt) {
   for (const auto& st : stmts) {
-    const int ni = r.node(st.id, st.line);
+    const int ni = r.node(st.id, st.line, "the load would act on nothing");
     const Node& n = m.nodes[ni];
     if (n.kind == NodeKind::EulerParameters && st.values.size() == 3) {
       // SPACAR 2017+: a moment in global components (four values: forces on lambda0..3).

@@ -9,6 +9,22 @@
 
 namespace flexmb::core {
 
+// The a-posteriori accuracy check of a simulation (analysis/AccuracyCheck.hpp): short windows of
+// the run integrated again at a tighter tolerance from the run's own states, compared at their ends.
+struct AccuracyEstimate {
+  bool checked = false;        // false: not run (not asked for, the run stopped, no window fitted)
+  int windows = 0;             // windows compared
+  double windowSeconds = 0.0;  // their total length
+  double referenceRelTol = 0.0;
+  // Largest difference at a window's end between the run and the reference: nodal positions
+  // relative to the model size (Model::lengthScale), angles and Euler parameters as they are.
+  double windowError = 0.0;
+  double estimate = 0.0;  // extrapolated to the whole run: the largest error per second x the span
+  double limit = 0.0;     // an estimate above it: the run is not converged
+  bool converged() const { return !checked || estimate <= limit; }
+  std::string note;  // why it was not run, or what limited it
+};
+
 struct Trajectory {
   std::vector<double> time;
   std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
@@ -26,6 +42,7 @@ struct Trajectory {
   double switchedAt = std::numeric_limits<double>::quiet_NaN();
   bool completed = true;
   std::string stopReason;  // why the run stopped early (time and reason); empty when completed
+  AccuracyEstimate accuracy;
 };
 
 }  // namespace flexmb::core

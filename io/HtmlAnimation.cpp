@@ -217,7 +217,11 @@ std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory
   }
 
   std::string d = "{\"title\":" + jsonString(opt.title) + ",\"times\":[";
-  for (size_t j = 0; j < pick.size(); ++j) d += (j ? "," : "") + shortNumber(traj.time[pick[j]], 10);
+  // Appended piecewise: `"," + std::string` inside `+=` trips GCC 12's -Wrestrict (tools/README.md).
+  for (size_t j = 0; j < pick.size(); ++j) {
+    if (j) d += ',';
+    d += shortNumber(traj.time[pick[j]], 10);
+  }
   d += "],\"bounds\":[" + shortNumber(u0, 8) + "," + shortNumber(v0, 8) + "," + shortNumber(u1, 8) + "," +
        shortNumber(v1, 8) + "]";
   d += ",\"trace\":" + std::to_string(trace) + ",\"elements\":[";
@@ -246,8 +250,12 @@ std::string renderHtmlAnimation(const core::Model& model, const core::Trajectory
   d += ",\"frames\":[\n";
   for (size_t k = 0; k < frames.size(); ++k) {
     d += k ? ",\n[" : "[";
-    for (size_t i = 0; i < frames[k].size(); ++i)
-      d += (i ? "," : "") + shortNumber(frames[k][i].u, 7) + "," + shortNumber(frames[k][i].v, 7);
+    for (size_t i = 0; i < frames[k].size(); ++i) {
+      if (i) d += ',';
+      d += shortNumber(frames[k][i].u, 7);
+      d += ',';
+      d += shortNumber(frames[k][i].v, 7);
+    }
     d += "]";
   }
   d += "]}";

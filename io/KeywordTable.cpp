@@ -146,14 +146,20 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("EMASS", kSpacar95, B::Dynamic, A::ElementInertia, {element(), real("mass per length", "rhoA")},
                  "mass per unit length of an element"));
   t.push_back(kw("EM", kSpacar2013, B::Dynamic, A::ElementInertia,
-                 {element(), real("mass per length", "rhoA"), optReal("rotary inertia per length", "rhoI"),
-                  optReal("Jyy"), optReal("Jzz"), optReal("Jyz")},
-                 "mass (and rotary inertia) per unit length of an element; spatial beams: rhoA Jxx "
-                 "Jyy Jzz Jyz (mass moments of inertia per length about the local axes)"));
+                 {element(), real("mass per length", "rhoA"),
+                  optReal("rotary inertia per length (planar) or Jxx (spatial)", "rhoI|Jxx"), optReal("Jyy"),
+                  optReal("Jzz"), optReal("Jyz")},
+                 "mass per unit length of an element; planar beams: rhoA rhoI (rhoI: rotary inertia per "
+                 "length, rho I of the section); spatial beams: rhoA Jxx Jyy Jzz Jyz (mass moments of inertia "
+                 "per length about the local x (torsion), y and z axes and the product Jyz)"));
   const std::string layouts = stiffnessLayouts();
   t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
                  {element(), real("parameter", "p", Cardinality::Many)},
-                 "stiffness parameters (" + layouts + "); 0 may stand for an unused deformation"));
+                 "stiffness parameters (" + layouts +
+                     "); 0 may stand for an unused deformation. BEAM/BEAMNL cy cz: shear flexibility of "
+                     "bending about the local y and z axes, EIy/(k G A) and EIz/(k G A) (m^2, k: shear "
+                     "correction factor; Timoshenko, Phi = 12 c / l0^2; 0 or absent: Euler-Bernoulli, no "
+                     "shear deformation)"));
   t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
   t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
@@ -278,13 +284,16 @@ std::vector<KeywordInfo> buildTable() {
                  "skipped"));
 
   // SPACAR keywords flexmb does not support (yet).
-  const std::string planarList = [] {
+  // The element types of one kind (planar or spatial), for "use one of these instead".
+  auto typesOfKind = [](bool spatialKind) {
     std::string s;
-    for (const auto& ty : core::elementTypes()) s += (s.empty() ? "" : ", ") + upper(ty.keyword);
+    for (const auto& ty : core::elementTypes())
+      if (!ty.slots.empty() && core::isSpatial(ty.slots.front()) == spatialKind)
+        s += (s.empty() ? "" : ", ") + upper(ty.keyword);
     return s;
-  }();
-  const std::string spatial = "not implemented in flexmb; elements: " + planarList;
-  const std::string planarNote = "not implemented in flexmb; planar elements: " + planarList;
+  };
+  const std::string spatial = "not implemented in flexmb; spatial elements: " + typesOfKind(true);
+  const std::string planarNote = "not implemented in flexmb; planar elements: " + typesOfKind(false);
   // Spatial SPACAR keywords: the `spatial` work registers element types under these names; an
   // entry is dropped here as soon as an element type of that name exists, so it needs no edit.
   const std::pair<const char*, const char*> spatialKeywords[] = {

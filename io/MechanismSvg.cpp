@@ -211,7 +211,10 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const core::ElementEntry& el = m.elements[e];
     std::string s = "  " + std::to_string(el.label) + " " + el.type->keyword + " (";
-    for (size_t k = 0; k < el.nodes.size(); ++k) s += (k ? " " : "") + std::to_string(m.nodes[el.nodes[k]].label);
+    for (size_t k = 0; k < el.nodes.size(); ++k) {  // piecewise: GCC 12's -Wrestrict (tools/README.md)
+      if (k) s += ' ';
+      s += std::to_string(m.nodes[el.nodes[k]].label);
+    }
     s += "): ";
     for (int d = 0; d < el.type->numDeformations(); ++d)
       s += (d ? ", " : "") + el.type->deformationNames[d] + " " + deformationRoleWord(m.eRole[el.firstDef + d]);

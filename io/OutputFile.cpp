@@ -12,6 +12,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "solvers/NumberText.hpp"
+
 namespace fs = std::filesystem;
 
 namespace flexmb::io {
@@ -164,8 +166,7 @@ std::string OutputSet::resolvePrefix(const std::string& out, const std::string& 
 OutputSet::OutputSet(std::string prefix) : prefix_(std::move(prefix)) {}
 
 OutputSet::~OutputSet() {
-  if (!committed_)
-    for (const auto& f : files_) std::remove(f.second.c_str());
+  for (const auto& f : files_) std::remove(f.second.c_str());  // what was not renamed
 }
 
 void OutputSet::checkWritable() const {
@@ -196,8 +197,16 @@ std::string OutputSet::temporaryFor(const std::string& suffix) {
   return files_.back().second;
 }
 
-std::vector<std::string> OutputSet::commit(const std::string& status) {
-  std::vector<std::string> written;
+std::string OutputSet::temporaryPath(const std::string& path) {
+  files_.emplace_back(path, temporaryName(path));
+  return files_.back().second;
+}
+
+void OutputSet::adopt(const std::string& temporary, const std::string& path) { files_.emplace_back(path, temporary); }
+
+void OutputSet::setting(const std::string& name, double value) { setting(name, solvers::shortest(value)); }
+
+std::vector<std::string> OutputSet::renameFiles() {
   for (const auto& [final, temp] : files_) {
     const std::string ext = fs::path(final).extension().string();
     if (ext == ".mat" || ext == ".sbd" || ext == ".sbm") {  // MAT v5 files (matio ignores a full disk)
@@ -209,15 +218,36 @@ std::vector<std::string> OutputSet::commit(const std::string& status) {
       }
     }
     commitTemporary(temp, final, sync_);
-    written.push_back(final);
+    renamed_.push_back(final);
   }
-  committed_ = true;
+  files_.clear();
+  return renamed_;
+}
+
+std::string OutputSet::writeManifest(const std::string& status) {
+  // Files beside the manifest by their names, others by their path relative to it.
+  fs::path dir = fs::path(manifestPath()).parent_path();
+  if (dir.empty()) dir = ".";
+  auto listed = [&](const std::string& p) {
+    std::error_code ec;
+    const fs::path rel = fs::proximate(p, dir, ec);
+    std::string s = ec ? p : rel.string();
+    if (fs::is_directory(p, ec) && (s.empty() || s.back() != '/')) s += "/";
+    return s;
+  };
   OutputFile m(manifestPath(), sync_);
   m << "flexmb run\nstatus: " << status << "\n";
   for (const auto& [name, value] : settings_) m << name << ": " << value << "\n";
-  for (const auto& w : written) m << "file: " << fs::path(w).filename().string() << "\n";
+  for (const auto& w : renamed_) m << "file: " << listed(w) << "\n";
+  for (const auto& w : recorded_) m << "file: " << listed(w) << "\n";
   m.commit();
-  written.push_back(manifestPath());
+  return manifestPath();
+}
+
+std::vector<std::string> OutputSet::commit(const std::string& status) {
+  std::vector<std::string> written = renameFiles();
+  written.insert(written.end(), recorded_.begin(), recorded_.end());
+  written.push_back(writeManifest(status));
   return written;
 }
 

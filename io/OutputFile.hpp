@@ -11,6 +11,8 @@
 //     can fill; commit() renames them all and then writes <prefix>_run.txt, the manifest that lists
 //     the run's settings and files. A file set is complete iff its manifest exists: a new run
 //     removes the old manifest first, so files of an earlier run never look complete after a kill.
+//     Files that cannot be written under a temporary name (a picture series that names its own
+//     files) are written between renameFiles() and writeManifest() and listed with record().
 #include <fstream>
 #include <functional>
 #include <string>
@@ -65,7 +67,7 @@ class OutputSet {
   explicit OutputSet(std::string prefix);
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
-  ~OutputSet();  // removes the temporaries of an uncommitted set
+  ~OutputSet();  // removes the temporaries not renamed
 
   const std::string& prefix() const { return prefix_; }
   // Throws std::runtime_error when the folder is missing or not writable (probes with a file);
@@ -75,10 +77,22 @@ class OutputSet {
   // temporaryPrefix() + suffix (so a writer that appends suffixes to a prefix can fill several).
   std::string temporaryFor(const std::string& suffix);
   std::string temporaryPrefix() const { return temporaryName(prefix_); }
-  // Records a setting for the manifest ("reltol", "1e-3").
+  // Registers a final path anywhere (--svg file.svg, <model>.sbd beside a CSV) and returns its
+  // temporary, temporaryName(path).
+  std::string temporaryPath(const std::string& path);
+  // Registers a temporary that a writer already filled (e.g. under temporaryPrefix()) and its final path.
+  void adopt(const std::string& temporary, const std::string& path);
+  // Records a setting for the manifest ("reltol", "1e-3"); numbers in their shortest exact form.
   void setting(const std::string& name, const std::string& value) { settings_.emplace_back(name, value); }
-  // Renames every temporary (a .mat is checked first) and writes the manifest with the status line
-  // ("complete" or why the run stopped). Returns the final paths. Throws on failure.
+  void setting(const std::string& name, double value);
+  // Renames every temporary (a .mat is checked first). Returns the final paths. Throws on failure.
+  std::vector<std::string> renameFiles();
+  // Lists a file (or folder) written under its final name after renameFiles().
+  void record(const std::string& path) { recorded_.push_back(path); }
+  // Writes the manifest with the status line ("complete" or why the run stopped) and every file
+  // renamed or recorded; returns the manifest's path. Throws on failure.
+  std::string writeManifest(const std::string& status);
+  // renameFiles() and writeManifest(): the final paths, the manifest last.
   std::vector<std::string> commit(const std::string& status);
   std::string manifestPath() const { return prefix_ + "_run.txt"; }
   // false: commit renames without fsync. For many small file sets that can be made again (the
@@ -93,7 +107,7 @@ class OutputSet {
   std::string prefix_;
   std::vector<std::pair<std::string, std::string>> files_;  // final, temporary
   std::vector<std::pair<std::string, std::string>> settings_;
-  bool committed_ = false;
+  std::vector<std::string> renamed_, recorded_;
   bool sync_ = true;
 };
 

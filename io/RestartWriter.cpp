@@ -21,7 +21,12 @@ std::string num(double v) {
   return solvers::shortest(v);
 }
 
-std::string quoted(const core::TimeFunctionPtr& f) { return "\"" + (f ? f->text() : std::string("0")) + "\""; }
+std::string quoted(const core::TimeFunctionPtr& f) {
+  std::string s = "\"";  // appended piecewise: `"\"" + std::string` trips GCC 12's -Wrestrict (tools/README.md)
+  s += f ? f->text() : std::string("0");
+  s += '"';
+  return s;
+}
 
 struct Writer {
   const Model& m;
@@ -53,7 +58,9 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
   // Elements and the current coordinates.
   for (const auto& el : m.elements) {
     std::string s = el.type->keyword + " " + std::to_string(el.label);
-    for (int ni : el.nodes) s += " " + std::to_string(m.nodes[ni].label);
+    // Appended piecewise here and below: `" " + std::string` inside `+=` trips GCC 12's -Wrestrict
+    // (a false positive in libstdc++'s inlined char_traits::copy, tools/README.md).
+    for (int ni : el.nodes) (s += ' ') += std::to_string(m.nodes[ni].label);
     w.line(s);
   }
   for (const auto& n : m.nodes) {
@@ -68,7 +75,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     for (const auto& n : m.nodes) {
       std::string comps;
       for (int c = 0; c < n.dim(); ++c)
-        if (m.xRole[n.firstCoord + c] == role) comps += " " + std::to_string(c + 1);
+        if (m.xRole[n.firstCoord + c] == role) (comps += ' ') += std::to_string(c + 1);
       if (!comps.empty()) w.line(std::string(keyword) + " " + std::to_string(n.label) + comps);
     }
   };
@@ -79,7 +86,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     for (const auto& el : m.elements) {
       std::string comps;
       for (int c = 0; c < el.type->numDeformations(); ++c)
-        if (m.eRole[el.firstDef + c] == role) comps += " " + std::to_string(c + 1);
+        if (m.eRole[el.firstDef + c] == role) (comps += ' ') += std::to_string(c + 1);
       if (!comps.empty()) w.line(std::string(keyword) + " " + std::to_string(el.label) + comps);
     }
   if (!w.s95) {
@@ -109,7 +116,7 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     }
     auto params = [&](const char* keyword, const std::vector<double>& p) {
       std::string s = std::string(keyword) + " " + std::to_string(el.label);
-      for (double v : p) s += " " + num(v);
+      for (double v : p) (s += ' ') += num(v);
       w.line(s);
     };
     if (el.hasStiffness) params("ESTIFF", el.stiffnessParams);
@@ -123,8 +130,8 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     for (int c = 0; c < n.dim(); ++c) {
       any = any || m.f0[n.firstCoord + c] != 0.0;
       anyDel = anyDel || (m.delf.size() && m.delf[n.firstCoord + c] != 0.0);
-      f += " " + num(m.f0[n.firstCoord + c]);
-      if (m.delf.size()) d += " " + num(m.delf[n.firstCoord + c]);
+      (f += ' ') += num(m.f0[n.firstCoord + c]);
+      if (m.delf.size()) (d += ' ') += num(m.delf[n.firstCoord + c]);
     }
     if (any) w.line((w.s95 ? "FORCE " : "XF ") + std::to_string(n.label) + f);
     if (anyDel) w.line("DELXF " + std::to_string(n.label) + d);

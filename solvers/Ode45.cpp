@@ -55,9 +55,11 @@ Ode45::Ode45(Ode45Options options) : opt_(std::move(options)) {
 std::string Ode45::formatStats(const OdeStats& s) {
   std::string out = std::to_string(s.nsteps) + " successful steps\n" + std::to_string(s.nfailed) +
                     " failed attempts\n" + std::to_string(s.nfevals) + " function evaluations\n";
-  if (s.nrhsfailed > 0)
-    out +=
-        "(" + std::to_string(s.nrhsfailed) + " of the failed attempts: the right-hand side failed at a trial state)\n";
+  if (s.nrhsfailed > 0) {  // appended piecewise: "(" + std::string trips GCC 12's -Wrestrict (tools/README.md)
+    out += '(';
+    out += std::to_string(s.nrhsfailed);
+    out += " of the failed attempts: the right-hand side failed at a trial state)\n";
+  }
   return out;
 }
 

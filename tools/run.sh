@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# The main job: set-up (packages; a Release build of flexmb and the benchmark only), then the paper
-# validation into validation/report/ (report.md with figures and CSV) and a quick run-time-against-
-# error benchmark (validation/report/bench/). Under 10 minutes on 2 cores from a fresh clone.
+# The main job: set-up (packages; a Release build of flexmb and the benchmark only), then a quick
+# run-time-against-error benchmark (validation/report/bench/) and the paper validation into
+# validation/report/ (report.md with figures and CSV). About 5-6 minutes on 2 cores from a fresh
+# clone on a quiet machine, most of it the build; it prints its plan with estimates at the start
+# and what remains after each phase.
 #   --full   also the slow numerical stress catalogue (validation/report/stress.csv, ~17 min) and the
 #            full benchmark with tight-tolerance references (~10 min) instead of the quick one.
 set -euo pipefail
@@ -15,21 +17,78 @@ for a in "$@"; do
 done
 targets=(flexmb flexmb_bench)
 ((full)) && targets+=(stress_tests)
-bash tools/setup.sh "${targets[@]}"
 BUILD_DIR=${FLEXMB_BUILD_DIR:-build}
+cores=$(nproc)
+
+# ---- the plan: phases with estimates (seconds on a quiet machine with $cores cores)
+# Build: about 5.5 CPU-seconds per translation unit still to compile (measured: a cold build of
+# flexmb and flexmb_bench, 84 units, 4 min on 2 cores); the count comes from a dry run of make
+# when the build folder is configured, else every unit of the two targets.
+compile_units=84
+((full)) && compile_units=$((compile_units + 3))
+if [ -f "$BUILD_DIR/Makefile" ]; then
+  pending=$(make -C "$BUILD_DIR" -n "${targets[@]}" 2>/dev/null | grep -c 'Building CXX object' || true)
+  compile_units=${pending:-$compile_units}
+fi
+est_build=$(((compile_units * 55 / 10 + cores - 1) / cores + 5))
+if ((full)); then
+  est_stress=1020; est_bench=600
+else
+  est_stress=0; est_bench=60
+fi
+est_report=15
+
+duration() {  # seconds -> "4 min 10 s", "45 s"
+  local s=$1
+  if ((s >= 60)); then echo "$((s / 60)) min $((s % 60)) s"; else echo "${s} s"; fi
+}
+remaining() {  # the phases still to come, from the index given
+  local from=$1 text="" total=0 i
+  local names=("building" "stress tests" "benchmark" "report")
+  local secs=("$est_build" "$est_stress" "$est_bench" "$est_report")
+  for ((i = from; i < 4; i++)); do
+    ((secs[i] == 0)) && continue
+    text+="${text:+, }${names[i]} (about $(duration "${secs[i]}"))"
+    total=$((total + secs[i]))
+  done
+  echo "$text: about $(duration $total) in all"
+}
+load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo 0)
+busy=""
+if awk -v l="$load" -v c="$cores" 'BEGIN { exit !(l > c) }'; then
+  busy=" (the machine is busy, load average $load on $cores cores: expect it to take longer)"
+fi
+echo "== plan: $(remaining 0)$busy"
+[ -n "${FLEXMB_RUN_PLAN_ONLY:-}" ] && exit 0  # the plan alone (tools/tests: Scripts.RunPrintsItsPlan)
+phase_start=$SECONDS
+done_phase() {  # phase name, index of the next phase
+  local took=$((SECONDS - phase_start))
+  if (($2 < 4)); then
+    echo "== $1 done in $(duration $took); remaining: $(remaining "$2")"
+  else
+    echo "== $1 done in $(duration $took); all done in $(duration $SECONDS)"
+  fi
+  phase_start=$SECONDS
+}
+
+bash tools/setup.sh "${targets[@]}"
 mkdir -p validation/report
+done_phase "build" $((full ? 1 : 2))
 
 if ((full)); then
   echo "== numerical stress tests (all cases, including the slow ones)"
   FLEXMB_SLOW_STRESS=1 FLEXMB_STRESS_CSV=validation/report/stress.csv \
     "$BUILD_DIR/validation/stress_tests" --gtest_brief=1 || echo "stress tests: failures above (see the report)"
+  done_phase "stress tests" 2
   echo "== run time against error (full)"
   "$BUILD_DIR/flexmb_bench" --out validation/report/bench
 else
   echo "== run time against error (quick; bash tools/run.sh --full for the full benchmark and the stress catalogue)"
   "$BUILD_DIR/flexmb_bench" --quick --out validation/report/bench
 fi
+done_phase "benchmark" 3
 
 echo "== paper validation"
 "$BUILD_DIR/flexmb" validate
+done_phase "report" 4
 echo "report: validation/report/report.md"

@@ -24,7 +24,10 @@ if ((${#missing[@]})); then
 fi
 
 BUILD_DIR=${FLEXMB_BUILD_DIR:-build}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# FLEXMB_CMAKE_ARGS: extra configure options (tools/test.sh: -DFLEXMB_WERROR=ON). They stay in the
+# build's cache, so a later set-up without them does not rebuild everything.
+# shellcheck disable=SC2086
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release ${FLEXMB_CMAKE_ARGS:-} >/dev/null
 if (($#)); then
   cmake --build "$BUILD_DIR" -j"$(nproc)" --target "$@"
 else

@@ -1,15 +1,21 @@
 #include "validation/PaperValidation.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include "analysis/Interrupt.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
@@ -17,6 +23,7 @@
 #include "analysis/TrajectoryModes.hpp"
 #include "io/BasisFile.hpp"
 #include "io/DatReader.hpp"
+#include "io/OutputFile.hpp"
 #include "io/SvgPlot.hpp"
 
 namespace fs = std::filesystem;
@@ -30,6 +37,19 @@ double seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock
 bool g_quiet = false;
 void progress(const std::string& s) {
   if (!g_quiet) std::cerr << "[validate] " << s << std::endl;
+}
+
+// Thrown at a check when the interrupt flag is set: the run ends and its files are removed.
+struct Interrupted {};
+const ValidationOptions* g_options = nullptr;
+void checkpoint() {
+  if (g_options && analysis::stopRequested(g_options->interrupt)) throw Interrupted{};
+}
+// The simulation options of every run of the report: stoppable by the interrupt flag.
+analysis::SimulationOptions stoppable() {
+  analysis::SimulationOptions o;
+  if (g_options) o.interrupt = g_options->interrupt;
+  return o;
 }
 
 struct Run {
@@ -51,10 +71,11 @@ Run simulateModel(const std::string& name, const core::Model& m, std::optional<E
   Run r;
   r.name = name;
   r.paperFevals = paper;
-  analysis::SimulationOptions o;
+  analysis::SimulationOptions o = stoppable();
   o.basis = V;
   const auto t0 = Clock::now();
   r.traj = analysis::simulate(m, o);
+  checkpoint();
   r.wall = seconds(t0);
   r.dim = V ? static_cast<int>(V->cols()) : m.numDofs();
   r.omegaMax = analysis::highestMode(m, V).omegaMax;
@@ -82,11 +103,12 @@ GridCounts countOverGrids(const std::string& name, const core::Model& m, const s
       c.rhsFailed.push_back(0);
       continue;
     }
-    analysis::SimulationOptions o;
+    analysis::SimulationOptions o = stoppable();
     o.basis = V;
     o.intervals = g;
     o.keepStates = false;
     const core::Trajectory t = analysis::simulate(m, o);
+    checkpoint();
     c.fevals.push_back(t.completed ? t.nfevals : -2);
     c.rhsFailed.push_back(t.nrhsfailed);
     if (!t.completed) progress(name + " with " + std::to_string(g) + " output intervals STOPPED: " + t.stopReason);
@@ -104,6 +126,7 @@ std::string fmt(double v, int prec = 4) {
 
 void writeCsv(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& cols) {
+  checkpoint();
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path);
   f << std::setprecision(12);
@@ -136,15 +159,16 @@ struct Fig7bSummary {  // ranges of f1, f2 and the largest difference to the fro
 
 class PaperValidation {
  public:
-  explicit PaperValidation(const ValidationOptions& options)
+  // work: the temporary folder every file is written to (runValidation moves them into outDir).
+  PaperValidation(const ValidationOptions& options, const std::string& work)
       : opt(options),
         start(Clock::now()),
-        dir(options.outDir + "/"),
+        dir(work + "/"),
+        finalDir(options.outDir + "/"),
         guidancePath(options.sourceDir + "/datfiles/straight_guidance.dat"),
         manipulatorPath(options.sourceDir + "/datfiles/manipulator.dat") {}
 
   int run() {
-    fs::create_directories(opt.outDir);
     guidance();
     manipulator();
     acceptance();
@@ -170,6 +194,7 @@ class PaperValidation {
       o.to = 0.0833;
       o.threshold = 0.01;
       const auto t0 = Clock::now();
+      checkpoint();
       bases.push_back(analysis::buildBasis(g, o));
       io::writeBasis(dir + "basis_" + s.name + ".csv", bases.back().V, basisInfo(bases.back(), guidancePath));
       progress(s.name + " basis: " + std::to_string(bases.back().V.cols()) + " vectors in " + fmt(seconds(t0), 3) +
@@ -194,7 +219,7 @@ class PaperValidation {
     f3a.x.label = "time [s]";
     f3a.y.label = "x-displacement [m]";
     f3a.notes = {"F_max = 100 N (Eq. 24) in +x at node 6; end time 0.2 s; ode45 defaults; consistent beam mass"};
-    f3a.series.push_back({"full model", tg, dx});
+    f3a.series.push_back({"full model", tg, dx, {}});
     f3a.series.push_back({"+0.0833 m (paper)", {0.0, 0.2}, {0.0833, 0.0833}, "", true});
     f3a.series.push_back({"-0.0833 m (paper)", {0.0, 0.2}, {-0.0833, -0.0833}, "", true});
     io::writeSvg(dir + "fig3a_displacement.svg", f3a);
@@ -213,7 +238,7 @@ class PaperValidation {
         err.push_back(std::abs(xr[k] - xInit - dx[k]) / normDefl);
         gr[i].maxError = std::max(gr[i].maxError, err.back());
       }
-      f3b.series.push_back({gr[i].name, std::vector<double>(tg.begin(), tg.begin() + err.size()), err});
+      f3b.series.push_back({gr[i].name, std::vector<double>(tg.begin(), tg.begin() + err.size()), err, {}});
       hdr.push_back(gr[i].name + "_relerr");
       err.resize(tg.size(), std::nan(""));
       cols.push_back(err);
@@ -229,7 +254,8 @@ class PaperValidation {
     f4.y.log = true;
     f4.verticalLines = {5.5};
     for (int i : {2, 3}) {
-      io::Series s{i == 2 ? "a = 0" : "a = 1"};
+      io::Series s;
+      s.label = i == 2 ? "a = 0" : "a = 1";
       for (Eigen::Index k = 0; k < bases[i].scaledSingularValues.size(); ++k) {
         s.x.push_back(k + 1);
         s.y.push_back(bases[i].scaledSingularValues[k]);
@@ -262,9 +288,11 @@ class PaperValidation {
       so.to = 0.0833;
       so.steps = opt.sweepSteps;
       so.nev = 3;
+      so.interrupt = opt.interrupt;
       if (i > 0) so.basis = bases[i - 1].V;
       const auto t0 = Clock::now();
       const analysis::SweepResult sw = analysis::sweep(g, so);
+      checkpoint();
       progress("sweep " + gr[i].name + ": " + std::to_string(sw.points.size()) + " configurations in " +
                fmt(seconds(t0), 3) + " s");
       if (!sw.completed) {
@@ -358,6 +386,7 @@ class PaperValidation {
     for (size_t ri = 0; ri < mr.size(); ++ri) {
       auto& r = mr[ri];
       const auto t0 = Clock::now();
+      checkpoint();
       const auto tm = analysis::trajectoryModes(m, r.traj, 2,
                                                 r.name == "full" ? std::nullopt : std::optional<Eigen::MatrixXd>(mb.V));
       f7s[ri].seconds = seconds(t0);
@@ -544,11 +573,11 @@ class PaperValidation {
          << fmt(f7s[ri].f2lo, 4) << " .. " << fmt(f7s[ri].f2hi, 4) << " | " << fmt(f7s[ri].frozenDiff, 3) << " | "
          << fmt(f7s[ri].seconds, 3) << " |\n";
     md << "\n";
-    if (fs::exists(dir + "bench/bench.md"))
+    if (fs::exists(finalDir + "bench/bench.md"))
       md << "## Run time against error\n\nSee [bench/bench.md](bench/bench.md) (work-precision diagrams, CVODE, RHS "
             "cost "
             "scaling).\n\n";
-    if (fs::exists(dir + "stress.csv"))
+    if (fs::exists(finalDir + "stress.csv"))
       md << "## Numerical stress tests\n\nSee [stress.csv](stress.csv) and validation/stress/README.md for the "
             "catalogue.\n\n";
     md << "## Acceptance checks\n\n";
@@ -559,14 +588,18 @@ class PaperValidation {
             "the plain call, "
             "SVD-modal errors below MODAL errors.\n";
     for (const auto& f : failures) md << "- NOT MET: " << f << "\n";
+    checkpoint();
     std::ofstream(dir + "report.md") << md.str();
-    progress("wrote " + dir + "report.md in " + fmt(seconds(start), 3) + " s");
     for (const auto& f : failures) std::cout << "[validate] check not met: " << f << "\n";
   }
 
+ public:
+  const std::vector<std::string>& unmet() const { return failures; }
+
+ private:
   const ValidationOptions& opt;
   const Clock::time_point start;
-  const std::string dir, guidancePath, manipulatorPath;
+  const std::string dir, finalDir, guidancePath, manipulatorPath;
   std::vector<std::string> failures;
   bool stopped = false;
   // Guidance
@@ -593,10 +626,67 @@ class PaperValidation {
 };
 }  // namespace
 
+namespace {
+std::string workPrefix() { return ".validate.part-"; }
+
+// Temporary folders of runs that were killed (their process is gone): removed.
+void removeStaleWork(const std::string& outDir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(outDir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(workPrefix(), 0) != 0) continue;
+    const int pid = std::atoi(name.c_str() + workPrefix().size());
+    if (pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+  }
+}
+
+// Moves the run's files into outDir (report.md last, then the manifest report_run.txt); the
+// manifest of the previous report goes first, so a set is complete only with its manifest.
+void publish(const std::string& work, const std::string& outDir, const std::string& status) {
+  io::OutputSet set(outDir + "/report");
+  std::remove(set.manifestPath().c_str());
+  set.setting("command", "validate");
+  std::vector<fs::path> paths;
+  for (const auto& e : fs::directory_iterator(work))
+    if (e.is_regular_file()) paths.push_back(e.path());
+  std::sort(paths.begin(), paths.end(), [](const fs::path& a, const fs::path& b) {
+    const bool ra = a.filename() == "report.md", rb = b.filename() == "report.md";
+    return ra != rb ? rb : a < b;
+  });
+  for (const auto& p : paths) set.adopt(p.string(), (fs::path(outDir) / p.filename()).string());
+  set.renameFiles();
+  set.writeManifest(status);
+  fs::remove_all(work);
+}
+}  // namespace
+
 int runValidation(const ValidationOptions& opt) {
   g_quiet = opt.quiet;
-  PaperValidation v(opt);
-  return v.run();
+  g_options = &opt;
+  fs::create_directories(opt.outDir);
+  removeStaleWork(opt.outDir);
+  const std::string work = opt.outDir + "/" + workPrefix() + std::to_string(::getpid());
+  fs::remove_all(work);
+  fs::create_directories(work);
+  try {
+    PaperValidation v(opt, work);
+    const int rc = v.run();
+    std::string status = rc == 3 ? "stopped: an analysis stopped (the report says which)" : "complete";
+    if (rc == 1) status += ", acceptance checks not met: " + std::to_string(v.unmet().size());
+    publish(work, opt.outDir, status);
+    progress("wrote " + opt.outDir + "/report.md");
+    return rc;
+  } catch (const Interrupted&) {
+    std::error_code ec;
+    fs::remove_all(work, ec);
+    progress(analysis::interruptCause(opt.interruptSignal) + ": this run's files are removed; the report in " +
+             opt.outDir + " is as it was");
+    return kInterrupted;
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(work, ec);
+    throw;
+  }
 }
 
 }  // namespace flexmb::validation

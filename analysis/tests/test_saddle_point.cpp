@@ -147,8 +147,9 @@ TEST(ProjectedMass, ElementByElementEqualsTheDenseProduct) {
       const Eigen::MatrixXd expected = F.transpose() * M * F;
       const double err = (Mbar - expected).lpNorm<Eigen::Infinity>() / expected.lpNorm<Eigen::Infinity>();
       EXPECT_LT(err, 1e-14) << m.nx << " coordinates, " << cols << " columns";
-      if (cols <= core::Inertia::kMaxProjectedColumns)  // the kernels fill one triangle and mirror it
+      if (cols <= core::Inertia::kMaxProjectedColumns) {  // the kernels fill one triangle and mirror it
         EXPECT_EQ((Mbar - Mbar.transpose()).lpNorm<Eigen::Infinity>(), 0.0);
+      }
     }
   }
 }

@@ -203,9 +203,13 @@ TEST(SpatialModels, TipMomentRollsTheBeamIntoACircle) {
       const double angle = theta + std::remainder(2 * std::atan2(l[3], l[0]) - theta, 2 * kPi);
       std::printf("tip moment, %.1f turn, %2d BEAM: tip error %.2e L, tip rotation %.5f (exact %.5f)\n", turns, n, err,
                   angle, theta);
-      if (prev > 0) EXPECT_NEAR(std::log2(prev / err), 2.0, 0.3);
+      if (prev > 0) {
+        EXPECT_NEAR(std::log2(prev / err), 2.0, 0.3);
+      }
       prev = err;
-      if (n == 64) EXPECT_LT(err, 5e-3);
+      if (n == 64) {
+        EXPECT_LT(err, 5e-3);
+      }
     }
   }
 }
@@ -274,7 +278,9 @@ TEST(SpatialModels, CantileverFrequenciesInBothPlanesAndTorsion) {
     for (int i = 0; i < 3; ++i) {
       const double e = std::abs(w[i] / ref[i] - 1);
       std::printf("  %.5f (exact %.5f, %.3f%%)", w[i], ref[i], 100 * e);
-      if (prevErr[i] > 1e-7) EXPECT_LT(e, prevErr[i]) << "mode " << i;
+      if (prevErr[i] > 1e-7) {
+        EXPECT_LT(e, prevErr[i]) << "mode " << i;
+      }
       prevErr[i] = e;
     }
     std::printf("\n");

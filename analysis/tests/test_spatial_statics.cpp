@@ -47,7 +47,7 @@ TEST(SpatialStatics, PivotNeedsFewNewtonIterationsPerLoadStep) {
   int total = 0;
   std::string per;
   for (const auto& st : run.steps) {
-    per += " " + std::to_string(st.iterations);
+    (per += ' ') += std::to_string(st.iterations);  // piecewise: GCC 12 -Wrestrict (tools/README.md)
     total += st.iterations;
     EXPECT_LE(st.iterations, 6) << "load factor " << st.loadFactor;
     EXPECT_TRUE(st.newton.stable) << "load factor " << st.loadFactor;

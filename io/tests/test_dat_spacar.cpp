@@ -157,19 +157,75 @@ TEST(Spacar2013Light, SpacarLightStyleFile) {
 }
 
 // SPACAR Light fixes the warping node ((i-1)*3+3) of every fixed node also when no BEAMW uses it,
-// and SPACAR runs those files: a whole-node FIX of an unused node is a note, not an error. A FIX
-// of a component of an unused node stays an error (no component to fix).
-TEST(Spacar2013Light, FixOfAnUnusedNodeIsANote) {
-  const std::string text = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nFIX 3  #warping\nDYNE 1 1\nEND\nHALT\n";
+// oopspa writes `FIX n 1` for it and an X line for every keypoint's position node, used or not, and
+// SPACAR runs those files: statements that fix or place a node no element uses change nothing, so
+// they are notes (issue 24: one rule). An input, a degree of freedom, a load or a mass there would
+// be lost: errors.
+TEST(Spacar2013Light, FixOrCoordinatesOfAnUnusedNodeAreNotes) {
+  const std::string text = "PLTRUSS 1 1 2\nX 2 1 0\nX 7 3 4\nFIX 1\nFIX 3  #warping\nFIX 6 1\nDYNE 1 1\nEND\nHALT\n";
   const core::Model m = io::readDatString(text, "t.dat");
   const core::Model plain = io::readDatString("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\n", "t.dat");
   EXPECT_EQ(m.numDofs(), plain.numDofs());
   EXPECT_EQ(m.xRole, plain.xRole);
+  EXPECT_EQ(m.x0, plain.x0);
   EXPECT_EQ(m.nodeByLabel.count(3), 0u);
-  ASSERT_EQ(m.notes.size(), 1u);
-  EXPECT_TRUE(contains(m.notes[0], "FIX 3 (line 4): node 3 is not used by any element; ignored")) << m.notes[0];
-  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nFIX 3 1\nDYNE 1 1\nEND\nHALT\n"),
-                       "node 3 is not used by any element"));
+  ASSERT_EQ(m.notes.size(), 3u);
+  EXPECT_TRUE(contains(m.notes[0], "coordinates of node 7 (line 3): node 7 is not used by any element; ignored"))
+      << m.notes[0];
+  EXPECT_TRUE(contains(m.notes[1], "FIX 3 (line 5): node 3 is not used by any element; ignored")) << m.notes[1];
+  EXPECT_TRUE(contains(m.notes[2], "FIX 6 1 (line 6)")) << m.notes[2];
+  for (const std::string& lost : {std::string("INPUTX 3 1"), std::string("DYNX 3 1")})
+    EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\n" + lost + "\nDYNE 1 1\nEND\nHALT\n"),
+                         "node 3 is not used by any element"))
+        << lost;
+  const std::string kin = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\n";
+  EXPECT_TRUE(contains(errorOf(kin + "DELXF 55 0 -1\nEND\nEND\n"),
+                       "t.dat:7: DELXF: node 55 is not used by any element: the load would act on nothing"))
+      << errorOf(kin + "DELXF 55 0 -1\nEND\nEND\n");
+  EXPECT_TRUE(contains(errorOf(kin + "XM 55 1\nEND\nEND\n"), "the mass would belong to nothing"));
+}
+
+// A position node the elements use without a coordinate statement sits at the origin, as in SPACAR
+// ([C S95]: nodes default to 0 0 0): legal, but a warning naming the node and the element.
+TEST(Spacar2013Light, APositionNodeWithoutCoordinatesIsAWarning) {
+  const core::Model m = io::readDatString(
+      "PLTRUSS 1 1 2\nPLTRUSS 2 2 3\nX 2 1 0\nX 1 0 0\nFIX 1\nDYNE 1 1\nDYNE 2 1\n"
+      "END\nHALT\n",
+      "t.dat");
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_TRUE(contains(m.warnings[0], "node 3 (node q of PLTRUSS 2, line 2) has no X line: it is placed at the origin"))
+      << m.warnings[0];
+  // Orientation nodes default to angle 0 (Euler parameters 1 0 0 0) as every SPACAR file expects.
+  EXPECT_TRUE(io::readDatString("PLBEAM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nDYNE 1 1 2 3\nEND\nHALT\n", "t.dat")
+                  .warnings.empty());
+}
+
+// The keyword reference a new user reads (issue 24): planar notes list planar elements only, the EM
+// signature matches its description, ESTIFF says what cy and cz are.
+TEST(KeywordTable, ElementListsAndSignaturesAgreeWithTheirDescriptions) {
+  std::ostringstream o;
+  io::printKeywords(o);
+  const std::string text = o.str();
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("planar elements:") != std::string::npos) {
+      const std::string list = line.substr(line.find("planar elements:"));
+      for (const char* spatial : {" BEAM", " TRUSS", " HINGE", " RBEAM"})
+        EXPECT_EQ(list.find(spatial), std::string::npos) << line;
+      EXPECT_NE(list.find("PLBEAM"), std::string::npos) << line;
+    }
+    if (line.find("spatial elements:") != std::string::npos) {
+      EXPECT_EQ(line.find("PLBEAM", line.find("spatial elements:")), std::string::npos) << line;
+    }
+    if (line.rfind("  EM ", 0) == 0) {
+      EXPECT_NE(line.find("EM e rhoA [rhoI|Jxx [Jyy [Jzz [Jyz]]]]"), std::string::npos) << line;
+      EXPECT_NE(line.find("rhoA Jxx Jyy Jzz Jyz"), std::string::npos) << line;
+    }
+    if (line.rfind("  ESTIFF ", 0) == 0) {
+      EXPECT_NE(line.find("cy cz: shear flexibility"), std::string::npos) << line;
+    }
+  }
+  EXPECT_NE(text.find("planar elements:"), std::string::npos);
 }
 
 TEST(Spacar2013Light, IterstepFieldsAndWholeNumbersWithDecimals) {

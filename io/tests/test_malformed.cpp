@@ -57,8 +57,9 @@ std::vector<Case> catalogue() {
        "node 3 is used as an orientation node here"},
       {"xy_on_orientation_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "XY 2 1 0"}), 3, "node 2 is an orientation node"},
       {"beta_on_position_node", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "BETA 3 0.1"}), 3, "node 3 is a position node"},
-      {"undefined_node_fix", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "FIX 9 1"}), 3,
-       "FIX: node 9 is not used by any element"},
+      // (A FIX of a node no element uses fixes nothing: a note, io/tests/test_dat_spacar.cpp.)
+      {"undefined_node_input", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "INPUTX 9 1"}), 3,
+       "INPUTX: node 9 is not used by any element"},
       {"undefined_node_mass", dyn({"XM 9 1.0"}), 8, "node 9 is not used by any element"},
       {"undefined_element_dyne", kin({"PLBEAM 1 1 2 3 4", "X 3 1 0", "DYNE 7 1"}), 3, "DYNE: element 7 is not defined"},
       {"undefined_element_estiff", dyn({"ESTIFF 5 1 2"}), 8, "ESTIFF: element 5 is not defined"},

@@ -87,6 +87,40 @@ TEST(OutputFile, SetCommitsFilesThenTheManifest) {
   fs::remove_all(d);
 }
 
+// Files from anywhere (a --svg path, <model>.sbd beside a CSV), files that name their own (a
+// picture series, listed after the renames), numbers in their shortest exact form (issue 24).
+TEST(OutputFile, ManifestListsEveryFileAndShortNumbers) {
+  const fs::path d = freshDir("every");
+  fs::create_directories(d / "pics");
+  {
+    OutputSet set((d / "r").string());
+    std::ofstream(set.temporaryFor(".csv")) << "a\n";
+    std::ofstream(set.temporaryPath((d / "pics/f.svg").string())) << "<svg/>";
+    const std::string adopted = temporaryName((d / "m").string()) + ".txt";  // (a .sbd is checked as MAT v5)
+    std::ofstream(adopted) << "sbd";
+    set.adopt(adopted, (d / "m.txt").string());
+    set.setting("end time", 0.7);
+    set.setting("tolerance", 1e-3);
+    const auto renamed = set.renameFiles();
+    EXPECT_EQ(renamed.size(), 3u);
+    fs::create_directories(d / "r_vtu");
+    std::ofstream(d / "r.pvd") << "pvd";
+    set.record((d / "r.pvd").string());
+    set.record((d / "r_vtu").string());
+    set.writeManifest("complete");
+  }
+  const std::string m = slurp(d / "r_run.txt");
+  for (const char* f : {"file: r.csv", "file: pics/f.svg", "file: m.txt", "file: r.pvd", "file: r_vtu/"})
+    EXPECT_NE(m.find(f), std::string::npos) << f << "\n" << m;
+  EXPECT_NE(m.find("end time: 0.7\n"), std::string::npos) << m;
+  EXPECT_NE(m.find("tolerance: 0.001\n"), std::string::npos) << m;
+  EXPECT_EQ(slurp(d / "m.txt"), "sbd");
+  EXPECT_EQ(slurp(d / "pics/f.svg"), "<svg/>");
+  for (const auto& e : fs::recursive_directory_iterator(d))
+    EXPECT_EQ(e.path().string().find(".part-"), std::string::npos) << e.path();
+  fs::remove_all(d);
+}
+
 TEST(OutputFile, TruncatedMatFileIsDetected) {
   const fs::path d = freshDir("mat");
   // A v5 header and one miMATRIX element announcing 64 bytes of which only 16 are there.

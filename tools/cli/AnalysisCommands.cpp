@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <set>
 
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
@@ -17,6 +18,7 @@
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
+#include "solvers/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 #include "tools/cli/Visuals.hpp"
@@ -78,28 +80,89 @@ int runModes(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
   }
+  // One file set: <out>.sbd / .sbm, the --svg figure and the manifest <out>_run.txt.
+  io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   try {
-    const analysis::InitialModes im = analysis::initialModes(model, basis, nev);
-    const analysis::Frequencies& fr = im.frequencies;
-    if (!fr.omega.allFinite() || fr.omega.size() == 0)
+    files.checkWritable();
+    if (!svg.empty()) io::OutputSet(svg).checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  files.setting("command", "modes");
+  files.setting("model", m.file);
+  files.setting("nev", std::to_string(nev));
+  if (!basisFile.empty()) files.setting("basis", basisFile);
+  analysis::InitialModes im;
+  try {
+    im = analysis::initialModes(model, basis, nev);
+    if (!im.frequencies.omega.allFinite() || im.frequencies.omega.size() == 0)
       throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
-    std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
-    printFrequencies(std::cout, fr.omega);
-    if (out.empty()) out = std::filesystem::path(m.file).stem().string();
-    const io::SpacarResults sr =
-        analysis::spacarFromModes(model, model.settings.t0, im.eta, im.system, fr.omega, fr.modes, basis);
-    for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
-    if (!svg.empty()) {
-      ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
-      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
-      std::cout << "wrote " << svg << "\n";
-    }
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kNumericalFailure;
   }
+  const analysis::Frequencies& fr = im.frequencies;
+  std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
+  printFrequencies(std::cout, fr.omega);
+  try {
+    const io::SpacarResults sr =
+        analysis::spacarFromModes(model, model.settings.t0, im.eta, im.system, fr.omega, fr.modes, basis);
+    const std::string temp = files.temporaryPrefix();
+    for (const auto& p : io::writeSpacarResults(temp, model, sr))
+      files.adopt(p, files.prefix() + p.substr(temp.size()));
+    for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
+    if (!svg.empty()) {
+      ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
+      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
+      std::cout << "wrote " << svg << "\n";
+      files.record(svg);
+    }
+    std::cout << "wrote " << files.writeManifest("complete") << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
   return kOk;
 }
+
+namespace {
+// The nodes a static analysis is about: loaded (XF, DELXF, XFT, moments) and driven (INPUTX), in
+// label order.
+std::vector<int> loadedAndInputNodes(const core::Model& model) {
+  std::set<int> nodes;
+  auto add = [&](int xi) { nodes.insert(model.nodes[model.xOwnerNode[xi]].label); };
+  for (int i = 0; i < model.nx; ++i)
+    if ((model.f0.size() && model.f0[i] != 0.0) || (model.delf.size() && model.delf[i] != 0.0)) add(i);
+  for (const auto& f : model.timeForces) add(f.index);
+  for (const auto& mo : model.moments) nodes.insert(model.nodes[mo.node].label);
+  for (const auto& in : model.inputX) add(in.index);
+  return {nodes.begin(), nodes.end()};
+}
+
+// The displacements x - x0 of those nodes at the last load step (what a user looks for first:
+// the tip deflection of a loaded cantilever), one line per node.
+void printFinalDisplacements(std::ostream& o, const core::Model& model, const analysis::StaticRun& run) {
+  if (run.steps.empty()) return;
+  const std::vector<int> nodes = loadedAndInputNodes(model);
+  if (nodes.empty()) return;
+  const Eigen::VectorXd& x = run.steps.back().x;
+  o << "displacements at the last load step (x - X) of the loaded and input nodes:\n";
+  for (int label : nodes) {
+    const core::Node& n = model.nodes[model.nodeByLabel.at(label)];
+    o << "  node " << std::setw(4) << label << ":";
+    static const char* position[] = {"dx", "dy", "dz"};
+    static const char* euler[] = {"dlambda0", "dlambda1", "dlambda2", "dlambda3"};
+    for (int c = 0; c < n.dim(); ++c) {
+      const char* name = n.kind == core::NodeKind::Orientation       ? "rotation [rad]"
+                         : n.kind == core::NodeKind::EulerParameters ? euler[c]
+                                                                     : position[c];
+      o << "  " << name << " = " << solvers::shortest(x[n.firstCoord + c] - model.x0[n.firstCoord + c]);
+    }
+    o << "\n";
+  }
+}
+}  // namespace
 
 int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
@@ -132,7 +195,8 @@ int runStatic(const std::vector<std::string>& args) {
     nev = 0;
   }
   nev = std::min(nev, model.numDofs());
-  // Output: --out file.csv, a prefix, or a folder; checked before the analysis.
+  // Output: --out file.csv, a prefix, or a folder; checked before the analysis. One file set: the
+  // CSV, SPACAR's <model>.sbd / .sbm beside it, the --svg figure, the manifest <prefix>_run.txt.
   std::string csvPath;
   if (out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0)
     csvPath = out;
@@ -141,6 +205,7 @@ int runStatic(const std::vector<std::string>& args) {
   io::OutputSet files(csvPath.substr(0, csvPath.size() - 4));
   try {
     files.checkWritable();
+    if (!svg.empty()) io::OutputSet(svg).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -149,13 +214,21 @@ int runStatic(const std::vector<std::string>& args) {
   files.setting("model", m.file);
   files.setting("load steps", std::to_string(n));
   files.setting("nev", std::to_string(nev));
+  if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
 
+  installInterruptHandler();
   Progress progress("static", !m.quiet);
-  const analysis::StaticRun run = analysis::staticAnalysis(
-      model, nev, static_cast<int>(n), [&](int i, int total) { progress.update(i, total, "load steps"); }, buckling);
+  analysis::StaticOptions so;
+  so.nev = nev;
+  so.loadSteps = static_cast<int>(n);
+  so.buckling = buckling;
+  so.onStep = [&](int i, int total) { progress.update(i, total, "load steps"); };
+  so.interrupt = interruptFlag();
+  so.interruptSignal = interruptSignal();
+  const analysis::StaticRun run = analysis::staticAnalysis(model, so);
   progress.finish();
   try {
-    std::ofstream csv(files.temporaryFor(".csv"));
+    std::ofstream csv(files.temporaryPath(csvPath));
     csv << std::setprecision(17) << "load_factor";
     for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
@@ -187,25 +260,30 @@ int runStatic(const std::vector<std::string>& args) {
     csv.flush();
     if (!csv) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
     csv.close();
-    std::cout << "wrote " << csvPath << "\n";
-    files.commit(run.completed ? "complete" : "stopped: " + run.stopReason);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kWriteFailed;
-  }
-  // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md); the steps reached are kept.
-  try {
+    printFinalDisplacements(std::cout, model, run);
+    // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md); the steps reached are kept.
     const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
-    analysis::SpacarOutputOptions so;
-    so.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
-    so.jacobian = true;
-    const io::SpacarResults sr = analysis::spacarFromStatics(model, run, so);
-    for (const auto& p : io::writeSpacarResults(base, model, sr)) std::cout << "wrote " << p << "\n";
+    analysis::SpacarOutputOptions spo;
+    spo.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
+    spo.jacobian = true;
+    const io::SpacarResults sr = analysis::spacarFromStatics(model, run, spo);
+    const std::string tempBase = io::temporaryName(base);
+    for (const auto& p : io::writeSpacarResults(tempBase, model, sr)) files.adopt(p, base + p.substr(tempBase.size()));
+    for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
+    if (!svg.empty()) {
+      if (!writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;  // no manifest: the set is incomplete
+      files.record(svg);
+    }
+    files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
+    std::cout << "wrote " << files.manifestPath() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (!svg.empty() && !writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;
+  if (run.interrupted) {
+    std::cerr << "flexmb: static analysis " << run.stopReason << "\n";
+    return interruptedExitCode();
+  }
   if (!run.completed) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
     return kNumericalFailure;
@@ -254,6 +332,7 @@ int runSweep(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
   try {
     files.checkWritable();
+    if (!svg.empty()) io::OutputSet(svg).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -262,15 +341,16 @@ int runSweep(const std::vector<std::string>& args) {
   files.setting("command", "sweep");
   files.setting("model", m.file);
   files.setting("prescribed", "node " + std::to_string(o.node) + " component " + std::to_string(o.component));
-  {
-    std::ostringstream range;
-    range << std::setprecision(17) << o.from << " to " << o.to << " in " << o.steps << " configurations";
-    files.setting("range", range.str());
-  }
+  files.setting("range", solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
+                             std::to_string(o.steps) + " configurations");
+  files.setting("nev", std::to_string(o.nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
 
+  installInterruptHandler();
   Progress progress("sweep", !m.quiet);
   o.onPoint = [&](int i, int total) { progress.update(i, total, "configurations"); };
+  o.interrupt = interruptFlag();
+  o.interruptSignal = interruptSignal();
   analysis::SweepResult r;
   try {
     r = analysis::sweep(model, o);
@@ -319,14 +399,22 @@ int runSweep(const std::vector<std::string>& args) {
     if (!csv) throw std::runtime_error("cannot write '" + prefix + ".csv': write failed");
     csv.close();
     if (!r.points.empty()) io::writeSvg(files.temporaryFor(".svg"), plot);
-    files.commit(r.completed ? "complete" : "stopped: " + r.stopReason);
+    files.renameFiles();
     std::cout << "wrote " << prefix << ".csv" << (r.points.empty() ? "" : " and " + prefix + ".svg") << " ("
               << r.points.size() << " of " << o.steps << " configurations)\n";
+    if (!svg.empty()) {
+      if (!writeSweepFigure(svg, model, m.file, r, o.t)) return kWriteFailed;  // no manifest: incomplete
+      files.record(svg);
+    }
+    std::cout << "wrote " << files.writeManifest(r.completed ? "complete" : "stopped: " + r.stopReason) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (!svg.empty() && !writeSweepFigure(svg, model, m.file, r, o.t)) return kWriteFailed;
+  if (r.interrupted) {
+    std::cerr << "flexmb: sweep " << r.stopReason << "\n";
+    return interruptedExitCode();
+  }
   if (!r.completed) {
     std::cerr << "flexmb: sweep stopped " << r.stopReason << " (" << r.points.size()
               << " configurations before it are written)\n";

@@ -14,7 +14,7 @@ int runCheck(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   if (auto rc = parseCommand(args, d, m, "usage: flexmb check model.dat [options]")) return *rc;
-  m.quiet = true;  // the notes are part of the report below
+  m.quiet = true;  // the notes and warnings are part of the report below
   core::Model model;
   if (!loadModel(m, model, true)) return kInputError;
   std::cout << "model: " << model.sourceFile << " (" << io::dialectName(model.dialect) << ")\n";
@@ -33,6 +33,25 @@ int runCheck(const std::vector<std::string>& args) {
   }
   std::cout << c.kinematicsText();
   bool ok = c.kinematics.wellPosed();
+  // The degrees of freedom in q's order (DYNX, then DYNE, each in file order): the numbers that
+  // reduce --large and a basis file's rows use.
+  if (model.numDofs() > 0) {
+    std::cout << "degrees of freedom in order (q1..q" << model.numDofs() << "; reduce --large uses these numbers):\n";
+    for (int i = 0; i < model.numDofs(); ++i) {
+      const auto& dof = model.dofs[i];
+      std::cout << "  q" << i + 1 << " "
+                << (dof.isDeformation ? model.deformationName(dof.index) : model.coordName(dof.index)) << "\n";
+    }
+  }
+  // Every note and warning of the reader: extras that were ignored, and what probably is a mistake.
+  if (!model.notes.empty()) {
+    std::cout << "notes (harmless, ignored or not used):\n";
+    for (const auto& n : model.notes) std::cout << "  " << n << "\n";
+  }
+  if (!model.warnings.empty()) {
+    std::cout << "warnings (legal, but they change the model; check them):\n";
+    for (const auto& w : model.warnings) std::cout << "  " << w << "\n";
+  }
   if (!c.diagnosis.mechanismDeformations.empty()) {
     std::cout << "mechanism degrees of freedom: " << c.diagnosis.mechanismDeformations.size()
               << " dynamic (DYNE) deformation(s) without stiffness move freely:\n";
@@ -48,6 +67,9 @@ int runCheck(const std::vector<std::string>& args) {
     std::cout << "initial configuration: cannot be assembled: " << c.assembly.error << "\n";
     ok = false;
   }
+  if (ok && !model.warnings.empty())
+    std::cout << "the model is well posed, with " << model.warnings.size() << " warning"
+              << (model.warnings.size() == 1 ? "" : "s") << " above\n";
   return ok ? kOk : kInputError;
 }
 

@@ -20,7 +20,8 @@ enum ExitCode : int {
   kUsageError = 2,        // the command line: unknown option, invalid or missing value
   kNumericalFailure = 3,  // the analysis stopped (Newton, step size, folded element); results so far written
   kWriteFailed = 4,       // a result file could not be written (disk full, removed folder)
-  kInterrupted = 130,     // Ctrl-C: results so far written
+  kInterrupted = 130,     // Ctrl-C (SIGINT): results so far written
+  kTerminated = 143,      // SIGTERM (kill, a batch system's time limit): results so far written, as for Ctrl-C
 };
 
 int runCheck(const std::vector<std::string>& args);
@@ -47,10 +48,13 @@ bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctio
 // loadModel, then the model diagnostics (core/ModelDiagnostics) that make an analysis meaningless:
 // no degrees of freedom, no mass where the analysis needs it, overflowing values, an initial
 // assembly on another branch. Prints them; false = input error.
-bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass);
+// allowDriven: a driven rigid mechanism (no degrees of freedom, moving inputs) is accepted
+// (simulate runs its inverse dynamics).
+bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass, bool allowDriven = false);
 // Every analysis stage of the file (SPACAR95 blocks), read with the same options, after
 // loadModelFor's checks of the whole file.
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass);
+bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass,
+                bool allowDriven = false);
 
 // The options every model command shares (--dialect, --elongation, --quiet), and the parse of a
 // command's options with the model file as positional argument. Returns an exit code when the
@@ -64,9 +68,11 @@ std::function<void(const double&)> positive(const char* option);  // finite and 
 std::function<void(const double&)> finite(const char* option);
 std::function<void(const int&)> atLeast(const char* option, int minimum);
 
-// Ctrl-C: the first SIGINT sets the flag (an analysis stops at its next check and writes what it
-// has); a second one ends the program at once.
+// Ctrl-C and SIGTERM: the first signal sets the flag (an analysis stops at its next check and writes
+// what it has; analysis::interruptCause names the signal); a second one ends the program at once.
 void installInterruptHandler();
 const std::atomic<bool>* interruptFlag();
+const std::atomic<int>* interruptSignal();  // the signal that set the flag (0: none yet)
+int interruptedExitCode();                  // kInterrupted (SIGINT) or kTerminated (SIGTERM)
 
 }  // namespace flexmb::cli

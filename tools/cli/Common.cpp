@@ -1,10 +1,12 @@
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 #include <tuple>
 
+#include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
 #include "io/DatReader.hpp"
 #include "tools/cli/Commands.hpp"
@@ -15,15 +17,36 @@ namespace flexmb::cli {
 
 namespace {
 std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
 
-extern "C" void onInterrupt(int) {
-  if (g_interrupted.exchange(true)) std::_Exit(kInterrupted);  // second Ctrl-C: stop at once
+extern "C" void onInterrupt(int sig) {
+  if (g_interrupted.load()) std::_Exit(sig == SIGTERM ? kTerminated : kInterrupted);  // the second: at once
+  g_signal.store(sig);  // before the flag: whoever sees the flag sees the signal
+  g_interrupted.store(true);
 }
 
 std::string shortNumber(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// A value the option parser rejected that is a number with a decimal comma ("1,5"): say so, as the
+// .dat reader does (boost names the value as "('1,5')" in its message).
+std::string decimalCommaHint(const std::vector<std::string>& args, const std::string& message) {
+  for (const auto& arg : args) {
+    const auto eq = arg.rfind("--", 0) == 0 ? arg.find('=') : std::string::npos;
+    std::string value = eq == std::string::npos ? arg : arg.substr(eq + 1);
+    const auto comma = value.find(',');
+    if (comma == std::string::npos || value.find(',', comma + 1) != std::string::npos) continue;
+    if (message.find("('" + value + "')") == std::string::npos) continue;
+    value[comma] = '.';
+    char* end = nullptr;
+    std::strtod(value.c_str(), &end);
+    if (!value.empty() && end == value.c_str() + value.size())
+      return " (a decimal comma? write " + value + ": the decimal separator is '.', as in .dat files)";
+  }
+  return "";
 }
 
 std::string listed(const std::vector<std::string>& v, size_t shown = 8) {
@@ -42,6 +65,8 @@ void installInterruptHandler() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 const std::atomic<bool>* interruptFlag() { return &g_interrupted; }
+const std::atomic<int>* interruptSignal() { return &g_signal; }
+int interruptedExitCode() { return g_signal.load() == SIGTERM ? kTerminated : kInterrupted; }
 
 std::function<void(const double&)> positive(const char* option) {
   return [option](const double& v) {
@@ -88,7 +113,8 @@ std::optional<int> parseCommand(const std::vector<std::string>& args, po::option
     }
     po::notify(vm);
   } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n" << usage << "\n(flexmb <command> --help lists the options)\n";
+    std::cerr << "flexmb: " << e.what() << decimalCommaHint(args, e.what()) << "\n"
+              << usage << "\n(flexmb <command> --help lists the options)\n";
     return kUsageError;
   }
   if (needsModel && m.file.empty()) {
@@ -129,6 +155,8 @@ bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctio
     model = io::readDatFile(o.file, readOptions(o));
     if (!o.quiet)
       for (const auto& note : model.notes) std::cerr << "flexmb: note: " << note << "\n";
+    if (!o.quiet)
+      for (const auto& w : model.warnings) std::cerr << o.file << ": warning: " << w << "\n";
     // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
     for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
                                           std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
@@ -159,13 +187,15 @@ bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctio
   return true;
 }
 
-bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass) {
+bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass, bool allowDriven) {
   if (!loadModel(o, model)) return false;
-  if (model.numDofs() == 0) {
-    std::cerr << o.file
-              << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate): "
-                 "nothing moves, so there is nothing to integrate and no eigenfrequency. Make the deformations "
-                 "that carry the motion DYNE (with ESTIFF), see `flexmb check`.\n";
+  if (model.numDofs() == 0 && !(allowDriven && analysis::isDrivenRigidMechanism(model))) {
+    std::cerr << o.file << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)"
+              << (allowDriven ? " and no input that moves in time: nothing moves, so there is nothing to simulate"
+                              : ": there is no eigenfrequency and no elastic equilibrium to find")
+              << ". Make the deformations that carry the motion DYNE (with ESTIFF), or drive the mechanism with "
+                 "INPUTX / INPUTE values that change in time (simulate then runs its kinematics and inverse "
+                 "dynamics); see `flexmb check`.\n";
     return false;
   }
   const analysis::AssemblyCheck a = analysis::checkAssembly(model, needsMass);
@@ -188,9 +218,9 @@ bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass) {
   return true;
 }
 
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass) {
+bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass, bool allowDriven) {
   core::Model probe;
-  if (!loadModelFor(o, probe, needsMass)) return false;  // errors, diagnostics and notes, once
+  if (!loadModelFor(o, probe, needsMass, allowDriven)) return false;  // errors, diagnostics and notes, once
   try {
     stages = io::readDatStages(o.file, readOptions(o));
     return true;

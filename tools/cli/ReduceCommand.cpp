@@ -1,10 +1,12 @@
 #include <boost/program_options.hpp>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
 #include "analysis/Reduction.hpp"
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
+#include "solvers/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 
@@ -32,8 +34,9 @@ int runReduce(const std::vector<std::string>& args) {
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component")(
       "from", po::value(&o.from)->notifier(finite("from")), "path start value")(
       "to", po::value(&o.to)->notifier(finite("to")), "path end value")(
-      "large", po::value(&large), "comma-separated q indices (0-based) kept with identity columns (default: hinges)")(
-      "out", po::value(&out)->default_value("basis.csv"), "basis file");
+      "large", po::value(&large),
+      "degrees of freedom kept with identity columns (Eq. 20), 1-based in `flexmb check`'s order (DYNX, then DYNE), "
+      "comma-separated (default: the hinges)")("out", po::value(&out)->default_value("basis.csv"), "basis file");
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
     return *rc;
@@ -58,10 +61,16 @@ int runReduce(const std::vector<std::string>& args) {
         used = 0;
       }
       if (used == 0 || used != tok.size() || v < 0) {
-        std::cerr << "flexmb: --large: '" << tok << "' is not an index (0-based integers separated by commas)\n";
+        std::cerr << "flexmb: --large: '" << tok << "' is not an index (1-based integers separated by commas)\n";
         return kUsageError;
       }
-      idx.push_back(v);
+      if (v == 0) {
+        std::cerr << "flexmb: --large: the indices are 1-based, as every number in flexmb (degree of freedom 1 is "
+                     "the first in `flexmb check`'s list); 0 is not one (earlier flexmb versions read them 0-based: "
+                     "add 1)\n";
+        return kUsageError;
+      }
+      idx.push_back(v - 1);
     }
     o.large = idx;
   }
@@ -70,15 +79,34 @@ int runReduce(const std::vector<std::string>& args) {
   if (o.large)
     for (int i : *o.large)
       if (i >= model.numDofs()) {
-        std::cerr << "flexmb: --large: index " << i << " is out of range (the model has " << model.numDofs()
-                  << " degrees of freedom, 0-based)\n";
+        std::cerr << "flexmb: --large: index " << i + 1 << " is out of range (the model has " << model.numDofs()
+                  << " degrees of freedom, 1 to " << model.numDofs() << ")\n";
         return kUsageError;
       }
+  // One file set: the basis and the manifest <basis without .csv>_run.txt.
+  io::OutputSet files(std::filesystem::path(out).replace_extension("").string());
   try {
-    io::OutputSet(out).checkWritable();
+    files.checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
+  }
+  files.setting("command", "reduce");
+  files.setting("model", m.file);
+  files.setting("method", o.method);
+  if (o.method == "modal") {
+    files.setting("modes", std::to_string(o.modes));
+    files.setting("normalise", o.normalise);
+  } else {
+    files.setting("modes per configuration", std::to_string(o.modes));
+    files.setting("path", "node " + std::to_string(o.node) + " component " + std::to_string(o.component) + " from " +
+                              solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
+                              std::to_string(o.configs) + " configurations");
+    files.setting("weight", o.weight);
+    if (o.count > 0)
+      files.setting("count", std::to_string(o.count));
+    else
+      files.setting("threshold", o.threshold);
   }
   analysis::ReductionResult r;
   try {
@@ -93,15 +121,18 @@ int runReduce(const std::vector<std::string>& args) {
     return kNumericalFailure;
   }
   try {
-    const std::string temp = io::temporaryName(out);
-    io::writeBasis(temp, r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});
-    io::commitTemporary(temp, out);
+    io::writeBasis(files.temporaryPath(out), r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});
+    std::string kept;
+    for (int i : r.large) kept += (kept.empty() ? "" : ",") + std::to_string(i + 1);
+    files.setting("identity columns (--large, 1-based)", kept.empty() ? std::string("none") : kept);
+    files.commit("complete");
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.large.size()
             << " identity columns) written to " << out << "\n";
+  std::cout << "wrote " << files.manifestPath() << "\n";
   if (r.scaledSingularValues.size()) {
     std::cout << "scaled singular values:";
     for (Eigen::Index i = 0; i < r.scaledSingularValues.size(); ++i) std::cout << " " << r.scaledSingularValues[i];

@@ -4,11 +4,14 @@
 #include <boost/program_options.hpp>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "analysis/AccuracyCheck.hpp"
+#include "analysis/InverseDynamics.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
@@ -18,6 +21,7 @@
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
+#include "solvers/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 
@@ -71,7 +75,7 @@ struct SimulateArgs {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
   std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
-  bool matrices = false, vtk = false, html = false;
+  bool matrices = false, vtk = false, html = false, noAccuracyCheck = false;
   analysis::Integrator chosen = analysis::Integrator::Ode45;
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
   bool csv() const { return format == "csv" || format == "both"; }
@@ -114,7 +118,10 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
       "unless given)")("vtk", po::bool_switch(&a.vtk),
                        "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
-      "html", po::bool_switch(&a.html), "<out>.html: a self-contained page that plays the motion in a browser");
+      "html", po::bool_switch(&a.html), "<out>.html: a self-contained page that plays the motion in a browser")(
+      "no-accuracy-check", po::bool_switch(&a.noAccuracyCheck),
+      "skip the a-posteriori accuracy check (three windows of the run integrated again at a 100x tighter "
+      "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");
   if (auto rc = parseCommand(args, d, a.m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (!a.csv() && !a.mat() && a.format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << a.format << "'\n";
@@ -157,6 +164,7 @@ analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
   if (a.intervals >= 0) opt.intervals = a.intervals;
   opt.dynamics = a.dynamicsForm;
   opt.progress = !a.m.quiet;
+  opt.accuracyCheck = !a.noAccuracyCheck;
   return opt;
 }
 
@@ -217,6 +225,25 @@ std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::
   return std::nullopt;
 }
 
+// The time span and the integrator's settings in words, numbers in their shortest exact form:
+// "0 to 0.7 s, 700 output intervals, reltol 0.001, abstol 1e-06, max step 0.07 s (not limited:
+// ode45's default, a tenth of the span)".
+std::string integrationText(const core::Model& model, const analysis::SimulationOptions& opt) {
+  using solvers::shortest;
+  const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
+  const double h = opt.maxStep.value_or(model.settings.hmax);
+  const int n = opt.intervals.value_or(model.settings.outputIntervals);
+  std::string s = shortest(t0) + " to " + shortest(t1) + " s, " +
+                  (n > 0 ? std::to_string(n) + " output intervals" : std::string("output at every step")) +
+                  ", reltol " + shortest(opt.relTol.value_or(model.settings.relTol)) + ", abstol " +
+                  shortest(opt.absTol.value_or(model.settings.absTol)) + ", max step ";
+  if (h > 0) return s + shortest(std::min(h, t1 - t0)) + " s";
+  // A derived number: in 15 digits (0.1 x 0.07 is 0.007000000000000001 in its shortest exact form).
+  char tenth[32];
+  std::snprintf(tenth, sizeof tenth, "%.15g", 0.1 * (t1 - t0));
+  return s + tenth + " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
+}
+
 // The run manifest's settings.
 void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
                  const analysis::SimulationOptions& opt) {
@@ -224,13 +251,7 @@ void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model&
   files.setting("model", a.m.file);
   if (!a.basisFile.empty()) files.setting("basis", a.basisFile);
   files.setting("integrator", analysis::integratorDescription(opt));
-  std::ostringstream s;
-  s.precision(17);
-  s << model.settings.t0 << " to " << opt.tEnd.value_or(model.settings.tEnd) << " s, "
-    << opt.intervals.value_or(model.settings.outputIntervals) << " output intervals, reltol "
-    << opt.relTol.value_or(model.settings.relTol) << ", abstol " << opt.absTol.value_or(model.settings.absTol)
-    << ", max step " << opt.maxStep.value_or(model.settings.hmax);
-  files.setting("integration", s.str());
+  files.setting("integration", integrationText(model, opt));
   files.setting("dynamics", a.dynamics);
 }
 
@@ -308,18 +329,140 @@ std::vector<std::string> writeSimulationResults(io::OutputSet& files, const Simu
       for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
     }
   }
-  std::vector<std::string> report = files.commit(traj.completed ? "complete" : "stopped: " + traj.stopReason);
-  if (!traj.time.empty()) {  // pictures of the motion, beside the committed result files
-    if (a.vtk) writeVtk(files.prefix(), model, traj);
-    if (a.html) writeAnimation(files.prefix(), model, traj);
+  if (!a.echo.empty() && !traj.time.empty())
+    io::writeRestart(files.temporaryPath(a.echo), model, traj.time.back(), traj.states.back());
+  std::vector<std::string> report = files.renameFiles();
+  if (!traj.time.empty()) {  // pictures of the motion (they name their own files), then the manifest
+    if (a.vtk) {
+      writeVtk(files.prefix(), model, traj);
+      files.record(files.prefix() + ".pvd");
+      files.record(files.prefix() + "_vtu");
+    }
+    if (a.html) {
+      writeAnimation(files.prefix(), model, traj);
+      files.record(files.prefix() + ".html");
+    }
   }
-  if (!a.echo.empty() && !traj.time.empty()) {
-    const std::string temp = io::temporaryName(a.echo);
-    io::writeRestart(temp, model, traj.time.back(), traj.states.back());
-    io::commitTemporary(temp, a.echo);
-    report.push_back(a.echo);
-  }
+  report.push_back(files.writeManifest(traj.completed ? "complete" : "stopped: " + traj.stopReason));
   return report;
+}
+
+// The total nodal forces fxt per output time (<out>_fxt.csv): what a driven rigid mechanism's
+// inputs need at their coordinates.
+void writeForceCsv(const std::string& path, const core::Model& model, const core::Trajectory& traj,
+                   const std::vector<Eigen::VectorXd>& fxt) {
+  std::ofstream f(path);
+  f.precision(17);
+  f << "time";
+  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
+  f << "\n";
+  for (size_t k = 0; k < fxt.size(); ++k) {
+    f << traj.time[k];
+    for (Eigen::Index i = 0; i < fxt[k].size(); ++i) f << "," << fxt[k][i];
+    f << "\n";
+  }
+  f.flush();
+  if (!f) throw std::runtime_error("cannot write '" + path + "': write failed");
+}
+
+// The largest |force| each input needs over the run, as a SPACAR user reads it off fxt and sig.
+void printInputForces(std::ostream& o, const core::Model& model, const core::Trajectory& traj,
+                      const std::vector<Eigen::VectorXd>& fxt) {
+  auto peak = [&](auto value) {
+    double worst = 0.0, at = traj.time.empty() ? 0.0 : traj.time.front();
+    for (size_t k = 0; k < traj.time.size(); ++k)
+      if (std::abs(value(k)) > std::abs(worst)) worst = value(k), at = traj.time[k];
+    return std::pair{worst, at};
+  };
+  for (const auto& in : model.inputX) {
+    const auto [f, t] = peak([&](size_t k) { return fxt[k][in.index]; });
+    o << "  input " << model.coordName(in.index) << ": largest force (fxt) " << solvers::shortest(f)
+      << " at t = " << solvers::shortest(t) << "\n";
+  }
+  for (const auto& in : model.inputE) {
+    const auto [f, t] = peak([&](size_t k) { return traj.states[k].sig[in.index]; });
+    o << "  input " << model.deformationName(in.index) << ": largest stress (sig) " << solvers::shortest(f)
+      << " at t = " << solvers::shortest(t) << " (the drive applies -sig in the direction of the deformation)\n";
+  }
+}
+
+// Mode 1 on a driven rigid mechanism (analysis/InverseDynamics.hpp): the same files as a
+// simulation, plus <out>_fxt.csv with the forces the inputs need.
+int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Model*>& runs) {
+  const core::Model& model = *runs.back();
+  if (!a.basisFile.empty() || a.linearize > 0 || a.matrices || a.intervals == 0) {
+    std::cerr << "flexmb: " << a.m.file
+              << " is a driven rigid mechanism (no degrees of freedom): there is no reduced model (--basis), no "
+                 "linearisation (--linearize, --matrices, modes 3 and 4) and no integrator step to output at "
+                 "(--intervals 0)\n";
+    return kUsageError;
+  }
+  if (!a.m.quiet && (a.relTol > 0 || a.absTol > 0 || a.maxStep > 0 || a.integrator != "ode45" || a.bdfOrder > 0))
+    std::cerr << "flexmb: note: no integrator runs (no degrees of freedom): --integrator, --reltol, --abstol, "
+                 "--max-step and --bdf-order are ignored\n";
+  io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
+  try {
+    files.checkWritable();
+    if (!a.echo.empty()) io::OutputSet(a.echo).checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  analysis::InverseDynamicsOptions o;
+  if (a.tEnd > 0) o.tEnd = a.tEnd;
+  if (a.intervals > 0) o.intervals = a.intervals;
+  files.setting("command", "simulate");
+  files.setting("model", a.m.file);
+  files.setting("analysis",
+                "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at the output "
+                "times, no integrator");
+  {
+    const double t0 = model.settings.t0, t1 = o.tEnd.value_or(model.settings.tEnd);
+    files.setting("time", solvers::shortest(t0) + " to " + solvers::shortest(t1) + " s, " +
+                              std::to_string(o.intervals.value_or(model.settings.outputIntervals)) +
+                              " output intervals");
+  }
+  installInterruptHandler();
+  o.interrupt = interruptFlag();
+  o.interruptSignal = interruptSignal();
+  // SPACAR95 blocks: each runs over its own span (nothing carries over but the time).
+  analysis::InverseDynamicsRun all;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    analysis::InverseDynamicsOptions ok = o;
+    if (k + 1 < runs.size()) ok.tEnd.reset(), ok.intervals.reset();
+    analysis::InverseDynamicsRun part = analysis::inverseDynamics(*runs[k], ok);
+    const auto& pt = part.trajectory;
+    const size_t skip =
+        !all.trajectory.time.empty() && !pt.time.empty() && pt.time.front() == all.trajectory.time.back();
+    for (size_t i = skip; i < pt.time.size(); ++i) {
+      all.trajectory.time.push_back(pt.time[i]);
+      all.trajectory.states.push_back(pt.states[i]);
+      all.fxt.push_back(part.fxt[i]);
+    }
+    all.trajectory.integrator = pt.integrator;
+    all.interrupted = part.interrupted;
+    if (!pt.completed) {
+      all.trajectory.completed = false;
+      all.trajectory.stopReason = pt.stopReason;
+      break;
+    }
+  }
+  const core::Trajectory& traj = all.trajectory;
+  std::cout << "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at " << traj.time.size()
+            << " output times, no integration\n";
+  if (!traj.time.empty()) printInputForces(std::cout, model, traj, all.fxt);
+  if (!traj.completed) std::cerr << "flexmb: stopped early: " << traj.stopReason << "\n";
+  std::vector<std::string> report;
+  try {
+    if (!traj.time.empty() && a.csv()) writeForceCsv(files.temporaryFor("_fxt.csv"), model, traj, all.fxt);
+    report = writeSimulationResults(files, a, model, analysis::SimulationOptions(), traj, all.interrupted);
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  for (const auto& f : report) std::cout << "wrote " << f << "\n";
+  if (all.interrupted) return interruptedExitCode();
+  return traj.completed ? kOk : kNumericalFailure;
 }
 
 }  // namespace
@@ -328,14 +471,25 @@ int runSimulate(const std::vector<std::string>& args) {
   SimulateArgs a;
   if (auto rc = parseSimulate(args, a)) return *rc;
   std::vector<io::AnalysisStage> stages;
-  if (!loadStages(a.m, stages, true)) return kInputError;
+  if (!loadStages(a.m, stages, true, true)) return kInputError;
   // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
   std::vector<const core::Model*> runs;
   for (const auto& st : stages)
     if (st.runs) runs.push_back(&st.model);
   if (runs.empty()) runs.push_back(&stages.back().model);
   const core::Model& model = *runs.back();
+  // No TIMESTEP: the defaults, said once, with what the command line overrides.
+  if (!model.settings.timestepGiven && !a.m.quiet && (a.tEnd <= 0 || a.intervals < 0)) {
+    std::cerr << "flexmb: note: " << a.m.file << " has no TIMESTEP: ";
+    if (a.tEnd <= 0)
+      std::cerr << "the run goes from " << solvers::shortest(model.settings.t0) << " to "
+                << solvers::shortest(model.settings.tEnd) << " s";
+    if (a.tEnd <= 0 && a.intervals < 0) std::cerr << " in ";
+    if (a.intervals < 0) std::cerr << model.settings.outputIntervals << " output intervals";
+    std::cerr << " (the defaults; give TIMESTEP, or --t-end and --intervals)\n";
+  }
   if (runs.size() > 1 && !a.m.quiet) std::cout << runs.size() << " analysis blocks, run in sequence\n";
+  if (analysis::isDrivenRigidMechanism(model)) return runDrivenMechanism(a, runs);
 
   analysis::SimulationOptions opt = simulationOptions(a);
   try {
@@ -362,6 +516,7 @@ int runSimulate(const std::vector<std::string>& args) {
 
   installInterruptHandler();
   opt.interrupt = interruptFlag();
+  opt.interruptSignal = interruptSignal();
   const auto start = std::chrono::steady_clock::now();
   core::Trajectory traj;
   bool interrupted = false;
@@ -382,6 +537,16 @@ int runSimulate(const std::vector<std::string>& args) {
     files.setting("auto switch", sw.str());
     if (!a.m.quiet) std::cerr << "flexmb: note: " << sw.str() << "\n";
   }
+  if (traj.completed && opt.accuracyCheck) {
+    const std::string text = analysis::describeAccuracy(traj.accuracy);
+    std::cout << "accuracy check: " << text << "\n";
+    files.setting("accuracy", text);
+    if (!traj.accuracy.converged())
+      std::fprintf(stderr,
+                   "flexmb: warning: the result is not converged: a tighter tolerance changes it by about %.2g of "
+                   "the model size over the run (more than 10 RelTol): tighten --reltol and --abstol and compare\n",
+                   traj.accuracy.estimate);
+  }
 
   std::vector<std::string> report;
   try {
@@ -391,7 +556,7 @@ int runSimulate(const std::vector<std::string>& args) {
     return kWriteFailed;
   }
   for (const auto& f : report) std::cout << "wrote " << f << "\n";
-  if (interrupted) return kInterrupted;
+  if (interrupted) return interruptedExitCode();
   return traj.completed ? kOk : kNumericalFailure;
 }
 

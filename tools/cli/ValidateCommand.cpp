@@ -37,8 +37,12 @@ int runValidate(const std::vector<std::string>& args) {
     std::cerr << "flexmb: cannot create the report folder '" << o.outDir << "': " << e.what() << "\n";
     return kInputError;
   }
+  installInterruptHandler();
+  o.interrupt = interruptFlag();
+  o.interruptSignal = interruptSignal();
   try {
-    return validation::runValidation(o);
+    const int rc = validation::runValidation(o);
+    return rc == validation::kInterrupted ? interruptedExitCode() : rc;
   } catch (const std::exception& e) {
     std::cerr << "flexmb validate: " << e.what() << "\n";
     return kNumericalFailure;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "io/KeywordTable.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
     return args.empty() ? kUsageError : kOk;
   }
   if (args[0] == "--version" || args[0] == "version") {
-    std::cout << "flexmb " << FLEXMB_VERSION << "\n";
+    // The release and the commit it was built from (git describe at configure time, tools/CMakeLists.txt).
+    std::cout << "flexmb " << FLEXMB_VERSION << " (" << FLEXMB_COMMIT << ")\n";
     return kOk;
   }
   std::string command = args[0];
@@ -81,7 +83,14 @@ int main(int argc, char** argv) {
       {"show", runShow},     {"study", runStudy}};
   auto it = commands.find(command);
   if (it == commands.end()) {
-    std::cerr << "flexmb: unknown command '" << command << "'\n";
+    // The nearest command within two edits (a typo: `simulat`, `chekc`), as the .dat reader
+    // suggests keywords.
+    std::string nearest;
+    int best = 3;
+    for (const auto& [name, run] : commands)
+      if (const int dist = flexmb::io::editDistance(command, name); dist < best) best = dist, nearest = name;
+    std::cerr << "flexmb: unknown command '" << command << "'"
+              << (nearest.empty() ? std::string() : "; did you mean " + nearest + "?") << "\n";
     usage(std::cerr);
     return kUsageError;
   }

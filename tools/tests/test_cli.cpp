@@ -151,7 +151,9 @@ TEST_F(Cli, EveryOptionWithBadValuesEndsCleanly) {
         const Result r = flexmb(base + " --" + o + " " + v + out);
         ++runs;
         EXPECT_TRUE(documented.count(r.code)) << c << " --" << o << " " << v << ": exit " << r.code << "\n" << r.err;
-        if (r.code != 0) EXPECT_FALSE(r.err.empty()) << c << " --" << o << " " << v << ": no message";
+        if (r.code != 0) {
+          EXPECT_FALSE(r.err.empty()) << c << " --" << o << " " << v << ": no message";
+        }
         EXPECT_EQ(r.err.find("terminate called"), std::string::npos) << c << " --" << o << " " << v;
       }
     }
@@ -168,7 +170,8 @@ TEST_F(Cli, SweepStaysOnItsBranchWhateverTheSteps) {
     std::map<std::string, double> cells;
   };
   auto lastRow = [&](const std::string& model, const std::string& range, int steps) {
-    const std::string prefix = "s" + std::to_string(steps);
+    std::string prefix = "s";  // appended, not "s" + std::string: GCC 12 -Wrestrict (tools/README.md)
+    prefix += std::to_string(steps);
     const Result r =
         flexmb("sweep " + kData + model + " -q " + range + " --steps " + std::to_string(steps) + " --out " + prefix);
     Row row;
@@ -179,7 +182,9 @@ TEST_F(Cli, SweepStaysOnItsBranchWhateverTheSteps) {
     std::getline(in, header);
     int rows = 0;
     while (std::getline(in, line)) last = line, ++rows;
-    if (r.code == 0) EXPECT_EQ(rows, steps);
+    if (r.code == 0) {
+      EXPECT_EQ(rows, steps);
+    }
     std::vector<std::string> names, cells;
     std::stringstream hs(header), ls(last);
     for (std::string c; std::getline(hs, c, ',');) names.push_back(c);

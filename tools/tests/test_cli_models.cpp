@@ -61,7 +61,9 @@ TEST(TrajectoryModes, ModeThreeWritesTheLinearisedMatrices) {
                                                     : s.N;
       const Eigen::Map<const Eigen::MatrixXd> got(d + k * mdof * mdof, mdof, mdof);
       EXPECT_LE((got - ref).norm(), 1e-12 * std::max(1.0, ref.norm())) << name << " at t = " << tm.time[k];
-      if (k > 0 && (name[0] == 'C' || name[0] == 'N')) EXPECT_GT(ref.norm(), 0.0) << name << " exercised";
+      if (k > 0 && (name[0] == 'C' || name[0] == 'N')) {
+        EXPECT_GT(ref.norm(), 0.0) << name << " exercised";
+      }
     }
     Mat_VarFree(v);
   }

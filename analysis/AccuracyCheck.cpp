@@ -1,0 +1,123 @@
+#include "analysis/AccuracyCheck.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "analysis/Simulation.hpp"
+#include "core/EquationsOfMotion.hpp"
+#include "solvers/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+constexpr double kWindowShare = 1.0 / 30.0;  // of the span, per window
+constexpr double kCentres[] = {1.0 / 6.0, 0.5, 5.0 / 6.0};
+
+// Largest difference of two configurations: positions relative to the model size, angles and
+// Euler parameters as they are.
+double difference(const core::Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
+  double worst = 0.0;
+  for (int i = 0; i < model.nx; ++i) {
+    const core::Node& n = model.nodes[model.xOwnerNode[i]];
+    const double d = std::abs(a[i] - b[i]);
+    worst = std::max(worst, core::isTranslational(n.kind) ? d / L : d);
+  }
+  return worst;
+}
+}  // namespace
+
+AccuracyWindowRecorder::AccuracyWindowRecorder(double t0, double tEnd) : length_(kWindowShare * (tEnd - t0)) {
+  for (double c : kCentres) slots_.push_back({t0 + c * (tEnd - t0) - 0.5 * length_, {}, false, false});
+}
+
+void AccuracyWindowRecorder::observe(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& x) {
+  for (Slot& s : slots_) {
+    if (!s.started) {
+      if (t >= s.start) {
+        s.window.ta = t;
+        s.window.ya = y;
+        s.window.xa = x;
+        s.started = true;
+      }
+    } else if (!s.ended && t >= s.window.ta + length_ * (1 - 1e-9)) {
+      s.window.tb = t;
+      s.window.yb = y;
+      s.ended = true;
+    }
+  }
+}
+
+std::vector<AccuracyWindow> AccuracyWindowRecorder::complete() const {
+  std::vector<AccuracyWindow> w;
+  for (const Slot& s : slots_)
+    if (s.ended && s.window.tb > s.window.ta) w.push_back(s.window);
+  // Overlapping windows (a grid coarser than a window): keep the first of each overlap.
+  std::vector<AccuracyWindow> kept;
+  for (const auto& x : w)
+    if (kept.empty() || x.ta >= kept.back().tb) kept.push_back(x);
+  return kept;
+}
+
+core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationOptions& options, double t0, double tEnd,
+                                     const std::vector<AccuracyWindow>& windows) {
+  core::AccuracyEstimate a;
+  const double relTol = options.relTol.value_or(model.settings.relTol);
+  const double absTol = options.absTol.value_or(model.settings.absTol);
+  a.referenceRelTol = relTol / kAccuracyReferenceFactor;
+  a.limit = std::max(10.0 * relTol, 1e-6);
+  if (windows.empty()) {
+    a.note = "no window fitted between the output times";
+    return a;
+  }
+  core::EquationsOfMotion probe(model, options.basis, options.dynamics);
+  core::StateOutputs run, ref;
+  double worstRate = 0.0;
+  for (const AccuracyWindow& w : windows) {
+    // The window as a model of its own span (inputs and time functions keep their absolute time).
+    core::Model span = model;
+    span.settings.t0 = w.ta;
+    span.settings.tEnd = w.tb;
+    SimulationOptions o = options;
+    o.relTol = a.referenceRelTol;
+    o.absTol = absTol / kAccuracyReferenceFactor;
+    o.tEnd.reset();
+    o.intervals = 1;
+    o.progress = false;
+    o.keepStates = false;
+    o.accuracyCheck = false;
+    Eigen::VectorXd yEnd;
+    const core::Trajectory r = simulateFrom(span, o, w.ya, w.xa, yEnd);
+    if (!r.completed || yEnd.size() != w.yb.size()) {
+      a.note = "the reference run of the window " + solvers::shortest(w.ta) + " to " + solvers::shortest(w.tb) +
+               " s stopped: " + r.stopReason;
+      return a;
+    }
+    probe.outputs(w.tb, w.yb, run);
+    probe.outputs(w.tb, yEnd, ref);
+    const double err = difference(model, run.x, ref.x);
+    a.windowError = std::max(a.windowError, err);
+    worstRate = std::max(worstRate, err / (w.tb - w.ta));
+    a.windowSeconds += w.tb - w.ta;
+    ++a.windows;
+  }
+  a.estimate = worstRate * (tEnd - t0);
+  a.checked = true;
+  return a;
+}
+
+std::string describeAccuracy(const core::AccuracyEstimate& a) {
+  using solvers::shortest;
+  auto sig = [](double v) {  // 2 significant digits
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2g", v);
+    return std::string(b);
+  };
+  if (!a.checked) return "not checked" + (a.note.empty() ? std::string() : " (" + a.note + ")");
+  return std::string(a.converged() ? "converged" : "NOT CONVERGED") + ": estimated error " + sig(a.estimate) +
+         " (of the model size; angles in rad), limit " + sig(a.limit) + " = 10 RelTol; " + std::to_string(a.windows) +
+         " windows of the run (" + sig(a.windowSeconds) + " s) integrated again at RelTol " +
+         shortest(a.referenceRelTol) + " differ by up to " + sig(a.windowError);
+}
+
+}  // namespace flexmb::analysis

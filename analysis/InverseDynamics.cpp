@@ -1,0 +1,77 @@
+#include "analysis/InverseDynamics.hpp"
+
+#include <sstream>
+
+#include "analysis/Interrupt.hpp"
+#include "core/ElementValidity.hpp"
+#include "core/EquationsOfMotion.hpp"
+#include "core/ResultQuantities.hpp"
+#include "solvers/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+bool isDrivenRigidMechanism(const core::Model& model) {
+  if (model.numDofs() != 0) return false;
+  auto moves = [](const core::Rheonomic& r) { return r.v != 0.0 || r.a != 0.0 || r.fx || r.fv || r.fa; };
+  for (const auto& r : model.inputX)
+    if (moves(r)) return true;
+  for (const auto& r : model.inputE)
+    if (moves(r)) return true;
+  return false;
+}
+
+InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynamicsOptions& options) {
+  InverseDynamicsRun run;
+  core::Trajectory& traj = run.trajectory;
+  traj.integrator = "none (driven rigid mechanism: kinematics and inverse dynamics)";
+  const double t0 = model.settings.t0, t1 = options.tEnd.value_or(model.settings.tEnd);
+  const int n = std::max(1, options.intervals.value_or(model.settings.outputIntervals));
+  // With no degrees of freedom the equations of motion reduce to the kinematics: outputs() solves
+  // the positions, velocities (F_t) and accelerations (the rheonomic offset g) at t.
+  core::EquationsOfMotion eom(model);
+  core::ResultQuantities rq(model);
+  const Eigen::VectorXd y;  // the state: empty
+  const Eigen::VectorXd q;
+  for (int k = 0; k <= n; ++k) {
+    const double t = t0 + (t1 - t0) * k / n;
+    if (stopRequested(options.interrupt)) {
+      traj.completed = false;
+      run.interrupted = true;
+      traj.stopReason = interruptCause(options.interruptSignal) + " before t = " + solvers::shortest(t) +
+                        "; results before it are kept";
+      return run;
+    }
+    core::StateOutputs out;
+    Eigen::VectorXd sigma, fxt;
+    try {
+      eom.outputs(t, y, out);
+      if (const auto bad = core::firstInvalidElement(model, out.x)) {
+        std::ostringstream msg;
+        msg << "at t = " << solvers::shortest(t) << ": " << bad->message << "; results before it are kept";
+        traj.completed = false;
+        traj.stopReason = msg.str();
+        return run;
+      }
+      rq.setState(t, q);
+      rq.forces(t, 0.0, out, Eigen::VectorXd(), sigma, fxt);
+    } catch (const std::exception& e) {  // KinematicsError: no configuration (a dead point, the loop opens)
+      traj.completed = false;
+      traj.stopReason = "at t = " + solvers::shortest(t) + ": the kinematics have no solution (" + e.what() +
+                        "); results before it are kept";
+      return run;
+    }
+    if (!out.x.allFinite() || !out.xdd.allFinite() || !sigma.allFinite() || !fxt.allFinite()) {
+      traj.completed = false;
+      traj.stopReason = "non-finite results at t = " + solvers::shortest(t) +
+                        " (an input expression undefined there?); results before it are kept";
+      return run;
+    }
+    out.sig = sigma;
+    traj.time.push_back(t);
+    traj.states.push_back(std::move(out));
+    run.fxt.push_back(std::move(fxt));
+  }
+  return run;
+}
+
+}  // namespace flexmb::analysis

@@ -1,0 +1,331 @@
+// The user's path, second pass (issue 24): nothing lost on Ctrl-C anywhere (static, sweep, validate;
+// SIGTERM named as such), every run described by a manifest that lists every file, silent modelling
+// mistakes named, loose tolerances flagged, a driven rigid mechanism simulated, and the small things
+// a new user needed (displacements on the screen, --version with the commit, suggestions, the
+// decimal comma, 1-based --large, example outputs ignored by git, the main job's plan). Each test
+// runs the real binary in a fresh folder.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+const std::string kSource = FLEXMB_SOURCE_DIR;
+const std::string kData = kSource + "/datfiles/";
+
+struct Result {
+  int code = -1;  // exit code; 128 + signal when killed
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+int lines(const fs::path& p) {
+  std::ifstream in(p);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+bool has(const std::string& text, const std::string& needle) { return text.find(needle) != std::string::npos; }
+
+class UserPath : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("flexmb_user_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  // Runs a bash command line in the test folder; `flexmb` as a command is replaced by the binary.
+  Result sh(const std::string& line) {
+    const std::string cmd = std::regex_replace(line, std::regex("(^|[;&] *|timeout 120 )flexmb\\b"), "$1" + kFlexmb);
+    std::ofstream(dir_ / "run.sh") << "cd '" << dir_.string() << "' || exit 99\n{ " << cmd
+                                   << "\n} >out.txt 2>err.txt\n";
+    const int status = std::system(("/bin/bash '" + (dir_ / "run.sh").string() + "'").c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir_ / "out.txt");
+    r.err = slurp(dir_ / "err.txt");
+    fs::remove(dir_ / "out.txt");
+    fs::remove(dir_ / "err.txt");
+    fs::remove(dir_ / "run.sh");
+    return r;
+  }
+  Result flexmb(const std::string& args) { return sh("timeout 120 flexmb " + args); }
+  // A model in the test folder: `base` from datfiles/ with every match of `from` replaced by `to`.
+  std::string variant(const std::string& base, const std::string& from, const std::string& to,
+                      const std::string& name = "model.dat") {
+    const std::string text = std::regex_replace(slurp(kData + base), std::regex(from), to);
+    std::ofstream(dir_ / name) << text;
+    return name;
+  }
+  std::string listing() const {
+    std::string s;
+    for (const auto& e : fs::recursive_directory_iterator(dir_)) s += fs::relative(e.path(), dir_).string() + " ";
+    return s;
+  }
+  fs::path dir_;
+};
+
+// ---- 1. Ctrl-C and SIGTERM
+
+// static interrupted after many load steps keeps the steps so far: CSV, .sbd and a manifest
+// saying so (before: exit 130 with no file at all).
+TEST_F(UserPath, StaticInterruptKeepsTheLoadStepsSoFar) {
+  const Result r = sh("flexmb static " + kData +
+                      "cantilever.dat -q --steps 90000 --nev 2 & pid=$!; sleep 3; kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_TRUE(has(r.err, "interrupted (Ctrl-C)")) << r.err;
+  EXPECT_GT(lines(dir_ / "cantilever_static.csv"), 2) << listing();
+  EXPECT_TRUE(fs::exists(dir_ / "cantilever.sbd")) << listing();
+  const std::string m = slurp(dir_ / "cantilever_static_run.txt");
+  EXPECT_TRUE(has(m, "status: stopped: interrupted (Ctrl-C)")) << m;
+  EXPECT_TRUE(has(m, "file: cantilever.sbd")) << m;
+  EXPECT_TRUE(has(m, "file: cantilever_static.csv")) << m;
+  for (const auto& e : fs::directory_iterator(dir_)) EXPECT_FALSE(has(e.path().string(), ".part-")) << e.path();
+}
+
+TEST_F(UserPath, SweepInterruptKeepsThePointsSoFar) {
+  const Result r = sh("flexmb sweep " + kData +
+                      "straight_guidance.dat -q --node 6 --from -0.08 --to 0.08 --steps 20000 --out s & pid=$!; "
+                      "sleep 3; kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_GT(lines(dir_ / "s.csv"), 2) << listing();
+  EXPECT_TRUE(has(slurp(dir_ / "s_run.txt"), "status: stopped: interrupted (Ctrl-C)"));
+}
+
+// SIGTERM (a batch system's time limit, kill) is not "Ctrl-C": named as such, exit 143.
+TEST_F(UserPath, SigtermIsReportedAsSuch) {
+  const Result r = sh("flexmb simulate " + kData +
+                      "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
+                      "kill -TERM $pid; wait $pid");
+  EXPECT_EQ(r.code, 143) << r.err;
+  EXPECT_TRUE(has(r.err, "terminated (SIGTERM)")) << r.err;
+  EXPECT_FALSE(has(r.err, "Ctrl-C")) << r.err;
+  EXPECT_TRUE(has(slurp(dir_ / "m_run.txt"), "status: stopped: terminated (SIGTERM)"));
+  EXPECT_GT(lines(dir_ / "m_x.csv"), 2);
+}
+
+// validate interrupted leaves the previous report as it was: no new figure beside an old report.md.
+TEST_F(UserPath, ValidateInterruptLeavesThePreviousReport) {
+  fs::create_directories(dir_ / "rep/bench");
+  std::ofstream(dir_ / "rep/report.md") << "old report\n";
+  std::ofstream(dir_ / "rep/fig3a_displacement.svg") << "old figure\n";
+  std::ofstream(dir_ / "rep/bench/bench.md") << "old bench\n";
+  const Result r = sh("flexmb validate -q --out rep & pid=$!; sleep 4; kill -INT $pid; wait $pid");
+  EXPECT_EQ(r.code, 130) << r.out << r.err;
+  EXPECT_EQ(slurp(dir_ / "rep/report.md"), "old report\n");
+  EXPECT_EQ(slurp(dir_ / "rep/fig3a_displacement.svg"), "old figure\n");
+  EXPECT_EQ(slurp(dir_ / "rep/bench/bench.md"), "old bench\n");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir_ / "rep")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"bench", "fig3a_displacement.svg", "report.md"})) << listing();
+}
+
+// ---- 2. Manifests
+
+TEST_F(UserPath, EveryRunThatWritesFilesListsThemInAManifest) {
+  // modes: .sbd / .sbm and --svg.
+  Result r = flexmb("modes " + kData + "portal.dat -q --svg modes.svg");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string m = slurp(dir_ / "portal_run.txt");
+  EXPECT_TRUE(has(m, "status: complete")) << m;
+  EXPECT_TRUE(has(m, "command: modes")) << m;
+  for (const char* f : {"file: portal.sbd", "file: portal.sbm", "file: modes.svg"}) EXPECT_TRUE(has(m, f)) << f << m;
+  // reduce: the basis and how it was made (1-based --large).
+  r = flexmb("reduce " + kData + "manipulator.dat -q --modes 2 --out b.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  m = slurp(dir_ / "b_run.txt");
+  EXPECT_TRUE(has(m, "file: b.csv")) << m;
+  EXPECT_TRUE(has(m, "command: reduce")) << m;
+  // static: the CSV, .sbd, .sbm and --svg.
+  r = flexmb("static " + kData + "cantilever.dat -q --svg st.svg");
+  ASSERT_EQ(r.code, 0) << r.err;
+  m = slurp(dir_ / "cantilever_static_run.txt");
+  for (const char* f : {"file: cantilever_static.csv", "file: cantilever.sbd", "file: cantilever.sbm", "file: st.svg"})
+    EXPECT_TRUE(has(m, f)) << f << "\n" << m;
+  // sweep --svg.
+  r = flexmb("sweep " + kData + "portal.dat -q --node 3 --from 0 --to 0.01 --steps 3 --svg sw.svg");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(slurp(dir_ / "portal_sweep_run.txt"), "file: sw.svg"));
+  // simulate --html --vtk --echo, and shortest numbers (0.07, not 0.070000000000000007); the max step
+  // says what the file's 0 means.
+  r = flexmb("simulate " + kData + "manipulator.dat -q --t-end 0.07 --intervals 7 --html --vtk --echo end.dat " +
+             "--out sim --no-accuracy-check");
+  ASSERT_EQ(r.code, 0) << r.err;
+  m = slurp(dir_ / "sim_run.txt");
+  for (const char* f : {"file: sim.html", "file: sim.pvd", "file: sim_vtu/", "file: end.dat", "file: sim.sbd"})
+    EXPECT_TRUE(has(m, f)) << f << "\n" << m;
+  EXPECT_TRUE(has(m, "0 to 0.07 s, 7 output intervals, reltol 0.001, abstol 1e-06")) << m;
+  EXPECT_TRUE(has(m, "max step 0.007 s (not limited")) << m;
+  EXPECT_FALSE(std::regex_search(m, std::regex("[0-9]{12,}"))) << "a number in 17 digits:\n" << m;
+}
+
+// ---- 3. Silent modelling mistakes: one rule, and check reports all of them.
+
+TEST_F(UserPath, CheckReportsExtrasAsNotesAndMissingCoordinatesAsWarnings) {
+  // An X line for a node no element uses (oopspa writes them) and a FIX of it: notes.
+  std::string f = variant("cantilever.dat", "FIX 1 ", "X 77 3 4\nFIX 77 1\nFIX 909\nFIX 1 ");
+  Result r = flexmb("check " + f);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "notes")) << r.out;
+  EXPECT_TRUE(has(r.out, "node 77 is not used by any element; ignored")) << r.out;
+  EXPECT_TRUE(has(r.out, "FIX 909")) << r.out;
+  // A node the elements use without an X line sits at the origin: a warning naming it, also in check.
+  f = variant("cantilever.dat", "X 4  0.75  0.0\n", "");
+  r = flexmb("check " + f);
+  EXPECT_TRUE(has(r.out, "warning")) << r.out;
+  EXPECT_TRUE(has(r.out, "node 4")) << r.out;
+  EXPECT_TRUE(has(r.out, "no X line")) << r.out;
+  r = flexmb("static " + f + " --out s.csv");
+  EXPECT_TRUE(has(r.err, "node 4") && has(r.err, "warning")) << r.err;
+  // A load or a mass on a node that does not exist changes the model: an error with file and line.
+  for (const std::string& bad : {std::string("DELXF 55 0 -1"), std::string("XM 55 1"), std::string("XF 55 1 0")}) {
+    f = variant("cantilever.dat", "ITERSTEP 10 1", bad + "\nITERSTEP 10 1");
+    r = flexmb("check " + f);
+    EXPECT_EQ(r.code, 1) << bad << ": " << r.out << r.err;
+    EXPECT_TRUE(has(r.err, "model.dat:") && has(r.err, "node 55 is not used by any element")) << r.err;
+  }
+}
+
+TEST_F(UserPath, AMissingTimestepIsSaid) {
+  const std::string f = variant("cantilever.dat", "TIMESTEP 1.0 100\n", "XF 5 0 -0.1\n");
+  Result r = flexmb("simulate " + f + " --format none --intervals 5 --t-end 0.01 --no-accuracy-check");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(has(r.err, "no TIMESTEP")) << "both given on the command line: nothing assumed\n" << r.err;
+  r = flexmb("simulate " + f + " --format none --t-end 0.01 --no-accuracy-check");
+  EXPECT_TRUE(has(r.err, "no TIMESTEP") && has(r.err, "100 output intervals")) << r.err;
+}
+
+// ---- 4. Loose tolerances are flagged
+
+TEST_F(UserPath, ANonConvergedRunIsFlagged) {
+  Result r = flexmb("simulate " + kData + "manipulator.dat --reltol 1e-2 --format csv --out loose");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "accuracy check: NOT CONVERGED")) << r.out;
+  EXPECT_TRUE(has(r.err, "not converged")) << r.err;
+  EXPECT_TRUE(has(slurp(dir_ / "loose_run.txt"), "accuracy: NOT CONVERGED"));
+  r = flexmb("simulate " + kData + "straight_guidance.dat -q --format none");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "accuracy check: converged")) << r.out;
+}
+
+// ---- 5. A driven rigid mechanism
+
+TEST_F(UserPath, ADrivenRigidMechanismIsSimulated) {
+  const Result r = flexmb("simulate " + kData + "slider_crank_rigid.dat --out sc");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "inverse dynamics")) << r.out;
+  EXPECT_FALSE(has(r.err, "nothing moves")) << r.err;
+  EXPECT_EQ(lines(dir_ / "sc_x.csv"), 102);
+  EXPECT_EQ(lines(dir_ / "sc_fxt.csv"), 102);
+  for (const char* f : {"sc_sig.csv", "sc.mat", "sc.sbd", "sc_run.txt"}) EXPECT_TRUE(fs::exists(dir_ / f)) << f;
+  EXPECT_TRUE(has(slurp(dir_ / "sc_run.txt"), "file: sc_fxt.csv"));
+  // Not driven: no degrees of freedom and nothing that moves is still refused.
+  const std::string still = variant("slider_crank_rigid.dat", "INPUTE 3 1  0.0  6.283185307179586  3.0", "");
+  const Result s = flexmb("simulate " + still + " -q");
+  EXPECT_EQ(s.code, 1);
+  EXPECT_TRUE(has(s.err, "no degrees of freedom")) << s.err;
+}
+
+// ---- 6. What a new user needed
+
+TEST_F(UserPath, StaticPrintsTheDisplacementsOfLoadedNodes) {
+  const Result r = flexmb("static " + kData + "cantilever.dat -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch mt;
+  ASSERT_TRUE(std::regex_search(r.out, mt, std::regex("node +5: +dx = ([^ ]+) +dy = ([^ \n]+)"))) << r.out;
+  const double P = 0.1, L = 1.0, EI = 2.8, expected = -P * L * L * L / (3 * EI);
+  EXPECT_NEAR(std::stod(mt[2]), expected, 1e-3 * std::abs(expected));
+}
+
+TEST_F(UserPath, VersionSuggestionsAndDecimalComma) {
+  Result r = flexmb("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("^flexmb [0-9.]+ \\(commit "))) << r.out;
+  r = flexmb("simulat " + kData + "portal.dat");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "did you mean simulate?")) << r.err;
+  r = flexmb("simulate " + kData + "portal.dat --reltol 1,5");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "decimal comma") && has(r.err, "1.5")) << r.err;
+}
+
+TEST_F(UserPath, ReduceLargeIndicesAreOneBased) {
+  Result r = flexmb("reduce " + kData + "manipulator.dat -q --modes 2 --large 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "1-based")) << r.err;
+  // The manipulator's hinges are its first two degrees of freedom (check lists them q1, q2).
+  r = flexmb("check " + kData + "manipulator.dat");
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("q1 e\\(PLHINGE"))) << r.out;
+  r = flexmb("reduce " + kData + "manipulator.dat -q --modes 2 --large 1,2 --out explicit.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = flexmb("reduce " + kData + "manipulator.dat -q --modes 2 --out default.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto body = [&](const std::string& f) {  // the matrix rows, without the header naming the file
+    std::string s = slurp(dir_ / f), out;
+    std::stringstream in(s);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty() && line[0] != '#') out += line + "\n";
+    return out;
+  };
+  EXPECT_EQ(body("explicit.csv"), body("default.csv"));
+  EXPECT_TRUE(has(slurp(dir_ / "explicit_run.txt"), "identity columns (--large, 1-based): 1,2"));
+}
+
+// Running the README's examples in the project root leaves nothing git would add.
+TEST_F(UserPath, ExampleOutputsAreIgnoredByGit) {
+  if (std::system(("git -C '" + kSource + "' rev-parse --git-dir >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "not a git checkout";
+  for (const char* f :
+       {"manipulator_x.csv", "manipulator.mat", "manipulator.sbd", "manipulator_run.txt", "manipulator_model.svg",
+        "svd.csv", "basis.csv", "m.html", "m.pvd", "m_vtu/m_0.vtu", "end.dat", "modes.svg", "cantilever_static.csv"}) {
+    const Result r = sh("cd '" + kSource + "' && git check-ignore -q --no-index '" + f + "'");
+    EXPECT_EQ(r.code, 0) << f << " would show up in git status";
+  }
+}
+
+// The README quotes no benchmark figures by hand: they are in the report the main job regenerates.
+TEST_F(UserPath, ReadmeQuotesNoHandCopiedBenchmarkFigures) {
+  const std::string readme = slurp(kSource + "/README.md");
+  EXPECT_FALSE(std::regex_search(readme, std::regex("[0-9],[0-9]{3} evaluations"))) << "hand-copied counts";
+  EXPECT_FALSE(std::regex_search(readme, std::regex("instead of ode45's [0-9]"))) << "hand-copied counts";
+  EXPECT_TRUE(has(readme, "validation/report/bench/bench.md"));
+  EXPECT_TRUE(has(readme, "pin joint")) << "the README explains pin joints";
+}
+
+// ---- 8. The main job says what it will do and how long it takes
+
+TEST_F(UserPath, RunPrintsItsPlan) {
+  const Result r = sh("FLEXMB_RUN_PLAN_ONLY=1 bash '" + kSource + "/tools/run.sh'");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::regex_search(
+      r.out, std::regex("== plan: building \\(about [0-9]+ (min|s)[^)]*\\), benchmark \\(about [0-9]+ min[^)]*\\), "
+                        "report \\(about [0-9]+ s\\): about .* in all")))
+      << r.out;
+}
+
+}  // namespace
