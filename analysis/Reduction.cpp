@@ -16,7 +16,7 @@ std::vector<int> defaultLargeCoordinates(const core::Model& model) {
     if (d.isDeformation) {
       const core::ElementEntry& el = model.elements[model.eOwnerElement[d.index]];
       if (el.type->isLargeRotation(d.index - el.firstDef)) large.push_back(j);
-    } else if (!core::isTranslational(model.nodes[model.xOwnerNode[d.index]].kind)) {
+    } else if (core::isRotational(model.nodes[model.xOwnerNode[d.index]].kind)) {  // not a warping coordinate
       large.push_back(j);
     }
   }

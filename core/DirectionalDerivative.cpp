@@ -19,8 +19,11 @@ ElementSteps::ElementSteps(const Model& model) {
                           (model.x0.segment(pos[i], dimOf(pos[i])) - model.x0.segment(pos[j], dimOf(pos[j]))).norm());
     if (length <= 0.0) length = 1.0;
     scale_[el].resize(n);
-    for (int j = 0; j < n; ++j)
-      scale_[el][j] = isTranslational(model.nodes[model.xOwnerNode[E.coords[j]]].kind) ? length : 1.0;
+    // Positions in lengths, rotations in radians, warping coordinates (rate of twist) per length.
+    for (int j = 0; j < n; ++j) {
+      const NodeKind kind = model.nodes[model.xOwnerNode[E.coords[j]]].kind;
+      scale_[el][j] = isTranslational(kind) ? length : kind == NodeKind::Warping ? 1.0 / length : 1.0;
+    }
   }
 }
 

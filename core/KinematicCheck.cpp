@@ -25,7 +25,8 @@ std::vector<int> involved(const Eigen::MatrixXd& basis) {
 
 KinematicReport checkKinematics(const Model& model) {
   KinematicReport r;
-  for (const auto& n : model.nodes) (isTranslational(n.kind) ? r.positionNodes : r.orientationNodes)++;
+  for (const auto& n : model.nodes)
+    (isTranslational(n.kind) ? r.positionNodes : n.kind == NodeKind::Warping ? r.warpingNodes : r.orientationNodes)++;
   r.elements = static_cast<int>(model.elements.size());
   r.nx = model.nx;
   r.ne = model.ne;
@@ -108,8 +109,9 @@ KinematicReport checkKinematics(const Model& model) {
 
 std::string formatReport(const KinematicReport& r) {
   std::ostringstream o;
-  o << "nodes: " << r.positionNodes << " position, " << r.orientationNodes << " orientation; elements: " << r.elements
-    << "\n";
+  o << "nodes: " << r.positionNodes << " position, " << r.orientationNodes << " orientation";
+  if (r.warpingNodes > 0) o << ", " << r.warpingNodes << " warping";
+  o << "; elements: " << r.elements << "\n";
   o << "nodal coordinates: " << r.nx << " (fixed " << r.xFixed << ", input " << r.xInput << ", dynamic " << r.xDynamic
     << ", calculable " << r.xCalculable << ")\n";
   o << "deformations:      " << r.ne << " (fixed " << r.eFixed << ", input " << r.eInput << ", dynamic " << r.eDynamic

@@ -44,6 +44,7 @@ std::string Model::coordName(int xIndex) const {
   const Node& n = nodes[xOwnerNode[xIndex]];
   const int comp = xIndex - n.firstCoord + 1;
   if (n.kind == NodeKind::Orientation) return "x(node " + std::to_string(n.label) + ", angle)";
+  if (n.kind == NodeKind::Warping) return "x(node " + std::to_string(n.label) + ", warping)";
   if (n.kind == NodeKind::EulerParameters)
     return "x(node " + std::to_string(n.label) + ", lambda" + std::to_string(comp - 1) + ")";
   if (n.kind == NodeKind::SpatialPosition)

@@ -114,8 +114,9 @@ struct Model {
   std::vector<int> xOwnerNode;     // x index -> node index
   std::vector<int> eOwnerElement;  // e index -> element index
 
-  // Independent coordinates q, in file order: DYNX coordinates then DYNE deformations
-  // (each list in the order the file names them).
+  // Independent coordinates q: DYNX coordinates (in the order the file names them), the warping
+  // coordinates no FIX, INPUTX or DYNX names (BEAMW: degrees of freedom by default, in node
+  // order), then DYNE deformations (in the order the file names them).
   struct Dof {
     bool isDeformation = false;
     int index = 0;  // x or e index

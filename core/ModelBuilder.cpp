@@ -1,5 +1,6 @@
 #include "core/ModelBuilder.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -221,13 +222,30 @@ std::string num(double v) {
   return o.str();
 }
 
-// Name of an element slot, as in the reader's messages: "node p", "orientation q".
+// What a node of a kind is called in messages: "position", "orientation", "warping".
+const char* kindWord(NodeKind k) {
+  return isTranslational(k) ? "position" : k == NodeKind::Warping ? "warping" : "orientation";
+}
+
+// Name of an element slot, as in the reader's messages: "node p", "orientation q", "warping p".
 std::string slotName(const ElementTypeInfo& type, size_t slot) {
   int idx = 0;
   for (size_t s = 0; s < slot; ++s)
     if (type.slots[s] == type.slots[slot]) ++idx;
-  return std::string(isTranslational(type.slots[slot]) ? "node " : "orientation ") +
+  const NodeKind k = type.slots[slot];
+  return std::string(isTranslational(k)       ? "node "
+                     : k == NodeKind::Warping ? "warping "
+                                              : "orientation ") +
          static_cast<char>('p' + std::min(idx, 9));
+}
+
+// "1st", "2nd", "7th": the position of a value in a statement.
+std::string ordinal(size_t i) {
+  const char* suffix = i % 10 == 1 && i % 100 != 11   ? "st"
+                       : i % 10 == 2 && i % 100 != 12 ? "nd"
+                       : i % 10 == 3 && i % 100 != 13 ? "rd"
+                                                      : "th";
+  return std::to_string(i) + suffix;
 }
 
 int slotsCoords(const ElementTypeInfo& type) {
@@ -276,6 +294,9 @@ struct Resolver {
         break;
       case NodeKind::EulerParameters:
         what = "an orientation node (components 1..4: Euler parameters lambda0..lambda3)";
+        break;
+      case NodeKind::Warping:
+        what = "a warping node (component 1: rate of twist)";
         break;
     }
     return "node " + std::to_string(n.label) + " is " + what;
@@ -350,6 +371,15 @@ struct ModelBuilder::Finalizer {
   static void setValues(Rheonomic& rh, const Impl::CompValues& st);
   void initialDeformations();
   void note(std::string text) { addOnce(in.notes, std::move(text)); }
+  void requireStiffness(int ei, size_t given, int line);
+  void ignoreExtras(const std::string& keyword, int ei, size_t given, size_t own,
+                    const std::vector<ParameterSpec>& ignored, int line);
+  void ignoredValueNotes();
+  struct Ignored {  // values read and ignored: the statements' lines and what the note says
+    std::vector<int> lines;
+    std::string what;
+  };
+  std::map<std::string, Ignored> ignoredValues;  // by "keyword element-type"
 };
 
 Model ModelBuilder::finalize(const ElementOptions& options) {
@@ -370,6 +400,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   f.stresses();
   f.rheonomicInputs();
   f.initialDeformations();
+  f.ignoredValueNotes();
   f.m.notes = impl_->notes;  // the reader's and the phases' (coordinateRoles)
   return std::move(f.m);
 }
@@ -458,12 +489,11 @@ int ModelBuilder::Finalizer::slotNode(const Impl::ElemStmt& st, size_t s, int ei
   if (n.kind != kind) {
     const auto [fe, fs] = r.firstUse[ni];
     const ElementEntry& first = fe == ei ? el : m.elements[fe];
-    R::fail(st.line, "node " + std::to_string(label) + " is used as " +
-                         (isTranslational(kind) ? "a position" : "an orientation") + " node here (" + type.keyword +
-                         " " + std::to_string(st.label) + ", " + slotName(type, s) + ") but as " +
-                         (isTranslational(n.kind) ? "a position" : "an orientation") + " node by " +
-                         first.type->keyword + " " + std::to_string(first.label) + " (" + slotName(*first.type, fs) +
-                         ") at line " + std::to_string(first.line));
+    auto article = [](NodeKind k) { return std::string(kindWord(k)[0] == 'o' ? "an " : "a ") + kindWord(k); };
+    R::fail(st.line, "node " + std::to_string(label) + " is used as " + article(kind) + " node here (" + type.keyword +
+                         " " + std::to_string(st.label) + ", " + slotName(type, s) + ") but as " + article(n.kind) +
+                         " node by " + first.type->keyword + " " + std::to_string(first.label) + " (" +
+                         slotName(*first.type, fs) + ") at line " + std::to_string(first.line));
   }
   return ni;
 }
@@ -539,18 +569,39 @@ void ModelBuilder::Finalizer::coordinateRoles() {
       }
     }
   }
+  // A warping coordinate no FIX, INPUTX or DYNX named is a degree of freedom: the only reading under
+  // which SPACAR Light's BEAMW files (warping nodes fixed at clamps, e7 e8 never named) count square
+  // (core/elements/BEAMW.md section 1). After the DYNX coordinates, in node order.
+  for (const Node& n : m.nodes)
+    if (n.kind == NodeKind::Warping && r.xRoleLine[n.firstCoord] == 0) {
+      m.xRole[n.firstCoord] = Role::Dynamic;
+      m.dofs.push_back({false, n.firstCoord});
+    }
 }
 
 void ModelBuilder::Finalizer::deformationRoles() {
   m.eRole.assign(m.ne, Role::Fixed);
   r.eRoleLine.assign(m.ne, 0);
+  // Deformations that are always released (BEAMW's warping deformations): calculable, whatever
+  // the file says (core/elements/BEAMW.md section 1).
+  for (const ElementEntry& el : m.elements)
+    for (int d : el.type->alwaysReleased) m.eRole[el.firstDef + d] = Role::Calculable;
   for (const auto& st : in.eRoles) {
     const int ei = r.element(st.id, st.line);
+    const ElementTypeInfo& type = *m.elements[ei].type;
     std::vector<int> comps = st.comps;
-    if (comps.empty())
-      for (int c = 1; c <= m.elements[ei].type->numDeformations(); ++c) comps.push_back(c);
+    if (comps.empty())  // all of the element's deformations that can take a role
+      for (int c = 1; c <= type.numDeformations(); ++c)
+        if (!type.isAlwaysReleased(c - 1)) comps.push_back(c);
     for (int c : comps) {
       const int di = r.e(st.id, c, st.line);
+      if (type.isAlwaysReleased(c - 1)) {
+        if (st.role == Role::Calculable) continue;  // RLSE: what it is anyway
+        R::fail(st.line, m.deformationName(di) + " is always released (calculable): " + type.keyword +
+                             " deformations 7 and 8 carry the warping stress and cannot be " +
+                             (st.role == Role::Dynamic ? "DYNE" : "INPUTE") +
+                             "; FIX or INPUTX the warping node to restrain or prescribe warping");
+      }
       if (r.eRoleLine[di] != 0 && m.eRole[di] != st.role)
         R::fail(st.line, "cannot make " + m.deformationName(di) + " " + roleName(st.role) + ": it was made " +
                              roleName(m.eRole[di]) + " at line " + std::to_string(r.eRoleLine[di]));
@@ -657,30 +708,80 @@ void ModelBuilder::Finalizer::constitutive(const std::vector<Impl::VectorStmt>& 
     const int ei = r.element(st.id, st.line);
     ElementEntry& el = m.elements[ei];
     const auto& layout = el.type->stiffness;
+    const size_t accepted = layout.size() + el.type->ignoredStiffness.size();
     // Spatial elements: trailing parameters may be omitted (0), as SPACAR files do.
     const bool tooFew =
         isSpatial(el.type->slots.front()) ? st.values.empty() && !layout.empty() : st.values.size() != layout.size();
-    if (tooFew || st.values.size() > layout.size()) {
+    if (tooFew || st.values.size() > accepted) {
       std::string names;
       for (size_t i = 0; i < layout.size(); ++i) names += (i ? ", " : "") + layout[i].name;
       R::fail(st.line, r.elemName(ei) + " takes " + std::to_string(layout.size()) + " " +
                            (damping ? "damping" : "stiffness") + " parameter" + (layout.size() == 1 ? "" : "s") + " (" +
                            names + "), found " + std::to_string(st.values.size()));
     }
+    if (!damping) requireStiffness(ei, st.values.size(), st.line);
     for (double v : st.values)
       if (!std::isfinite(v)) R::fail(st.line, "parameter is not finite");
+    ignoreExtras(damping ? "EDAMP" : "ESTIFF", ei, st.values.size(), layout.size(), el.type->ignoredStiffness, st.line);
+    const std::vector<double> own(
+        st.values.begin(), st.values.begin() + static_cast<std::ptrdiff_t>(std::min(st.values.size(), layout.size())));
     DefMat S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
-    el.impl->constitutive(st.values, S);
+    el.impl->constitutive(own, S);
     if (damping) {
       el.Sd = S;
       el.hasDamping = true;
-      el.dampingParams = st.values;
+      el.dampingParams = own;
     } else {
       el.S = S;
       el.hasStiffness = true;
-      el.stiffnessParams = st.values;
+      el.stiffnessParams = own;
     }
   }
+}
+
+// Values other programs write after an element's own layout (SPACAR Light and oopspa: BEAMW's
+// section layout for every beam and truss) are read and ignored; one note per keyword and element
+// type (ignoredValueNotes) names the file and the lines.
+void ModelBuilder::Finalizer::ignoreExtras(const std::string& keyword, int ei, size_t given, size_t own,
+                                           const std::vector<ParameterSpec>& ignored, int line) {
+  if (given <= own) return;
+  const ElementTypeInfo& type = *m.elements[ei].type;
+  Ignored& ig = ignoredValues[keyword + " " + type.keyword];
+  if (ig.lines.empty()) {
+    std::string names;
+    for (size_t i = 0; own + i < given; ++i) names += (i ? ", " : "") + ignored[i].name;
+    ig.what = keyword + " on " + type.keyword + ": " + std::to_string(given) + " values, the " + ordinal(own + 1) +
+              (given > own + 1 ? " to " + ordinal(given) : "") + " (" + names + ") " +
+              (given > own + 1 ? "have" : "has") + " no meaning for " + type.keyword +
+              " (written by SPACAR Light and oopspa for BEAMW's section layout) and " +
+              (given > own + 1 ? "are" : "is") + " ignored";
+  }
+  ig.lines.push_back(line);
+}
+
+void ModelBuilder::Finalizer::ignoredValueNotes() {
+  for (const auto& [key, ig] : ignoredValues) {
+    std::string lines;
+    const size_t shown = std::min<size_t>(ig.lines.size(), 8);
+    for (size_t i = 0; i < shown; ++i) lines += (i ? ", " : "") + std::to_string(ig.lines[i]);
+    if (ig.lines.size() > shown) lines += " and " + std::to_string(ig.lines.size() - shown) + " more";
+    note(in.file + ":" + std::to_string(ig.lines.front()) + ": " + ig.what +
+         (ig.lines.size() > 1 ? " (lines " + lines + ")" : ""));
+  }
+}
+
+// An ESTIFF with fewer values than the type requires (BEAMW without ECw): an error naming the first
+// missing value.
+void ModelBuilder::Finalizer::requireStiffness(int ei, size_t given, int line) {
+  const ElementTypeInfo& type = *m.elements[ei].type;
+  if (given >= static_cast<size_t>(type.requiredStiffness)) return;
+  const ParameterSpec& p = type.stiffness[given];
+  std::string names;
+  for (size_t i = 0; i < type.stiffness.size(); ++i) names += (i ? ", " : "") + type.stiffness[i].name;
+  R::fail(line, r.elemName(ei) + " takes " + std::to_string(type.requiredStiffness) + " stiffness parameters (" +
+                    names + "), found " + std::to_string(given) + ": the " + ordinal(given + 1) + " value, " + p.name +
+                    " (" + p.meaning + "), is missing" +
+                    (p.name == "ECw" ? " (write 0 for a section without warping stiffness, such as a circle)" : ""));
 }
 
 // EMASS / EM: distributed inertia in the element type's layout.
@@ -693,7 +794,7 @@ void ModelBuilder::Finalizer::elementInertia() {
       R::fail(st.line, "negative rotary inertia per unit length " + num(st.rhoI) + " for " + r.elemName(ei));
     const ElementTypeInfo& type = *m.elements[ei].type;
     if (isSpatial(type.slots.front())) {
-      if (st.values.size() > type.inertia.size() || st.values.empty())
+      if (st.values.size() > type.inertia.size() + type.ignoredInertia.size() || st.values.empty())
         R::fail(st.line,
                 r.elemName(ei) + " takes " +
                     (type.inertia.empty() ? std::string("no mass parameters")
@@ -701,13 +802,17 @@ void ModelBuilder::Finalizer::elementInertia() {
                     ", found " + std::to_string(st.values.size()));
       for (double v : st.values)
         if (!std::isfinite(v)) R::fail(st.line, "mass parameter is not finite");
-      for (size_t k = 0; k < 4 && k + 1 < st.values.size(); ++k)
-        if (st.values[k + 1] < 0.0 && k < 3)
-          R::fail(st.line, "negative mass moment of inertia " + num(st.values[k + 1]) + " for " + r.elemName(ei));
+      ignoreExtras("EM", ei, st.values.size(), type.inertia.size(), type.ignoredInertia, st.line);
+      const size_t own = std::min(st.values.size(), type.inertia.size());
+      // Jxx, Jyy, Jzz and the warping inertia Jw are non-negative (Jyz, a product, may be negative).
+      for (size_t k = 1; k < own; ++k)
+        if (st.values[k] < 0.0 && k != 4)
+          R::fail(st.line, std::string(k == 5 ? "negative warping inertia " : "negative mass moment of inertia ") +
+                               num(st.values[k]) + " for " + r.elemName(ei));
       ElementInertia inertia;
-      auto at = [&](size_t k) { return k < st.values.size() ? st.values[k] : 0.0; };
+      auto at = [&](size_t k) { return k < own ? st.values[k] : 0.0; };
       inertia.rhoA = at(0);
-      inertia.jxx = at(1), inertia.jyy = at(2), inertia.jzz = at(3), inertia.jyz = at(4);
+      inertia.jxx = at(1), inertia.jyy = at(2), inertia.jzz = at(3), inertia.jyz = at(4), inertia.jw = at(5);
       m.elements[ei].inertia = inertia;
       m.elements[ei].inertiaParams = st.values;
       continue;

@@ -25,11 +25,12 @@ ModelDiagnosis diagnoseModel(const Model& model) {
   for (const auto& n : model.nodes)
     for (int c = 0; c < n.dim(); ++c)
       check(model.x0[n.firstCoord + c],
-            std::string(n.kind == NodeKind::Position ? "X" : "BETA") + " of node " + std::to_string(n.label));
+            std::string(n.kind == NodeKind::Orientation ? "BETA" : "X") + " of node " + std::to_string(n.label));
   for (const auto& E : model.elements) {
     const std::string el = " of element " + std::to_string(E.label);
     check(E.inertia.rhoA, "mass per length (EM)" + el);
     check(E.inertia.rhoI, "rotary inertia (EM)" + el);
+    check(E.inertia.jw, "warping inertia (EM)" + el);
     if (E.hasStiffness)
       for (Eigen::Index i = 0; i < E.S.size(); ++i) check(E.S.data()[i], "stiffness (ESTIFF)" + el);
     if (E.hasDamping)
@@ -57,8 +58,23 @@ ModelDiagnosis diagnoseModel(const Model& model) {
     check(r.v, "input rate (INPUTE) of " + model.deformationName(r.index));
     check(r.a, "input acceleration (INPUTE) of " + model.deformationName(r.index));
   }
+  // A warping coordinate that is a degree of freedom gets its stiffness from the BEAMWs with ESTIFF
+  // that use its node (S78 > 0 whenever GIt or ECw is); without one it is a mechanism.
+  std::vector<char> stiffWarping(model.nx, 0);
+  for (const auto& E : model.elements) {
+    bool stiff = false;
+    for (int d : E.type->alwaysReleased) stiff |= E.hasStiffness && E.S(d, d) != 0.0;
+    if (stiff)
+      for (int ni : E.nodes)
+        if (model.nodes[ni].kind == NodeKind::Warping) stiffWarping[model.nodes[ni].firstCoord] = 1;
+  }
   for (const auto& dof : model.dofs) {
-    if (!dof.isDeformation) continue;
+    if (!dof.isDeformation) {
+      if (model.nodes[model.xOwnerNode[dof.index]].kind == NodeKind::Warping && !stiffWarping[dof.index])
+        d.mechanismDeformations.push_back(model.coordName(dof.index) +
+                                          " (warping node of BEAMWs without ESTIFF: FIX it to restrain warping)");
+      continue;
+    }
     const ElementEntry& E = model.elements[model.eOwnerElement[dof.index]];
     const int local = dof.index - E.firstDef;
     const bool stiff = E.hasStiffness && local < E.S.rows() && E.S(local, local) != 0.0;
@@ -79,8 +95,15 @@ std::vector<std::string> masslessDegreesOfFreedom(const Model& model) {
   const Eigen::VectorXd m = sys.M.diagonal();
   const double scale = m.cwiseAbs().maxCoeff();
   for (int i = 0; i < model.numDofs(); ++i) {
-    if (m[i] > 1e-13 * scale && scale > 0) continue;
     const auto& dof = model.dofs[i];
+    // A warping coordinate's mass (Jw l0/2, lumped, in its own units: kg m^4 for w in rad/m) is
+    // many decades below the others' (SPACAR Light's steel strip: 1e-15 against 0.1 kg); it is
+    // exactly zero only without Jw.
+    if (!dof.isDeformation && model.nodes[model.xOwnerNode[dof.index]].kind == NodeKind::Warping) {
+      if (m[i] > 0.0) continue;
+    } else if (m[i] > 1e-13 * scale && scale > 0) {
+      continue;
+    }
     names.push_back(dof.isDeformation ? model.deformationName(dof.index) : model.coordName(dof.index));
   }
   return names;

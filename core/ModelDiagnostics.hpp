@@ -6,7 +6,8 @@
 //   * degrees of freedom without mass (simulate and modes need M positive definite);
 //   * dynamic (DYNE) deformations without stiffness (no ESTIFF): mechanism degrees of freedom. Legal
 //     (a hinge's free rotation is one), but for a beam deformation usually a forgotten ESTIFF, and
-//     the reason `modes` shows a zero or negative frequency and `static` a singular tangent;
+//     the reason `modes` shows a zero or negative frequency and `static` a singular tangent; likewise
+//     a free warping coordinate whose BEAMWs have no warping stiffness;
 //   * an initial assembly that lands on another branch: the kinematic solve from the file's nodal
 //     coordinates (X, BETA) with the initial degrees of freedom (E, STARTDE) converged to a folded
 //     configuration (a beam node turned past 90 degrees against its chord).

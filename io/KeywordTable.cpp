@@ -64,14 +64,22 @@ KeywordInfo unsupported(std::string name, BlockKind block, std::string meaning, 
 
 KeywordInfo elementKeyword(const core::ElementTypeInfo& type) {
   std::vector<ArgSpec> args{element()};
-  int nPos = 0, nOri = 0;
+  int nPos = 0, nOri = 0, nWarp = 0;
   for (core::NodeKind k : type.slots) {
-    const bool pos = core::isTranslational(k);
-    const int idx = pos ? nPos++ : nOri++;
+    const bool pos = core::isTranslational(k), warp = k == core::NodeKind::Warping;
+    const int idx = pos ? nPos++ : warp ? nWarp++ : nOri++;
     const char letter = static_cast<char>('p' + std::min(idx, 9));
-    args.push_back(node(std::string(pos ? "node " : "orientation ") + letter,
-                        std::string(pos ? "p" : "o") + std::to_string(idx + 1),
-                        pos ? Kind::Position : Kind::Orientation));
+    args.push_back(node(std::string(pos    ? "node "
+                                    : warp ? "warping "
+                                           : "orientation ") +
+                            letter,
+                        std::string(pos    ? "p"
+                                    : warp ? "w"
+                                           : "o") +
+                            std::to_string(idx + 1),
+                        pos    ? Kind::Position
+                        : warp ? Kind::Warping
+                               : Kind::Orientation));
   }
   for (const auto& v : type.vector) args.push_back(real(v.name));
   std::string meaning = type.description;
@@ -108,7 +116,8 @@ std::vector<KeywordInfo> buildTable() {
                  {node(), real("c1"), optReal("c2"), optReal("c3"), optReal("c4")},
                  "initial coordinates of a node: x y of a position node, the angle (rad) of an "
                  "orientation node (default 0); spatial: x y z, or the Euler parameters "
-                 "lambda0..lambda3 of an orientation node (default 1 0 0 0)"));
+                 "lambda0..lambda3 of an orientation node (default 1 0 0 0), or the rate of twist of "
+                 "a BEAMW warping node (default 0)"));
   t.push_back(kw("XYZ", kBothDialects, B::Kinematic, A::Coordinates,
                  {node("node", "n", Kind::Position), real("x"), real("y"), real("z")},
                  "initial coordinates x y z of a spatial position node"));
@@ -123,7 +132,9 @@ std::vector<KeywordInfo> buildTable() {
                  {node("node", "o", Kind::Orientation), real("angle", "b")},
                  "initial angle (rad) of an orientation node"));
   t.push_back(kw("FIX", kBothDialects, B::Kinematic, A::Fix, {node(), components()},
-                 "node coordinates fixed (all of the node without components)"));
+                 "node coordinates fixed (all of the node without components); on a BEAMW warping "
+                 "node: warping restrained (a clamp, a rigid body), otherwise a free warping "
+                 "coordinate is a degree of freedom"));
   t.push_back(kw("INPUTX", kBothDialects, B::Kinematic, A::InputXRole, {node(), components()},
                  "node coordinates prescribed in time (rheonomic input)"));
   t.push_back(kw("DYNX", kBothDialects, B::Kinematic, A::DynX, {node(), components()},
@@ -148,10 +159,12 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("EM", kSpacar2013, B::Dynamic, A::ElementInertia,
                  {element(), real("mass per length", "rhoA"),
                   optReal("rotary inertia per length (planar) or Jxx (spatial)", "rhoI|Jxx"), optReal("Jyy"),
-                  optReal("Jzz"), optReal("Jyz")},
+                  optReal("Jzz"), optReal("Jyz"), optReal("Jw")},
                  "mass per unit length of an element; planar beams: rhoA rhoI (rhoI: rotary inertia per "
                  "length, rho I of the section); spatial beams: rhoA Jxx Jyy Jzz Jyz (mass moments of inertia "
-                 "per length about the local x (torsion), y and z axes and the product Jyz)"));
+                 "per length about the local x (torsion), y and z axes and the product Jyz), BEAMW also Jw "
+                 "(warping inertia rho Cw); a 6th value on BEAM or values after rhoA on TRUSS (SPACAR Light, "
+                 "oopspa) are ignored with a note"));
   const std::string layouts = stiffnessLayouts();
   t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
                  {element(), real("parameter", "p", Cardinality::Many)},
@@ -159,7 +172,9 @@ std::vector<KeywordInfo> buildTable() {
                      "); 0 may stand for an unused deformation. BEAM/BEAMNL cy cz: shear flexibility of "
                      "bending about the local y and z axes, EIy/(k G A) and EIz/(k G A) (m^2, k: shear "
                      "correction factor; Timoshenko, Phi = 12 c / l0^2; 0 or absent: Euler-Bernoulli, no "
-                     "shear deformation)"));
+                     "shear deformation); the values after an element's own layout that SPACAR Light and "
+                     "oopspa write (BEAMW's seven for every BEAM and TRUSS) are ignored with a note; BEAMW "
+                     "needs all seven"));
   t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
   t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
@@ -316,8 +331,6 @@ std::vector<KeywordInfo> buildTable() {
   auto known = [&t](const char* name) {
     return std::any_of(t.begin(), t.end(), [&](const KeywordInfo& k) { return k.name == name; });
   };
-  t.push_back(unsupported("BEAMW", B::Kinematic, "spatial beam element with warping",
-                          "recognised, not supported yet: use BEAM (" + spatial + ")"));
   t.push_back(unsupported("L2MIN1", B::Kinematic, "Euler-parameter normalisation element",
                           "flexmb creates it for every orientation node: leave it out"));
   for (const auto& [name, meaning] : spatialKeywords)
@@ -599,8 +612,8 @@ is an error naming one keyword of each.
 - Numbers: integers, reals with `.` as the decimal separator and `E` or Fortran `D` exponents. An
   integer field may be written as a whole number with decimals (`1000.000000`); a non-whole value
   (`2.5`) is an error. A comma is not a separator: a decimal comma (`-9,81`) is an error that says so.
-- Node and element numbers are user-chosen positive integers. A node's kind (position or
-  orientation) is fixed by the element slot that first uses it.
+- Node and element numbers are user-chosen positive integers. A node's kind (position,
+  orientation or, for `BEAMW`, warping) is fixed by the element slot that first uses it.
 
 ## Blocks and analyses
 - **SPACAR 2013+**: the kinematic block, `END` `HALT`, the dynamic/static block, `END` `END`. Mode 9

@@ -42,7 +42,7 @@ struct ArgSpec {
   std::string symbol;  // shown in the synopsis: "p1", "EA", "\"x(t)\""
   Cardinality card = Cardinality::One;
   // For ArgType::Node: the node kind the slot requires, when it fixes one (element slots, XY, BETA).
-  enum class Kind { Any, Position, Orientation } kind = Kind::Any;
+  enum class Kind { Any, Position, Orientation, Warping } kind = Kind::Any;
 };
 
 // What the reader does with a statement.

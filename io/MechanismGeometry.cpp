@@ -149,7 +149,7 @@ Eigen::VectorXd scaledShape(const core::Model& model, const Eigen::VectorXd& x, 
   for (const core::Node& n : model.nodes) {
     if (n.kind == core::NodeKind::Position)
       maxDisp = std::max(maxDisp, dx.segment(n.firstCoord, n.dim()).norm());
-    else if (n.dim() == 1)  // planar angle; spatial Euler parameters are not angles
+    else if (n.kind == core::NodeKind::Orientation)  // planar angle; Euler parameters, warping: not angles
       maxRot = std::max(maxRot, std::abs(dx[n.firstCoord]));
   }
   double s = 0.0;

@@ -187,7 +187,9 @@ std::vector<std::string> coordinateColumnNames(const Model& model) {
   for (const core::Node& n : model.nodes) {
     std::string base = "node";
     base += std::to_string(n.label);
-    if (core::isSpatial(n.kind)) {
+    if (n.kind == core::NodeKind::Warping) {  // BEAMW: the rate of twist
+      if (n.firstCoord >= 0 && n.firstCoord < model.nx) names[n.firstCoord] = base + ".w";
+    } else if (core::isSpatial(n.kind)) {
       for (int c = 0; c < n.dim(); ++c)
         names[n.firstCoord + c] = base + (n.kind == core::NodeKind::EulerParameters ? ".lambda" + std::to_string(c)
                                                                                     : std::string(".") + "xyz"[c]);

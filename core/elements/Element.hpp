@@ -10,10 +10,10 @@
 
 namespace flexmb::core {
 
-// Capacity of the largest element: the spatial BEAM (two position nodes of 3 coordinates, two
-// orientation nodes of 4 Euler parameters; six deformations).
-constexpr int kMaxElemCoords = 14;
-constexpr int kMaxElemDefs = 6;
+// Capacity of the largest element: the spatial BEAMW (two position nodes of 3 coordinates, two
+// orientation nodes of 4 Euler parameters, two warping nodes of 1; eight deformations).
+constexpr int kMaxElemCoords = 16;
+constexpr int kMaxElemDefs = 8;
 // Fixed-capacity Eigen types: no heap allocation in element kernels (hot path).
 using ElemVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemCoords, 1>;
 using DefVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxElemDefs, 1>;
@@ -21,9 +21,11 @@ using DefJac = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElem
 using ElemMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemCoords, kMaxElemCoords>;
 using DefMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxElemDefs, kMaxElemDefs>;
 
-// Planar models: Position (x y) and Orientation (angle). Spatial models: SpatialPosition (x y z)
-// and EulerParameters (lambda0..lambda3, normalised by the automatic L2MIN1 constraint).
-enum class NodeKind { Position, Orientation, SpatialPosition, EulerParameters };
+// Planar models: Position (x y) and Orientation (angle). Spatial models: SpatialPosition (x y z),
+// EulerParameters (lambda0..lambda3, normalised by the automatic L2MIN1 constraint) and Warping
+// (one coordinate: the rate of twist dphi/ds of BEAMW's cross-section, rad per length; default 0;
+// a degree of freedom unless FIX or INPUTX says otherwise, core/elements/BEAMW.md).
+enum class NodeKind { Position, Orientation, SpatialPosition, EulerParameters, Warping };
 constexpr int nodeKindDim(NodeKind k) {
   switch (k) {
     case NodeKind::Position:
@@ -34,11 +36,17 @@ constexpr int nodeKindDim(NodeKind k) {
       return 3;
     case NodeKind::EulerParameters:
       return 4;
+    case NodeKind::Warping:
+      return 1;
   }
   return 0;
 }
 constexpr bool isTranslational(NodeKind k) { return k == NodeKind::Position || k == NodeKind::SpatialPosition; }
-constexpr bool isSpatial(NodeKind k) { return k == NodeKind::SpatialPosition || k == NodeKind::EulerParameters; }
+constexpr bool isSpatial(NodeKind k) {
+  return k == NodeKind::SpatialPosition || k == NodeKind::EulerParameters || k == NodeKind::Warping;
+}
+// Coordinates that are rotations (angle, Euler parameters); a warping coordinate is not one.
+constexpr bool isRotational(NodeKind k) { return k == NodeKind::Orientation || k == NodeKind::EulerParameters; }
 
 // How the PLBEAM elongation is defined: SPACAR95's l - l0, or Eq. 3a with the bending correction.
 enum class ElongationDefinition { Plain, BendingCorrected };
@@ -49,15 +57,17 @@ struct ElementOptions {
 
 // Distributed inertia of an element (EMASS / EM): mass and rotary inertia per unit length.
 // Spatial elements use rhoA and the per-length mass moments of inertia of the cross-section about
-// its local x (polar), y, z axes and the product yz (EM rhoA Jxx Jyy Jzz Jyz).
+// its local x (polar), y, z axes and the product yz (EM rhoA Jxx Jyy Jzz Jyz); BEAMW adds the
+// warping inertia per length jw = rho Cw (EM ... Jw).
 struct ElementInertia {
   double rhoA = 0.0;
   double rhoI = 0.0;
   double jxx = 0.0, jyy = 0.0, jzz = 0.0, jyz = 0.0;
   double jxy = 0.0, jxz = 0.0;  // full tensor of a rigid body on an orientation node (XM)
+  double jw = 0.0;
   bool any() const {
     return rhoA != 0.0 || rhoI != 0.0 || jxx != 0.0 || jyy != 0.0 || jzz != 0.0 || jyz != 0.0 || jxy != 0.0 ||
-           jxz != 0.0;
+           jxz != 0.0 || jw != 0.0;
   }
 };
 
@@ -185,6 +195,15 @@ struct ElementTypeInfo {
                                                const ElementOptions& options) = nullptr;
   // EM layout when it differs from the planar "rhoA [rhoI]".
   std::vector<ParameterSpec> inertia = {};
+  // ESTIFF values that must be given (the rest of the layout may be left off and is 0): BEAMW's
+  // 7, so that a file without the warping stiffness is an error instead of a silent E Cw = 0.
+  int requiredStiffness = 0;
+  // Trailing ESTIFF / EM values other programs write for this element and flexmb reads and ignores
+  // with a note (SPACAR Light and oopspa write one section layout, BEAMW's, for every beam and truss).
+  std::vector<ParameterSpec> ignoredStiffness = {}, ignoredInertia = {};
+  // Deformations (0-based) that are always released (calculable) and carry stress when the element
+  // has ESTIFF: BEAMW's warping deformations 7 and 8. RLSE on them is accepted; DYNE, INPUTE are errors.
+  std::vector<int> alwaysReleased = {};
   bool internal = false;  // created by flexmb (L2MIN1), not a user keyword
   // SPACAR's element type code: the `.sbd` variable `it` that SPACAR's viewer (spadraw) and stress
   // tool (stressbeam) read; io/results.md lists the codes and where they come from.
@@ -198,6 +217,7 @@ struct ElementTypeInfo {
   int numCoords() const;
   int numDeformations() const { return static_cast<int>(deformationNames.size()); }
   bool isLargeRotation(int deformation) const;
+  bool isAlwaysReleased(int deformation) const;
 };
 
 // The registry (one list, in ElementRegistry.cpp). Keyword lookup is case-insensitive.

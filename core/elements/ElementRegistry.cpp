@@ -12,6 +12,7 @@
 #include "core/elements/SpatialBeam.hpp"
 #include "core/elements/SpatialHinge.hpp"
 #include "core/elements/SpatialTruss.hpp"
+#include "core/elements/SpatialWarpingBeam.hpp"
 
 namespace flexmb::core {
 
@@ -32,6 +33,10 @@ namespace {
 // code is unknown get flexmb's own codes from 101, clear of every code SPACAR's tools use (1-18).
 constexpr int kOwnTypeIds = 100;
 }  // namespace
+
+bool ElementTypeInfo::isAlwaysReleased(int deformation) const {
+  return std::find(alwaysReleased.begin(), alwaysReleased.end(), deformation) != alwaysReleased.end();
+}
 
 const std::vector<ElementTypeInfo>& elementTypes() {
   using enum NodeKind;
@@ -100,6 +105,14 @@ const std::vector<ElementTypeInfo>& elementTypes() {
         {"Jzz", "kg m", "mass moment of inertia per length about local z"},
         {"Jyz", "kg m", "product of inertia per length (y z)"}};
     const std::vector<ParameterSpec> rhoAOnly = {{"rhoA", "kg/m", "mass per length"}};
+    // BEAMW's layouts: BEAM's with the warping stiffness and inertia last. SPACAR Light and oopspa
+    // write these for every beam and truss; the values an element has no use for are ignored.
+    std::vector<ParameterSpec> sectionParams = spatialBeamParams, sectionMass = spatialBeamMass;
+    sectionParams.push_back({"ECw", "N m^4", "warping stiffness E Cw (BEAMW; thin rectangle w x t: Cw = w^3 t^3/144)"});
+    sectionMass.push_back({"Jw", "kg m^3", "warping inertia rho Cw per length (BEAMW)"});
+    auto tail = [](const std::vector<ParameterSpec>& all, size_t from) {
+      return std::vector<ParameterSpec>(all.begin() + static_cast<std::ptrdiff_t>(from), all.end());
+    };
     {
       ElementTypeInfo b{"BEAM",
                         "spatial flexible beam: elongation l - l0, torsion, bending about the local y "
@@ -113,6 +126,8 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       b.createWithVector = &SpatialBeam::create;
       b.inertia = spatialBeamMass;
       b.spacarTypeId = 1;
+      b.ignoredStiffness = tail(sectionParams, spatialBeamParams.size());
+      b.ignoredInertia = tail(sectionMass, spatialBeamMass.size());
       t.push_back(b);
       b.keyword = "BEAMNL";
       b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";
@@ -120,10 +135,34 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       t.push_back(b);
     }
     {
+      // core/elements/BEAMW.md: Vlasov's non-uniform torsion with the rate of twist as the
+      // coordinate of a warping node at each end.
+      ElementTypeInfo w{"BEAMW",
+                        "spatial flexible beam with warping (restrained torsion, Vlasov): BEAM's six "
+                        "deformations and two warping deformations, each end with a position, an "
+                        "orientation and a warping node (one coordinate, the rate of twist; a degree of "
+                        "freedom unless FIX or INPUTX); y1 y2 y3: initial cross-section y axis",
+                        {SpatialPosition, EulerParameters, Warping, SpatialPosition, EulerParameters, Warping},
+                        spatialBeamDefs,
+                        sectionParams,
+                        nullptr};
+      w.deformationNames.push_back("warping p");
+      w.deformationNames.push_back("warping q");
+      w.vector = yAxis;
+      w.createWithVector = &SpatialWarpingBeam::create;
+      w.inertia = sectionMass;
+      w.requiredStiffness = 7;
+      w.alwaysReleased = {6, 7};
+      w.spacarTypeId = 18;  // SPACAR's code of BEAMW (spadraw takes its node q from ln(:, 4))
+      t.push_back(w);
+    }
+    {
       ElementTypeInfo tr{"TRUSS",        "spatial truss, elongation l - l0", {SpatialPosition, SpatialPosition},
                          {"elongation"}, {{"EA", "N", "axial stiffness"}},   &SpatialTruss::create};
       tr.inertia = rhoAOnly;
       tr.spacarTypeId = 2;
+      tr.ignoredStiffness = tail(sectionParams, 1);
+      tr.ignoredInertia = tail(sectionMass, 1);
       t.push_back(tr);
     }
     {

@@ -110,6 +110,9 @@ inline ElementSample sampleElement(const ElementCase& c, std::mt19937& rng) {
         case NodeKind::EulerParameters:
           s.x0.segment<4>(k) = randomQuaternion(rng);
           break;
+        case NodeKind::Warping:  // an initial rate of twist (BEAMW)
+          s.x0[k] = uniform(rng, -1, 1);
+          break;
       }
       k += nodeKindDim(kind);
     }
@@ -157,6 +160,8 @@ inline ElemVec rigidMotion(const ElementTypeInfo& t, const ElemVec& x, double an
       case NodeKind::EulerParameters:
         y.segment<4>(k) = quaternionProduct(qn, x.segment<4>(k));
         break;
+      case NodeKind::Warping:  // the rate of twist about the element's own axis: a scalar
+        break;
     }
     k += nodeKindDim(kind);
   }
@@ -170,7 +175,8 @@ inline ElemVec randomRigidMotion(const ElementTypeInfo& t, const ElemVec& x, std
 }
 
 // A deformed configuration near x0: positions moved by up to 0.3, planar angles by up to 0.6, Euler
-// parameters by up to 0.2 (not normalised: the derivatives hold for any lambda), then moved
+// parameters by up to 0.2 (not normalised: the derivatives hold for any lambda), warping coordinates
+// by up to 0.3, then moved
 // rigidly. Position nodes stay at least 0.2 apart (no chord near zero length).
 inline ElemVec sampleConfiguration(const ElementTypeInfo& t, const ElemVec& x0, std::mt19937& rng) {
   for (;;) {
@@ -187,13 +193,14 @@ inline ElemVec sampleConfiguration(const ElementTypeInfo& t, const ElemVec& x0, 
 }
 
 // Distributed inertia with every field set (each type reads its own: planar rhoA rhoI, spatial
-// rhoA Jxx Jyy Jzz Jyz, L2MIN1 the full body tensor), positive definite.
+// rhoA Jxx Jyy Jzz Jyz, BEAMW also Jw, L2MIN1 the full body tensor), positive definite.
 inline ElementInertia sampleInertia() {
   ElementInertia in;
   in.rhoA = 1.3;
   in.rhoI = 2e-3;
   in.jxx = 0.05, in.jyy = 0.04, in.jzz = 0.06;
   in.jyz = 0.005, in.jxy = 0.002, in.jxz = -0.003;
+  in.jw = 7e-3;
   return in;
 }
 

@@ -277,7 +277,7 @@ TEST(BeamInertia, LinearisedMassEqualsClassicalMatrices) {
   const int tr[4] = {1, 2, 4, 5}, ax[2] = {0, 3};
   for (const Variant& var : kVariants) {
     const PlanarBeam b(x0, var.def);
-    for (const ElementInertia in : {ElementInertia{2.5, 0.0}, ElementInertia{0.0, 0.3}, ElementInertia{2.5, 0.3}}) {
+    for (const ElementInertia& in : {ElementInertia{2.5, 0.0}, ElementInertia{0.0, 0.3}, ElementInertia{2.5, 0.3}}) {
       ElemMat M;
       b.mass(x0, in, M);
       Eigen::Matrix4d Mt;

@@ -74,6 +74,7 @@ TEST(NoAllocation, RightHandSidesAllocateNothing) {
   cases.push_back({"manipulator", io::readDatFile(dat("manipulator.dat"))});
   cases.push_back({"swung arm", io::readDatString(swungArm(), "swung_arm.dat")});
   cases.push_back({"wire_guidance (spatial)", io::readDatFile(dat("spatial/wire_guidance.dat"))});
+  cases.push_back({"cross_spring_pivot_beamw (BEAMW)", io::readDatFile(dat("spatial/cross_spring_pivot_beamw.dat"))});
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const int nq = c.model.numDofs();
