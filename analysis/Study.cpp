@@ -270,6 +270,9 @@ std::vector<std::pair<std::string, double>> nodeStiffness(const core::Model& mod
       names = {"rx", "ry", "rz"};
       break;
     }
+    case core::NodeKind::Warping:
+      names = {"warping"};  // BEAMW's warping coordinate (rate of twist)
+      break;
   }
   for (size_t k = 0; k < names.size(); ++k)
     if (C(k, k) != 0.0) out.emplace_back(base + names[k], 1.0 / C(k, k));  // 0: a fixed coordinate

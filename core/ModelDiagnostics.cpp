@@ -61,11 +61,11 @@ ModelDiagnosis diagnoseModel(const Model& model) {
   // A warping coordinate that is a degree of freedom gets its stiffness from the BEAMWs with ESTIFF
   // that use its node (S78 > 0 whenever GIt or ECw is); without one it is a mechanism.
   std::vector<char> stiffWarping(model.nx, 0);
-  for (const auto& E : model.elements) {
+  for (const auto& el : model.elements) {
     bool stiff = false;
-    for (int d : E.type->alwaysReleased) stiff |= E.hasStiffness && E.S(d, d) != 0.0;
+    for (int k : el.type->alwaysReleased) stiff |= el.hasStiffness && el.S(k, k) != 0.0;
     if (stiff)
-      for (int ni : E.nodes)
+      for (int ni : el.nodes)
         if (model.nodes[ni].kind == NodeKind::Warping) stiffWarping[model.nodes[ni].firstCoord] = 1;
   }
   for (const auto& dof : model.dofs) {

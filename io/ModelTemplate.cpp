@@ -282,14 +282,17 @@ std::string ModelTemplate::instantiate(const ParameterValues& values, ParameterV
         throw TemplateError(file_, p.line, "bad expression " + quoted(p) + ": " + e.what());
       }
       if (!std::isfinite(v)) {
-        std::string at;
-        for (const auto& [name, value] : values) at += (at.empty() ? "" : ", ") + name + " = " + roundTripNumber(value);
+        std::string where;
+        for (const auto& [name, value] : values) {
+          if (!where.empty()) where += ", ";
+          ((where += name) += " = ") += roundTripNumber(value);
+        }
         throw TemplateError(file_, p.line,
                             quoted(p) + " gives " +
                                 (std::isnan(v) ? "NaN"
                                  : v > 0       ? "inf"
                                                : "-inf") +
-                                " at " + at);
+                                " at " + where);
       }
       if (p.kind != Placeholder::Kind::Value) {
         ev.define(p.name, v);

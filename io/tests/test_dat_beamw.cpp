@@ -129,9 +129,9 @@ TEST(DatBeamW, BadInputNamesFileLineAndReason) {
   EXPECT_TRUE(contains(errorOf(twoBeams("FIX 1\n", "ESTIFF 1 1 2 3 4 5 6 7 8\n")), "found 8"));
   // Zero length, a y vector along the chord, a missing y component: as for BEAM.
   const std::string zero = errorOf("X 1 0 0 0\nX 4 0 0 0\nBEAMW 1 1 2 3 4 5 6 0 0 1\nEND\nHALT\nEND\nEND\n");
-  EXPECT_TRUE(contains(zero, "t.dat:3: BEAMW 1: end nodes coincide (zero length)")) << zero;
+  EXPECT_TRUE(contains(zero, "t.dat:3: BEAMW: BEAMW 1: end nodes coincide (zero length)")) << zero;
   const std::string along = errorOf("X 1 0 0 0\nX 4 1 0 0\nBEAMW 1 1 2 3 4 5 6 1 0 0\nEND\nHALT\nEND\nEND\n");
-  EXPECT_TRUE(contains(along, "t.dat:3: BEAMW 1")) << along;
+  EXPECT_TRUE(contains(along, "t.dat:3: BEAMW: BEAMW 1")) << along;
   EXPECT_TRUE(contains(errorOf("X 1 0 0 0\nX 4 1 0 0\nBEAMW 1 1 2 3 4 5 6 0 1\nEND\nHALT\n"),
                        "BEAMW: expected 10 numbers (element, node p, orientation p, warping p, node q, orientation q, "
                        "warping q, y1, y2, y3), found 9"));

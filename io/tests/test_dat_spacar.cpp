@@ -218,7 +218,7 @@ TEST(KeywordTable, ElementListsAndSignaturesAgreeWithTheirDescriptions) {
       EXPECT_EQ(line.find("PLBEAM", line.find("spatial elements:")), std::string::npos) << line;
     }
     if (line.rfind("  EM ", 0) == 0) {
-      EXPECT_NE(line.find("EM e rhoA [rhoI|Jxx [Jyy [Jzz [Jyz]]]]"), std::string::npos) << line;
+      EXPECT_NE(line.find("EM e rhoA [rhoI|Jxx [Jyy [Jzz [Jyz [Jw]]]]]"), std::string::npos) << line;
       EXPECT_NE(line.find("rhoA Jxx Jyy Jzz Jyz"), std::string::npos) << line;
     }
     if (line.rfind("  ESTIFF ", 0) == 0) {

@@ -72,8 +72,6 @@ std::vector<Case> catalogue() {
        "expected an integer for component, found '2.5'"},
       {"unknown_keyword_suggestion", kin({"PLBEEM 1 1 2 3 4"}), 1, "unknown keyword 'PLBEEM'; did you mean PLBEAM?"},
       {"unknown_keyword", dyn({"FOOBARQ 1"}), 8, "unknown keyword 'FOOBARQ'"},
-      {"unsupported_beamw", kin({"BEAMW 1 1 2 3 4 5 6 0 1 0"}), 1,
-       "BEAMW: SPACAR keyword, not supported by flexmb yet"},
       {"beam_without_y_axis", kin({"BEAM 1 1 2 3 4"}), 1,
        "BEAM: expected 8 numbers (element, node p, orientation p, node q, orientation q, y1, y2, y3), found 5"},
       {"planar_and_spatial", kin({"PLBEAM 1 1 2 3 4", "BEAM 2 5 6 7 8 0 1 0"}), 2,

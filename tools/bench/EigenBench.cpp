@@ -87,7 +87,7 @@ void eigenFigures() {
       std::string iterations;
       int total = 0;
       for (const auto& st : run.steps) {
-        iterations += " " + std::to_string(st.iterations);
+        (iterations += ' ') += std::to_string(st.iterations);
         total += st.iterations;
       }
       std::printf(

@@ -109,8 +109,8 @@ TEST_F(UserPath, StaticInterruptKeepsTheLoadStepsSoFar) {
 
 TEST_F(UserPath, SweepInterruptKeepsThePointsSoFar) {
   const Result r = sh("flexmb sweep " + kData +
-                      "straight_guidance.dat -q --node 6 --from -0.08 --to 0.08 --steps 20000 --out s & pid=$!; "
-                      "sleep 3; kill -INT $pid; wait $pid");
+                      "straight_guidance.dat -q --node 6 --from -0.08 --to 0.08 --steps 400000 --out s & pid=$!; "
+                      "sleep 1; kill -INT $pid; wait $pid");
   EXPECT_EQ(r.code, 130) << r.err;
   EXPECT_GT(lines(dir_ / "s.csv"), 2) << listing();
   EXPECT_TRUE(has(slurp(dir_ / "s_run.txt"), "status: stopped: interrupted (Ctrl-C)"));
