@@ -176,17 +176,18 @@ void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd&
   }
 }
 
-void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  if (!model_.hasGravity) return;
+void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y, double scale) const {
+  if (!model_.hasGravity || scale == 0.0) return;
+  const double g[3] = {scale * model_.gravity[0], scale * model_.gravity[1], scale * model_.gravity[2]};
   for (const auto& n : model_.nodes) {
     if (!isTranslational(n.kind)) continue;
-    for (int c = 0; c < n.dim(); ++c) y[n.firstCoord + c] += lumped_[n.firstCoord + c] * model_.gravity[c];
+    for (int c = 0; c < n.dim(); ++c) y[n.firstCoord + c] += lumped_[n.firstCoord + c] * g[c];
   }
   ElemVec xe, fe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
-    E.impl->gravityForces3(xe, E.inertia, model_.gravity, fe);
+    E.impl->gravityForces3(xe, E.inertia, g, fe);
     for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += fe[j];
   }
 }
@@ -287,7 +288,7 @@ void appliedLoads(const Model& model, const Inertia& inertia, double t, double l
   if (initialFactor != 1.0) f *= initialFactor;
   if (loadFactor != 0.0 && model.delf.size() == f.size()) f += loadFactor * model.delf;
   for (const auto& tf : model.timeForces) f[tf.index] += tf.f->value(t);
-  inertia.addGravity(x, f);
+  inertia.addGravity(x, f, initialFactor);
   for (const auto& mo : model.moments) {
     const int at = model.nodes[mo.node].firstCoord;
     f.segment<4>(at) += momentMatrix(initialFactor * mo.value + loadFactor * mo.increment) * x.segment<4>(at);

@@ -7,16 +7,16 @@ ResultQuantities::ResultQuantities(const Model& model)
   for (int c : gtf_.calculableCoords()) calculable_[c] = 1;
 }
 
-void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor) {
-  gtf_.setInputLoadFactor(inputLoadFactor);
+void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor, double initialFactor) {
+  gtf_.setInputLoadFactor(inputLoadFactor, initialFactor);
   gtf_.solvePositions(t, q);
 }
 
 void ResultQuantities::forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt) {
+                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, double initialFactor) {
   const Eigen::VectorXd& x = gtf_.x();
   Eigen::VectorXd f;
-  appliedLoads(model_, inertia_, t, loadFactor, x, f);
+  appliedLoads(model_, inertia_, t, loadFactor, x, f, initialFactor);
   if (userForces.size() == f.size()) f += userForces;
   if (model_.userFunctions && model_.userFunctions->hasLoads() && userForces.size() == 0) {
     Eigen::VectorXd us, uf;  // USERSIG forces at this state (its stresses are in s.sig already)

@@ -26,13 +26,15 @@ struct FreeCoordinate {
 class ResultQuantities {
  public:
   explicit ResultQuantities(const Model& model);
-  // Positions and Jacobians at (t, q), input coordinates at load factor s. Throws KinematicsError.
-  void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0);
+  // Positions and Jacobians at (t, q), input coordinates at load factor s and initial-load factor
+  // mu (statics, analysis/Statics.hpp). Throws KinematicsError.
+  void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0, double initialFactor = 1.0);
   // After setState: sigma~ and fxt for the state's rates and its elastic stresses sig (size ne;
   // entries of constrained deformations are replaced by reaction stresses, elastic ones kept).
   // userForces (size nx) are nodal loads beyond the model's; empty: the model's USERSIG forces.
+  // initialFactor: statics' factor of the initial loads (XF, gravity; 1 outside statics).
   void forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt);
+              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, double initialFactor = 1.0);
   // After setState: dx (nx x cols.size()), column j = dx / d cols[j] with the other listed
   // coordinates and all fixed ones held.
   void transfer(const std::vector<FreeCoordinate>& cols, Eigen::MatrixXd& dx);

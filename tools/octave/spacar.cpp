@@ -1,8 +1,9 @@
 // spacar(mode, name): SPACAR's MATLAB entry point over the flexmb libraries (MEX API only, so that
 // Octave's `mkoctfile --mex` and MATLAB's `mex` both build it). Reads name.dat, runs the analysis
-// of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices, 4 eigenfrequencies along the
-// trajectory, 10 statics; a negative mode runs the same without console output), writes
-// name.sbd / name.sbm (io/results.md), puts their variables into the caller's workspace and, when
+// of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices (along the trajectory, or of every load
+// step of a static file without TIMESTEP, with name.ltv), 4 eigenfrequencies along the trajectory,
+// 9 transfer functions (name.ltv), 10 statics; a negative mode runs the same without console
+// output), writes name.sbd / name.sbm (io/results.md), puts their variables into the caller's workspace and, when
 // an output is requested, returns them in a struct. Errors (input file:line, a failed run, a failing
 // user function) are MATLAB errors; a run that stops keeps and assigns the steps it stored.
 // USERSIG / USERINP functions named in the file are called back through mexCallMATLAB
@@ -25,6 +26,7 @@
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
+#include "analysis/Transfer.hpp"
 #include "io/DatReader.hpp"
 #include "io/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
@@ -92,8 +94,18 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
         out << "spacar: kinematic analysis of " << datFile << ": " << model.numDofs()
             << " dynamic degrees of freedom\n";
         break;
-      case 1:
       case 3:
+        if (!model.settings.timestepGiven) {  // a static file: SPACAR's mode 3 perturbs its load steps
+          const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
+          out << "spacar: static analysis with linearised matrices, " << st.steps.size() << " load steps\n";
+          analysis::SpacarOutputOptions so;
+          so.transferFunctions = true;
+          so.jacobian = true;
+          results = analysis::spacarFromStaticPerturbation(model, st, so);
+          break;
+        }
+        [[fallthrough]];
+      case 1:
       case 4: {
         analysis::SimulationOptions opt;
         const core::Trajectory traj = analysis::simulate(model, opt);
@@ -116,8 +128,22 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
         results = analysis::spacarFromStatics(model, st, so);
         break;
       }
+      case 9: {
+        analysis::TransferOptions to;
+        to.nev = std::min(6, model.numDofs());
+        const analysis::TransferRun tr = analysis::transferAnalysis(model, to);
+        out << "spacar: transfer functions at the last of " << tr.statics.steps.size()
+            << " load steps: " << tr.model.B.cols() << " inputs, " << tr.model.C.rows() << " outputs, "
+            << tr.model.A.rows() << " states\n";
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = true;
+        so.jacobian = true;
+        results = analysis::spacarFromTransfer(model, tr, so);
+        break;
+      }
       default:
-        run.error = "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 10 and their negatives)";
+        run.error =
+            "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 9, 10 and their negatives)";
         run.errorId = "flexmb:spacar:mode";
         return;
     }
@@ -146,7 +172,7 @@ void runSpacar(int mode, bool silent, std::string name, Run& run) {
 void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   if (nrhs != 2 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
     mexErrMsgIdAndTxt("flexmb:spacar:usage",
-                      "usage: spacar(mode, 'name') with mode 0, 1, 3, 4 or 10 (negative: silent)");
+                      "usage: spacar(mode, 'name') with mode 0, 1, 3, 4, 9 or 10 (negative: silent)");
   if (nlhs > 1) mexErrMsgIdAndTxt("flexmb:spacar:usage", "spacar returns at most one output (a struct)");
   const double m = mxGetScalar(prhs[0]);
   char* nameC = mxArrayToString(prhs[1]);
