@@ -310,6 +310,17 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.matrix("it", it);
     w.matrix("rl0", rl0);
     w.matrix("rxyz", spacarElementTriads(model, le.rows()));
+    // stif: row el = element el's ESTIFF values as given (0 pads; spatools reads cy, cz from it,
+    // flexmb's stressbeam the warping stiffness E Cw of BEAMW).
+    {
+      std::size_t width = 0;
+      for (const auto& el : model.elements) width = std::max(width, el.stiffnessParams.size());
+      Eigen::MatrixXd stif = Eigen::MatrixXd::Zero(le.rows(), static_cast<Eigen::Index>(width));
+      for (const auto& el : model.elements)
+        for (std::size_t k = 0; k < el.stiffnessParams.size(); ++k)
+          stif(el.label - 1, static_cast<Eigen::Index>(k)) = el.stiffnessParams[k];
+      w.matrix("stif", stif);
+    }
     w.matrix("x0", L.sortX(model.x0));
     // Per step: one row per stored step.
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
