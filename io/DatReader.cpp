@@ -782,6 +782,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::Halt:
     case Action::Eof:
     case Action::Visualization:
+    case Action::Transfer:
     case Action::Unsupported:
       fail(line, s.keyword, "internal: unexpected statement");
       break;
