@@ -114,12 +114,20 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   // Inputs: the generalised load on q of each channel (columns), before M0^-1.
   std::vector<Eigen::VectorXd> loads;
   std::vector<int> motionChannel(model.transferInputs.size(), -1);  // first of INX's three channels
+  // A force input's generalised load on every degree of freedom of the augmented model (its rows
+  // of the known coordinates enter OUTF), and its column of B.
+  std::vector<std::pair<int, Eigen::VectorXd>> forceLoads;
   for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
     const auto& c = model.transferInputs[k];
     if (c.kind == Kind::Force) {
       const Weighted w = weights(c, step.x, 2.0);
       Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
-      for (std::size_t i = 0; i < w.coords.size(); ++i) b += w.w[i] * block(p.F, w.coords[i]).transpose();
+      Eigen::VectorXd bAug = Eigen::VectorXd::Zero(p.F.cols());
+      for (std::size_t i = 0; i < w.coords.size(); ++i) {
+        b += w.w[i] * block(p.F, w.coords[i]).transpose();
+        bAug += w.w[i] * p.F.row(w.coords[i]).transpose();
+      }
+      forceLoads.emplace_back(static_cast<int>(loads.size()), std::move(bAug));
       loads.push_back(b);
       ss.inputNames.push_back(channelName(model, c));
     } else {  // INX: -(K+G)_qu, -D_qu, -M_qu for u, du/dt, d2u/dt2
@@ -171,6 +179,15 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
       ss.C.block(r, 0, 1, m) = rk + rm * ss.A.bottomLeftCorner(m, m);
       ss.C.block(r, m, 1, m) = rc + rm * ss.A.bottomRightCorner(m, m);
       ss.D.row(r) = rm * ss.B.bottomRows(m);
+      // The row of a known coordinate j in the augmented model is the balance of everything that
+      // does work along it: the support force plus the applied loads there. A force input acts
+      // along j when j moves its point (in the augmented model a support coordinate carries the
+      // structure beyond it: a base displacement moves every point), so its share is subtracted.
+      for (const auto& [col, bAug] : forceLoads)
+        for (std::size_t i = 0; i < w.coords.size(); ++i) {
+          const int j = at.x[w.coords[i]];
+          if (j >= 0) ss.D(r, col) -= w.w[i] * bAug[j];
+        }
       for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
         if (motionChannel[k] < 0) continue;
         const int u = at.x[model.transferInputs[k].coord];

@@ -13,8 +13,9 @@
 //   OUTX / OUTXP: C = [F_j 0] / [0 F_j] (spatial orientation node: the rotation 2 E(lambda) dlambda);
 //   OUTF (force fxt_j a fixed or input coordinate takes): fxt_j = f_j - Q_j, so its change is
 //                                      (K+G)_jq dq + D_jq dqd + M_jq dqdd with dqdd from A and B:
-//                                      C = [(K+G)_jq + M_jq A21, D_jq + M_jq A22], D = M_jq B2 (+ the
-//                                      direct INX couplings); on an orientation node the moment
+//                                      C = [(K+G)_jq + M_jq A21, D_jq + M_jq A22], D = M_jq B2 minus
+//                                      the force inputs' generalised loads along j (+ the direct INX
+//                                      couplings); on an orientation node the moment
 //                                      1/2 E(lambda) f_lambda.
 // The mixed blocks come from the model with u and j as degrees of freedom (analysis/Perturbation).
 // The equilibrium is the last load step of the static analysis (analysis/Statics: load steps

@@ -205,7 +205,9 @@ TEST(Transfer, PolesAreTheEigenfrequencies) {
   std::sort(im.begin(), im.end());
   const Eigen::VectorXd& omega = run.statics.steps.back().frequencies.omega;
   ASSERT_EQ(static_cast<Eigen::Index>(im.size()), omega.size());
-  for (std::size_t i = 0; i < im.size(); ++i) EXPECT_NEAR(im[i], omega[i], 1e-8 * omega[i]) << "mode " << i + 1;
+  // A's eigenvalues come from a nonsymmetric solver on a matrix whose lower blocks are of order
+  // omega_max^2: the highest poles carry a relative error of order eps omega_max^2 / omega.
+  for (std::size_t i = 0; i < im.size(); ++i) EXPECT_NEAR(im[i], omega[i], 1e-7 * omega[i]) << "mode " << i + 1;
 }
 
 // Mode 3's K0B over every kinematic degree of freedom (inputs included): its block of the dynamic
