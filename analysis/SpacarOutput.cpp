@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/Perturbation.hpp"
 #include "core/KinematicCheck.hpp"
 #include "core/ResultQuantities.hpp"
 
@@ -18,12 +19,13 @@ std::vector<core::FreeCoordinate> dynamicColumns(const core::Model& model) {
 
 // The state part of a step, in SPACAR's order, with sig~ and fxt (and dx, bigd when asked).
 io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, core::ResultQuantities& rq, double t,
-                         double loadFactor, const core::StateOutputs& s, const SpacarOutputOptions& o) {
+                         double loadFactor, const core::StateOutputs& s, const SpacarOutputOptions& o,
+                         double initialFactor = 1.0) {
   io::SpacarStep st;
-  rq.setState(t, dofsOf(model, s, 0), loadFactor);
+  rq.setState(t, dofsOf(model, s, 0), loadFactor, initialFactor);
   Eigen::VectorXd sig, fxt;
   core::ResultQuantities::AppliedForces applied;
-  rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt, &applied);
+  rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt, initialFactor, &applied);
   st.x = L.sortX(s.x), st.xd = L.sortX(s.xd), st.xdd = L.sortX(s.xdd), st.fxt = L.sortX(fxt);
   st.fx = L.sortX(applied.loads), st.fxgrav = L.sortX(applied.gravity);
   st.e = L.sortE(s.e), st.ed = L.sortE(s.ed), st.edd = L.sortE(s.edd), st.sig = L.sortE(sig);
@@ -82,16 +84,47 @@ io::SpacarResults spacarFromStatics(const core::Model& model, const StaticRun& r
   const io::SpacarLayout L = io::spacarLayout(model);
   core::ResultQuantities rq(model);
   for (const StaticStep& s : run.steps) {
+    if (s.loadStep < 0) continue;  // a ramp step of the initial loads: not a SPACAR load step
     core::StateOutputs out;
     out.x = s.x, out.e = s.e, out.sig = s.sigma;
     out.xd = out.xdd = Eigen::VectorXd::Zero(model.nx);
     out.ed = out.edd = Eigen::VectorXd::Zero(model.ne);
-    io::SpacarStep st = stateStep(model, L, rq, model.settings.t0, s.loadFactor, out, o);
+    io::SpacarStep st = stateStep(model, L, rq, model.settings.t0, s.loadFactor, out, o, s.initialFactor);
     setMatrices(st, s.system);
     st.freq = s.frequencies.omega / kTwoPi;
-    r.time.push_back(s.loadFactor);
+    r.time.push_back(run.loadSteps > 0 ? static_cast<double>(s.loadStep) / run.loadSteps : 0.0);
     r.steps.push_back(std::move(st));
   }
+  return r;
+}
+
+io::SpacarResults spacarFromStaticPerturbation(const core::Model& model, const StaticRun& run,
+                                               const SpacarOutputOptions& o) {
+  io::SpacarResults r = spacarFromStatics(model, run, o);
+  r.mode = 3;
+  std::size_t k = 0;
+  for (const StaticStep& s : run.steps) {
+    if (s.loadStep < 0) continue;
+    const KinematicDofMatrices km = kinematicDofMatrices(model, s);
+    r.steps[k].M0all = km.M0;
+    r.steps[k].K0B = km.K0B;
+    ++k;
+  }
+  return r;
+}
+
+io::SpacarResults spacarFromTransfer(const core::Model& model, const TransferRun& run, const SpacarOutputOptions& o) {
+  io::SpacarResults r = spacarFromStatics(model, run.statics, o);
+  r.mode = 9;
+  if (!run.completed) {
+    r.completed = false;
+    r.stopReason = run.stopReason;
+    return r;
+  }
+  io::SpacarStateSpace ss;
+  ss.A = run.model.A, ss.B = run.model.B, ss.C = run.model.C, ss.D = run.model.D;
+  ss.inputNames = run.model.inputNames, ss.outputNames = run.model.outputNames;
+  r.stateSpace = std::move(ss);
   return r;
 }
 

@@ -7,6 +7,7 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
+#include "analysis/Transfer.hpp"
 #include "core/Linearization.hpp"
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
@@ -23,8 +24,16 @@ struct SpacarOutputOptions {
 // Mode 1 (and 3, 4 with `modes`: its matrices and frequencies per step). `mode` is written as is.
 io::SpacarResults spacarFromTrajectory(const core::Model& model, const core::Trajectory& traj,
                                        const TrajectoryModes* modes, int mode, const SpacarOutputOptions& options);
-// Mode 10: one step per load step (time = load factor), with reactions, matrices and frequencies.
+// Mode 10: one record per SPACAR load step 0..nsteps (time = step / nsteps; the ramp steps of the
+// initial loads before load step 0 are left out), with reactions, matrices and frequencies.
 io::SpacarResults spacarFromStatics(const core::Model& model, const StaticRun& run, const SpacarOutputOptions& options);
+// Mode 3 on a static file (no TIMESTEP): the load steps of mode 10 (mode = 3), each with M0 and
+// K0B over every kinematic degree of freedom for the .ltv (analysis/Perturbation).
+io::SpacarResults spacarFromStaticPerturbation(const core::Model& model, const StaticRun& run,
+                                               const SpacarOutputOptions& options);
+// Mode 9: the load steps of mode 10 (mode = 9) and the state-space model of the last one.
+io::SpacarResults spacarFromTransfer(const core::Model& model, const TransferRun& run,
+                                     const SpacarOutputOptions& options);
 // The modes of the initial configuration: one step with M0 .. N0, frequencies and mode shapes
 // (in q and in x). modes: M-orthonormal columns in eta; basis: q = V eta (empty: the full model).
 io::SpacarResults spacarFromModes(const core::Model& model, double t, const Eigen::VectorXd& eta,

@@ -147,15 +147,17 @@ std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps) {
   for (const auto& r : model.inputX) initial = initial || (!r.fx && r.x0 != r.base);
   for (const auto& r : model.inputE) initial = initial || (!r.fx && r.x0 != 0.0);
   for (const auto& mo : model.moments) initial = initial || !mo.value.isZero(0.0);  // spatial XF moments
+  initial =
+      initial || (model.hasGravity && (model.gravity[0] != 0.0 || model.gravity[1] != 0.0 || model.gravity[2] != 0.0));
   std::vector<LoadPoint> points;
-  if (!increments) {
-    const int n = !initial ? 1 : ninit > 0 ? ninit : nsteps;
-    for (int k = 1; k <= n; ++k) points.push_back({static_cast<double>(k) / n, 0.0});
+  if (!increments && initial && ninit == 0) {  // the initial loads are the increments
+    for (int k = 0; k <= nsteps; ++k) points.push_back({static_cast<double>(k) / nsteps, 0.0, k});
     return points;
   }
   if (initial)
-    for (int k = 1; k <= ninit; ++k) points.push_back({static_cast<double>(k) / ninit, 0.0});
-  for (int i = 1; i <= nsteps; ++i) points.push_back({1.0, static_cast<double>(i) / nsteps});
+    for (int k = 1; k < ninit; ++k) points.push_back({static_cast<double>(k) / ninit, 0.0, -1});
+  points.push_back({1.0, 0.0, 0});
+  for (int i = 1; i <= nsteps; ++i) points.push_back({1.0, static_cast<double>(i) / nsteps, i});
   return points;
 }
 
@@ -180,6 +182,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
   lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
   const std::vector<LoadPoint> schedule = loadSchedule(model, loadSteps);
   const int n = static_cast<int>(schedule.size());
+  run.loadSteps = schedule.back().loadStep;
   Eigen::VectorXd eta = lin.kinematics().initialDofs();
   const double t = model.settings.t0;
   // Every path starts unloaded (mu = s = 0): initial loads applied "at once" are reached within
@@ -265,6 +268,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
       StaticStep st;
       st.loadFactor = reachedS;
       st.initialFactor = reachedMu;
+      st.loadStep = to.loadStep;
       st.eta = eta;
       st.newton = res;
       st.iterations = iterations;

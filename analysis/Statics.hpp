@@ -4,14 +4,21 @@
 // each equilibrium.
 //
 // Load steps with SPACAR's meaning (ITERSTEP maxit nsteps tol c4 c5 ninit):
-//   loads = mu (XF, INPUTX values) + s (DELXF, DELINPX), where DELXF and DELINPX are the TOTAL
-//   increments reached at the last step (SPACAR Light writes the user's final load as DELXF).
-//   1. the initial loads (XF and the INPUTX values, measured from X) are ramped first over ninit
-//      steps, mu = k / ninit, s = 0 (ninit = 0 or absent: applied at once, with the first step);
-//   2. then the increments in nsteps equal parts: mu = 1, s = i / nsteps.
-//   Without any DEL* increment the initial loads ramp over ninit steps, or nsteps when ninit is 0,
-//   so XF with n steps gives n distinct equilibria (never one equilibrium n times). Gravity and
-//   time-dependent loads are not ramped.
+//   loads = mu (XF, INPUTX values, gravity) + s (DELXF, DELINPX), where DELXF and DELINPX are the
+//   TOTAL increments reached at the last step (SPACAR Light writes the user's final load as DELXF).
+//   Load step 0 is the equilibrium under the initial loads (mu = 1, s = 0); load step i = 1..nsteps
+//   adds i / nsteps of the increments. So a run has nsteps + 1 load steps, which SPACAR stores as
+//   records 1..nsteps + 1 (io/results.md). Before load step 0 the initial loads are ramped over
+//   ninit steps, mu = k / ninit (ninit = 0 or absent: at once, sub-stepped when Newton needs it);
+//   these ramp steps are computed and reported (CSV) but are not load steps of the .sbd.
+//   Without any DEL* increment and with ninit = 0 the initial loads are the increments: load step i
+//   has mu = i / nsteps (load step 0 is the unloaded model), so XF with n steps gives n distinct
+//   equilibria; with ninit > 0 they ramp over ninit and load steps 1..nsteps repeat load step 0
+//   (zero increments), as SPACAR Light's "initial loads only" files (ITERSTEP 10 1 tol 1 1 n) expect.
+// Gravity is an initial load: it is a dead load present from the start, like XF, so it is ramped
+// with mu. Every path then starts from the unloaded reference configuration (an exact equilibrium,
+// where the first Newton step begins), and the first steps of a heavy model are as small as the
+// ramp makes them. Time-dependent loads (XFT at t0) are not ramped.
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
@@ -32,16 +39,19 @@ namespace flexmb::analysis {
 solvers::StaticResult equilibrium(core::Linearization& lin, double t, double loadFactor, Eigen::VectorXd& eta,
                                   const solvers::NewtonOptions& options = {}, double initialFactor = 1.0);
 
-// One point of the load schedule: mu (initial loads) and s (DEL* increments, 1 = the total).
+// One point of the load schedule: mu (initial loads) and s (DEL* increments, 1 = the total), and
+// its SPACAR load step (0..nsteps; -1 for a ramp step of the initial loads before load step 0).
 struct LoadPoint {
   double initial = 1.0;
   double increment = 0.0;
+  int loadStep = -1;
 };
 // The schedule described above; loadSteps > 0 overrides ITERSTEP's nsteps (--steps).
 std::vector<LoadPoint> loadSchedule(const core::Model& model, int loadSteps = 0);
 struct StaticStep {
   double loadFactor = 0.0;     // s: fraction of the DEL* increments (1 at the last step)
   double initialFactor = 1.0;  // mu: fraction of the initial loads
+  int loadStep = -1;           // SPACAR's load step 0..nsteps (-1: a ramp step before load step 0)
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
   Eigen::VectorXd buckling;       // load factors (only when asked for)
@@ -51,7 +61,8 @@ struct StaticStep {
 };
 
 struct StaticRun {
-  std::vector<StaticStep> steps;
+  std::vector<StaticStep> steps;  // every computed step, initial-load ramp steps included
+  int loadSteps = 0;              // nsteps: the run has load steps 0..nsteps
   bool completed = true;
   bool interrupted = false;  // stopped by StaticOptions::interrupt (then completed = false)
   std::string stopReason;

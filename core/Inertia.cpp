@@ -176,17 +176,18 @@ void Inertia::addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd&
   }
 }
 
-void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  if (!model_.hasGravity) return;
+void Inertia::addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y, double scale) const {
+  if (!model_.hasGravity || scale == 0.0) return;
+  const double g[3] = {scale * model_.gravity[0], scale * model_.gravity[1], scale * model_.gravity[2]};
   for (const auto& n : model_.nodes) {
     if (!isTranslational(n.kind)) continue;
-    for (int c = 0; c < n.dim(); ++c) y[n.firstCoord + c] += lumped_[n.firstCoord + c] * model_.gravity[c];
+    for (int c = 0; c < n.dim(); ++c) y[n.firstCoord + c] += lumped_[n.firstCoord + c] * g[c];
   }
   ElemVec xe, fe;
   for (int el : massive_) {
     const auto& E = model_.elements[el];
     E.gather(x, xe);
-    E.impl->gravityForces3(xe, E.inertia, model_.gravity, fe);
+    E.impl->gravityForces3(xe, E.inertia, g, fe);
     for (size_t j = 0; j < E.coords.size(); ++j) y[E.coords[j]] += fe[j];
   }
 }
@@ -284,7 +285,7 @@ void Inertia::addConfigurationJacobian(const Eigen::VectorXd& x, const Eigen::Ve
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor) {
   nodalLoads(model, t, loadFactor, x, f, initialFactor);
-  inertia.addGravity(x, f);
+  inertia.addGravity(x, f, initialFactor);  // gravity is an initial load (statics ramps it with XF)
 }
 
 void nodalLoads(const Model& model, double t, double loadFactor, const Eigen::VectorXd& x, Eigen::VectorXd& f,

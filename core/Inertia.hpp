@@ -30,8 +30,9 @@ class Inertia {
   static constexpr int kMaxProjectedColumns = 16;
   // y += h(x, xd) (velocity dependent inertia forces; the inertia force is M xdd + h).
   void addVelocityForces(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, Eigen::VectorXd& y) const;
-  // y += gravity loads (lumped and distributed masses).
-  void addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  // y += scale * gravity loads (lumped and distributed masses); statics ramps gravity with the
+  // initial loads (scale = initialFactor).
+  void addGravity(const Eigen::VectorXd& x, Eigen::VectorXd& y, double scale = 1.0) const;
   // Derivatives for the linearisation of a moving system (Eq. 15, ref. [13]):
   // Y += (dh/dxd) W; h is quadratic in xd, so polarisation makes each column exact.
   void addVelocityForceJacobian(const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::MatrixXd& W,
@@ -56,9 +57,10 @@ class Inertia {
   Eigen::MatrixXd wide_;           // M F of projectedMass for wide F
 };
 
-// Applied nodal loads at (t, x): initialFactor * XF + loadFactor * DELXF + XFT(t) + gravity
+// Applied nodal loads at (t, x): initialFactor * (XF + gravity) + loadFactor * DELXF + XFT(t)
 // (Eq. 13's f). One definition for the equations of motion, the linearisation and statics; statics
-// ramps the initial loads (initialFactor < 1) and the DEL* increments (loadFactor = step / steps).
+// ramps the initial loads, gravity among them (initialFactor < 1), and the DEL* increments
+// (loadFactor = step / steps).
 void appliedLoads(const Model& model, const Inertia& inertia, double t, double loadFactor, const Eigen::VectorXd& x,
                   Eigen::VectorXd& f, double initialFactor = 1.0);
 // The same without gravity (result files report gravity apart: SPACAR's fx and fxgrav).

@@ -78,6 +78,26 @@ struct NodalMoment {
   Eigen::Vector3d increment = Eigen::Vector3d::Zero();  // DELXF, scaled like delf
 };
 
+// One channel of the mode-9 transfer block (INPUTF, INX, OUTX, OUTXP, OUTF k n i), resolved by
+// the reader against the model's roles (io/dat-language.md says which coordinates each accepts).
+struct TransferChannel {
+  enum class Kind {
+    Force,       // INPUTF: a force on a free coordinate (spatial orientation node: a global moment)
+    Motion,      // INX: the prescribed motion of an input coordinate (position, velocity, acceleration)
+    Coordinate,  // OUTX: a coordinate (spatial orientation node: the rotation about a global axis)
+    Velocity,    // OUTXP: its rate
+    NodalForce,  // OUTF: the force a fixed or input coordinate takes (fxt)
+  };
+  Kind kind = Kind::Force;
+  int number = 0;     // k: the channel's place among the inputs or the outputs (1-based)
+  int node = 0;       // node index
+  int component = 0;  // i (1-based)
+  int coord = 0;      // x index of the coordinate (spatial orientation node: its first Euler parameter)
+  bool axis = false;  // spatial orientation node: i is a global axis, the channel a moment or rotation
+  int line = 0;       // where the block names it
+  std::string keyword;
+};
+
 struct AnalysisSettings {
   double t0 = 0.0;
   double tEnd = 1.0;
@@ -152,6 +172,8 @@ struct Model {
 
   std::vector<LumpedMass> lumpedMasses;
   AnalysisSettings settings;
+  // Mode 9: the transfer block's inputs and outputs, each in channel order (empty without one).
+  std::vector<TransferChannel> transferInputs, transferOutputs;
 
   // USERSIG / USERINP: the MATLAB function names the file gives (with their lines), and the
   // implementation a front end sets before an analysis (null: none; the command line rejects them).

@@ -112,13 +112,16 @@ void NodalMatrices::assembleGeometric(const Eigen::VectorXd& x, const Eigen::Vec
   }
   // Load stiffness of gravity on distributed masses: -dg/dx, element by element along the unit
   // directions of its coordinates (the element's own Richardson steps, as Inertia uses).
-  if (model_.hasGravity) {
+  // Gravity is an initial load: it scales with initialFactor as in appliedLoads.
+  if (model_.hasGravity && initialFactor != 0.0) {
+    const double g[3] = {initialFactor * model_.gravity[0], initialFactor * model_.gravity[1],
+                         initialFactor * model_.gravity[2]};
     for (int el : massive_) {
       const auto& E = model_.elements[el];
       const int nc = static_cast<int>(E.coords.size());
       E.gather(x, xe);
       const Element& impl = *E.impl;
-      auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces3(xx, E.inertia, model_.gravity, out); };
+      auto force = [&](const ElemVec& xx, ElemVec& out) { impl.gravityForces3(xx, E.inertia, g, out); };
       Ye.resize(nc, nc);
       for (int k = 0; k < nc; ++k) {
         unit.setZero(nc);

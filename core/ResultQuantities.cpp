@@ -7,16 +7,17 @@ ResultQuantities::ResultQuantities(const Model& model)
   for (int c : gtf_.calculableCoords()) calculable_[c] = 1;
 }
 
-void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor) {
-  gtf_.setInputLoadFactor(inputLoadFactor);
+void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor, double initialFactor) {
+  gtf_.setInputLoadFactor(inputLoadFactor, initialFactor);
   gtf_.solvePositions(t, q);
 }
 
 void ResultQuantities::forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, AppliedForces* applied) {
+                              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, double initialFactor,
+                              AppliedForces* applied) {
   const Eigen::VectorXd& x = gtf_.x();
   Eigen::VectorXd f;
-  appliedLoads(model_, inertia_, t, loadFactor, x, f);
+  appliedLoads(model_, inertia_, t, loadFactor, x, f, initialFactor);
   Eigen::VectorXd user;
   if (userForces.size() == f.size()) {
     user = userForces;
@@ -31,8 +32,8 @@ void ResultQuantities::forces(double t, double loadFactor, const StateOutputs& s
   if (user.size()) f += user;
   if (applied) {
     applied->gravity = Eigen::VectorXd::Zero(model_.nx);
-    inertia_.addGravity(x, applied->gravity);
-    nodalLoads(model_, t, loadFactor, x, applied->loads);
+    inertia_.addGravity(x, applied->gravity, initialFactor);
+    nodalLoads(model_, t, loadFactor, x, applied->loads, initialFactor);
     if (user.size()) applied->loads += user;
   }
   // Inertia forces M xdd + h of the state (zero at rest).

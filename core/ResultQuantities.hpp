@@ -26,8 +26,9 @@ struct FreeCoordinate {
 class ResultQuantities {
  public:
   explicit ResultQuantities(const Model& model);
-  // Positions and Jacobians at (t, q), input coordinates at load factor s. Throws KinematicsError.
-  void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0);
+  // Positions and Jacobians at (t, q), input coordinates at load factor s and initial-load factor
+  // mu (statics, analysis/Statics.hpp). Throws KinematicsError.
+  void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0, double initialFactor = 1.0);
   // The applied part of fxt: nodal loads (XF, XFT, DELXF at the load factor, moments, USERSIG)
   // and, apart, the gravity loads; fxt = applied + gravity on free coordinates.
   struct AppliedForces {
@@ -37,8 +38,10 @@ class ResultQuantities {
   // entries of constrained deformations are replaced by reaction stresses, elastic ones kept).
   // userForces (size nx) are nodal loads beyond the model's; empty: the state's USERSIG forces
   // (s.userForces, or the model's user functions called at the state when it holds none).
+  // initialFactor: statics' factor of the initial loads (XF, gravity; 1 outside statics).
   void forces(double t, double loadFactor, const StateOutputs& s, const Eigen::VectorXd& userForces,
-              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, AppliedForces* applied = nullptr);
+              Eigen::VectorXd& sigmaTotal, Eigen::VectorXd& fxt, double initialFactor = 1.0,
+              AppliedForces* applied = nullptr);
   // After setState: dx (nx x cols.size()), column j = dx / d cols[j] with the other listed
   // coordinates and all fixed ones held.
   void transfer(const std::vector<FreeCoordinate>& cols, Eigen::MatrixXd& dx);

@@ -1,5 +1,6 @@
 #include "io/DatReader.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <climits>
@@ -224,9 +225,11 @@ class Reader {
   std::vector<Statement> statements_;
   std::vector<int> endLines_;  // line of the END closing block k
   int lastLine_ = 0;
-  // A mode-9 transfer block after END HALT: reported, not used.
-  int transferFirst_ = 0, transferLast_ = 0;
-  std::map<std::string, int> transferKeywords_;
+  // The mode-9 transfer block after END HALT: its statements, resolved into the last stage's
+  // model (Model::transferInputs / transferOutputs) once the roles are known.
+  int transferFirst_ = 0;
+  std::vector<Statement> transfer_;
+  void resolveTransfer(core::Model& model) const;
   // Per block: the SPACAR95 TIMESTEP period (the end time is TIME + period at the block's END).
   std::optional<double> period_;
   int timestepLine_ = 0, timeLine_ = 0;
@@ -328,7 +331,6 @@ void Reader::scan() {
         inTransfer = false;
         afterHalt = false;
         open = false;
-        transferLast_ = lineNo;
         continue;
       }
       if (!info->transfer)
@@ -336,10 +338,19 @@ void Reader::scan() {
              "only mode-9 transfer keywords (INPUTF, INX, OUTF, OUTX, OUTXP) belong in the "
              "transfer block after END HALT (begun at line " +
                  std::to_string(transferFirst_) + "): missing END?");
-      ++transferKeywords_[name];
-      transferLast_ = lineNo;
+      Statement st;
+      st.line = lineNo;
+      st.keyword = name;
+      st.args.assign(tokens.begin() + 1, tokens.end());
+      st.info = info;
+      checkArgs(st, info->args);
+      transfer_.push_back(std::move(st));
       continue;
     }
+    if (info->transfer)
+      fail(lineNo, name,
+           "a mode-9 transfer keyword: it belongs in the transfer block after the dynamic block's END HALT "
+           "(kinematic block, END HALT, dynamic block, END HALT, transfer block, END END)");
 
     if (info->action == Action::Unsupported)
       fail(lineNo, name,
@@ -771,6 +782,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::Halt:
     case Action::Eof:
     case Action::Visualization:
+    case Action::Transfer:
     case Action::Unsupported:
       fail(line, s.keyword, "internal: unexpected statement");
       break;
@@ -784,12 +796,6 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
   for (Statement& st : statements_) resolve(st, spacar95);
   core::ModelBuilder b(file_);
   b.setDialect(dialect);
-  if (transferFirst_) {
-    std::string list;
-    for (const auto& [k, n] : transferKeywords_) list += (list.empty() ? "" : ", ") + k + " x" + std::to_string(n);
-    b.addNote("mode-9 transfer block at lines " + std::to_string(transferFirst_) + "-" + std::to_string(transferLast_) +
-              " (" + list + "): flexmb does not compute transfer functions yet; the block is not used");
-  }
   std::map<int, std::string> keywordAt;
   bool anyElement = false;
   const int kinematicLast = endLines_.empty() ? 0 : endLines_.front();
@@ -874,6 +880,7 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
     if (stages.empty())
       fail(kinematicLast, kinematicLast ? "END" : "",
            "the model defines no elements (the kinematic block needs at least one)");
+    resolveTransfer(stages.back().model);
     return stages;
   } catch (const DatError&) {
     throw;
@@ -884,6 +891,90 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
     // Safety net: nothing but DatError leaves the reader.
     throw DatError(file_, current ? current->line : 0, current ? current->keyword : "",
                    std::string("internal error: ") + e.what());
+  }
+}
+
+void Reader::resolveTransfer(core::Model& model) const {
+  using Kind = core::TransferChannel::Kind;
+  for (const Statement& s : transfer_) {
+    core::TransferChannel c;
+    c.keyword = s.keyword;
+    c.line = s.line;
+    c.number = integer(s, 0);
+    const int label = integer(s, 1);
+    c.component = integer(s, 2);
+    c.kind = s.keyword == "INPUTF"  ? Kind::Force
+             : s.keyword == "INX"   ? Kind::Motion
+             : s.keyword == "OUTX"  ? Kind::Coordinate
+             : s.keyword == "OUTXP" ? Kind::Velocity
+                                    : Kind::NodalForce;
+    const auto it = model.nodeByLabel.find(label);
+    if (it == model.nodeByLabel.end())
+      fail(s.line, s.keyword, "node " + std::to_string(label) + " does not exist (no element of the model uses it)");
+    c.node = it->second;
+    const core::Node& n = model.nodes[c.node];
+    const std::string where = "coordinate " + std::to_string(c.component) + " of node " + std::to_string(label);
+    c.axis = n.kind == core::NodeKind::EulerParameters;
+    const int ncomp = c.axis ? 3 : n.dim();
+    if (c.component > ncomp)
+      fail(s.line, s.keyword,
+           "node " + std::to_string(label) + " has " + std::to_string(ncomp) + " component" + (ncomp > 1 ? "s" : "") +
+               (c.axis ? " (global axes 1, 2, 3 of its rotation)" : "") + ", not " + std::to_string(c.component));
+    c.coord = n.firstCoord + (c.axis ? 0 : c.component - 1);
+    // Roles of the coordinate (a spatial orientation node: its Euler parameters).
+    int fixed = 0, input = 0, free = 0;
+    for (int k = c.axis ? 0 : c.component - 1; k < (c.axis ? 4 : c.component); ++k) {
+      const core::Role r = model.xRole[n.firstCoord + k];
+      (r == core::Role::Fixed ? fixed : r == core::Role::Input ? input : free) += 1;
+    }
+    const std::string role = fixed ? "fixed" : input ? "an input coordinate (INPUTX)" : "free";
+    switch (c.kind) {
+      case Kind::Force:
+        if (free == 0)
+          fail(s.line, s.keyword,
+               where + " is " + role + ": not a load point (" +
+                   (fixed ? "a force there goes into the support" : "its prescribed motion takes any force there") +
+                   "); INPUTF needs a calculable or DYNX coordinate");
+        break;
+      case Kind::Motion:
+        if (c.axis || input == 0)
+          fail(s.line, s.keyword,
+               where + (c.axis ? " is an Euler-parameter rotation" : " is " + role) +
+                   ": INX needs a position coordinate or planar angle that is an input coordinate (INPUTX in the "
+                   "kinematic block), whose motion is the input");
+        break;
+      case Kind::Coordinate:
+      case Kind::Velocity:
+        if (free == 0 && input == 0)
+          fail(s.line, s.keyword, where + " is fixed: it does not move, so it has no transfer function");
+        break;
+      case Kind::NodalForce:
+        if (fixed == 0 && input == 0)
+          fail(s.line, s.keyword,
+               where +
+                   " is free: the force there is the applied load; OUTF takes a fixed or input coordinate "
+                   "(the force the support or the prescribed motion takes)");
+        break;
+    }
+    (c.kind == Kind::Force || c.kind == Kind::Motion ? model.transferInputs : model.transferOutputs).push_back(c);
+  }
+  // Channel numbers: 1, 2, ... without gaps or repeats, separately for the inputs and the outputs.
+  for (auto* list : {&model.transferInputs, &model.transferOutputs}) {
+    const char* what = list == &model.transferInputs ? "input" : "output";
+    std::sort(list->begin(), list->end(), [](const auto& a, const auto& b) {
+      return a.number != b.number ? a.number < b.number : a.line < b.line;
+    });
+    for (std::size_t k = 0; k < list->size(); ++k) {
+      const auto& c = (*list)[k];
+      if (k > 0 && (*list)[k - 1].number == c.number)
+        fail(c.line, c.keyword,
+             std::string(what) + " " + std::to_string(c.number) + " is given twice (also at line " +
+                 std::to_string((*list)[k - 1].line) + ")");
+      if (c.number != static_cast<int>(k) + 1)
+        fail(c.line, c.keyword,
+             std::string(what) + " numbers must run 1, 2, ... without gaps: " + what + " " + std::to_string(k + 1) +
+                 " is missing before " + std::to_string(c.number));
+    }
   }
 }
 

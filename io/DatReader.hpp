@@ -4,7 +4,8 @@
 // Block structure:
 //   * A file is a sequence of blocks, each closed by END. SPACAR 2013+ writes the kinematic block,
 //     END HALT, the dynamic/static block, END END (mode 9 adds a transfer block: END HALT, INPUTF /
-//     OUTX / ..., END END, which is read, reported in Model::notes and not used). SPACAR95 writes
+//     OUTX / ..., END END, read into the last stage's Model::transferInputs / transferOutputs and
+//     checked against the roles, errors with file:line). SPACAR95 writes
 //     blocks closed by END up to EOF; its first block may hold every keyword at once.
 //   * The input ends, after a block's END, at: another END (an empty block), HALT (after a later
 //     block, unless a transfer block follows), EOF, VISUALIZATION, or the end of the file.

@@ -249,7 +249,7 @@ std::vector<KeywordInfo> buildTable() {
                  "Newton iteration limit; number of load steps over which the DEL* increments are "
                  "applied (in equal parts, the total reached at the last step); Newton tolerance; two "
                  "control fields flexmb reads but does not use; number of steps over which the "
-                 "initial loads (XF, INPUTX values) are applied first (0 or absent: at once). SPACAR "
+                 "initial loads (XF, INPUTX values, gravity) are applied first (0 or absent: at once). SPACAR "
                  "Light writes e.g. ITERSTEP 10 9 0.0000005 1 3 9"));
   t.push_back(kw("TIME", kBothDialects, B::Anywhere, A::Time, {real("start time", "t0")},
                  "current (start) time; SPACAR95 TIMESTEP integrates from it, input coordinates move "
@@ -351,19 +351,27 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(unsupported("REFEF", B::Dynamic, "control-system reference keyword of SPACAR (REFEF)", control));
   t.push_back(unsupported("LINE", B::Dynamic, "SPACAR keyword LINE", "not implemented in flexmb"));
   t.push_back(unsupported("ENHC", B::Dynamic, "SPACAR keyword ENHC", "not implemented in flexmb"));
-  const std::string mode9 =
-      "flexmb does not compute mode-9 transfer functions yet; in a transfer block after END HALT the "
-      "block is reported and not used";
+  // Mode 9 (SPACAR Light's transfer option): the transfer block after a second END HALT.
   auto transfer = [&](const char* name, const char* meaning) {
-    KeywordInfo k = unsupported(name, B::Dynamic, meaning, mode9);
+    KeywordInfo k =
+        kw(name, kSpacar2013, B::Transfer, A::Transfer, {count("channel number", "k"), node(), component()}, meaning);
     k.transfer = true;
     t.push_back(std::move(k));
   };
-  transfer("INPUTF", "mode 9: a nodal force component as input of the transfer function");
-  transfer("INX", "mode 9: a coordinate as input of the transfer function");
-  transfer("OUTF", "mode 9: a force as output of the transfer function");
-  transfer("OUTX", "mode 9: a nodal coordinate as output of the transfer function");
-  transfer("OUTXP", "mode 9: a nodal velocity as output of the transfer function");
+  transfer("INPUTF",
+           "input k of the transfer function: a force on coordinate i of node n (a calculable or DYNX "
+           "coordinate); on a spatial orientation node a moment about the global axis i = 1, 2, 3");
+  transfer("INX",
+           "input k of the transfer function: the prescribed motion of coordinate i of node n (an INPUTX "
+           "coordinate of the kinematic block); gives three input channels, its position, velocity and "
+           "acceleration");
+  transfer("OUTX",
+           "output k: coordinate i of node n (on a spatial orientation node the rotation about the global "
+           "axis i = 1, 2, 3)");
+  transfer("OUTXP", "output k: the velocity of coordinate i of node n (spatial orientation node: angular velocity)");
+  transfer("OUTF",
+           "output k: the force a fixed or input coordinate i of node n takes (fxt: the support reaction; "
+           "on a spatial orientation node the moment about the global axis i)");
   // MATLAB user functions: read here, run by the Octave/MATLAB gateway spacar() (tools/octave);
   // the command line stops with a message saying so.
   const ArgSpec fname{ArgType::Name, "MATLAB function name", "fname", Cardinality::One, ArgSpec::Kind::Any};
@@ -532,6 +540,9 @@ const std::vector<Group>& groups() {
        [](const KeywordInfo& k) { return k.block == BlockKind::Anywhere; }},
       {"flexmb extensions: time functions (muParser expressions in t, in double quotes)",
        [](const KeywordInfo& k) { return k.extension; }},
+      {"Mode-9 transfer block (between a second END HALT and the final END END; `flexmb transfer`, "
+       "`spacar(9, name)`)",
+       [](const KeywordInfo& k) { return k.block == BlockKind::Transfer; }},
       {"Block structure", [](const KeywordInfo& k) { return k.block == BlockKind::Structure; }},
       {"SPACAR keywords recognised but not supported by flexmb yet",
        [](const KeywordInfo& k) { return k.action == Action::Unsupported; }},
@@ -617,9 +628,15 @@ is an error naming one keyword of each.
 
 ## Blocks and analyses
 - **SPACAR 2013+**: the kinematic block, `END` `HALT`, the dynamic/static block, `END` `END`. Mode 9
-  writes a transfer block between a second `END HALT` and the final `END END` (`INPUTF`, `OUTX`, ...):
-  flexmb reads it, reports it (`check` and the analyses print a note) and does not use it yet. A
-  `VISUALIZATION` section after the final `END` is skipped.
+  writes a transfer block between a second `END HALT` and the final `END END` (`INPUTF`, `INX`,
+  `OUTX`, `OUTXP`, `OUTF`, each `keyword k n i`: channel number k, node n, component i; the numbers
+  of the inputs and of the outputs each run 1, 2, ... without gaps): `flexmb transfer` and
+  `spacar(9, name)` compute the state-space model at the last load step from it; other analyses
+  ignore it. Names the reader refuses, with the line: a node that does not exist, a component the
+  node does not have, a fixed coordinate as input or OUTX/OUTXP output, a force input on an input
+  (INPUTX) coordinate (not a load point: the prescribed motion takes it), INX on a coordinate that
+  is not an input coordinate, OUTF on a calculable or DYNX coordinate (the force there is the
+  applied load). A `VISUALIZATION` section after the final `END` is skipped.
 - **SPACAR95**: a sequence of blocks, each closed by `END`, up to `EOF` or the end of the file. The
   first block may hold every keyword at once (elements, coordinates, roles, masses, `TIMESTEP`, ...).
   At each `END` the analysis runs over that block's period; reading then resumes and a later block
@@ -642,11 +659,16 @@ is an error naming one keyword of each.
   accepted and listed once as ignored.
 - **Load steps (static analysis, mode 10)**: `ITERSTEP maxit nsteps tol c4 c5 ninit`. `DELXF` and
   `DELINPX` are the TOTAL increments reached at the last load step, applied in `nsteps` equal parts
-  (SPACAR Light writes the user's final load as `DELXF`). The initial loads (`XF`, the `INPUTX`
-  values) are applied first, ramped over `ninit` steps (0 or absent: at once, within the first
-  step). Without any `DEL*` increment the initial loads ramp over `ninit` steps, or `nsteps` when
-  `ninit` is 0, so `XF` with n steps gives n distinct equilibria. Gravity and time functions are not
-  ramped. The control fields `c4`, `c5` are read and not used.
+  (SPACAR Light writes the user's final load as `DELXF`). Load step 0 is the equilibrium under the
+  initial loads (`XF`, the `INPUTX` values and gravity), load step i adds i/nsteps of the increments:
+  `nsteps + 1` load steps, stored as the records of the `.sbd` (io/results.md). The initial loads are
+  ramped over `ninit` steps before load step 0 (0 or absent: at once, within load step 0); the ramp
+  steps are computed and listed in the CSV, not stored in the `.sbd`. Without any `DEL*` increment
+  and with `ninit` 0, the initial loads take the increments' place (load step 0 unloaded, load step i
+  carries i/nsteps of them), so `XF` with n steps gives n distinct equilibria. Gravity is an initial
+  load (ramped with them, so every path starts from the unloaded reference configuration); time
+  functions are evaluated at the start time and not ramped. The control fields `c4`, `c5` are read
+  and not used.
 - **Stiffness**: `DYNE` and `RLSE` deformations of an element with `ESTIFF` carry stress
   sigma = S e (+ damping); fixed deformations carry reaction stresses only.
 )";

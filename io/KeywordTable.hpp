@@ -20,7 +20,8 @@ enum DialectBits : unsigned { kSpacar95 = 1u, kSpacar2013 = 2u, kBothDialects = 
 // block. Structure: END, HALT, EOF, VISUALIZATION (block structure, handled by the reader itself).
 // Anywhere: any block (OUTLEVEL, which SPACAR Light writes at the top of the file; the settings of a
 // SPACAR95 restart state). In a SPACAR95 file the first block may also hold Dynamic keywords.
-enum class BlockKind { Kinematic, Dynamic, Structure, Anywhere };
+// Transfer: the mode-9 transfer block after the dynamic block's END HALT (INPUTF, OUTX, ...).
+enum class BlockKind { Kinematic, Dynamic, Structure, Anywhere, Transfer };
 
 enum class ArgType {
   Node,        // node label: positive integer
@@ -96,6 +97,7 @@ enum class Action {
   Halt,
   Eof,
   Visualization,
+  Transfer,  // a mode-9 transfer input or output (INPUTF, INX, OUTF, OUTX, OUTXP)
   Unsupported,
 };
 

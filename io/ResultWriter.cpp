@@ -257,6 +257,40 @@ std::vector<std::string> writeCsv(const std::string& prefix, const Model& model,
 
 bool hasOrientationNodes(const Model& model) { return !eulerNodes(model).empty(); }
 
+void writeMatrixCsv(const std::string& path, const Eigen::MatrixXd& A, const std::vector<std::string>& rowNames,
+                    const std::vector<std::string>& colNames, const std::string& corner) {
+  if (rowNames.size() != static_cast<std::size_t>(A.rows()) || colNames.size() != static_cast<std::size_t>(A.cols()))
+    throw std::invalid_argument(path + ": " + std::to_string(A.rows()) + " x " + std::to_string(A.cols()) +
+                                " matrix with " + std::to_string(rowNames.size()) + " row and " +
+                                std::to_string(colNames.size()) + " column names");
+  if (!A.allFinite()) throw std::invalid_argument(path + ": the matrix holds a non-finite value");
+  auto quoted = [](const std::string& s) {
+    if (s.find_first_of(",\"") == std::string::npos) return s;
+    std::string q(1, '"');
+    for (char c : s) {
+      q += c;
+      if (c == '"') q += '"';  // a quote doubled, as CSV escapes it
+    }
+    q += '"';
+    return q;
+  };
+  OutFile f(path);
+  std::string line = quoted(corner);
+  for (const auto& c : colNames) (line += ',') += quoted(c);
+  line += "\n";
+  f.write(line);
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    line = quoted(rowNames[i]);
+    for (Eigen::Index j = 0; j < A.cols(); ++j) {
+      line += ',';
+      appendG17(line, A(i, j));
+    }
+    line += '\n';
+    f.write(line);
+  }
+  f.close();
+}
+
 std::string writeOrientationCsv(const std::string& prefix, const Model& model, const Trajectory& traj) {
   const auto nodes = eulerNodes(model);
   if (nodes.empty()) return "";

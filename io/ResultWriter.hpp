@@ -38,6 +38,12 @@ std::vector<std::string> writeCsv(const std::string& prefix, const core::Model& 
 std::string writeOrientationCsv(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
 bool hasOrientationNodes(const core::Model& model);
 
+// A matrix as CSV: a header row "<corner>,<colNames...>", then per row its name and the values
+// (17 significant digits). Throws std::invalid_argument on a size mismatch or a non-finite value,
+// std::runtime_error naming the path when writing fails.
+void writeMatrixCsv(const std::string& path, const Eigen::MatrixXd& A, const std::vector<std::string>& rowNames,
+                    const std::vector<std::string>& colNames, const std::string& corner = "");
+
 // MATLAB v5 .mat file (matio, MAT_FT_MAT5, uncompressed) with SPACAR's variable names:
 // time (nt x 1), x, xd, xdd (nt x nx), e, ed, edd, sig (nt x ne), nsteps, nfailed, nfevals (1 x 1);
 // after a bdf run also njacevals, nlinsetups (1 x 1).

@@ -48,6 +48,24 @@ class MatWriter {
       throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
   }
   void scalar(const char* name, double v) { write(name, 1, 1, {v}); }
+  // A char matrix, one string per row, blank-padded (MATLAB's char(...) of the strings).
+  void text(const char* name, const std::vector<std::string>& rows) {
+    std::size_t w = 0;
+    for (const auto& r : rows) w = std::max(w, r.size());
+    std::vector<unsigned char> data(rows.size() * w, ' ');
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (std::size_t j = 0; j < rows[i].size(); ++j)
+        data[j * rows.size() + i] = static_cast<unsigned char>(rows[i][j]);
+    size_t dims[2] = {rows.size(), w};
+    static unsigned char dummy = 0;
+    matvar_t* v = Mat_VarCreate(name, MAT_C_CHAR, MAT_T_UINT8, 2, dims, data.empty() ? &dummy : data.data(),
+                                MAT_F_DONT_COPY_DATA);
+    if (!v) throw std::runtime_error("cannot write '" + path_ + "': matio could not create variable '" + name + "'");
+    const int rc = Mat_VarWrite(mat_, v, MAT_COMPRESSION_NONE);
+    Mat_VarFree(v);
+    if (rc != 0)
+      throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
+  }
   void matrix(const char* name, const Eigen::MatrixXd& A) {
     write(name, A.rows(), A.cols(), std::vector<double>(A.data(), A.data() + A.size()));
   }
@@ -266,11 +284,40 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
            {std::pair{"M0", &s.M0}, {"K0", &s.K0}, {"G0", &s.G0}, {"C0", &s.C0}, {"D0", &s.D0}, {"N0", &s.N0}})
         check(name, *A, m, m);
     }
+    if (s.K0B.size() || s.M0all.size()) {
+      check("M0 (.ltv)", s.M0all, L.ndof(), L.ndof());
+      check("K0B", s.K0B, L.ndof(), L.ndof());
+    }
     nev = std::max<std::size_t>(nev, s.freq.size());
     if (s.freq.size()) check("freq", s.freq, s.freq.size(), 1);
     if (s.modeq.size()) check("modeq", s.modeq, s.modeq.rows(), s.freq.size());
     if (s.modex.size()) check("modex", s.modex, nx, s.freq.size());
   }
+
+  bool hasK0B = nt > 0;
+  for (const auto& st : r.steps) hasK0B = hasK0B && st.K0B.size() > 0;
+  if (r.stateSpace) {
+    const SpacarStateSpace& ss = *r.stateSpace;
+    const auto n = ss.A.rows(), ni = ss.B.cols(), no = ss.C.rows();
+    auto checkSs = [&](const char* name, const Eigen::MatrixXd& v, Eigen::Index rows, Eigen::Index cols) {
+      if (v.rows() != rows || v.cols() != cols)
+        throw std::invalid_argument("SPACAR results '" + base + "': state-space " + name + " is " +
+                                    std::to_string(v.rows()) + " x " + std::to_string(v.cols()) + ", expected " +
+                                    std::to_string(rows) + " x " + std::to_string(cols));
+      if (!v.allFinite()) throw std::invalid_argument("SPACAR results '" + base + "': non-finite state-space " + name);
+    };
+    checkSs("A", ss.A, n, n), checkSs("B", ss.B, n, ni), checkSs("C", ss.C, no, n), checkSs("D", ss.D, no, ni);
+    if (ss.inputNames.size() != static_cast<std::size_t>(ni) || ss.outputNames.size() != static_cast<std::size_t>(no))
+      throw std::invalid_argument("SPACAR results '" + base + "': one name per state-space input and output expected");
+  }
+  auto writeStateSpace = [&](MatWriter& w) {
+    const SpacarStateSpace& ss = *r.stateSpace;
+    w.matrix("A", ss.A);
+    w.matrix("B", ss.B);
+    w.matrix("C", ss.C);
+    w.matrix("D", ss.D);
+    w.scalar("DFT", ss.D.size() && !ss.D.isZero(0.0) ? 1.0 : 0.0);
+  };
 
   std::vector<std::string> written;
   {
@@ -365,6 +412,30 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
       }
       if (q.size() == mq * nev * nt) w.write("modeq", mq, nev, std::move(q), nt);
       if (xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
+    }
+    if (r.stateSpace) writeStateSpace(w);
+    w.close();
+    written.push_back(path);
+  }
+  if (r.stateSpace || hasK0B) {
+    const std::string path = base + ".ltv";
+    MatWriter w(path);
+    if (r.stateSpace) {
+      // One step: the state-space model of the last load step (getss reads step 1).
+      w.scalar("tdef", 1.0);
+      writeStateSpace(w);
+      w.text("inputnames", r.stateSpace->inputNames);
+      w.text("outputnames", r.stateSpace->outputNames);
+    } else {
+      w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
+      w.scalar("tdef", static_cast<double>(nt));
+      const std::size_t n = L.ndof();
+      for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0all}, {"K0B", &SpacarStep::K0B}}) {
+        std::vector<double> data;
+        data.reserve(n * n * nt);
+        for (const auto& st : r.steps) data.insert(data.end(), (st.*member).data(), (st.*member).data() + n * n);
+        w.write(name, n, n, std::move(data), nt);
+      }
     }
     w.close();
     written.push_back(path);

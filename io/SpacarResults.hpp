@@ -12,6 +12,7 @@
 // of M0), so that the kinematic degrees of freedom [x^m input, x^m dynamic, e^m input, e^m dynamic]
 // are the columns of dx and the dynamic ones in that order are the rows of M0.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,16 @@ struct SpacarStep {
   Eigen::MatrixXd M0, K0, G0, C0, D0, N0;
   Eigen::VectorXd freq;          // Hz
   Eigen::MatrixXd modeq, modex;  // mode shapes: in q (m x nev) and in x (nx x nev)
+  // Mode 3 on a static file (.ltv): M0 and K0B = K0 + N0 + G0 over every kinematic degree of
+  // freedom (ndof x ndof, the columns of dx), when the analysis has them.
+  Eigen::MatrixXd M0all, K0B;
+};
+
+// Mode 9: the state-space model of the last step (d/dt z = A z + B u, y = C z + D u, z = [dq; dqd]
+// in the order of M0's rows), with a name per input and output.
+struct SpacarStateSpace {
+  Eigen::MatrixXd A, B, C, D;
+  std::vector<std::string> inputNames, outputNames;
 };
 
 struct SpacarResults {
@@ -78,13 +89,17 @@ struct SpacarResults {
   long nsteps = 0, nfailed = 0, nfevals = 0;  // integrator statistics (mode 1, 3, 4)
   bool completed = true;
   std::string stopReason;
-  std::string warning;  // a completed run that is worth a remark (mode 0 of a model that
-                        // is not uniquely solvable: initial configuration and bigd only)
+  std::string warning;                         // a completed run that is worth a remark (mode 0 of a model that
+                                               // is not uniquely solvable: initial configuration and bigd only)
+  std::optional<SpacarStateSpace> stateSpace;  // mode 9
 };
 
-// Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm.
-// Checks sizes and finiteness first (std::invalid_argument naming the variable and step); write
-// failures throw std::runtime_error naming the path. Returns the paths written.
+// Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm; and
+// <base>.ltv (SPACAR's linear-model file, read by its getss and by oopspa) with the state-space
+// model A, B, C, D, DFT (1 when D is not zero), inputnames, outputnames (mode 9; A .. D also in
+// the .sbm), or with M0 and K0B of every step (mode 3). Checks sizes and finiteness first
+// (std::invalid_argument naming the variable and step); write failures throw std::runtime_error
+// naming the path. Returns the paths written.
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& results);
 

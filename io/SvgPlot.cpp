@@ -518,6 +518,38 @@ std::string renderSvg(const Plot& plot) {
   return o;
 }
 
+std::string renderSvgStack(const std::vector<Plot>& plots) {
+  double W = 240, H = 0;
+  std::string body;
+  for (std::size_t k = 0; k < plots.size(); ++k) {
+    std::string one = renderSvg(plots[k]);
+    one.erase(0, one.find("<svg"));  // no XML declaration inside
+    // Each plot's clip path gets its own id.
+    const std::string id = "flexmb-plot-area", own = id + "-" + std::to_string(k + 1);
+    for (std::size_t at = one.find(id); at != std::string::npos; at = one.find(id, at + own.size()))
+      one.replace(at, id.size(), own);
+    one.insert(4, " y=\"" + fixed2(H) + "\"");
+    body += one;
+    W = std::max(W, static_cast<double>(std::max(plots[k].width, 240)));
+    H += std::max(plots[k].height, 180);
+  }
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fixed2(W) +
+         "\" height=\"" + fixed2(std::max(H, 180.0)) + "\" font-family=\"sans-serif\">\n" + body + "</svg>\n";
+}
+
+void writeSvgStack(const std::string& path, const std::vector<Plot>& plots) {
+  const std::string text = renderSvgStack(plots);
+  errno = 0;
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) {
+    const std::string why = errno ? std::generic_category().message(errno) : "open failed";
+    throw std::runtime_error("cannot open '" + path + "' for writing: " + why);
+  }
+  f.write(text.data(), static_cast<std::streamsize>(text.size()));
+  f.close();
+  if (!f) throw std::runtime_error("error writing '" + path + "'");
+}
+
 void writeSvg(const std::string& path, const Plot& plot) {
   const std::string text = renderSvg(plot);
   errno = 0;

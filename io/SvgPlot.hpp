@@ -59,6 +59,11 @@ std::string renderSvg(const Plot& plot);
 // Writes renderSvg(plot) to path; throws std::runtime_error naming the path on failure.
 void writeSvg(const std::string& path, const Plot& plot);
 
+// Several plots stacked top to bottom in one document (a Bode diagram: magnitude over phase), each
+// rendered as renderSvg renders it.
+std::string renderSvgStack(const std::vector<Plot>& plots);
+void writeSvgStack(const std::string& path, const std::vector<Plot>& plots);
+
 // Tick values inside [lo, hi] (bounds swapped if needed) on a 1-2-5 grid: the smallest step
 // m * 10^k, m in {1, 2, 5}, that gives at most maxTicks ticks. Values are k * step rounded so that
 // decimal ticks are the nearest doubles (0.03, not 0.030000000000000002). lo == hi gives {lo};

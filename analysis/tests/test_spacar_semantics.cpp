@@ -225,10 +225,14 @@ TEST(LoadSteps, DelxfIsTheTotalReachedAtTheLastStep) {
     const core::Model m = io::readDatString(elasticaCantilever(n, 10.0, 10, "DELXF"), "elastica.dat");
     const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
     ASSERT_TRUE(run.completed) << run.stopReason;
-    ASSERT_EQ(run.steps.size(), 10u);
+    ASSERT_EQ(run.steps.size(), 11u);  // load steps 0..10
+    EXPECT_EQ(run.loadSteps, 10);
     const int tipY = xIndex(m, n + 1, 2);
-    // Equal parts: step i carries i/10 of the total.
-    for (int i = 0; i < 10; ++i) EXPECT_NEAR(run.steps[i].loadFactor, (i + 1) / 10.0, 1e-15);
+    // Equal parts: load step i carries i/10 of the total.
+    for (int i = 0; i <= 10; ++i) {
+      EXPECT_NEAR(run.steps[i].loadFactor, i / 10.0, 1e-15);
+      EXPECT_EQ(run.steps[i].loadStep, i);
+    }
     const double deflection = -run.steps.back().x[tipY];
     const double err = std::abs(deflection - exact) / exact;
     std::printf("  %2d elements: tip deflection %.6f L, relative error %.3e", n, deflection, err);
@@ -246,16 +250,19 @@ TEST(LoadSteps, DelxfIsTheTotalReachedAtTheLastStep) {
   }
 }
 
-// Item 5: XF with n steps ramps the initial load (n distinct equilibria, the full load at the last);
+// Item 5: XF with n steps ramps the initial load (load steps 0..n: the unloaded model and n distinct
+// equilibria, the full load at the last);
 // ITERSTEP's sixth field ramps the initial loads before the DEL* increments.
 TEST(LoadSteps, InitialLoadsRampAndPrecedeTheIncrements) {
   const double exact = 0.81061;  // P L^2/EI = 10
   const core::Model xf = io::readDatString(elasticaCantilever(10, 10.0, 5, "XF"), "xf.dat");
   const auto schedule = analysis::loadSchedule(xf);
-  ASSERT_EQ(schedule.size(), 5u);
+  ASSERT_EQ(schedule.size(), 6u);
+  EXPECT_DOUBLE_EQ(schedule[0].initial, 0.0);
   const analysis::StaticRun r1 = analysis::staticAnalysis(xf, 0);
   ASSERT_TRUE(r1.completed) << r1.stopReason;
-  ASSERT_EQ(r1.steps.size(), 5u);
+  ASSERT_EQ(r1.steps.size(), 6u);
+  EXPECT_NEAR(r1.steps[0].x[xIndex(xf, 11, 2)], 0.0, 1e-15);
   const int tipY = xIndex(xf, 11, 2);
   for (size_t i = 1; i < r1.steps.size(); ++i)
     EXPECT_GT(-r1.steps[i].x[tipY], -r1.steps[i - 1].x[tipY] + 1e-3) << "distinct equilibria";
@@ -295,9 +302,9 @@ TEST(LoadSteps, DelinpxIsTheTotal) {
   const core::Model m = io::readDatString(text, "delinpx.dat");
   const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
   ASSERT_TRUE(run.completed) << run.stopReason;
-  ASSERT_EQ(run.steps.size(), 6u);
+  ASSERT_EQ(run.steps.size(), 7u);  // load steps 0..6
   const int x2 = xIndex(m, 2, 1);
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(run.steps[i].x[x2], 1.0 + 0.3 * (i + 1) / 6.0, 1e-12);
+  for (int i = 0; i <= 6; ++i) EXPECT_NEAR(run.steps[i].x[x2], 1.0 + 0.3 * i / 6.0, 1e-12);
 }
 
 // A static file written the way SPACAR Light writes it (ITERSTEP 10 9 0.0000005 1 3 9, XF and

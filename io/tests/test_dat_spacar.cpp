@@ -289,15 +289,19 @@ TEST(DatKeywords, EverySpacarKeywordIsKnown) {
   }
 }
 
-// Item 6: a mode-9 transfer block after END HALT is read and reported, not silently skipped.
-TEST(DatKeywords, Mode9TransferBlockIsReported) {
+// Item 6 (issue 21 item 3): a mode-9 transfer block after END HALT is read into the model.
+TEST(DatKeywords, Mode9TransferBlockIsRead) {
   const core::Model m = io::readDatFile(kData + "transfer_mode9_2013.dat");
-  ASSERT_EQ(m.notes.size(), 1u);
-  EXPECT_TRUE(contains(m.notes[0], "mode-9 transfer block at lines 15-19")) << m.notes[0];
-  EXPECT_TRUE(contains(m.notes[0], "INPUTF x1, OUTX x1, OUTXP x1")) << m.notes[0];
+  EXPECT_TRUE(m.notes.empty());
+  ASSERT_EQ(m.transferInputs.size(), 1u);
+  ASSERT_EQ(m.transferOutputs.size(), 2u);
+  EXPECT_EQ(m.transferInputs[0].coord, xIndex(m, 3, 2));
+  EXPECT_EQ(m.transferInputs[0].line, 15);
+  EXPECT_EQ(m.transferOutputs[1].kind, core::TransferChannel::Kind::Velocity);
   EXPECT_TRUE(m.elements.at(0).hasStiffness);
-  // Outside a transfer block a transfer keyword is reported as not supported.
-  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nOUTX 1 2 2\nEND\nEND\n"), "mode 9"));
+  // Outside a transfer block a transfer keyword says where it belongs.
+  EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nOUTX 1 2 2\nEND\nEND\n"),
+                       "t.dat:5: OUTX: a mode-9 transfer keyword"));
   // A transfer block holds transfer keywords only, and needs its END.
   EXPECT_TRUE(contains(errorOf("PLTRUSS 1 1 2\nX 2 1 0\nEND\nHALT\nXM 2 1\nEND\nHALT\nOUTX 1 2 2\nXM 2 1\nEND\nEND\n"),
                        "only mode-9 transfer keywords"));

@@ -168,17 +168,21 @@ int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
+  bool ltv = false;
   std::string out, svg;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
+      "ltv", po::bool_switch(&ltv),
+      "SPACAR's mode 3 on a static file (`--mode 3`): also M0 and K0B = K0 + N0 + G0 over every kinematic degree "
+      "of freedom, inputs included, per load step in <model>.ltv (mode 3 in the .sbd)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
       "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
       "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
-  if (auto rc = parseCommand(
-          args, d, m,
-          "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] [--svg file.svg]"))
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--out "
+                             "file.csv] [--svg file.svg]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -229,17 +233,21 @@ int runStatic(const std::vector<std::string>& args) {
   progress.finish();
   try {
     std::ofstream csv(files.temporaryPath(csvPath));
-    csv << std::setprecision(17) << "load_factor";
+    csv << std::setprecision(17) << "load_step,initial_factor,load_factor";
     for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
     for (int i = 0; i < buckling; ++i) csv << ",buckling" << i + 1;
     csv << "\n";
     for (const auto& st : run.steps) {
-      std::cout << "load step " << (&st - run.steps.data()) + 1 << " (initial loads x " << st.initialFactor
-                << ", DEL* increments x " << st.loadFactor << "): " << st.iterations << " Newton iterations"
-                << (st.newton.stable ? "" : " (UNSTABLE equilibrium)") << "\n";
+      if (st.loadStep >= 0)
+        std::cout << "load step " << st.loadStep << " of " << run.loadSteps;
+      else
+        std::cout << "initial loads ramp";
+      std::cout << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
+                << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
+                << "\n";
       if (st.frequencies.omega.size()) printFrequencies(std::cout, st.frequencies.omega);
-      csv << st.loadFactor;
+      csv << st.loadStep << "," << st.initialFactor << "," << st.loadFactor;
       for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
       for (int i = 0; i < nev; ++i) {  // every row as long as the header
         csv << ",";
@@ -266,7 +274,8 @@ int runStatic(const std::vector<std::string>& args) {
     analysis::SpacarOutputOptions spo;
     spo.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
     spo.jacobian = true;
-    const io::SpacarResults sr = analysis::spacarFromStatics(model, run, spo);
+    const io::SpacarResults sr =
+        ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
     const std::string tempBase = io::temporaryName(base);
     for (const auto& p : io::writeSpacarResults(tempBase, model, sr)) files.adopt(p, base + p.substr(tempBase.size()));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";

@@ -18,8 +18,8 @@ namespace {
 void usage(std::ostream& o) {
   o << "usage: flexmb <command> [options] model.dat\n"
        "       flexmb --mode N model.dat [options]     (SPACAR's modes: 0 check, 1 simulate, 3 linearised\n"
-       "                                               matrices, 4 eigenfrequencies along the trajectory, 10 "
-       "static)\n\n"
+       "                                               matrices (trajectory or load steps), 4 eigenfrequencies\n"
+       "                                               along the trajectory, 9 transfer, 10 static)\n\n"
        "commands:\n"
        "  check      mode 0: coordinates and deformations by role, degrees of freedom, rank check\n"
        "  show       the model as SVG: node and element numbers, roles (fixed, input, DOF)\n"
@@ -27,6 +27,7 @@ void usage(std::ostream& o) {
        "             --linearize N (mode 4) and --matrices (mode 3) linearise along the trajectory\n"
        "  modes      eigenfrequencies in the initial configuration\n"
        "  static     mode 10: equilibrium over the load steps, eigenfrequencies in each\n"
+       "  transfer   mode 9: state-space model A, B, C, D of the last load step (transfer block), Bode diagrams\n"
        "  sweep      eigenfrequencies over a range of motion (one nodal coordinate prescribed)\n"
        "  reduce     build a modal or SVD-modal reduction basis (q = V eta)\n"
        "  study      a design study: a template model, a table of parameter values, the same analyses on\n"
@@ -64,15 +65,12 @@ int main(int argc, char** argv) {
     } else {
       n = command.substr(7);
     }
-    static const std::map<std::string, std::string> modes = {{"0", "check"}, {"1", "simulate"}, {"10", "static"}};
-    if (n == "4") {  // eigenfrequencies along the trajectory
-      args.push_back("--linearize=6");
-    } else if (n == "3") {  // linearised matrices (and frequencies) along the trajectory
-      args.push_back("--matrices");
-    }
-    auto it = (n == "3" || n == "4") ? modes.find("1") : modes.find(n);
+    static const std::map<std::string, std::string> modes = {
+        {"0", "check"}, {"1", "simulate"}, {"3", "mode3"}, {"9", "transfer"}, {"10", "static"}};
+    if (n == "4") args.push_back("--linearize=6");  // eigenfrequencies along the trajectory
+    auto it = n == "4" ? modes.find("1") : modes.find(n);
     if (it == modes.end()) {
-      std::cerr << "flexmb: mode " << n << " is not supported (supported: 0, 1, 3, 4, 10)\n";
+      std::cerr << "flexmb: mode " << n << " is not supported (supported: 0, 1, 3, 4, 9, 10)\n";
       return kUsageError;
     }
     command = it->second;
@@ -80,7 +78,7 @@ int main(int argc, char** argv) {
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
       {"check", runCheck},   {"simulate", runSimulate}, {"keywords", runKeywords}, {"modes", runModes},
       {"static", runStatic}, {"sweep", runSweep},       {"reduce", runReduce},     {"validate", runValidate},
-      {"show", runShow},     {"study", runStudy}};
+      {"show", runShow},     {"study", runStudy},       {"transfer", runTransfer}, {"mode3", runMode3}};
   auto it = commands.find(command);
   if (it == commands.end()) {
     // The nearest command within two edits (a typo: `simulat`, `chekc`), as the .dat reader

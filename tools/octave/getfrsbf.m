@@ -10,6 +10,8 @@ function out = getfrsbf(file, var, step)
 %   Topology, counts and element constants (lnp, ln, le, it, nx, ne, nxp, nep, ndof, nddof, tdef,
 %   rxyz, rl0, x0, estiff, stif, edamp, em) are returned as stored, whatever step. Names are
 %   case-insensitive. Layouts: io/results.md.
+%   The .ltv of mode 9 (a, b, c, d, dft, inputnames, outputnames: one step) and of mode 3 (m0, k0b
+%   per load step) is read the same way; a matrix stored once (not per step) is returned as it is.
   if nargin < 2 || ~ischar(file) || ~ischar(var)
     error('getfrsbf:usage', 'usage: getfrsbf(file, var[, step])');
   end
@@ -29,13 +31,16 @@ function out = getfrsbf(file, var, step)
   v = s.(names{k});
   key = lower(var);
   rows = {'time', 'x', 'xd', 'xdd', 'e', 'ed', 'edd', 'sig', 'fxt', 'fx', 'fxgrav', 'freq'};
-  pages = {'dx', 'bigd', 'm0', 'k0', 'g0', 'c0', 'd0', 'n0', 'modeq', 'modex'};
+  pages = {'dx', 'bigd', 'm0', 'k0', 'g0', 'c0', 'd0', 'n0', 'modeq', 'modex', 'k0b', 'a', 'b', 'c', 'd'};
   isRows = any(strcmp(key, rows));
   isPages = any(strcmp(key, pages));
   if isfield(s, 'tdef')
     tdef = s.tdef;
   else
     tdef = size(v, 1);
+  end
+  if isPages && tdef > 1 && size(v, 3) ~= tdef
+    isPages = false;  % one matrix for the whole file (the state-space model in a .sbm)
   end
   if nargin >= 3
     if ~isnumeric(step) || ~isscalar(step) || step ~= fix(step) || step < 1 || step > tdef

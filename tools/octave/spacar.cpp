@@ -1,11 +1,13 @@
 // spacar(mode, name[, opts]): SPACAR's MATLAB entry point over the flexmb libraries (MEX API only, so
 // that Octave's `mkoctfile --mex` and MATLAB's `mex` both build it). Reads name.dat, runs the analysis
-// of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices, 4 eigenfrequencies along the
-// trajectory, 10 statics; a negative mode runs the same without console output), writes
-// name.sbd / name.sbm (io/results.md), puts their variables into the caller's workspace and, when
-// an output is requested, returns them in a struct. opts (modes 1, 3, 4): a struct choosing the
-// integrator and its settings (parseOptions). Errors (input file:line, a failed run, a failing user
-// function, Ctrl-C) are MATLAB errors; a run that stops writes and assigns the steps it stored first.
+// of `mode` (0 kinematics, 1 dynamics, 3 linearised matrices (along the trajectory, or of every load
+// step of a static file without TIMESTEP, with name.ltv), 4 eigenfrequencies along the trajectory,
+// 9 transfer functions (name.ltv), 10 statics; a negative mode runs the same without console
+// output), writes name.sbd / name.sbm (io/results.md), puts their variables into the caller's
+// workspace and, when an output is requested, returns them in a struct. opts (modes 1, 3, 4): a
+// struct choosing the integrator and its settings (parseOptions). Errors (input file:line, a failed
+// run, a failing user function, Ctrl-C) are MATLAB errors; a run that stops writes and assigns the
+// steps it stored first.
 // USERSIG / USERINP functions named in the file are called back through mexCallMATLAB
 // (tools/octave/MatlabUserFunctions.hpp).
 #include "mex.h"
@@ -28,6 +30,7 @@
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
+#include "analysis/Transfer.hpp"
 #include "io/DatReader.hpp"
 #include "io/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
@@ -139,8 +142,18 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         out << "spacar: kinematic analysis of " << datFile << ": " << model.numDofs()
             << " dynamic degrees of freedom\n";
         break;
-      case 1:
       case 3:
+        if (!model.settings.timestepGiven) {  // a static file: SPACAR's mode 3 perturbs its load steps
+          const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
+          out << "spacar: static analysis with linearised matrices, " << st.steps.size() << " load steps\n";
+          analysis::SpacarOutputOptions so;
+          so.transferFunctions = true;
+          so.jacobian = true;
+          results = analysis::spacarFromStaticPerturbation(model, st, so);
+          break;
+        }
+        [[fallthrough]];
+      case 1:
       case 4: {
         analysis::SimulationOptions opt = simOptions;
         core::Trajectory traj;
@@ -190,8 +203,22 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         results = analysis::spacarFromStatics(model, st, so);
         break;
       }
+      case 9: {
+        analysis::TransferOptions to;
+        to.nev = std::min(6, model.numDofs());
+        const analysis::TransferRun tr = analysis::transferAnalysis(model, to);
+        out << "spacar: transfer functions at the last of " << tr.statics.steps.size()
+            << " load steps: " << tr.model.B.cols() << " inputs, " << tr.model.C.rows() << " outputs, "
+            << tr.model.A.rows() << " states\n";
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = true;
+        so.jacobian = true;
+        results = analysis::spacarFromTransfer(model, tr, so);
+        break;
+      }
       default:
-        run.error = "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 10 and their negatives)";
+        run.error =
+            "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 9, 10 and their negatives)";
         run.errorId = "flexmb:spacar:mode";
         return;
     }
@@ -233,8 +260,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
 void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   if (nrhs < 2 || nrhs > 3 || !mxIsNumeric(prhs[0]) || mxGetNumberOfElements(prhs[0]) != 1 || !mxIsChar(prhs[1]))
     mexErrMsgIdAndTxt("flexmb:spacar:usage",
-                      "usage: spacar(mode, 'name'[, opts]) with mode 0, 1, 3, 4 or 10 (negative: silent) and opts a "
-                      "struct (integrator, reltol, abstol, maxstep, tend, intervals, bdforder) for modes 1, 3, 4");
+                      "usage: spacar(mode, 'name'[, opts]) with mode 0, 1, 3, 4, 9 or 10 (negative: silent) and opts "
+                      "a struct (integrator, reltol, abstol, maxstep, tend, intervals, bdforder) for modes 1, 3, 4");
   if (nlhs > 1) mexErrMsgIdAndTxt("flexmb:spacar:usage", "spacar returns at most one output (a struct)");
   const double m = mxGetScalar(prhs[0]);
   char* nameC = mxArrayToString(prhs[1]);

@@ -1,0 +1,309 @@
+#include "analysis/Transfer.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include "analysis/Perturbation.hpp"
+#include "core/elements/EulerParameters.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+using Kind = core::TransferChannel::Kind;
+
+std::string channelName(const core::Model& model, const core::TransferChannel& c, const char* suffix = "") {
+  const core::Node& n = model.nodes[c.node];
+  static const char* axes[] = {"x", "y", "z"};
+  std::string what;
+  switch (c.kind) {
+    case Kind::Force:
+      what = c.axis ? "moment" : n.kind == core::NodeKind::Orientation ? "moment" : "force";
+      break;
+    case Kind::Motion:
+      what = "input motion";
+      break;
+    case Kind::Coordinate:
+      what = c.axis || n.kind == core::NodeKind::Orientation ? "rotation" : "displacement";
+      break;
+    case Kind::Velocity:
+      what = c.axis || n.kind == core::NodeKind::Orientation ? "angular velocity" : "velocity";
+      break;
+    case Kind::NodalForce:
+      what = c.axis || n.kind == core::NodeKind::Orientation ? "support moment" : "support force";
+      break;
+  }
+  const std::string comp = n.kind == core::NodeKind::Orientation ? "" : std::string(" ") + axes[c.component - 1];
+  return c.keyword + " " + std::to_string(c.number) + ": " + what + comp + suffix + " node " + std::to_string(n.label);
+}
+
+// The coordinates a channel acts on, with weights: one coordinate with weight 1, or on a spatial
+// orientation node the Euler parameters with 2 E(lambda)^T e_i (a moment about a global axis, its
+// dual the rotation 2 E(lambda) dlambda) or 1/2 E(lambda)^T e_i (the moment of the forces on the
+// Euler parameters, fxt: M = 1/2 E f_lambda, E E^T = I).
+struct Weighted {
+  std::vector<int> coords;
+  std::vector<double> w;
+};
+Weighted weights(const core::TransferChannel& c, const Eigen::VectorXd& x, double scale) {
+  Weighted r;
+  if (!c.axis) {
+    r.coords = {c.coord};
+    r.w = {1.0};
+    return r;
+  }
+  const Eigen::Vector4d lambda = x.segment<4>(c.coord);
+  const core::euler::Mat34 E = core::euler::globalRateMatrix(lambda);
+  for (int k = 0; k < 4; ++k) {
+    r.coords.push_back(c.coord + k);
+    r.w.push_back(scale * E(c.component - 1, k));
+  }
+  return r;
+}
+}  // namespace
+
+StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
+  if (model.transferInputs.empty() || model.transferOutputs.empty())
+    throw std::invalid_argument(
+        "the transfer function needs at least one input (INPUTF, INX) and one output (OUTX, OUTXP, OUTF) in the "
+        "transfer block after the second END HALT");
+  // Known coordinates that become degrees of freedom: INX inputs, OUTF supports.
+  std::vector<int> known;
+  auto addKnown = [&](int j) {
+    if ((model.xRole[j] == core::Role::Fixed || model.xRole[j] == core::Role::Input) &&
+        std::find(known.begin(), known.end(), j) == known.end())
+      known.push_back(j);
+  };
+  for (const auto& c : model.transferInputs)
+    if (c.kind == Kind::Motion) addKnown(c.coord);
+  for (const auto& c : model.transferOutputs)
+    if (c.kind == Kind::NodalForce)
+      for (int k = 0; k < (c.axis ? 4 : 1); ++k) addKnown(c.coord + k);
+  const core::Model aug = withKnownAsDofs(model, known, {});
+  const PerturbedSystem p = linearizeAt(aug, step);
+  const DofPlaces at = dofPlaces(aug);
+  const core::LinearizedSystem& s = p.system;
+  const Eigen::MatrixXd Kt = s.K + s.N + s.G, Ct = s.C + s.D;
+  const int m = model.numDofs();
+  std::vector<int> qi(m);
+  for (int k = 0; k < m; ++k) qi[k] = at.of(model.dofs[k]);
+  auto block = [&](const Eigen::MatrixXd& X, int row) {  // X(row, q) as a row vector
+    Eigen::RowVectorXd r(m);
+    for (int k = 0; k < m; ++k) r[k] = X(row, qi[k]);
+    return r;
+  };
+  Eigen::MatrixXd M(m, m), K(m, m), Cd(m, m);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) M(i, j) = s.M(qi[i], qi[j]), K(i, j) = Kt(qi[i], qi[j]), Cd(i, j) = Ct(qi[i], qi[j]);
+  const Eigen::LLT<Eigen::MatrixXd> mass(M);
+  if (mass.info() != Eigen::Success)
+    throw std::runtime_error(
+        "the mass matrix M0 is not positive definite (a degree of freedom without mass: give EM or XM), so the "
+        "state-space model d/dt [dq; dqd] = A [dq; dqd] + B u does not exist");
+
+  StateSpace ss;
+  ss.A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
+  ss.A.topRightCorner(m, m).setIdentity();
+  ss.A.bottomLeftCorner(m, m) = -mass.solve(K);
+  ss.A.bottomRightCorner(m, m) = -mass.solve(Cd);
+
+  // Inputs: the generalised load on q of each channel (columns), before M0^-1.
+  std::vector<Eigen::VectorXd> loads;
+  std::vector<int> motionChannel(model.transferInputs.size(), -1);  // first of INX's three channels
+  // A force input's generalised load on every degree of freedom of the augmented model (its rows
+  // of the known coordinates enter OUTF), and its column of B.
+  std::vector<std::pair<int, Eigen::VectorXd>> forceLoads;
+  for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
+    const auto& c = model.transferInputs[k];
+    if (c.kind == Kind::Force) {
+      const Weighted w = weights(c, step.x, 2.0);
+      Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
+      Eigen::VectorXd bAug = Eigen::VectorXd::Zero(p.F.cols());
+      for (std::size_t i = 0; i < w.coords.size(); ++i) {
+        b += w.w[i] * block(p.F, w.coords[i]).transpose();
+        bAug += w.w[i] * p.F.row(w.coords[i]).transpose();
+      }
+      forceLoads.emplace_back(static_cast<int>(loads.size()), std::move(bAug));
+      loads.push_back(b);
+      ss.inputNames.push_back(channelName(model, c));
+    } else {  // INX: -(K+G)_qu, -D_qu, -M_qu for u, du/dt, d2u/dt2
+      const int u = at.x[c.coord];
+      motionChannel[k] = static_cast<int>(loads.size());
+      for (const Eigen::MatrixXd* X : {&Kt, &Ct, &s.M}) {
+        Eigen::VectorXd b(m);
+        for (int i = 0; i < m; ++i) b[i] = -(*X)(qi[i], u);
+        loads.push_back(b);
+      }
+      ss.inputNames.push_back(channelName(model, c, " (position)"));
+      ss.inputNames.push_back(channelName(model, c, " (velocity)"));
+      ss.inputNames.push_back(channelName(model, c, " (acceleration)"));
+    }
+  }
+  const int ni = static_cast<int>(loads.size()), no = static_cast<int>(model.transferOutputs.size());
+  Eigen::MatrixXd Q(m, ni);
+  for (int k = 0; k < ni; ++k) Q.col(k) = loads[k];
+  ss.B = Eigen::MatrixXd::Zero(2 * m, ni);
+  ss.B.bottomRows(m) = mass.solve(Q);
+
+  ss.C = Eigen::MatrixXd::Zero(no, 2 * m);
+  ss.D = Eigen::MatrixXd::Zero(no, ni);
+  for (int r = 0; r < no; ++r) {
+    const auto& c = model.transferOutputs[r];
+    ss.outputNames.push_back(channelName(model, c));
+    if (c.kind == Kind::Coordinate || c.kind == Kind::Velocity) {
+      const Weighted w = weights(c, step.x, 2.0);
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
+      for (std::size_t i = 0; i < w.coords.size(); ++i) row += w.w[i] * block(p.F, w.coords[i]);
+      (c.kind == Kind::Coordinate ? ss.C.block(r, 0, 1, m) : ss.C.block(r, m, 1, m)) = row;
+      // Direct motion of the output by an INX input: its position (OUTX) or velocity (OUTXP) channel.
+      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
+        if (motionChannel[k] < 0) continue;
+        const int u = at.x[model.transferInputs[k].coord];
+        double d = 0.0;
+        for (std::size_t i = 0; i < w.coords.size(); ++i) d += w.w[i] * p.F(w.coords[i], u);
+        ss.D(r, motionChannel[k] + (c.kind == Kind::Coordinate ? 0 : 1)) += d;
+      }
+    } else {  // OUTF: fxt_j = f_j - Q_j
+      const Weighted w = weights(c, step.x, 0.5);
+      Eigen::RowVectorXd rk = Eigen::RowVectorXd::Zero(m), rc = rk, rm = rk;
+      std::vector<double> wk(w.coords.size());
+      for (std::size_t i = 0; i < w.coords.size(); ++i) {
+        const int j = at.x[w.coords[i]];
+        if (j < 0) continue;  // a calculable Euler parameter: its force is the applied one (none)
+        rk += w.w[i] * block(Kt, j), rc += w.w[i] * block(Ct, j), rm += w.w[i] * block(s.M, j);
+      }
+      ss.C.block(r, 0, 1, m) = rk + rm * ss.A.bottomLeftCorner(m, m);
+      ss.C.block(r, m, 1, m) = rc + rm * ss.A.bottomRightCorner(m, m);
+      ss.D.row(r) = rm * ss.B.bottomRows(m);
+      // The row of a known coordinate j in the augmented model is the balance of everything that
+      // does work along it: the support force plus the applied loads there. A force input acts
+      // along j when j moves its point (in the augmented model a support coordinate carries the
+      // structure beyond it: a base displacement moves every point), so its share is subtracted.
+      for (const auto& [col, bAug] : forceLoads)
+        for (std::size_t i = 0; i < w.coords.size(); ++i) {
+          const int j = at.x[w.coords[i]];
+          if (j >= 0) ss.D(r, col) -= w.w[i] * bAug[j];
+        }
+      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
+        if (motionChannel[k] < 0) continue;
+        const int u = at.x[model.transferInputs[k].coord];
+        for (std::size_t i = 0; i < w.coords.size(); ++i) {
+          const int j = at.x[w.coords[i]];
+          if (j < 0) continue;
+          ss.D(r, motionChannel[k]) += w.w[i] * Kt(j, u);
+          ss.D(r, motionChannel[k] + 1) += w.w[i] * Ct(j, u);
+          ss.D(r, motionChannel[k] + 2) += w.w[i] * s.M(j, u);
+        }
+      }
+    }
+  }
+  return ss;
+}
+
+TransferRun transferAnalysis(const core::Model& model, const TransferOptions& options) {
+  if (model.transferInputs.empty() || model.transferOutputs.empty())
+    throw std::invalid_argument(
+        "the transfer function needs at least one input (INPUTF, INX) and one output (OUTX, OUTXP, OUTF) in the "
+        "transfer block after the second END HALT");
+  TransferRun r;
+  StaticOptions so;
+  so.nev = options.nev;
+  so.loadSteps = options.loadSteps;
+  so.onStep = options.onStep;
+  r.statics = staticAnalysis(model, so);
+  r.completed = r.statics.completed;
+  r.stopReason = r.statics.stopReason;
+  if (!r.completed || r.statics.steps.empty()) {
+    if (r.completed) r.completed = false, r.stopReason = "no load step reached";
+    return r;
+  }
+  r.model = stateSpaceAt(model, r.statics.steps.back());
+  return r;
+}
+
+Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega) {
+  // A = Q H Q^T (Hessenberg, once): each frequency is then one O(n^2) Hessenberg solve.
+  const Eigen::Index n = ss.A.rows();
+  const Eigen::HessenbergDecomposition<Eigen::MatrixXd> hd(ss.A);
+  const Eigen::MatrixXd H = hd.matrixH();
+  const Eigen::MatrixXd Qm = hd.matrixQ();
+  const Eigen::VectorXd b = Qm.transpose() * ss.B.col(input);
+  const Eigen::RowVectorXd c = ss.C.row(output) * Qm;
+  Eigen::VectorXcd h(omega.size());
+  Eigen::MatrixXcd T(n, n);
+  Eigen::VectorXcd z(n);
+  for (Eigen::Index k = 0; k < omega.size(); ++k) {
+    const std::complex<double> s(0.0, omega[k]);
+    T = -H.cast<std::complex<double>>();
+    T.diagonal().array() += s;
+    z = b.cast<std::complex<double>>();
+    // Gaussian elimination of the one subdiagonal, rows swapped when the subdiagonal is larger.
+    for (Eigen::Index i = 0; i + 1 < n; ++i) {
+      if (std::abs(T(i + 1, i)) > std::abs(T(i, i))) {
+        T.row(i).segment(i, n - i).swap(T.row(i + 1).segment(i, n - i));
+        std::swap(z[i], z[i + 1]);
+      }
+      if (T(i + 1, i) == 0.0) continue;
+      const std::complex<double> l = T(i + 1, i) / T(i, i);
+      T.row(i + 1).segment(i, n - i) -= l * T.row(i).segment(i, n - i);
+      z[i + 1] -= l * z[i];
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+      std::complex<double> v = z[i];
+      for (Eigen::Index j = i + 1; j < n; ++j) v -= T(i, j) * z[j];
+      z[i] = v / T(i, i);
+    }
+    h[k] = (c.cast<std::complex<double>>() * z)(0) + ss.D(output, input);
+  }
+  return h;
+}
+
+Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
+  const Eigen::Index m = ss.A.rows() / 2;
+  double lo = 1.0, hi = 1e3;
+  if (m > 0) {
+    // Undamped frequencies: w^2 the eigenvalues of -A21 = M0^-1 K (exact for small models; for
+    // large ones the extremes by power iteration on -A21 and its inverse).
+    const Eigen::MatrixXd K = -ss.A.bottomLeftCorner(m, m);
+    std::vector<double> w2;
+    if (m <= 300) {
+      const Eigen::VectorXcd ev = K.eigenvalues();
+      for (Eigen::Index i = 0; i < ev.size(); ++i)
+        if (ev[i].real() > 0) w2.push_back(ev[i].real());
+    } else {
+      Eigen::VectorXd v = Eigen::VectorXd::Ones(m);
+      double top = 0.0;
+      for (int it = 0; it < 50; ++it) {
+        Eigen::VectorXd y = K * v;
+        top = y.norm() / v.norm();
+        v = y / y.norm();
+      }
+      w2.push_back(top);
+      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
+      v = Eigen::VectorXd::Ones(m);
+      double inv = 0.0;
+      for (int it = 0; it < 50; ++it) {
+        Eigen::VectorXd y = lu.solve(v);
+        inv = y.norm() / v.norm();
+        v = y / y.norm();
+      }
+      if (std::isfinite(inv) && inv > 0) w2.push_back(1.0 / inv);
+    }
+    if (!w2.empty()) {
+      const auto [a, b] = std::minmax_element(w2.begin(), w2.end());
+      lo = std::sqrt(*a) / 10.0;
+      hi = std::min(std::sqrt(*b) * 10.0, lo * 1e5);
+      if (!(lo > 0.0) || !std::isfinite(hi) || hi <= lo) lo = 1.0, hi = 1e3;
+    }
+  }
+  const int n = 400;
+  Eigen::VectorXd w(n);
+  for (int k = 0; k < n; ++k) w[k] = lo * std::pow(hi / lo, static_cast<double>(k) / (n - 1));
+  return w;
+}
+
+}  // namespace flexmb::analysis

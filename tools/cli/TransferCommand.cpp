@@ -1,0 +1,193 @@
+// `flexmb transfer` (SPACAR's mode 9): the state-space model of the last load step between the
+// inputs and outputs of the .dat's transfer block; and `--mode 3`, which linearises along the
+// trajectory of a file with TIMESTEP and in every load step of a static file.
+#include <Eigen/LU>
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+
+#include "analysis/SpacarOutput.hpp"
+#include "analysis/Transfer.hpp"
+#include "io/OutputFile.hpp"
+#include "io/ResultWriter.hpp"
+#include "io/SpacarResults.hpp"
+#include "io/SvgPlot.hpp"
+#include "tools/cli/Commands.hpp"
+#include "tools/cli/Progress.hpp"
+
+namespace po = boost::program_options;
+
+namespace flexmb::cli {
+
+namespace {
+constexpr double kTwoPi = 2.0 * M_PI;
+
+std::vector<std::string> stateNames(Eigen::Index m) {
+  std::vector<std::string> n;
+  for (Eigen::Index k = 0; k < m; ++k) n.push_back("dq" + std::to_string(k + 1));
+  for (Eigen::Index k = 0; k < m; ++k) n.push_back("dqd" + std::to_string(k + 1));
+  return n;
+}
+
+// Magnitude over phase of H(i w) against the frequency in Hz.
+std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h) {
+  io::Plot mag, ph;
+  mag.title = title;
+  mag.x.label = "frequency [Hz]";
+  mag.x.log = true;
+  mag.y.label = "magnitude";
+  mag.y.log = true;
+  ph.x = mag.x;
+  ph.y.label = "phase [deg]";
+  mag.height = ph.height = 300;
+  io::Series m, p;
+  double unwrap = 0.0, last = 0.0;
+  for (Eigen::Index k = 0; k < omega.size(); ++k) {
+    m.x.push_back(omega[k] / kTwoPi);
+    m.y.push_back(std::abs(h[k]));
+    double a = std::arg(h[k]) * 180.0 / M_PI;
+    if (k > 0) {  // continuous phase
+      while (a + unwrap - last > 180.0) unwrap -= 360.0;
+      while (a + unwrap - last < -180.0) unwrap += 360.0;
+    }
+    last = a + unwrap;
+    p.x.push_back(omega[k] / kTwoPi);
+    p.y.push_back(last);
+  }
+  mag.series = {m};
+  ph.series = {p};
+  return {mag, ph};
+}
+}  // namespace
+
+int runTransfer(const std::vector<std::string>& args) {
+  ModelOptions m;
+  po::options_description d = commonModelOptions(m);
+  int nev = 6, steps = 0;
+  bool noBode = false;
+  std::string out;
+  d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)),
+                  "eigenfrequencies per load step in the .sbm (default 6)")(
+      "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
+      "no-bode", po::bool_switch(&noBode), "do not draw the Bode diagrams")(
+      "out", po::value(&out), "output prefix or folder (default: the model's name in the current folder)");
+  if (auto rc =
+          parseCommand(args, d, m, "usage: flexmb transfer model.dat [--nev N] [--steps n] [--no-bode] [--out prefix]"))
+    return *rc;
+  const bool bode = !noBode;
+  core::Model model;
+  if (!loadModelFor(m, model, true)) return kInputError;
+  if (model.transferInputs.empty() || model.transferOutputs.empty()) {
+    std::cerr << m.file
+              << ": no transfer block: `flexmb transfer` needs at least one input (INPUTF, INX) and one output "
+                 "(OUTX, OUTXP, OUTF) in a block after the dynamic block's END HALT (io/dat-language.md)\n";
+    return kInputError;
+  }
+  io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
+  try {
+    files.checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kInputError;
+  }
+  const std::string prefix = files.prefix();
+  files.setting("command", "transfer");
+  files.setting("model", m.file);
+  analysis::TransferOptions to;
+  to.nev = std::min(nev, model.numDofs());
+  to.loadSteps = steps;
+  Progress progress("transfer", !m.quiet);
+  to.onStep = [&](int i, int total) { progress.update(i, total, "load steps"); };
+  analysis::TransferRun run;
+  try {
+    run = analysis::transferAnalysis(model, to);
+  } catch (const std::exception& e) {
+    progress.finish();
+    std::cerr << "flexmb: " << m.file << ": " << e.what() << "\n";
+    return kNumericalFailure;
+  }
+  progress.finish();
+  files.setting("load steps", std::to_string(run.statics.loadSteps));
+  const analysis::StateSpace& ss = run.model;
+  if (run.completed) {
+    const Eigen::Index n = ss.A.rows(), ni = ss.B.cols(), no = ss.C.rows();
+    std::cout << "state-space model at load step " << run.statics.loadSteps << " of " << m.file << ": " << n
+              << " states (dq, dqd in the order of M0), " << ni << " inputs, " << no << " outputs\n";
+    for (Eigen::Index k = 0; k < ni; ++k) std::cout << "  input " << k + 1 << ": " << ss.inputNames[k] << "\n";
+    for (Eigen::Index k = 0; k < no; ++k) std::cout << "  output " << k + 1 << ": " << ss.outputNames[k] << "\n";
+    // Static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input).
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A);
+    const double rc = lu.rcond();
+    if (rc > 1e-14) {
+      const Eigen::MatrixXd G = ss.D - ss.C * lu.solve(ss.B);
+      std::cout << "  static gain -C A^-1 B + D (rows: outputs, columns: inputs):\n" << std::setprecision(8);
+      for (Eigen::Index r = 0; r < no; ++r) {
+        std::cout << "   ";
+        for (Eigen::Index c = 0; c < ni; ++c) std::cout << " " << std::setw(15) << G(r, c);
+        std::cout << "\n";
+      }
+    } else {
+      std::cout << "  no static gain: A is singular (a free motion without stiffness)\n";
+    }
+  }
+  try {
+    analysis::SpacarOutputOptions so;
+    so.transferFunctions = true;
+    so.jacobian = true;
+    const io::SpacarResults sr = analysis::spacarFromTransfer(model, run, so);
+    // The SPACAR files (.sbd, .sbm, .ltv) under temporary names, renamed with the set.
+    const std::string tmp = files.temporaryPrefix();
+    for (const auto& p : io::writeSpacarResults(tmp, model, sr)) files.temporaryFor(p.substr(tmp.size()));
+    if (run.completed) {
+      const Eigen::Index mm = ss.A.rows() / 2;
+      const std::vector<std::string> states = stateNames(mm);
+      io::writeMatrixCsv(files.temporaryFor("_A.csv"), ss.A, states, states, "A");
+      io::writeMatrixCsv(files.temporaryFor("_B.csv"), ss.B, states, ss.inputNames, "B");
+      io::writeMatrixCsv(files.temporaryFor("_C.csv"), ss.C, ss.outputNames, states, "C");
+      io::writeMatrixCsv(files.temporaryFor("_D.csv"), ss.D, ss.outputNames, ss.inputNames, "D");
+      if (bode) {
+        const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
+        for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
+          for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
+            const Eigen::VectorXcd h = analysis::frequencyResponse(ss, static_cast<int>(i), static_cast<int>(o), omega);
+            const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
+            io::writeSvgStack(files.temporaryFor(name),
+                              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h));
+          }
+      }
+    }
+    for (const auto& p : files.commit(run.completed ? "complete" : "stopped: " + run.stopReason))
+      std::cout << "wrote " << p << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  if (!run.completed) {
+    std::cerr << "flexmb: transfer: the static analysis stopped: " << run.stopReason
+              << " (the load steps before it are written; no state-space model)\n";
+    return kNumericalFailure;
+  }
+  return kOk;
+}
+
+int runMode3(const std::vector<std::string>& args) {
+  // A static file (ITERSTEP, no TIMESTEP) runs the load steps with the matrices of each (SPACAR
+  // mode 3, as SPACAR Light's opt.mode = 3 and oopspa's perturb use it); otherwise the trajectory.
+  bool staticFile = false;
+  for (const auto& a : args) {
+    if (a.size() > 4 && a.compare(a.size() - 4, 4, ".dat") == 0 && std::filesystem::is_regular_file(a)) {
+      try {
+        staticFile = !io::readDatFile(a).settings.timestepGiven;
+      } catch (const std::exception&) {  // the command itself reports the reading error
+      }
+      break;
+    }
+  }
+  std::vector<std::string> more = args;
+  more.push_back(staticFile ? "--ltv" : "--matrices");
+  return staticFile ? runStatic(more) : runSimulate(more);
+}
+
+}  // namespace flexmb::cli

@@ -1,0 +1,128 @@
+// `flexmb transfer` and `--mode 9` (issue 21 item 3) and `--mode 3` on a static file (item 6) as a
+// user meets them: the files each writes, what they hold (read back from the CSV), the Bode
+// diagrams, a model without a transfer block, and the .ltv of mode 3.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <complex>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Mass 4 on a spring 400 with damper 2 (PLTRUSS, l0 = 1): input force on the mass, outputs its
+// displacement and velocity.
+const char* kMassSpring =
+    "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2 2\nDYNE 1 1\nEND\nHALT\n"
+    "ESTIFF 1 400\nEDAMP 1 2\nXM 2 4\nITERSTEP 10 1\nEND\nHALT\n"
+    "INPUTF 1 2 1\nOUTX 1 2 1\nOUTXP 2 2 1\nEND\nEND\n";
+
+class TransferCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("flexmb_tf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  int run(const std::string& args, std::string* out = nullptr) {
+    const std::string cmd = "cd '" + dir_.string() + "' && timeout 120 '" + kFlexmb + "' " + args + " >out.txt 2>&1";
+    const int status = std::system(cmd.c_str());
+    if (out) *out = slurp(dir_ / "out.txt");
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  }
+  std::vector<std::vector<std::string>> csv(const std::string& name) {
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream in(dir_ / name);
+    for (std::string line; std::getline(in, line);) {
+      rows.emplace_back();
+      std::stringstream s(line);
+      for (std::string c; std::getline(s, c, ',');) rows.back().push_back(c);
+    }
+    return rows;
+  }
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(TransferCli, WritesTheStateSpaceModelAndBodeDiagrams) {
+  std::ofstream(dir_ / "ms.dat") << kMassSpring;
+  std::string out;
+  ASSERT_EQ(run("transfer ms.dat", &out), 0) << out;
+  for (const char* f : {"ms.sbd", "ms.sbm", "ms.ltv", "ms_A.csv", "ms_B.csv", "ms_C.csv", "ms_D.csv",
+                        "ms_bode_in1_out1.svg", "ms_bode_in1_out2.svg", "ms_run.txt"})
+    EXPECT_TRUE(fs::exists(dir_ / f)) << f << "\n" << out;
+  // A = [0 1; -k/m -d/m] read back from the CSV (header row and a name column).
+  const auto A = csv("ms_A.csv");
+  ASSERT_EQ(A.size(), 3u);
+  EXPECT_NEAR(std::stod(A[1][2]), 1.0, 1e-15);
+  EXPECT_NEAR(std::stod(A[2][1]), -100.0, 1e-12);
+  EXPECT_NEAR(std::stod(A[2][2]), -0.5, 1e-14);
+  const auto B = csv("ms_B.csv");
+  EXPECT_NEAR(std::stod(B[2][1]), 0.25, 1e-15);
+  // The static gain printed: 1/k.
+  EXPECT_NE(out.find("0.0025"), std::string::npos) << out;
+  const std::string svg = slurp(dir_ / "ms_bode_in1_out1.svg");
+  EXPECT_NE(svg.find("magnitude"), std::string::npos);
+  EXPECT_NE(svg.find("phase [deg]"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "ms_run.txt").find("status: complete"), std::string::npos);
+  // --mode 9 is the same command (files with the same content).
+  fs::create_directories(dir_ / "m9");
+  ASSERT_EQ(run("--mode 9 ms.dat --out m9/ --no-bode", &out), 0) << out;
+  EXPECT_EQ(slurp(dir_ / "m9/ms_A.csv"), slurp(dir_ / "ms_A.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "m9/ms_bode_in1_out1.svg"));
+}
+
+TEST_F(TransferCli, RefusesAModelWithoutATransferBlock) {
+  std::string text = kMassSpring;
+  text = text.substr(0, text.find("HALT\nINPUTF")) + "END\n";
+  std::ofstream(dir_ / "plain.dat") << text;
+  std::string out;
+  EXPECT_EQ(run("transfer plain.dat", &out), 1) << out;
+  EXPECT_NE(out.find("no transfer block"), std::string::npos) << out;
+  // A bad channel is an input error with file:line.
+  text = kMassSpring;
+  text.replace(text.find("OUTX 1 2 1"), 10, "OUTX 1 1 1");
+  std::ofstream(dir_ / "bad.dat") << text;
+  EXPECT_EQ(run("transfer bad.dat", &out), 1) << out;
+  EXPECT_NE(out.find("bad.dat:16: OUTX: coordinate 1 of node 1 is fixed"), std::string::npos) << out;
+}
+
+// --mode 3 on a static file: the load steps with the .ltv of M0 and K0B over the kinematic degrees
+// of freedom (here the prescribed base coordinate and the spring), mode 3 in the .sbd.
+TEST_F(TransferCli, Mode3OnAStaticFileWritesTheLtv) {
+  std::ofstream(dir_ / "base.dat")
+      << "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nINPUTX 1 1\nFIX 1 2\nFIX 2 2\nDYNE 1 1\nEND\nHALT\n"
+         "ESTIFF 1 300\nEM 1 0.6\nXM 2 2\nDELINPX 1 1 0.1\nITERSTEP 10 4\nEND\nEND\n";
+  std::string out;
+  ASSERT_EQ(run("--mode 3 base.dat -q --out base_static.csv", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir_ / "base.ltv")) << out;
+  EXPECT_TRUE(fs::exists(dir_ / "base.sbd")) << out;
+  // Load steps 0..4 in the CSV (the first column is the SPACAR load step).
+  const auto rows = csv("base_static.csv");
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[0][0], "load_step");
+  EXPECT_EQ(rows[1][0], "0");
+  EXPECT_EQ(rows[5][0], "4");
+}
