@@ -201,7 +201,8 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
     // Reference length: distance of the first two position nodes in the initial configuration.
     std::vector<const core::Node*> pos;
     for (int ni : E.nodes)
-      if (model.nodes[ni].kind == core::NodeKind::Position) pos.push_back(&model.nodes[ni]);
+      if (model.nodes[ni].kind == core::NodeKind::Position || model.nodes[ni].kind == core::NodeKind::SpatialPosition)
+        pos.push_back(&model.nodes[ni]);
     if (pos.size() >= 2) {
       double s2 = 0.0;
       for (int k = 0; k < std::min(pos[0]->dim(), pos[1]->dim()); ++k) {

@@ -41,18 +41,18 @@ TEST(SpacarVariables, FxIsTheAppliedLoadAndFxgravTheWeight) {
   ASSERT_TRUE(run.completed) << run.stopReason;
   const io::SpacarResults r = analysis::spacarFromStatics(m, run, {});
   const io::SpacarLayout L = io::spacarLayout(m);
-  ASSERT_EQ(r.steps.size(), 4u);
+  ASSERT_EQ(r.steps.size(), 5u);  // load steps 0..4: gravity (an initial load) in all, DELXF k/4 in step k
   const double weight = 9.81 * (0.4 * 0.5 + 0.4 * 0.5 + 0.1);
   const int tipX = xIndex(L, m, 3, 1), tipY = xIndex(L, m, 3, 2);
   for (std::size_t k = 0; k < r.steps.size(); ++k) {
     const io::SpacarStep& s = r.steps[k];
-    const double f = (k + 1) / 4.0;  // DELXF's share at load step k + 1
+    const double f = static_cast<double>(k) / 4.0;  // DELXF's share at load step k
     ASSERT_EQ(s.fx.size(), m.nx);
     ASSERT_EQ(s.fxgrav.size(), m.nx);
     // fx: exactly the DELXF share at the tip, nothing elsewhere (gravity is not in it).
     for (int j = 0; j < m.nx; ++j) {
       const double expect = j == tipX ? 1.0 * f : j == tipY ? -2.0 * f : 0.0;
-      EXPECT_NEAR(s.fx[j], expect, 1e-15) << "fx[" << j << "] at step " << k + 1;
+      EXPECT_NEAR(s.fx[j], expect, 1e-15) << "fx[" << j << "] at load step " << k;
     }
     // fxgrav: the weight in -y over the position coordinates, none in x.
     double sumX = 0, sumY = 0;

@@ -146,4 +146,7 @@ TEST(SpacarResults, ElementTriadsOfSpatialBeams) {
   for (int k = 0; k < 9; ++k) got(k % 3, k / 3) = R(1, k);
   EXPECT_LT((got - A).norm(), 1e-14) << got;
   EXPECT_EQ(io::spacarElementTriads(fourbar(), 7).size(), 0);
+  // rl0 of a spatial beam: its initial length (stressbeam and SPACAR Light turn sig into forces with it).
+  const io::SpacarTopology T = io::spacarTopology(m, io::spacarLayout(m));
+  EXPECT_NEAR(T.rl0(2 - 1), std::sqrt(2.0), 1e-15);
 }

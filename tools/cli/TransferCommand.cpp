@@ -117,11 +117,28 @@ int runTransfer(const std::vector<std::string>& args) {
               << " states (dq, dqd in the order of M0), " << ni << " inputs, " << no << " outputs\n";
     for (Eigen::Index k = 0; k < ni; ++k) std::cout << "  input " << k + 1 << ": " << ss.inputNames[k] << "\n";
     for (Eigen::Index k = 0; k < no; ++k) std::cout << "  output " << k + 1 << ": " << ss.outputNames[k] << "\n";
-    // Static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input).
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A);
-    const double rc = lu.rcond();
-    if (rc > 1e-14) {
-      const Eigen::MatrixXd G = ss.D - ss.C * lu.solve(ss.B);
+    // Static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input). A is
+    // [0 I; A21 A22] over (dq, dqd): with x = A^-1 B, x2 = B1 and A21 x1 = B2 - A22 B1, so only
+    // A21 = -M^-1 K is factorised. The whole A is far worse conditioned (its I block beside
+    // M^-1 K's largest entries, e.g. BEAMW's tiny warping masses) and its rcond would say singular.
+    const Eigen::Index nq = n / 2;
+    Eigen::MatrixXd x;
+    bool solved = false;
+    if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) &&
+        ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
+      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A.bottomLeftCorner(nq, nq));
+      if (lu.rcond() > 1e-14) {
+        x.resize(n, ni);
+        x.bottomRows(nq) = ss.B.topRows(nq);
+        x.topRows(nq) = lu.solve(ss.B.bottomRows(nq) - ss.A.bottomRightCorner(nq, nq) * ss.B.topRows(nq));
+        solved = true;
+      }
+    } else {
+      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A);
+      if (lu.rcond() > 1e-14) x = lu.solve(ss.B), solved = true;
+    }
+    if (solved) {
+      const Eigen::MatrixXd G = ss.D - ss.C * x;
       std::cout << "  static gain -C A^-1 B + D (rows: outputs, columns: inputs):\n" << std::setprecision(8);
       for (Eigen::Index r = 0; r < no; ++r) {
         std::cout << "   ";

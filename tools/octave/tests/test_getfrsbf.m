@@ -1,13 +1,13 @@
 function test_getfrsbf(src, flexmb)
 % getfrsbf returns each listed variable with the documented shape (io/results.md), for one step
-% and for all, from a static run (4 load steps: .sbd with dx and bigd, .sbm) and a kinematic
+% and for all, from a static run (load steps 0..4: .sbd with dx and bigd, .sbm) and a kinematic
 % run (mode 0, one step); names are case-insensitive; a bad step or name is an error.
   copyfile(fullfile(src, 'tools', 'tests', 'data', 'cantilever_static.dat'), 'cant.dat');
   spacar(-10, 'cant');
   sbd = 'cant.sbd'; sbm = 'cant.sbm';
   nx = getfrsbf(sbd, 'nx'); ne = getfrsbf(sbd, 'NE'); tdef = getfrsbf(sbd, 'tdef');
   ndof = getfrsbf(sbd, 'ndof'); nddof = getfrsbf(sbd, 'nddof');
-  assert(isequal([nx ne tdef ndof nddof], [9 6 4 6 6]), 'counts');
+  assert(isequal([nx ne tdef ndof nddof], [9 6 5 6 6]), 'counts');  % load steps 0..4
   nxp = getfrsbf(sbd, 'nxp'); nep = getfrsbf(sbd, 'nep');
   assert(isequal(size(nxp), [1 4]) && sum(nxp) == nx && isequal(size(nep), [1 4]) && sum(nep) == ne, 'nxp/nep');
   % Topology: as stored, with or without a step.

@@ -56,7 +56,7 @@ function test_spacarlight(src, flexmb)
   elapsed = toc;
   tdef = getfrsbf('crosshinge.sbd', 'tdef');
   assert(tdef == 10 && numel(out.step) == tdef, 'published: %d steps, tdef %d (load steps 0..9)', numel(out.step), tdef);
-  balance('crosshinge', out, g * (mtotal - mleaf / 3), 'published');
+  balance('crosshinge', out, g * mtotal, g * mleaf / 3, 'published');
   assert(all(isfinite(out.stressmax)) && all(out.stressmax > 0), 'published: stressmax %s', mat2str(out.stressmax));
   assert(isstruct(out.fighandle), 'published: spavisual''s handle');
   printf('published example: %d load steps, body rotation %.5f rad at the end, f1 %.3f Hz, max stress %.1f MPa, %.2f s end to end\n', ...
@@ -117,7 +117,11 @@ function test_spacarlight(src, flexmb)
   wn = abs(p);
   assert(max(abs(-real(p) ./ wn - 0.01)) < 1e-6, 'transfer: modal damping ratios %s', mat2str(-real(p) ./ wn, 4));
   fnum = sort(unique(round(wn / (2 * pi) * 1e6) / 1e6));
-  assert(abs(fnum(1) - outt.step(end).freq(1)) < 1e-6 * fnum(1), 'transfer: poles against the frequencies');
+  % eig of the nonsymmetric A finds a pole p to about eps ||A|| / |p| only (the BEAMW warping masses
+  % make ||A|| ~ 1e11 against |p1| ~ 9), and fnum is rounded to 1e-6 Hz.
+  tolPole = max(1e-6, 100 * eps * norm(ss.a, 1) / (2 * pi * fnum(1)));
+  assert(abs(fnum(1) - outt.step(end).freq(1)) < tolPole * fnum(1), 'transfer: poles %.9g Hz against the frequency %.9g Hz (tolerance %.2g)', ...
+         fnum(1), outt.step(end).freq(1), tolPole);
   printf('transfer: %d states, static gain %.6g m/N = compliance %.6g m/N, lowest pole %.4f Hz\n', n, gain(1), C, fnum(1));
 
   % 7. The pivot under a small moment (no gravity, no force): rotation M / (2 EI / L) and compliance
@@ -158,10 +162,13 @@ function s = uncomment(script, option)
 end
 
 % Equilibrium of every load step: the total nodal forces fxt of all position nodes sum to zero, and
-% the clamps (SPACAR Light's nodes 1, 4) carry the weight, less the leaves' share at the clamp nodes
-% themselves (half of the clamped beam element's weight each: 2 x m_leaf/6 of the 3-beam leaves).
-function balance(name, out, weightAtClamps, what)
+% the clamps (SPACAR Light's nodes 1, 4) carry the weight less the gravity that acts on the clamp
+% nodes themselves (fxgrav there: the clamped beam elements' consistent share, half of each clamped
+% element's weight for a straight leaf, 2 x m_leaf/6 of the 3-beam leaves; the bent leaf moves it a
+% little, so that share is checked against the straight-leaf value only to 1e-4).
+function balance(name, out, weight, clampShare, what)
   fxt = getfrsbf([name '.sbd'], 'fxt');
+  fxgrav = getfrsbf([name '.sbd'], 'fxgrav');
   lnp = getfrsbf([name '.sbd'], 'lnp');
   pos = find(all(lnp(:, 1:3) > 0, 2) & (size(lnp, 2) < 4 | lnp(:, min(4, end)) == 0));
   for i = 1:numel(out.step)
@@ -170,6 +177,10 @@ function balance(name, out, weightAtClamps, what)
       F = F + fxt(i, lnp(j, 1:3));
     end
     assert(norm(F) < 1e-9, '%s step %d: the nodal forces do not balance (sum %s)', what, i, mat2str(F));
+    atClamps = -(fxgrav(i, lnp(1, 3)) + fxgrav(i, lnp(10, 3)));  % user nodes 1, 4: position nodes 1, 10
+    assert(abs(atClamps - clampShare) < 1e-4 * clampShare, '%s step %d: gravity on the clamp nodes %.10g N, straight leaves %.10g N', ...
+           what, i, atClamps, clampShare);
+    weightAtClamps = weight - atClamps;
     Fz = out.step(i).node(1).Freac(3) + out.step(i).node(4).Freac(3);
     assert(abs(Fz - weightAtClamps) < 1e-9 * weightAtClamps, '%s step %d: the clamps carry %.10g N, the weight %.10g N', ...
            what, i, Fz, weightAtClamps);
