@@ -32,7 +32,7 @@ int runStatic(const std::vector<std::string>& args);
 int runSweep(const std::vector<std::string>& args);
 int runReduce(const std::vector<std::string>& args);
 int runValidate(const std::vector<std::string>& args);
-int runStudy(const std::vector<std::string>& args);  // StudyCommand.cpp: design studies, `study collect`
+int runStudy(const std::vector<std::string>& args);     // StudyCommand.cpp: design studies, `study collect`
 int runTransfer(const std::vector<std::string>& args);  // mode 9
 int runMode3(const std::vector<std::string>& args);     // --mode 3: trajectory or load steps
 std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model);

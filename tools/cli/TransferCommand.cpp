@@ -124,8 +124,7 @@ int runTransfer(const std::vector<std::string>& args) {
     const Eigen::Index nq = n / 2;
     Eigen::MatrixXd x;
     bool solved = false;
-    if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) &&
-        ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
+    if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) && ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
       const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A.bottomLeftCorner(nq, nq));
       if (lu.rcond() > 1e-14) {
         x.resize(n, ni);
