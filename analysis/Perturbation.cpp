@@ -45,17 +45,32 @@ DofPlaces dofPlaces(const core::Model& augmented) {
   return p;
 }
 
-PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step) {
-  const double t = augmented.settings.t0;
-  Eigen::VectorXd q(augmented.numDofs());
+namespace {
+// A linearisation of `augmented` with its positions solved at the equilibrium `step`.
+void placeAt(core::Linearization& lin, const core::Model& augmented, const StaticStep& step, Eigen::VectorXd& q) {
+  q.resize(augmented.numDofs());
   for (int k = 0; k < q.size(); ++k) {
     const auto& d = augmented.dofs[k];
     q[k] = d.isDeformation ? step.e[d.index] : step.x[d.index];
   }
-  core::Linearization lin(augmented);
   lin.kinematics().setRelativeTolerance(std::min(augmented.settings.kinematicTol, 1e-12));
   lin.kinematics().setInputLoadFactor(step.loadFactor, step.initialFactor);
-  lin.kinematics().solvePositions(t, q);
+  lin.kinematics().solvePositions(augmented.settings.t0, q);
+}
+}  // namespace
+
+Eigen::MatrixXd transferAt(const core::Model& augmented, const StaticStep& step) {
+  core::Linearization lin(augmented);
+  Eigen::VectorXd q;
+  placeAt(lin, augmented, step, q);
+  return lin.firstOrderTransfer();
+}
+
+PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step) {
+  const double t = augmented.settings.t0;
+  core::Linearization lin(augmented);
+  Eigen::VectorXd q;
+  placeAt(lin, augmented, step, q);
   Eigen::VectorXd f;
   lin.appliedForces(t, step.loadFactor, f, step.initialFactor);
   PerturbedSystem out;

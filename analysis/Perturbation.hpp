@@ -38,6 +38,9 @@ struct PerturbedSystem {
   Eigen::MatrixXd F;
 };
 PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step);
+// F = dx/dq alone at the equilibrium `step` (no projection): with no known coordinates the
+// system is the step's own (StaticStep::system), and only F is missing.
+Eigen::MatrixXd transferAt(const core::Model& augmented, const StaticStep& step);
 
 // SPACAR's mode-3 .ltv: M0 and K0B = K0 + N0 + G0 over every kinematic degree of freedom (ndof:
 // [x^m input, x^m dynamic, e^m input, e^m dynamic], the columns of dx) in a static equilibrium.

@@ -13,8 +13,11 @@ namespace flexmb::analysis {
 
 namespace {
 // Force scale of the residual test: a stiffness times a small motion of the model.
+double stiffnessForce(const core::Model& m, const Eigen::VectorXd& diagonalK) {
+  return diagonalK.size() ? 1e-6 * std::max(m.lengthScale(), 1e-3) * diagonalK.cwiseAbs().maxCoeff() : 0.0;
+}
 double stiffnessForce(const core::Model& m, const Eigen::MatrixXd& K) {
-  return K.size() ? 1e-6 * std::max(m.lengthScale(), 1e-3) * K.diagonal().cwiseAbs().maxCoeff() : 0.0;
+  return stiffnessForce(m, Eigen::VectorXd(K.diagonal()));
 }
 
 solvers::StaticResult failed(const std::string& message) {
@@ -47,22 +50,24 @@ solvers::StaticResult denseEquilibrium(core::Linearization& lin, double t, doubl
       lin.staticForces(t, e, f, Q);
     }
   };
-  // Force scale: the generalised applied load, else a stiffness times a small motion of the model.
+  // Force scale: the generalised applied load, else a stiffness times a small motion of the model
+  // (the diagonal of Kbar only: a whole projection costs O(nx m^2)).
   double scale = 0.0;
   try {
     place(eta);
     lin.appliedForces(t, loadFactor, f, initialFactor);
-    lin.atRest(t, eta, f, sys, false);
     if (lin.size() == 0) {  // nothing to solve: the kinematics alone place the model
+      lin.atRest(t, eta, f, sys, false);
       solvers::StaticResult r;
       r.residual = 0.0;
       return r;
     }
-    Eigen::VectorXd Qf, Q0;
+    Eigen::VectorXd Q, diagonalK, Qf, Q0;
+    lin.stiffnessDiagonal(t, eta, f, Q, diagonalK);
     lin.staticForces(t, eta, f, Qf);
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);
     scale = std::max(
-        {(Qf - Q0).lpNorm<Eigen::Infinity>(), sys.Q.lpNorm<Eigen::Infinity>(), stiffnessForce(lin.model(), sys.K)});
+        {(Qf - Q0).lpNorm<Eigen::Infinity>(), Q.lpNorm<Eigen::Infinity>(), stiffnessForce(lin.model(), diagonalK)});
   } catch (const std::exception& e) {
     return failed(e.what());
   }
@@ -98,9 +103,9 @@ solvers::StaticResult sparseEquilibrium(core::Linearization& lin, double t, doub
     lin.staticResidual(t, eta, loadFactor, initialFactor, Q);
     lin.appliedForces(t, loadFactor, f, initialFactor);
     if (stiffnessScale < 0.0) {
-      core::LinearizedSystem sys;
-      lin.atRest(t, eta, f, sys, false);
-      stiffnessScale = stiffnessForce(lin.model(), sys.K);
+      Eigen::VectorXd Qr, diagonalK;
+      lin.stiffnessDiagonal(t, eta, f, Qr, diagonalK);
+      stiffnessScale = stiffnessForce(lin.model(), diagonalK);
     }
     lin.staticForces(t, eta, f, Qf);
     lin.staticForces(t, eta, Eigen::VectorXd::Zero(f.size()), Q0);

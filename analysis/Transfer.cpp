@@ -84,9 +84,19 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
     if (c.kind == Kind::NodalForce)
       for (int k = 0; k < (c.axis ? 4 : 1); ++k) addKnown(c.coord + k);
   const core::Model aug = withKnownAsDofs(model, known, {});
-  const PerturbedSystem p = linearizeAt(aug, step);
+  // Without known coordinates the statics' own linearisation of the step is the one needed (its
+  // four projections cost O(nx m^2) each): only F is computed here.
+  const bool ownSystem = known.empty() && step.system.M.rows() == model.numDofs() &&
+                         step.system.K.rows() == model.numDofs() && step.system.G.rows() == model.numDofs() &&
+                         step.system.D.rows() == model.numDofs() && step.system.C.rows() == model.numDofs() &&
+                         step.system.N.rows() == model.numDofs();
+  PerturbedSystem p;
+  if (ownSystem)
+    p.F = transferAt(aug, step);
+  else
+    p = linearizeAt(aug, step);
   const DofPlaces at = dofPlaces(aug);
-  const core::LinearizedSystem& s = p.system;
+  const core::LinearizedSystem& s = ownSystem ? step.system : p.system;
   const Eigen::MatrixXd Kt = s.K + s.N + s.G, Ct = s.C + s.D;
   const int m = model.numDofs();
   std::vector<int> qi(m);
@@ -109,7 +119,7 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   ss.A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
   ss.A.topRightCorner(m, m).setIdentity();
   ss.A.bottomLeftCorner(m, m) = -mass.solve(K);
-  ss.A.bottomRightCorner(m, m) = -mass.solve(Cd);
+  if (!Cd.isZero(0.0)) ss.A.bottomRightCorner(m, m) = -mass.solve(Cd);  // undamped: stays 0 (an m^3 solve saved)
 
   // Inputs: the generalised load on q of each channel (columns), before M0^-1.
   std::vector<Eigen::VectorXd> loads;
@@ -225,41 +235,56 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
   return r;
 }
 
-Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega) {
-  // A = Q H Q^T (Hessenberg, once): each frequency is then one O(n^2) Hessenberg solve.
-  const Eigen::Index n = ss.A.rows();
+std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega) {
+  // A = Q H Q^T (Hessenberg, once for every pair): each frequency is then one O(n^2) Hessenberg
+  // elimination shared by all inputs.
+  const Eigen::Index n = ss.A.rows(), ni = ss.B.cols(), no = ss.C.rows();
+  std::vector<Eigen::VectorXcd> h(static_cast<std::size_t>(ni * no), Eigen::VectorXcd(omega.size()));
+  if (n == 0) {
+    for (Eigen::Index i = 0; i < ni; ++i)
+      for (Eigen::Index o = 0; o < no; ++o) h[i * no + o].setConstant(ss.D(o, i));
+    return h;
+  }
   const Eigen::HessenbergDecomposition<Eigen::MatrixXd> hd(ss.A);
   const Eigen::MatrixXd H = hd.matrixH();
   const Eigen::MatrixXd Qm = hd.matrixQ();
-  const Eigen::VectorXd b = Qm.transpose() * ss.B.col(input);
-  const Eigen::RowVectorXd c = ss.C.row(output) * Qm;
-  Eigen::VectorXcd h(omega.size());
-  Eigen::MatrixXcd T(n, n);
-  Eigen::VectorXcd z(n);
+  const Eigen::MatrixXcd b = (Qm.transpose() * ss.B).cast<std::complex<double>>();
+  const Eigen::MatrixXcd c = (ss.C * Qm).cast<std::complex<double>>();
+  Eigen::MatrixXcd T(n, n), z(n, ni);
   for (Eigen::Index k = 0; k < omega.size(); ++k) {
     const std::complex<double> s(0.0, omega[k]);
     T = -H.cast<std::complex<double>>();
     T.diagonal().array() += s;
-    z = b.cast<std::complex<double>>();
+    z = b;
     // Gaussian elimination of the one subdiagonal, rows swapped when the subdiagonal is larger.
     for (Eigen::Index i = 0; i + 1 < n; ++i) {
       if (std::abs(T(i + 1, i)) > std::abs(T(i, i))) {
         T.row(i).segment(i, n - i).swap(T.row(i + 1).segment(i, n - i));
-        std::swap(z[i], z[i + 1]);
+        z.row(i).swap(z.row(i + 1));
       }
       if (T(i + 1, i) == 0.0) continue;
       const std::complex<double> l = T(i + 1, i) / T(i, i);
       T.row(i + 1).segment(i, n - i) -= l * T.row(i).segment(i, n - i);
-      z[i + 1] -= l * z[i];
+      z.row(i + 1) -= l * z.row(i);
     }
     for (Eigen::Index i = n - 1; i >= 0; --i) {
-      std::complex<double> v = z[i];
-      for (Eigen::Index j = i + 1; j < n; ++j) v -= T(i, j) * z[j];
-      z[i] = v / T(i, i);
+      for (Eigen::Index j = i + 1; j < n; ++j) z.row(i) -= T(i, j) * z.row(j);
+      z.row(i) /= T(i, i);
     }
-    h[k] = (c.cast<std::complex<double>>() * z)(0) + ss.D(output, input);
+    const Eigen::MatrixXcd y = c * z;  // no x ni
+    for (Eigen::Index i = 0; i < ni; ++i)
+      for (Eigen::Index o = 0; o < no; ++o) h[i * no + o][k] = y(o, i) + ss.D(o, i);
   }
   return h;
+}
+
+Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega) {
+  StateSpace one;
+  one.A = ss.A;
+  one.B = ss.B.col(input);
+  one.C = ss.C.row(output);
+  one.D = ss.D.block(output, input, 1, 1);
+  return frequencyResponses(one, omega)[0];
 }
 
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {

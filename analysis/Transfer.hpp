@@ -59,6 +59,9 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
 // The frequency response of one input-output pair, H(i w) = C (i w I - A)^-1 B + D, at the given
 // angular frequencies (rad/s): one complex solve per frequency.
 Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega);
+// Every input-output pair at once (one Hessenberg reduction; per frequency one elimination for all
+// inputs): element i * outputs + o is H_oi.
+std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega);
 
 // Angular frequencies for a Bode plot: 400 log-spaced points two decades around the poles' range
 // (from their imaginary parts; 1..1e3 rad/s without poles).

@@ -116,6 +116,21 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
   out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
 }
 
+void Linearization::stiffnessDiagonal(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
+                                      Eigen::VectorXd& Q, Eigen::VectorXd& diagonal) {
+  staticForces(t, eta, f, Q);
+  updateTransfer();
+  geometricStiffness(scratch_, false);
+  const NodalMatrices::Sparse& X = nodal_.K();
+  XArows_.setZero(FqV_.rows(), m_);
+  const double* v = X.valuePtr();
+  for (int c = 0; c < X.outerSize(); ++c)
+    for (int p = X.outerIndexPtr()[c]; p < X.outerIndexPtr()[c + 1]; ++p)
+      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
+  diagonal.resize(m_);
+  for (int j = 0; j < m_; ++j) diagonal[j] = FqV_.col(j).dot(XArows_.col(j));
+}
+
 void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
                             Eigen::MatrixXd& T) {
   staticForces(t, eta, f, Q);

@@ -79,6 +79,15 @@ class Linearization {
   const Eigen::MatrixXd& transfer() const { return FqV_; }
   // Q and the static Newton tangent T = Kbar + Gbar only (one projection instead of atRest's four).
   void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q, Eigen::MatrixXd& T);
+  // Q and the diagonal of Kbar = F^T K_x F only (statics' force scale): O(nnz(K_x) m), where
+  // atRest's projections cost O(nx m^2) each.
+  void stiffnessDiagonal(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q,
+                         Eigen::VectorXd& diagonal);
+  // F_q V in the current configuration (the positions last solved), without any projection.
+  const Eigen::MatrixXd& firstOrderTransfer() {
+    updateTransfer();
+    return FqV_;
+  }
   // Only Q (cheap: no second derivatives, no F_q: one transposed kinematic solve), for line searches.
   void staticForces(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
