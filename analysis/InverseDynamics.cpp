@@ -28,8 +28,9 @@ InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynami
   const int n = std::max(1, options.intervals.value_or(model.settings.outputIntervals));
   // With no degrees of freedom the equations of motion reduce to the kinematics: outputs() solves
   // the positions, velocities (F_t) and accelerations (the rheonomic offset g) at t.
-  core::EquationsOfMotion eom(model);
-  core::ResultQuantities rq(model);
+  core::Workspace workspace(model);  // one for both (each keeps its own warm start)
+  core::EquationsOfMotion eom(workspace);
+  core::ResultQuantities rq(workspace);
   const Eigen::VectorXd y;  // the state: empty
   const Eigen::VectorXd q;
   for (int k = 0; k <= n; ++k) {

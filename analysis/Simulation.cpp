@@ -192,8 +192,9 @@ class ProgressLine {
 };
 
 // One stage's integration: the evaluators (eom integrates; probe computes the output quantities
-// and keeps eom's warm start intact; BDF adds the Jacobian and the anchored kinematics), the
-// callables the integrators call, and the output states.
+// and keeps eom's warm start intact; BDF adds the Jacobian and the anchored kinematics) on one
+// workspace (each with its own warm start: the same bits as separate workspaces), the callables
+// the integrators call, and the output states.
 class StageRun {
  public:
   StageRun(const core::Model& model, const SimulationOptions& opt, const Continuation* from, Continuation* end)
@@ -201,8 +202,9 @@ class StageRun {
         opt_(opt),
         set_(model, opt),
         end_(end),
-        eom_(model, opt.basis, opt.dynamics),
-        probe_(model, opt.basis, opt.dynamics),
+        workspace_(model),
+        eom_(workspace_, opt.basis, opt.dynamics),
+        probe_(workspace_, opt.basis, opt.dynamics),
         progress_(set_.t0, set_.tEnd, true),
         tReached_(set_.t0) {
     eom_.kinematics().setRelativeTolerance(set_.kinematicTol);
@@ -252,7 +254,7 @@ class StageRun {
  private:
   // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
   void startImplicit() {
-    jacobian_.emplace(model_, opt_.basis);
+    jacobian_.emplace(workspace_, opt_.basis);
     anchored_.emplace(eom_, &*jacobian_);
     jacobian_->kinematics().setRelativeTolerance(set_.kinematicTol);
   }
@@ -405,6 +407,7 @@ class StageRun {
   const SimulationOptions& opt_;
   const StageSettings set_;
   Continuation* end_;
+  core::Workspace workspace_;  // shared by eom_, probe_ and jacobian_ (one call at a time)
   core::EquationsOfMotion eom_, probe_;
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;

@@ -134,10 +134,11 @@ io::SpacarResults spacarFromModes(const core::Model& model, double t, const Eige
   io::SpacarResults r;
   r.mode = 2;
   const io::SpacarLayout L = io::spacarLayout(model);
-  core::ResultQuantities rq(model);
+  core::Workspace workspace(model);  // one for both (each keeps its own warm start)
+  core::ResultQuantities rq(workspace);
   const Eigen::VectorXd q = basis ? Eigen::VectorXd(*basis * eta) : eta;
   rq.setState(t, q);
-  core::GeometricTransferFunctions probe(model);
+  core::GeometricTransferFunctions probe(workspace.kinematics());
   probe.solvePositions(t, q);
   core::StateOutputs s;
   s.x = probe.x(), s.e = probe.e(), s.sig = sys.sigma;
@@ -201,8 +202,9 @@ io::SpacarResults spacarKinematic(const core::Model& model) {
     r.steps.push_back(std::move(st));
     return r;
   }
-  core::ResultQuantities rq(model);
-  core::GeometricTransferFunctions probe(model);
+  core::Workspace workspace(model);  // one for both (each keeps its own warm start)
+  core::ResultQuantities rq(workspace);
+  core::GeometricTransferFunctions probe(workspace.kinematics());
   const double t = model.settings.t0;
   const Eigen::VectorXd q = probe.initialDofs();
   probe.solvePositions(t, q);

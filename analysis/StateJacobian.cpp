@@ -6,6 +6,15 @@ namespace flexmb::analysis {
 
 StateJacobian::StateJacobian(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis)
     : lin_(model, basis), m_(lin_.size()), llt_(m_) {
+  initialise();
+}
+
+StateJacobian::StateJacobian(core::Workspace& workspace, const std::optional<Eigen::MatrixXd>& basis)
+    : lin_(workspace, basis), m_(lin_.size()), llt_(m_) {
+  initialise();
+}
+
+void StateJacobian::initialise() {
   eta_.setZero(m_);
   etad_.setZero(m_);
   etadd_.setZero(m_);

@@ -17,6 +17,8 @@ class StateJacobian {
  public:
   // basis: q = V eta (empty: the full model), as for core::EquationsOfMotion.
   StateJacobian(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis);
+  // On the workspace of the equations of motion it differentiates (core/Workspace.hpp).
+  StateJacobian(core::Workspace& workspace, const std::optional<Eigen::MatrixXd>& basis);
 
   int size() const { return m_; }  // dimension of eta; J is 2m x 2m
   // The kinematics of the linearisation (warm start, tolerance).
@@ -27,6 +29,7 @@ class StateJacobian {
   void evaluate(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& dydt, Eigen::Ref<Eigen::MatrixXd> J);
 
  private:
+  void initialise();
   core::Linearization lin_;
   int m_;
   core::LinearizedSystem sys_;

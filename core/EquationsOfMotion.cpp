@@ -6,14 +6,23 @@
 namespace flexmb::core {
 
 EquationsOfMotion::EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis, DynamicsForm form)
-    : model_(model),
-      coords_(model.numDofs(), std::move(basis)),
+    : EquationsOfMotion(std::make_unique<Workspace>(model), nullptr, std::move(basis), form) {}
+
+EquationsOfMotion::EquationsOfMotion(Workspace& workspace, std::optional<Eigen::MatrixXd> basis, DynamicsForm form)
+    : EquationsOfMotion(nullptr, &workspace, std::move(basis), form) {}
+
+EquationsOfMotion::EquationsOfMotion(std::unique_ptr<Workspace> own, Workspace* shared,
+                                     std::optional<Eigen::MatrixXd> basis, DynamicsForm form)
+    : own_(std::move(own)),
+      model_((shared ? *shared : *own_).model()),
+      coords_(model_.numDofs(), std::move(basis)),
       m_(coords_.size()),
-      gtf_(model),
-      inertia_(model),
-      stresses_(model),
-      rheonomic_(!model.inputX.empty() || !model.inputE.empty()),
+      gtf_((shared ? *shared : *own_).kinematics()),
+      inertia_((shared ? *shared : *own_).inertia()),
+      stresses_((shared ? *shared : *own_).stresses()),
+      rheonomic_(!model_.inputX.empty() || !model_.inputE.empty()),
       llt_(m_) {
+  const Model& model = model_;
   const int nq = model.numDofs(), nx = model.nx, ne = model.ne;
   const bool full = coords_.basis() == nullptr;
   if (full && (form == DynamicsForm::SaddlePoint || (form == DynamicsForm::Automatic && nq >= kSaddlePointDofs)))

@@ -6,6 +6,7 @@
 // D_x^T sigma = E_q^T sigma through the kinematic Jacobian. Nothing is allocated per call.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 
 #include "core/GeometricTransferFunctions.hpp"
@@ -14,6 +15,7 @@
 #include "core/ReducedCoordinates.hpp"
 #include "core/SaddlePointAccelerations.hpp"
 #include "core/Stresses.hpp"
+#include "core/Workspace.hpp"
 
 namespace flexmb::core {
 
@@ -37,9 +39,15 @@ struct StateOutputs {
 
 class EquationsOfMotion {
  public:
-  // basis: nq x m (q = V eta); empty optional = the full model (V = I).
+  // basis: nq x m (q = V eta); empty optional = the full model (V = I). With a workspace of its own.
   EquationsOfMotion(const Model& model, std::optional<Eigen::MatrixXd> basis = std::nullopt,
                     DynamicsForm form = DynamicsForm::Automatic);
+  // On a workspace shared with other evaluators of its model (core/Workspace.hpp: it must outlive
+  // this object; one call at a time). The results are the same bits as with a workspace of its own.
+  EquationsOfMotion(Workspace& workspace, std::optional<Eigen::MatrixXd> basis = std::nullopt,
+                    DynamicsForm form = DynamicsForm::Automatic);
+  EquationsOfMotion(const EquationsOfMotion&) = delete;
+  EquationsOfMotion& operator=(const EquationsOfMotion&) = delete;
 
   int size() const { return m_; }  // dimension of eta
   const Model& model() const { return model_; }
@@ -66,6 +74,8 @@ class EquationsOfMotion {
   DynamicsForm form() const { return saddle_ ? DynamicsForm::SaddlePoint : DynamicsForm::Projected; }
 
  private:
+  EquationsOfMotion(std::unique_ptr<Workspace> own, Workspace* shared, std::optional<Eigen::MatrixXd> basis,
+                    DynamicsForm form);
   // Positions, velocities, and for the projected form F_q V.
   void kinematicState(double t, const Eigen::VectorXd& y);
   // Tells the kinematics how to use the last state's convective terms for predicting eta.
@@ -82,12 +92,13 @@ class EquationsOfMotion {
   // Accelerations etadd_ (and xdd_ in the saddle-point form) at the last kinematic state.
   void accelerations(double t);
 
+  std::unique_ptr<Workspace> own_;  // the workspace when not shared, else null
   const Model& model_;
   ReducedCoordinates coords_;
   int m_;
-  GeometricTransferFunctions gtf_;
-  Inertia inertia_;
-  Stresses stresses_;
+  GeometricTransferFunctions gtf_;  // its own warm start on the workspace's kinematic structure
+  Inertia& inertia_;                // the workspace's (blocks recomputed at every evaluation)
+  const Stresses& stresses_;
   bool rheonomic_;
   std::optional<SaddlePointAccelerations> saddle_;
   std::vector<int> massless_;  // elements without inertia (their D2e come from a pass of their own)

@@ -23,164 +23,41 @@ KinematicsError::KinematicsError(double t, int iterations, double residual, cons
       iterations_(iterations),
       residual_(residual) {}
 
-GeometricTransferFunctions::GeometricTransferFunctions(const Model& model) : model_(model) {
-  const int nx = model.nx, ne = model.ne;
-  colOfCoord_.assign(nx, -1);
-  for (int i = 0; i < nx; ++i)
-    if (model.xRole[i] == Role::Calculable) {
-      colOfCoord_[i] = static_cast<int>(calcCoords_.size());
-      calcCoords_.push_back(i);
-    }
-  rowOfDef_.assign(ne, -1);
-  for (int k = 0; k < ne; ++k)
-    if (model.eRole[k] != Role::Calculable) {
-      rowOfDef_[k] = static_cast<int>(constrainedDefs_.size());
-      constrainedDefs_.push_back(k);
-    }
-  for (const auto& d : model.dofs) {
-    dofRow_.push_back(d.isDeformation ? rowOfDef_[d.index] : -1);
-    dofCoord_.push_back(d.isDeformation ? -1 : d.index);
-    hasDynamicCoords_ |= !d.isDeformation;
-  }
-  knownMoved_ = hasDynamicCoords_ || !model.inputX.empty();
+GeometricTransferFunctions::GeometricTransferFunctions(const Model& model)
+    : GeometricTransferFunctions(std::make_unique<KinematicsWorkspace>(model)) {}
 
-  periodic_.assign(ne, 0);
-  for (const auto& E : model.elements)
-    for (int i = 0; i < E.impl->numDeformations(); ++i)
-      if (E.impl->isPeriodicAngle(i)) periodic_[E.firstDef + i] = 1, hasPeriodic_ = true;
-
-  // Pattern of J = dD_C/dx_calc, built once; every element entry gets its value slot.
-  std::vector<std::tuple<int, int, int, int>> entries;  // col, row, element, local slot
-  slot_.resize(model.elements.size());
-  for (size_t el = 0; el < model.elements.size(); ++el) {
-    const auto& E = model.elements[el];
-    const int nd = E.impl->numDeformations(), nc = E.impl->numCoords();
-    slot_[el].assign(nd * nc, -1);
-    for (int i = 0; i < nd; ++i) {
-      const int row = rowOfDef_[E.firstDef + i];
-      if (row < 0) continue;
-      for (int j = 0; j < nc; ++j) {
-        const int col = colOfCoord_[E.coords[j]];
-        if (col >= 0) entries.emplace_back(col, row, static_cast<int>(el), i * nc + j);
-      }
-    }
-  }
-  std::sort(entries.begin(), entries.end());
-  const int n = numCalculable();
-  colPtr_.assign(n + 1, 0);
-  rowIdx_.clear();
-  for (size_t k = 0; k < entries.size(); ++k) {
-    const auto [col, row, el, s] = entries[k];
-    if (k > 0 && std::get<0>(entries[k - 1]) == col && std::get<1>(entries[k - 1]) == row) {
-      // Two elements cannot share a deformation row, so duplicates do not occur.
-      continue;
-    }
-    slot_[el][s] = static_cast<int>(rowIdx_.size());
-    rowIdx_.push_back(row);
-    ++colPtr_[col + 1];
-  }
-  for (int c = 0; c < n; ++c) colPtr_[c + 1] += colPtr_[c];
-  values_.assign(rowIdx_.size(), 0.0);
-  // Flat (value slot, entry of D_e) lists per element for evaluateElements: no branches there.
-  slotRange_.assign(1, 0);
-  for (size_t el = 0; el < model.elements.size(); ++el) {
-    const auto& E = model.elements[el];
-    const int nd = E.impl->numDeformations(), nc = E.impl->numCoords();
-    for (int i = 0; i < nd; ++i)
-      for (int j = 0; j < nc; ++j)
-        if (slot_[el][i * nc + j] >= 0) {
-          slotFlat_.push_back(slot_[el][i * nc + j]);
-          slotLocal_.push_back(i + j * nd);  // DefJac is column-major with leading dimension nd
-        }
-    slotRange_.push_back(static_cast<int>(slotFlat_.size()));
-  }
-  slot_.clear();
-  // Rows of J are deformation gradients of order 1 (lengths and unit vectors): no row scaling.
-  lu_.disableScaling();
-  if (isSquare() && n > 0) lu_.analyze(n, colPtr_.data(), rowIdx_.data());
-
-  // Length scale for the Newton tolerance: the model's extent (at least the longest element).
-  double scale = 0.0;
-  for (int i = 0; i < nx; ++i)
-    if (isTranslational(model.nodes[model.xOwnerNode[i]].kind)) scale = std::max(scale, std::abs(model.x0[i]));
-  lengthScale_ = scale > 0.0 ? scale : 1.0;
-  setRelativeTolerance(model.settings.kinematicTol);
-
-  analysePlacements();
-
-  x_ = model.x0;
-  lastGood_ = anchor_ = model.x0;
-  e_ = lastGoodE_ = anchorE_ = Eigen::VectorXd::Zero(ne);
-  target_ = Eigen::VectorXd::Zero(numConstraints());
-  rhs_ = Eigen::VectorXd::Zero(std::max(n, 1));
-  work_ = Eigen::VectorXd::Zero(nx);
-  convectiveD2_ = Eigen::VectorXd::Zero(ne);
-  curvature_ = Eigen::VectorXd::Zero(numConstraints());
-  previousX_ = model.x0;
-  workE_ = Eigen::VectorXd::Zero(ne);
-  elemJac_.resize(model.elements.size());
+GeometricTransferFunctions::GeometricTransferFunctions(KinematicsWorkspace& workspace)
+    : model_(workspace.model()), s_(workspace.structure()), w_(workspace.scratch()) {
+  initialise(workspace);
 }
 
-void GeometricTransferFunctions::analysePlacements() {
-  // Repeatedly place an element whose deformations are all prescribed (fixed, input, dynamic) and
-  // of whose two ends one is known and the other unknown; the chain is sequential when this places
-  // every calculable coordinate and uses every such element exactly once (a closed loop leaves an
-  // element with both ends known: its equations are not a placement).
-  if (!isSquare() || numCalculable() == 0) return;
-  const auto& els = model_.elements;
-  std::vector<char> known(nx()), done(els.size(), 0);
-  for (int i = 0; i < nx(); ++i) known[i] = colOfCoord_[i] < 0;
-  int pending = 0;
-  for (size_t el = 0; el < els.size(); ++el) {
-    const auto& E = els[el];
-    int constrained = 0;
-    for (int i = 0; i < E.impl->numDeformations(); ++i) constrained += rowOfDef_[E.firstDef + i] >= 0;
-    if (constrained == 0) {
-      done[el] = 1;  // no equations of its own
-    } else if (constrained < E.impl->numDeformations() || E.impl->endOfCoordinate(0) < 0) {
-      return;  // partly released, or no closed form: Newton
-    } else {
-      ++pending;
-    }
-  }
-  std::vector<Placement> order;
-  for (bool progress = true; progress && pending > 0;) {
-    progress = false;
-    for (size_t el = 0; el < els.size(); ++el) {
-      if (done[el]) continue;
-      const auto& E = els[el];
-      bool endKnown[2] = {true, true}, endUnknown[2] = {true, true};
-      for (size_t j = 0; j < E.coords.size(); ++j) {
-        const int end = E.impl->endOfCoordinate(static_cast<int>(j));
-        (known[E.coords[j]] ? endUnknown : endKnown)[end] = false;
-      }
-      if (endKnown[0] && endKnown[1]) return;  // redundant equations: a closed loop
-      for (int to = 0; to < 2; ++to)
-        if (endKnown[1 - to] && endUnknown[to]) {
-          order.push_back({static_cast<int>(el), to});
-          for (size_t j = 0; j < E.coords.size(); ++j)
-            if (E.impl->endOfCoordinate(static_cast<int>(j)) == to) known[E.coords[j]] = 1;
-          done[el] = 1;
-          --pending;
-          progress = true;
-          break;
-        }
-    }
-  }
-  if (pending > 0) return;
-  for (int i = 0; i < nx(); ++i)
-    if (!known[i]) return;
-  placements_ = std::move(order);
+GeometricTransferFunctions::GeometricTransferFunctions(std::unique_ptr<KinematicsWorkspace> own)
+    : own_(std::move(own)), model_(own_->model()), s_(own_->structure()), w_(own_->scratch()) {
+  initialise(*own_);
+}
+
+void GeometricTransferFunctions::initialise(const KinematicsWorkspace& workspace) {
+  // Rows of J are deformation gradients of order 1 (lengths and unit vectors): no row scaling.
+  lu_.disableScaling();
+  lu_.shareAnalysis(workspace.analysis());
+  setRelativeTolerance(model_.settings.kinematicTol);
+  const int ne = model_.ne;
+  x_ = model_.x0;
+  lastGood_ = anchor_ = model_.x0;
+  e_ = lastGoodE_ = anchorE_ = Eigen::VectorXd::Zero(ne);
+  curvature_ = Eigen::VectorXd::Zero(numConstraints());
+  previousX_ = model_.x0;
+  elemJac_.resize(model_.elements.size());
 }
 
 bool GeometricTransferFunctions::placeSequentially() {
   ElemVec xe;
   DefVec e;
-  for (const Placement& p : placements_) {
+  for (const KinematicsWorkspace::Placement& p : s_.placements) {
     const auto& E = model_.elements[p.element];
     E.gather(x_, xe);
     e.resize(E.impl->numDeformations());
-    for (int i = 0; i < e.size(); ++i) e[i] = target_[rowOfDef_[E.firstDef + i]];
+    for (int i = 0; i < e.size(); ++i) e[i] = w_.target[s_.rowOfDef[E.firstDef + i]];
     if (!E.impl->place(e, p.to, xe)) return false;
     for (size_t j = 0; j < E.coords.size(); ++j)
       if (E.impl->endOfCoordinate(static_cast<int>(j)) == p.to) x_[E.coords[j]] = xe[j];
@@ -190,7 +67,7 @@ bool GeometricTransferFunctions::placeSequentially() {
 
 void GeometricTransferFunctions::setRelativeTolerance(double tol) {
   // Never ask for less than round-off of the coordinates can deliver.
-  tolerance_ = std::max(tol, 16 * std::numeric_limits<double>::epsilon()) * lengthScale_;
+  tolerance_ = std::max(tol, 16 * std::numeric_limits<double>::epsilon()) * s_.lengthScale;
 }
 
 Eigen::VectorXd GeometricTransferFunctions::initialDofs() const {
@@ -231,7 +108,7 @@ void GeometricTransferFunctions::restartFromAnchor() {
 
 void GeometricTransferFunctions::setPredictorCurvature(const Eigen::VectorXd& d2) {
   if (!consistent_) return;
-  for (int r = 0; r < numConstraints(); ++r) curvature_[r] = d2[constrainedDefs_[r]];
+  for (int r = 0; r < numConstraints(); ++r) curvature_[r] = d2[s_.constrainedDefs[r]];
   hasCurvature_ = true;
   curvatureScale_ = 0.0;
 }
@@ -254,14 +131,14 @@ void GeometricTransferFunctions::inputRates(double t, Eigen::VectorXd& xk, Eigen
 }
 
 void GeometricTransferFunctions::constraintTargets(double t, const Eigen::VectorXd& q) {
-  workE_.setZero();
-  inputRates(t, x_, workE_, 0);  // input coordinates straight into x, input deformations into workE_
-  for (int r = 0; r < numConstraints(); ++r) target_[r] = workE_[constrainedDefs_[r]];
+  w_.workE.setZero();
+  inputRates(t, x_, w_.workE, 0);  // input coordinates straight into x, input deformations into w_.workE
+  for (int r = 0; r < numConstraints(); ++r) w_.target[r] = w_.workE[s_.constrainedDefs[r]];
   for (int j = 0; j < nq(); ++j) {
-    if (dofRow_[j] >= 0)
-      target_[dofRow_[j]] = q[j];
+    if (s_.dofRow[j] >= 0)
+      w_.target[s_.dofRow[j]] = q[j];
     else
-      x_[dofCoord_[j]] = q[j];
+      x_[s_.dofCoord[j]] = q[j];
   }
 }
 
@@ -278,11 +155,11 @@ void GeometricTransferFunctions::evaluateElements(bool withJacobian) {
       E.impl->deformations(xe, de);
     for (int i = 0; i < de.size(); ++i) {
       const int k = E.firstDef + i;
-      if (hasPeriodic_ && periodic_[k]) {
+      if (s_.hasPeriodic && s_.periodic[k]) {
         // A principal-value angle: take the revolution nearest to the prescribed value (DOF or
         // input) or, for a calculable angle, to the previous one, so e and the residual of Eq. 7
         // stay continuous through pi.
-        const double ref = rowOfDef_[k] >= 0 ? target_[rowOfDef_[k]] : e_[k];
+        const double ref = s_.rowOfDef[k] >= 0 ? w_.target[s_.rowOfDef[k]] : e_[k];
         e_[k] = ref + std::remainder(de[i] - ref, 2.0 * M_PI);
       } else {
         e_[k] = de[i];
@@ -294,7 +171,7 @@ void GeometricTransferFunctions::evaluateElements(bool withJacobian) {
 
 void GeometricTransferFunctions::storeJacobian(size_t el) {
   const double* d = elemJac_[el].data();
-  for (int p = slotRange_[el]; p < slotRange_[el + 1]; ++p) values_[slotFlat_[p]] = d[slotLocal_[p]];
+  for (int p = s_.slotRange[el]; p < s_.slotRange[el + 1]; ++p) w_.values[s_.slotFlat[p]] = d[s_.slotLocal[p]];
 }
 
 void GeometricTransferFunctions::evaluateJacobians() {
@@ -358,26 +235,26 @@ double GeometricTransferFunctions::predict() {
   hasCurvature_ = false;
   curvatureScale_ = 0.0;
   for (int r = 0; r < numConstraints(); ++r) {
-    const int k = constrainedDefs_[r];
-    double d = target_[r] - e_[k];
-    if (hasPeriodic_ && periodic_[k]) d = std::remainder(d, 2.0 * M_PI);
-    rhs_[r] = d;
+    const int k = s_.constrainedDefs[r];
+    double d = w_.target[r] - e_[k];
+    if (s_.hasPeriodic && s_.periodic[k]) d = std::remainder(d, 2.0 * M_PI);
+    w_.rhs[r] = d;
     res = std::max(res, std::abs(d));
-    if (curved) rhs_[r] -= half * curvature_[r];
+    if (curved) w_.rhs[r] -= half * curvature_[r];
   }
   bool moved = false;
-  if (knownMoved_) {
+  if (s_.knownMoved) {
     for (int i = 0; i < nx(); ++i) {
-      work_[i] = colOfCoord_[i] < 0 ? x_[i] - previousX_[i] : 0.0;
-      moved |= work_[i] != 0.0;
+      w_.work[i] = s_.colOfCoord[i] < 0 ? x_[i] - previousX_[i] : 0.0;
+      moved |= w_.work[i] != 0.0;
     }
-    if (moved) knownCoupling(work_, rhs_.data());
+    if (moved) knownCoupling(w_.work, w_.rhs.data());
   }
   // Nothing moved and the last solution still satisfies the equations: keep it as it is (the same
   // state gives the same configuration, bit for bit).
   if (!moved && !curved && res <= tolerance_) return res;
-  lu_.solve(rhs_.data(), 1);
-  for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
+  lu_.solve(w_.rhs.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) x_[s_.calcCoords[c]] += w_.rhs[c];
   return res;
 }
 
@@ -386,19 +263,19 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
   const bool warm = consistent_;
   consistent_ = false;
   if (!warm) hasCurvature_ = false, curvatureScale_ = 0.0;
-  if (warm && knownMoved_) previousX_ = x_;
+  if (warm && s_.knownMoved) previousX_ = x_;
   constraintTargets(t, q);
   const int maxIt = std::max(1, model_.settings.maxIterations);
   int steps = 0;
   double previous = std::numeric_limits<double>::infinity();
   bool chord = warm;
-  if (!placements_.empty()) {
+  if (!s_.placements.empty()) {
     // Open chain: one pass of closed-form placements gives the solution (checked below); where an
     // element has none on its valid branch, Newton continues from the last solution.
     hasCurvature_ = false;
     chord = false;
     if (!placeSequentially())
-      for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] = lastGood_[calcCoords_[c]];
+      for (int c = 0; c < numCalculable(); ++c) x_[s_.calcCoords[c]] = lastGood_[s_.calcCoords[c]];
   } else if (warm) {
     previous = predict();
     ++steps;
@@ -415,8 +292,8 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
     evaluateElements(withJacobian);
     res = 0.0;
     for (int r = 0; r < numConstraints(); ++r) {
-      rhs_[r] = target_[r] - e_[constrainedDefs_[r]];
-      res = std::max(res, std::abs(rhs_[r]));
+      w_.rhs[r] = w_.target[r] - e_[s_.constrainedDefs[r]];
+      res = std::max(res, std::abs(w_.rhs[r]));
     }
     if (!std::isfinite(res)) throw KinematicsError(t, it, res, "non-finite residual");
     const bool converged = res <= tolerance_;
@@ -424,7 +301,7 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
     if (chord && it == 1) predictionMissed_ = !converged;
     if (converged || slow) {
       if (!withJacobian) evaluateJacobians();
-      if (!lu_.factorize(values_.data()))
+      if (!lu_.factorize(w_.values.data()))
         throw KinematicsError(t, it, res, "singular kinematic Jacobian (dead point or bad constraints)");
     }
     if (converged) {
@@ -433,10 +310,10 @@ void GeometricTransferFunctions::newton(double t, const Eigen::VectorXd& q) {
       return;
     }
     if (it == maxIt) break;
-    if (res > 1e3 * lengthScale_) throw KinematicsError(t, it, res, "Newton iteration diverged");
+    if (res > 1e3 * s_.lengthScale) throw KinematicsError(t, it, res, "Newton iteration diverged");
     previous = res;
-    lu_.solve(rhs_.data(), 1);
-    for (int c = 0; c < numCalculable(); ++c) x_[calcCoords_[c]] += rhs_[c];
+    lu_.solve(w_.rhs.data(), 1);
+    for (int c = 0; c < numCalculable(); ++c) x_[s_.calcCoords[c]] += w_.rhs[c];
   }
   throw KinematicsError(t, maxIt, res, "Newton iteration did not converge");
 }
@@ -447,7 +324,7 @@ void GeometricTransferFunctions::knownCoupling(const Eigen::VectorXd& v, double*
     const DefJac& De = elemJac_[el];
     const int nc = static_cast<int>(E.coords.size());
     for (int i = 0; i < De.rows(); ++i) {
-      const int row = rowOfDef_[E.firstDef + i];
+      const int row = s_.rowOfDef[E.firstDef + i];
       if (row < 0) continue;
       double s = 0.0;
       for (int j = 0; j < nc; ++j) s += De(i, j) * v[E.coords[j]];
@@ -461,53 +338,53 @@ void GeometricTransferFunctions::firstOrder(const Eigen::MatrixXd* V, Eigen::Mat
   const int m = V ? static_cast<int>(V->cols()) : nq();
   const int n = numCalculable();
   FqV.setZero(nx(), m);
-  rhsMat_.setZero(n, m);
-  const int* row = dofRow_.data();
+  w_.rhsMat.setZero(n, m);
+  const int* row = s_.dofRow.data();
   for (int c = 0; c < m; ++c) {
     if (V) {  // every dof's entry (no test for zeros: the loop is branch-predictable)
       const double* v = V->col(c).data();
-      double* r = rhsMat_.col(c).data();
+      double* r = w_.rhsMat.col(c).data();
       for (int j = 0; j < nq(); ++j) {
         if (row[j] >= 0)
           r[row[j]] += v[j];
         else
-          FqV(dofCoord_[j], c) = v[j];
+          FqV(s_.dofCoord[j], c) = v[j];
       }
     } else if (row[c] >= 0) {
-      rhsMat_(row[c], c) = 1.0;
+      w_.rhsMat(row[c], c) = 1.0;
     } else {
-      FqV(dofCoord_[c], c) = 1.0;
+      FqV(s_.dofCoord[c], c) = 1.0;
     }
-    if (hasDynamicCoords_) {
-      work_ = FqV.col(c);
-      knownCoupling(work_, rhsMat_.col(c).data());
+    if (s_.hasDynamicCoords) {
+      w_.work = FqV.col(c);
+      knownCoupling(w_.work, w_.rhsMat.col(c).data());
     }
   }
-  lu_.solve(rhsMat_.data(), m);
+  lu_.solve(w_.rhsMat.data(), m);
   for (int c = 0; c < m; ++c)
-    for (int k = 0; k < n; ++k) FqV(calcCoords_[k], c) = rhsMat_(k, c);
+    for (int k = 0; k < n; ++k) FqV(s_.calcCoords[k], c) = w_.rhsMat(k, c);
 }
 
 void GeometricTransferFunctions::velocities(double t, const Eigen::VectorXd& qd, Eigen::VectorXd& xd) {
   xd.setZero(nx());
-  workE_.setZero();
-  inputRates(t, xd, workE_, 1);
-  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
+  w_.workE.setZero();
+  inputRates(t, xd, w_.workE, 1);
+  for (int r = 0; r < numConstraints(); ++r) w_.rhs[r] = w_.workE[s_.constrainedDefs[r]];
   for (int j = 0; j < nq(); ++j) {
-    if (dofRow_[j] >= 0)
-      rhs_[dofRow_[j]] = qd[j];
+    if (s_.dofRow[j] >= 0)
+      w_.rhs[s_.dofRow[j]] = qd[j];
     else
-      xd[dofCoord_[j]] = qd[j];
+      xd[s_.dofCoord[j]] = qd[j];
   }
-  for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = 0.0;
-  if (knownMoved_) knownCoupling(xd, rhs_.data());  // else every known coordinate is at rest
-  lu_.solve(rhs_.data(), 1);
-  for (int c = 0; c < numCalculable(); ++c) xd[calcCoords_[c]] = rhs_[c];
+  for (int c = 0; c < numCalculable(); ++c) xd[s_.calcCoords[c]] = 0.0;
+  if (s_.knownMoved) knownCoupling(xd, w_.rhs.data());  // else every known coordinate is at rest
+  lu_.solve(w_.rhs.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) xd[s_.calcCoords[c]] = w_.rhs[c];
 }
 
 void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::VectorXd& xd, Eigen::VectorXd& g) {
   // Convective part D2[xd, xd] of every deformation, then the solve.
-  workE_.setZero();
+  w_.workE.setZero();
   ElemVec xe, ve;
   DefVec d2;
   for (size_t el = 0; el < model_.elements.size(); ++el) {
@@ -516,27 +393,27 @@ void GeometricTransferFunctions::accelerationOffset(double t, const Eigen::Vecto
     if (ve.isZero(0.0)) continue;
     E.gather(x_, xe);
     E.impl->secondDerivative(xe, ve, d2);
-    for (int i = 0; i < d2.size(); ++i) workE_[E.firstDef + i] = d2[i];
+    for (int i = 0; i < d2.size(); ++i) w_.workE[E.firstDef + i] = d2[i];
   }
-  convectiveD2_ = workE_;
-  accelerationOffsetFrom(t, convectiveD2_, g);
+  w_.convectiveD2 = w_.workE;
+  accelerationOffsetFrom(t, w_.convectiveD2, g);
 }
 
 void GeometricTransferFunctions::accelerationOffsetFrom(double t, const Eigen::VectorXd& d2, Eigen::VectorXd& g) {
   g.setZero(nx());
-  workE_.setZero();
-  inputRates(t, g, workE_, 2);
-  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = 0.0;
+  w_.workE.setZero();
+  inputRates(t, g, w_.workE, 2);
+  for (int c = 0; c < numCalculable(); ++c) g[s_.calcCoords[c]] = 0.0;
   for (int j = 0; j < nq(); ++j)
-    if (dofCoord_[j] >= 0) g[dofCoord_[j]] = 0.0;
+    if (s_.dofCoord[j] >= 0) g[s_.dofCoord[j]] = 0.0;
   // J g_c = edd_input - D_k g_k - D2_C[xd, xd] (Eq. 8b with qdd = 0; F_qq is never formed).
-  for (int r = 0; r < numConstraints(); ++r) rhs_[r] = workE_[constrainedDefs_[r]];
+  for (int r = 0; r < numConstraints(); ++r) w_.rhs[r] = w_.workE[s_.constrainedDefs[r]];
   for (int j = 0; j < nq(); ++j)
-    if (dofRow_[j] >= 0) rhs_[dofRow_[j]] = 0.0;  // qdd = 0
-  if (knownMoved_) knownCoupling(g, rhs_.data());
-  for (int r = 0; r < numConstraints(); ++r) rhs_[r] -= d2[constrainedDefs_[r]];
-  lu_.solve(rhs_.data(), 1);
-  for (int c = 0; c < numCalculable(); ++c) g[calcCoords_[c]] = rhs_[c];
+    if (s_.dofRow[j] >= 0) w_.rhs[s_.dofRow[j]] = 0.0;  // qdd = 0
+  if (s_.knownMoved) knownCoupling(g, w_.rhs.data());
+  for (int r = 0; r < numConstraints(); ++r) w_.rhs[r] -= d2[s_.constrainedDefs[r]];
+  lu_.solve(w_.rhs.data(), 1);
+  for (int c = 0; c < numCalculable(); ++c) g[s_.calcCoords[c]] = w_.rhs[c];
 }
 
 void GeometricTransferFunctions::deformationRates(const Eigen::VectorXd& xd, Eigen::VectorXd& ed) const {
@@ -594,9 +471,9 @@ void GeometricTransferFunctions::deformationFirstOrder(const Eigen::MatrixXd& Fq
 namespace flexmb::core {
 
 void GeometricTransferFunctions::addConstraintStresses(const Eigen::VectorXd& r, Eigen::VectorXd& sigma) {
-  for (int c = 0; c < numCalculable(); ++c) rhs_[c] = r[calcCoords_[c]];
-  lu_.solveTransposed(rhs_.data(), 1);
-  for (int k = 0; k < numConstraints(); ++k) sigma[constrainedDefs_[k]] += rhs_[k];
+  for (int c = 0; c < numCalculable(); ++c) w_.rhs[c] = r[s_.calcCoords[c]];
+  lu_.solveTransposed(w_.rhs.data(), 1);
+  for (int k = 0; k < numConstraints(); ++k) sigma[s_.constrainedDefs[k]] += w_.rhs[k];
 }
 
 }  // namespace flexmb::core
@@ -658,12 +535,12 @@ void GeometricTransferFunctions::solveConstrained(const Eigen::MatrixXd& R, Eige
   const int m = static_cast<int>(R.cols()), n = numCalculable();
   Z.setZero(nx(), m);
   if (n == 0 || m == 0) return;
-  rhsMat_.resize(n, m);
+  w_.rhsMat.resize(n, m);
   for (int j = 0; j < m; ++j)
-    for (int r = 0; r < n; ++r) rhsMat_(r, j) = R(constrainedDefs_[r], j);
-  lu_.solve(rhsMat_.data(), m);
+    for (int r = 0; r < n; ++r) w_.rhsMat(r, j) = R(s_.constrainedDefs[r], j);
+  lu_.solve(w_.rhsMat.data(), m);
   for (int j = 0; j < m; ++j)
-    for (int c = 0; c < n; ++c) Z(calcCoords_[c], j) = rhsMat_(c, j);
+    for (int c = 0; c < n; ++c) Z(s_.calcCoords[c], j) = w_.rhsMat(c, j);
 }
 
 }  // namespace flexmb::core

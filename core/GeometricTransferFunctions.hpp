@@ -1,13 +1,17 @@
 #pragma once
 // Geometric transfer functions x = F(q, t), e = E(q, t) and their derivatives (paper Eq. 7-8),
 // solved by Newton on the kinematic equations D_C(x) = target (fixed, input and dynamic
-// deformations) for the calculable nodal coordinates. The sparse pattern is analysed once.
+// deformations) for the calculable nodal coordinates. The sparse pattern is analysed once, in the
+// model's KinematicsWorkspace, which several of these objects may share (one thread at a time, see
+// core/KinematicsWorkspace.hpp); each keeps its own configuration, warm start and factorisation.
 #include <Eigen/Core>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/DirectionalDerivative.hpp"
+#include "core/KinematicsWorkspace.hpp"
 #include "core/Model.hpp"
 #include "core/SparseLU.hpp"
 
@@ -29,16 +33,21 @@ class KinematicsError : public std::runtime_error {
 
 class GeometricTransferFunctions {
  public:
+  // With a workspace of its own.
   explicit GeometricTransferFunctions(const Model& model);
+  // On a shared workspace (of the same model), which must outlive this object.
+  explicit GeometricTransferFunctions(KinematicsWorkspace& workspace);
+  GeometricTransferFunctions(const GeometricTransferFunctions&) = delete;
+  GeometricTransferFunctions& operator=(const GeometricTransferFunctions&) = delete;
 
   const Model& model() const { return model_; }
   int nx() const { return model_.nx; }
   int ne() const { return model_.ne; }
   int nq() const { return model_.numDofs(); }
-  int numCalculable() const { return static_cast<int>(calcCoords_.size()); }
-  int numConstraints() const { return static_cast<int>(constrainedDefs_.size()); }
+  int numCalculable() const { return s_.numCalculable(); }
+  int numConstraints() const { return s_.numConstraints(); }
   // True when the kinematic equations are square (a prerequisite for solving).
-  bool isSquare() const { return numCalculable() == numConstraints(); }
+  bool isSquare() const { return s_.isSquare(); }
 
   // q of the initial configuration: DYNX values of x0, DYNE values e0 (0 where not given).
   Eigen::VectorXd initialDofs() const;
@@ -113,11 +122,13 @@ class GeometricTransferFunctions {
   const DefJac& elementJacobian(int element) const { return elemJac_[element]; }
   int lastIterations() const { return lastIterations_; }
   // The kinematic equations form an open chain solved in one pass (no Newton iteration).
-  bool isSequential() const { return !placements_.empty(); }
+  bool isSequential() const { return !s_.placements.empty(); }
+  // Factorisations of the kinematic Jacobian with fresh pivoting so far (tests).
+  long pivotings() const { return lu_.pivotings(); }
 
   // Index maps (for diagnostics and the kinematic check).
-  const std::vector<int>& calculableCoords() const { return calcCoords_; }
-  const std::vector<int>& constrainedDeformations() const { return constrainedDefs_; }
+  const std::vector<int>& calculableCoords() const { return s_.calcCoords; }
+  const std::vector<int>& constrainedDeformations() const { return s_.constrainedDefs; }
 
  private:
   void evaluateElements(bool withJacobian = true);  // e, element Jacobians, J values at x_
@@ -128,36 +139,25 @@ class GeometricTransferFunctions {
   // rhs_r = b_r - (D_x v)_r for constrained rows; v holds known-coordinate values.
   void knownCoupling(const Eigen::VectorXd& v, double* rhs) const;
 
-  const Model& model_;
-  std::vector<int> calcCoords_, constrainedDefs_;
-  std::vector<int> colOfCoord_, rowOfDef_;
-  std::vector<int> dofRow_, dofCoord_;  // per dof: J row (DYNE) or x index (DYNX), else -1
-  std::vector<char> periodic_;          // per deformation: an angle known modulo 2 pi
-  bool hasPeriodic_ = false;
-  // Jacobian pattern (compressed column) and the map element entry -> value slot.
-  std::vector<int> colPtr_, rowIdx_;
-  std::vector<double> values_;
-  std::vector<std::vector<int>> slot_;                 // construction only: per element ndef*ncoord slots (row-major)
-  std::vector<int> slotRange_, slotFlat_, slotLocal_;  // per element: (value slot, entry of D_e)
-  SparseLU lu_;
-  double tolerance_ = 1e-10;
-  double lengthScale_ = 1.0;
+  explicit GeometricTransferFunctions(std::unique_ptr<KinematicsWorkspace> own);
+  void initialise(const KinematicsWorkspace& workspace);
 
-  bool hasDynamicCoords_ = false;
+  std::unique_ptr<KinematicsWorkspace> own_;  // the workspace when not shared, else null
+  const Model& model_;
+  const KinematicsWorkspace::Structure& s_;
+  KinematicsWorkspace::Scratch& w_;  // per call only
+  // What one call leaves for the next (the warm start; never shared, see KinematicsWorkspace.hpp):
+  SparseLU lu_;  // the factorisation of J at the last converged configuration (chord steps, predictor)
+  double tolerance_ = 1e-10;
+
   Eigen::VectorXd lastGood_, lastGoodE_;  // last converged configuration: the restart point after a failure
   Eigen::VectorXd anchor_, anchorE_;      // the integrator's last accepted configuration (setAnchor)
   bool hasAnchor_ = false;
   bool retryNewton(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& x, const Eigen::VectorXd& e,
                    KinematicsError& error);
   void newton(double t, const Eigen::VectorXd& q);
-  // Open chains (design: no iteration where the topology allows): the elements in placement order,
-  // each placing one end from the other with its closed form (Element::place). Empty when the
-  // kinematic equations are not sequential (a closed loop, an element without a closed form).
-  struct Placement {
-    int element, to;
-  };
-  std::vector<Placement> placements_;
-  void analysePlacements();
+  // Open chains (design: no iteration where the topology allows): the workspace's placement order,
+  // each element placing one end from the other with its closed form (Element::place).
   bool placeSequentially();  // false when an element had no solution: Newton takes over
   double predict();          // returns the residual it started from
   // A chord (simplified Newton) step is kept while the residual falls at least this much per step;
@@ -166,15 +166,13 @@ class GeometricTransferFunctions {
   static constexpr double kChordContraction = 1e-3;
   // x_, e_ and the factorisation belong to one converged configuration (the predictor may start).
   bool consistent_ = false;
-  bool knownMoved_ = false;        // inputs or DYNX coordinates: the known coordinates move with (t, q)
   bool hasCurvature_ = false;      // curvature_ belongs to the consistent configuration
   bool predictionMissed_ = false;  // the last predicted configuration needed a correction
   double curvatureScale_ = 0.0;
   Eigen::VectorXd curvature_;  // D2_C[xd, xd] on the constrained rows
   Eigen::VectorXd previousX_;
-  Eigen::VectorXd x_, e_, target_, rhs_, work_, workE_, convectiveD2_;
-  Eigen::MatrixXd rhsMat_;
-  std::vector<DefJac> elemJac_;
+  Eigen::VectorXd x_, e_;
+  std::vector<DefJac> elemJac_;  // D_e at x_ (the predictor's known-coordinate coupling reads them)
   double inputLoadFactor_ = 0.0;
   double initialLoadFactor_ = 1.0;
   int lastIterations_ = 0;

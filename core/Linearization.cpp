@@ -5,16 +5,23 @@
 namespace flexmb::core {
 
 Linearization::Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis)
-    : model_(model),
-      coords_(model.numDofs(), std::move(basis)),
+    : Linearization(std::make_unique<Workspace>(model), nullptr, std::move(basis)) {}
+
+Linearization::Linearization(Workspace& workspace, std::optional<Eigen::MatrixXd> basis)
+    : Linearization(nullptr, &workspace, std::move(basis)) {}
+
+Linearization::Linearization(std::unique_ptr<Workspace> own, Workspace* shared, std::optional<Eigen::MatrixXd> basis)
+    : own_(std::move(own)),
+      model_((shared ? *shared : *own_).model()),
+      coords_(model_.numDofs(), std::move(basis)),
       m_(coords_.size()),
-      gtf_(model),
-      inertia_(model),
-      stresses_(model),
-      steps_(model),
-      nodal_(model) {
-  active_.resize(model.ne);
-  for (int k = 0; k < model.ne; ++k) active_[k] = stresses_.isActive(k) ? 1 : 0;
+      gtf_((shared ? *shared : *own_).kinematics()),
+      inertia_((shared ? *shared : *own_).inertia()),
+      stresses_((shared ? *shared : *own_).stresses()),
+      steps_((shared ? *shared : *own_).steps()),
+      nodal_((shared ? *shared : *own_).nodal()) {
+  active_.resize(model_.ne);
+  for (int k = 0; k < model_.ne; ++k) active_[k] = stresses_.isActive(k) ? 1 : 0;
 }
 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }

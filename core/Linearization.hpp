@@ -22,6 +22,7 @@
 #include "core/NodalMatrices.hpp"
 #include "core/ReducedCoordinates.hpp"
 #include "core/Stresses.hpp"
+#include "core/Workspace.hpp"
 
 namespace flexmb::core {
 
@@ -47,7 +48,14 @@ struct ConstrainedPencil {
 
 class Linearization {
  public:
+  // With a workspace of its own.
   explicit Linearization(const Model& model, std::optional<Eigen::MatrixXd> basis = std::nullopt);
+  // On a workspace shared with other evaluators of its model (core/Workspace.hpp: it must outlive
+  // this object; one call at a time; the nodal matrices are the workspace's, so constrainedPencil
+  // reads those of this object's last call only while no other evaluator assembled them since).
+  explicit Linearization(Workspace& workspace, std::optional<Eigen::MatrixXd> basis = std::nullopt);
+  Linearization(const Linearization&) = delete;
+  Linearization& operator=(const Linearization&) = delete;
   int size() const { return m_; }
   const ReducedCoordinates& coordinates() const { return coords_; }
   const Model& model() const { return model_; }
@@ -104,6 +112,7 @@ class Linearization {
   void solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
  private:
+  Linearization(std::unique_ptr<Workspace> own, Workspace* shared, std::optional<Eigen::MatrixXd> basis);
   mutable double loadFactor_ = 0.0, initialFactor_ = 1.0;  // of the last appliedForces
   // out = L^T S R (S or S_d), on the active deformations.
   void constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::MatrixXd& R, bool damping,
@@ -120,14 +129,15 @@ class Linearization {
   // sigma_, r_ = f - D_x^T sigma and Q at the current kinematic configuration.
   void forcesInPlace(double t, const Eigen::VectorXd& f, Eigen::VectorXd& Q);
 
+  std::unique_ptr<Workspace> own_;  // the workspace when not shared, else null
   const Model& model_;
   ReducedCoordinates coords_;
   int m_;
-  GeometricTransferFunctions gtf_;
-  Inertia inertia_;
-  Stresses stresses_;
-  ElementSteps steps_;
-  NodalMatrices nodal_;
+  GeometricTransferFunctions gtf_;  // its own warm start on the workspace's kinematic structure
+  Inertia& inertia_;                // the workspace's
+  const Stresses& stresses_;
+  const ElementSteps& steps_;
+  NodalMatrices& nodal_;
   std::vector<char> active_;  // per deformation: carries a stress
   Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_;

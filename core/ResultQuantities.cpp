@@ -3,7 +3,16 @@
 namespace flexmb::core {
 
 ResultQuantities::ResultQuantities(const Model& model)
-    : model_(model), gtf_(model), inertia_(model), calculable_(model.nx, 0) {
+    : ResultQuantities(std::make_unique<Workspace>(model), nullptr) {}
+
+ResultQuantities::ResultQuantities(Workspace& workspace) : ResultQuantities(nullptr, &workspace) {}
+
+ResultQuantities::ResultQuantities(std::unique_ptr<Workspace> own, Workspace* shared)
+    : own_(std::move(own)),
+      model_((shared ? *shared : *own_).model()),
+      gtf_((shared ? *shared : *own_).kinematics()),
+      inertia_((shared ? *shared : *own_).inertia()),
+      calculable_(model_.nx, 0) {
   for (int c : gtf_.calculableCoords()) calculable_[c] = 1;
 }
 

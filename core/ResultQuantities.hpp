@@ -8,12 +8,14 @@
 //     support reaction);
 //   * the first-order transfer functions dx/d(input and dynamic coordinates) and D = de/dx.
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/Inertia.hpp"
 #include "core/Model.hpp"
+#include "core/Workspace.hpp"
 
 namespace flexmb::core {
 
@@ -25,7 +27,12 @@ struct FreeCoordinate {
 
 class ResultQuantities {
  public:
+  // With a workspace of its own.
   explicit ResultQuantities(const Model& model);
+  // On a workspace shared with other evaluators of its model (core/Workspace.hpp).
+  explicit ResultQuantities(Workspace& workspace);
+  ResultQuantities(const ResultQuantities&) = delete;
+  ResultQuantities& operator=(const ResultQuantities&) = delete;
   // Positions and Jacobians at (t, q), input coordinates at load factor s and initial-load factor
   // mu (statics, analysis/Statics.hpp). Throws KinematicsError.
   void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0, double initialFactor = 1.0);
@@ -49,9 +56,11 @@ class ResultQuantities {
   void jacobian(Eigen::MatrixXd& D) const;
 
  private:
+  ResultQuantities(std::unique_ptr<Workspace> own, Workspace* shared);
+  std::unique_ptr<Workspace> own_;  // the workspace when not shared, else null
   const Model& model_;
   GeometricTransferFunctions gtf_;
-  Inertia inertia_;
+  Inertia& inertia_;
   std::vector<char> calculable_;
 };
 

@@ -583,9 +583,20 @@ void SolvePlan::solve(double* b, int nrhs) const {
   if (r < nrhs) solveLanes(b + static_cast<size_t>(r) * n_, x1_.data());
 }
 
+namespace {
+// KLU's symbolic object, freed by the last SparseLU that uses it (shareAnalysis).
+std::shared_ptr<klu_symbolic> ownSymbolic(klu_symbolic* s) {
+  return std::shared_ptr<klu_symbolic>(s, [](klu_symbolic* p) {
+    klu_common c;
+    klu_defaults(&c);
+    klu_free_symbolic(&p, &c);
+  });
+}
+}  // namespace
+
 struct SparseLU::Impl {
   klu_common common{};
-  klu_symbolic* symbolic = nullptr;
+  std::shared_ptr<klu_symbolic> symbolic;  // this object's analysis, or one shared with others
   klu_numeric* numeric = nullptr;
   const int* colPtr = nullptr;
   const int* rowIdx = nullptr;
@@ -593,7 +604,6 @@ struct SparseLU::Impl {
   bool kluStale = false;  // the plan's refactorisation is newer than KLU's numeric object
   ~Impl() {
     if (numeric) klu_free_numeric(&numeric, &common);
-    if (symbolic) klu_free_symbolic(&symbolic, &common);
   }
 };
 
@@ -607,13 +617,23 @@ void SparseLU::disableScaling() { impl_->common.scale = -1; }
 void SparseLU::analyze(int n, const int* colPtr, const int* rowIdx) {
   auto& m = *impl_;
   if (m.numeric) klu_free_numeric(&m.numeric, &m.common);
-  if (m.symbolic) klu_free_symbolic(&m.symbolic, &m.common);
+  m.symbolic.reset();
   n_ = n;
   m.colPtr = colPtr;
   m.rowIdx = rowIdx;
   if (n == 0) return;
-  m.symbolic = klu_analyze(n, const_cast<int*>(colPtr), const_cast<int*>(rowIdx), &m.common);
-  if (!m.symbolic) throw std::runtime_error("KLU could not analyse the kinematic Jacobian pattern");
+  klu_symbolic* s = klu_analyze(n, const_cast<int*>(colPtr), const_cast<int*>(rowIdx), &m.common);
+  if (!s) throw std::runtime_error("KLU could not analyse the kinematic Jacobian pattern");
+  m.symbolic = ownSymbolic(s);
+}
+
+void SparseLU::shareAnalysis(const SparseLU& analysed) {
+  auto& m = *impl_;
+  if (m.numeric) klu_free_numeric(&m.numeric, &m.common);
+  m.symbolic = analysed.impl_->symbolic;
+  m.colPtr = analysed.impl_->colPtr;
+  m.rowIdx = analysed.impl_->rowIdx;
+  n_ = analysed.n_;
 }
 
 bool SparseLU::factorize(const double* ax) {
@@ -631,11 +651,11 @@ bool SparseLU::factorize(const double* ax) {
     klu_free_numeric(&m.numeric, &m.common);
   }
   m.kluStale = false;
-  m.numeric = klu_factor(ap, ai, x, m.symbolic, &m.common);
+  m.numeric = klu_factor(ap, ai, x, m.symbolic.get(), &m.common);
   ++pivotings_;
   if (!m.numeric) return false;
   m.plan.build(*m.symbolic, *m.numeric, m.colPtr, m.rowIdx);
-  klu_rcond(m.symbolic, m.numeric, &m.common);
+  klu_rcond(m.symbolic.get(), m.numeric, &m.common);
   return m.common.status == KLU_OK && m.common.rcond > 1e-14;
 }
 
@@ -650,7 +670,7 @@ void SparseLU::solveTransposed(double* b, int nrhs) const {
     impl_->plan.writeBack(*impl_->numeric);
     impl_->kluStale = false;
   }
-  klu_tsolve(impl_->symbolic, impl_->numeric, n_, nrhs, b, &impl_->common);
+  klu_tsolve(impl_->symbolic.get(), impl_->numeric, n_, nrhs, b, &impl_->common);
 }
 
 double SparseLU::reciprocalCondition() const { return impl_->common.rcond; }

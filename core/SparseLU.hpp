@@ -28,6 +28,11 @@ class SparseLU {
   void disableScaling();
   // Compressed-column pattern (n x n); the arrays must stay alive and keep their pattern.
   void analyze(int n, const int* colPtr, const int* rowIdx);
+  // Uses the analysis (KLU's symbolic object, the pattern) of `analysed` instead of analysing the
+  // same pattern again: the factorisations stay this object's own. KLU only reads the symbolic
+  // object, so several SparseLUs may factorise and solve on one; the pattern arrays of `analysed`
+  // must stay alive. Call before factorize.
+  void shareAnalysis(const SparseLU& analysed);
   // Factorise with the values ax (same pattern). Returns false when singular.
   bool factorize(const double* ax);
   // Solves A X = B in place for nrhs columns (leading dimension n). Allocation-free; uses a

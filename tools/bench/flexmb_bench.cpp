@@ -181,11 +181,12 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
 Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bool analytic, int maxOrder) {
   Run r;
   const auto start = Clock::now();
-  core::EquationsOfMotion eom(*p.model, p.basis);
+  core::Workspace workspace(*p.model);  // shared by eom and jacobian, as simulate does
+  core::EquationsOfMotion eom(workspace, p.basis);
   eom.kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));
   std::optional<analysis::StateJacobian> jacobian;
   if (analytic) {
-    jacobian.emplace(*p.model, p.basis);
+    jacobian.emplace(workspace, p.basis);
     jacobian->kinematics().setRelativeTolerance(analysis::kinematicTolerance(p.model->settings, relTol));
   }
   analysis::AnchoredDynamics dynamics(eom, analytic ? &*jacobian : nullptr);

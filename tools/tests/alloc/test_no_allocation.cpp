@@ -4,6 +4,7 @@
 // sanitizers only (they interpose the allocator themselves).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <sstream>
@@ -11,6 +12,7 @@
 
 #include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
+#include "core/Workspace.hpp"
 #include "io/DatReader.hpp"
 
 extern "C" void* __libc_malloc(size_t);
@@ -20,18 +22,19 @@ extern "C" void* __libc_realloc(void*, size_t);
 namespace {
 bool counting = false;
 long allocations = 0;
+long bytes = 0;  // requested by the counted allocations
 }  // namespace
 
 extern "C" void* malloc(size_t n) {
-  if (counting) ++allocations;
+  if (counting) ++allocations, bytes += static_cast<long>(n);
   return __libc_malloc(n);
 }
 extern "C" void* calloc(size_t n, size_t s) {
-  if (counting) ++allocations;
+  if (counting) ++allocations, bytes += static_cast<long>(n * s);
   return __libc_calloc(n, s);
 }
 extern "C" void* realloc(void* p, size_t n) {
-  if (counting) ++allocations;
+  if (counting) ++allocations, bytes += static_cast<long>(n);
   return __libc_realloc(p, n);
 }
 
@@ -96,4 +99,60 @@ TEST(NoAllocation, RightHandSidesAllocateNothing) {
   counting = false;
   std::free(p);
   EXPECT_EQ(allocations, 1);
+}
+
+// Two equations of motion on one workspace (simulate's integrating eom and its output probe),
+// called alternately at different states: the shared scratch is sized once, so alternating
+// evaluators allocate nothing either.
+TEST(NoAllocation, EvaluatorsAlternatingOnOneWorkspaceAllocateNothing) {
+  for (const char* file : {"straight_guidance.dat", "manipulator.dat", "spatial/wire_guidance.dat"}) {
+    SCOPED_TRACE(file);
+    const core::Model m = io::readDatFile(dat(file));
+    for (core::DynamicsForm form : {core::DynamicsForm::SaddlePoint, core::DynamicsForm::Projected}) {
+      core::Workspace ws(m);
+      core::EquationsOfMotion a(ws, std::nullopt, form), b(ws, std::nullopt, form);
+      Eigen::VectorXd ya = a.initialState(), yb = ya, da(ya.size()), db(ya.size());
+      ya.tail(a.size()).setConstant(1e-3);
+      yb.tail(a.size()).setConstant(-2e-3);
+      auto step = [&](int i) {
+        ya.head(a.size()) += 1e-6 * ya.tail(a.size());
+        yb.head(a.size()) += 1e-6 * yb.tail(a.size());
+        a.rhs(1e-4 * i, ya, da);
+        b.rhs(1e-4 * i, yb, db);
+      };
+      for (int i = 0; i < 5; ++i) step(i);
+      allocations = 0;
+      counting = true;
+      for (int i = 5; i < 55; ++i) step(i);
+      counting = false;
+      EXPECT_EQ(allocations, 0) << (form == core::DynamicsForm::SaddlePoint ? "saddle point" : "projected");
+    }
+  }
+}
+
+// The memory a second evaluator costs: on the workspace of the first it brings only its own warm
+// start (configuration, element Jacobians, factorisation, its vectors); on a workspace of its own
+// also the kinematic structure and KLU analysis, the scratch, the element mass blocks, the
+// constitutive data and the steps. Printed for the record; the shared one must cost less.
+TEST(NoAllocation, ASecondEvaluatorOnASharedWorkspaceCostsLessMemory) {
+  for (const char* file : {"straight_guidance.dat", "manipulator.dat", "spatial/wire_guidance.dat"}) {
+    SCOPED_TRACE(file);
+    const core::Model m = io::readDatFile(dat(file));
+    core::Workspace ws(m);
+    core::EquationsOfMotion first(ws);
+    auto cost = [&](auto make) {
+      bytes = 0;
+      counting = true;
+      make();
+      counting = false;
+      return bytes;
+    };
+    const long shared = cost([&] { core::EquationsOfMotion probe(ws); });
+    const long own = cost([&] { core::EquationsOfMotion probe(m); });
+    std::printf(
+        "[workspace] %s: a second EquationsOfMotion allocates %ld bytes on the shared workspace, %ld on its "
+        "own\n",
+        file, shared, own);
+    EXPECT_LT(shared, own);
+  }
 }
