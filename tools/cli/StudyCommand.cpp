@@ -5,6 +5,7 @@
 // report. The recipe is analysis/Study.hpp; the file formats io/ModelTemplate, io/StudyTable and
 // io/StudySummary.
 #include <fcntl.h>
+#include <poll.h>
 #include <sched.h>
 #include <signal.h>
 #include <sys/file.h>
@@ -301,52 +302,76 @@ void readManifest(const std::string& path, std::string& status, double& seconds)
   }
 }
 
+// A worker process that runs variants one after another: the parent writes a variant's index to
+// `task`, the worker answers (index, exit code of runVariantFiles) on `done`. Forking once per
+// worker instead of once per variant matters: a fresh process pays its page faults and lazy symbol
+// bindings again (about 10 ms a variant on a virtual machine), a warm one does not. A crash still
+// takes only the worker down: the parent records the variant it was running and forks another.
+struct Worker {
+  pid_t pid = -1;
+  int task = -1, done = -1;  // the parent's ends
+  int variant = -1;          // index being run, -1 when idle
+};
+
+[[noreturn]] void workerLoop(const Study& s, int task, int done) {
+  ::signal(SIGINT, SIG_DFL);  // default actions: Ctrl-C ends the worker; nothing is committed
+  ::signal(SIGTERM, SIG_DFL);
+  ::signal(SIGPIPE, SIG_DFL);
+  const int devnull = ::open("/dev/null", O_WRONLY);
+  if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);
+  for (int k = 0; ::read(task, &k, sizeof k) == static_cast<ssize_t>(sizeof k);) {
+    const int reply[2] = {k, runVariantFiles(s, k)};
+    if (::write(done, reply, sizeof reply) != static_cast<ssize_t>(sizeof reply)) break;
+  }
+  ::_exit(kOk);
+}
+
+// Forks a worker; false when the system refuses (the caller stops starting variants).
+bool startWorker(const Study& s, std::vector<Worker>& workers, Worker& w) {
+  int toWorker[2], toParent[2];
+  if (::pipe(toWorker) != 0) return false;
+  if (::pipe(toParent) != 0) {
+    ::close(toWorker[0]), ::close(toWorker[1]);
+    return false;
+  }
+  std::cout.flush();
+  std::cerr.flush();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // The other workers' pipe ends must not stay open here, or they would never see end-of-file.
+    for (const Worker& o : workers)
+      if (&o != &w && o.pid > 0) ::close(o.task), ::close(o.done);
+    ::close(toWorker[1]), ::close(toParent[0]);
+    workerLoop(s, toWorker[0], toParent[1]);
+  }
+  ::close(toWorker[0]), ::close(toParent[1]);
+  if (pid < 0) {
+    ::close(toWorker[1]), ::close(toParent[0]);
+    return false;
+  }
+  w.pid = pid, w.task = toWorker[1], w.done = toParent[0], w.variant = -1;
+  return true;
+}
+
 PoolReport runPool(const Study& s, const std::vector<int>& pending, int jobs) {
   PoolReport rep;
   installInterruptHandler();
   const std::atomic<bool>* stop = interruptFlag();
-  std::map<pid_t, int> running;  // worker pid -> variant index
+  struct sigaction ignorePipe {
+  }, oldPipe{};
+  ignorePipe.sa_handler = SIG_IGN;
+  ::sigaction(SIGPIPE, &ignorePipe, &oldPipe);  // a dead worker's task pipe: EPIPE, not the end of the study
+  std::vector<Worker> workers(static_cast<std::size_t>(jobs));
   size_t next = 0;
   int failuresShown = 0;
+  bool cannotStart = false;
   Progress progress("study", !s.quiet);
   std::cout.flush();
   std::cerr.flush();
-  while (next < pending.size() || !running.empty()) {
-    if (*stop && !rep.interrupted) {  // Ctrl-C (or SIGTERM from a scheduler): stop the workers too
-      rep.interrupted = true;
-      for (const auto& [p, k] : running) ::kill(p, SIGINT);
-    }
-    while (!*stop && next < pending.size() && static_cast<int>(running.size()) < jobs) {
-      const int k = pending[next++];
-      const pid_t pid = ::fork();
-      if (pid == 0) {  // the worker: default signal actions (Ctrl-C ends it; nothing is committed)
-        ::signal(SIGINT, SIG_DFL);
-        ::signal(SIGTERM, SIG_DFL);
-        const int devnull = ::open("/dev/null", O_WRONLY);
-        if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);
-        ::_exit(runVariantFiles(s, k));
-      }
-      if (pid < 0) {
-        std::cerr << "flexmb: cannot start a worker process: " << std::strerror(errno) << "\n";
-        rep.interrupted = true;
-        next = pending.size();
-        break;
-      }
-      running.emplace(pid, k);
-    }
-    if (running.empty()) break;
-    int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0) {
-      if (errno != EINTR) break;
-      continue;  // a signal: the loop's first check forwards an interrupt
-    }
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const int k = it->second;
-    running.erase(it);
+  // The outcome of variant k run by a worker: its exit code, or the signal that ended it.
+  auto finished = [&](int k, bool exited, int code, int sig) {
     const analysis::Variant& v = s.variants[k];
-    if (WIFEXITED(status) && WEXITSTATUS(status) == kOk) {
+    if (exited && code == kOk) {
       std::string st;
       double seconds = 0.0;
       readManifest(s.prefix(k) + "_run.txt", st, seconds);
@@ -359,36 +384,93 @@ PoolReport runPool(const Study& s, const std::vector<int>& pending, int jobs) {
           std::cerr << "flexmb: " << v.name << " (" << parametersText(v.values) << ") " << st << "\n";
         }
       }
-    } else if (WIFEXITED(status) && WEXITSTATUS(status) == kVariantBusy) {
+    } else if (exited && code == kVariantBusy) {
       ++rep.busy;
-    } else if (WIFEXITED(status)) {
+    } else if (exited) {
       ++rep.writeFailed;
-    } else if (WIFSIGNALED(status)) {
-      const int sig = WTERMSIG(status);
-      if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL || rep.interrupted || *stop) {
-        // Stopped from outside (Ctrl-C, a scheduler, the OOM killer): run again on resume.
-        if (!*stop && !rep.interrupted) {
-          ++rep.killed;
-          progress.finish();
-          std::cerr << "flexmb: " << v.name << " was stopped by signal " << sig << " (" << strsignal(sig)
-                    << "; out of memory or a time limit?): it runs again when the study is resumed\n";
-        }
-      } else {
-        try {
-          recordCrash(s, k, sig);
-          ++rep.finished;
-          ++rep.failed;
-        } catch (const std::exception& e) {
-          ++rep.writeFailed;
-          std::cerr << "flexmb: " << v.name << ": " << e.what() << "\n";
-        }
+    } else if (sig == SIGINT || sig == SIGTERM || sig == SIGHUP || sig == SIGKILL || rep.interrupted || *stop) {
+      // Stopped from outside (Ctrl-C, a scheduler, the OOM killer): run again on resume.
+      if (!*stop && !rep.interrupted) {
+        ++rep.killed;
         progress.finish();
-        std::cerr << "flexmb: " << v.name << " (" << parametersText(v.values) << ") crashed (signal " << sig << ": "
-                  << strsignal(sig) << "); recorded as failed\n";
+        std::cerr << "flexmb: " << v.name << " was stopped by signal " << sig << " (" << strsignal(sig)
+                  << "; out of memory or a time limit?): it runs again when the study is resumed\n";
       }
+    } else {
+      try {
+        recordCrash(s, k, sig);
+        ++rep.finished;
+        ++rep.failed;
+      } catch (const std::exception& e) {
+        ++rep.writeFailed;
+        std::cerr << "flexmb: " << v.name << ": " << e.what() << "\n";
+      }
+      progress.finish();
+      std::cerr << "flexmb: " << v.name << " (" << parametersText(v.values) << ") crashed (signal " << sig << ": "
+                << strsignal(sig) << "); recorded as failed\n";
     }
     progress.update(rep.finished, static_cast<long>(pending.size()), "variants");
+  };
+  // A worker whose pipe closed: reaped; the variant it ran is reported with its end.
+  auto reap = [&](Worker& w) {
+    ::close(w.task), ::close(w.done);
+    int status = 0;
+    while (::waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {}
+    if (w.variant >= 0) {
+      const bool exited = WIFEXITED(status);
+      // Exited normally while running a variant: it could not answer (a write failure).
+      finished(w.variant, exited, exited ? kWriteFailed : 0, WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    }
+    w = Worker{};
+  };
+  for (;;) {
+    if (*stop && !rep.interrupted) {  // Ctrl-C (or SIGTERM from a scheduler): stop the workers too
+      rep.interrupted = true;
+      for (const Worker& w : workers)
+        if (w.pid > 0) ::kill(w.pid, SIGINT);
+    }
+    // Hand out variants to idle workers (starting workers as needed); close idle ones at the end.
+    for (Worker& w : workers) {
+      if (w.pid > 0 && w.variant >= 0) continue;
+      if (*stop || next >= pending.size() || cannotStart) {
+        if (w.pid > 0) reap(w);  // idle: end-of-file ends it
+        continue;
+      }
+      if (w.pid < 0 && !startWorker(s, workers, w)) {
+        std::cerr << "flexmb: cannot start a worker process: " << std::strerror(errno) << "\n";
+        rep.interrupted = true;
+        cannotStart = true;
+        continue;
+      }
+      const int k = pending[next++];
+      w.variant = k;
+      if (::write(w.task, &k, sizeof k) != static_cast<ssize_t>(sizeof k)) reap(w);  // died idle: reported
+    }
+    std::vector<pollfd> fds;
+    std::vector<Worker*> of;
+    for (Worker& w : workers)
+      if (w.pid > 0) fds.push_back({w.done, POLLIN, 0}), of.push_back(&w);
+    if (fds.empty()) break;
+    if (::poll(fds.data(), fds.size(), -1) < 0) {
+      if (errno == EINTR) continue;  // a signal: the loop's first check forwards an interrupt
+      break;
+    }
+    for (std::size_t i = 0; i < fds.size(); ++i) {
+      if (!fds[i].revents) continue;
+      Worker& w = *of[i];
+      int reply[2];
+      const ssize_t got = ::read(w.done, reply, sizeof reply);
+      if (got == static_cast<ssize_t>(sizeof reply)) {
+        w.variant = -1;
+        finished(reply[0], true, reply[1], 0);
+      } else if (got < 0 && errno == EINTR) {
+        continue;
+      } else {
+        reap(w);  // end-of-file: the worker died (a crash, a signal)
+      }
+    }
   }
+  ::sigaction(SIGPIPE, &oldPipe, nullptr);
   progress.finish();
   if (*stop) rep.interrupted = true;
   if (failuresShown > 10) std::cerr << "flexmb: ... " << failuresShown - 10 << " more failed (see the table)\n";
