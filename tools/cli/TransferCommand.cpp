@@ -127,11 +127,16 @@ int runTransfer(const std::vector<std::string>& args) {
     Eigen::MatrixXd x;
     bool solved = false;
     if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) && ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
-      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A.bottomLeftCorner(nq, nq));
+      // Rows equilibrated first: M^-1 scales them by the inverse masses (BEAMW's warping masses are
+      // ~1e-15), which alone would make the condition estimate say singular.
+      const Eigen::VectorXd rowScale =
+          ss.A.bottomLeftCorner(nq, nq).rowwise().lpNorm<Eigen::Infinity>().cwiseMax(1e-300).cwiseInverse();
+      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(rowScale.asDiagonal() * ss.A.bottomLeftCorner(nq, nq));
       if (lu.rcond() > 1e-14) {
         x.resize(n, ni);
         x.bottomRows(nq) = ss.B.topRows(nq);
-        x.topRows(nq) = lu.solve(ss.B.bottomRows(nq) - ss.A.bottomRightCorner(nq, nq) * ss.B.topRows(nq));
+        x.topRows(nq) =
+            lu.solve(rowScale.asDiagonal() * (ss.B.bottomRows(nq) - ss.A.bottomRightCorner(nq, nq) * ss.B.topRows(nq)));
         solved = true;
       }
     } else {
