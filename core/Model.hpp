@@ -77,6 +77,20 @@ struct NodalMoment {
   Eigen::Vector3d increment = Eigen::Vector3d::Zero();  // DELXF, scaled like delf
 };
 
+// Drawing hints of an element from the file's VISUALIZATION section (SPACAR Light writes BEAMPROPS /
+// CROSSTYPE / CROSSDIM, GRAPHICS / FACECOLOR / OPACITY and DONOTDRAW): pictures only, no mechanics
+// reads them.
+struct ElementAppearance {
+  enum class Section { Unknown, Rectangle, Circle };
+  Section section = Section::Unknown;
+  double width = 0.0;      // rectangle: along the local y axis; circle: the diameter
+  double thickness = 0.0;  // rectangle: along the local z axis
+  bool hasColor = false;
+  double color[3] = {0.0, 0.0, 0.0};  // FACECOLOR, 0..1
+  double opacity = 1.0;
+  bool hidden = false;  // DONOTDRAW
+};
+
 struct AnalysisSettings {
   double t0 = 0.0;
   double tEnd = 1.0;
@@ -146,6 +160,7 @@ struct Model {
 
   std::vector<LumpedMass> lumpedMasses;
   AnalysisSettings settings;
+  std::map<int, ElementAppearance> appearance;  // by element label: the VISUALIZATION section
 
   // USERSIG / USERINP: the MATLAB function names the file gives (with their lines), and the
   // implementation a front end sets before an analysis (null: none; the command line rejects them).

@@ -113,6 +113,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       b.createWithVector = &SpatialBeam::create;
       b.inertia = spatialBeamMass;
       b.spacarTypeId = 1;
+      b.drawnCurved = true;
       t.push_back(b);
       b.keyword = "BEAMNL";
       b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";

@@ -61,14 +61,22 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile, out, svg;
+  std::string basisFile, out, svg, html, vtk;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)")(
-      "svg", po::value(&svg), "also draw the mode shapes into this SVG file");
+      "svg", po::value(&svg), "also draw the mode shapes into this SVG file")(
+      "html", po::value(&html)->implicit_value("<model>_modes.html"),
+      "also write a 3-D page that plays each mode shape (default <model>_modes.html)")(
+      "vtk", po::value(&vtk)->implicit_value("<model>_modes"),
+      "also write the mode shapes as a ParaView series <prefix>.pvd (default <model>_modes)");
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg]"))
+                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg] "
+                             "[--html [file.html]] [--vtk [prefix]]"))
     return *rc;
+  const std::string stem = std::filesystem::path(m.file).stem().string();
+  if (html == "<model>_modes.html") html = stem + "_modes.html";
+  if (vtk == "<model>_modes") vtk = stem + "_modes";
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
   std::optional<Eigen::MatrixXd> basis;
@@ -89,11 +97,13 @@ int runModes(const std::vector<std::string>& args) {
     const io::SpacarResults sr =
         analysis::spacarFromModes(model, model.settings.t0, im.eta, im.system, fr.omega, fr.modes, basis);
     for (const auto& p : io::writeSpacarResults(out, model, sr)) std::cout << "wrote " << p << "\n";
+    const ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
     if (!svg.empty()) {
-      ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
       writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
       std::cout << "wrote " << svg << "\n";
     }
+    if (!html.empty() && !writeModesPage(html, model, m.file, set)) return kWriteFailed;
+    if (!vtk.empty() && !writeModesVtk(vtk, model, set)) return kWriteFailed;
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kNumericalFailure;
@@ -105,17 +115,21 @@ int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
-  std::string out, svg;
+  std::string out, svg, html, vtk;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
       "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
-      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
-  if (auto rc = parseCommand(
-          args, d, m,
-          "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] [--svg file.svg]"))
+      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file")(
+      "html", po::value(&html)->implicit_value("<prefix>.html"),
+      "also write a 3-D page that plays the load steps and the last one's mode shapes (default: beside the CSV)")(
+      "vtk", po::value(&vtk)->implicit_value("<prefix>"),
+      "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--out file.csv] "
+                             "[--svg file.svg] [--html [file.html]] [--vtk [prefix]]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -206,6 +220,10 @@ int runStatic(const std::vector<std::string>& args) {
     return kWriteFailed;
   }
   if (!svg.empty() && !writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;
+  const std::string prefix = csvPath.substr(0, csvPath.size() - 4);
+  if (!html.empty() && !writeStaticPage(html == "<prefix>.html" ? prefix + ".html" : html, model, m.file, run))
+    return kWriteFailed;
+  if (!vtk.empty() && !writeStaticVtk(vtk == "<prefix>" ? prefix : vtk, model, run)) return kWriteFailed;
   if (!run.completed) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
     return kNumericalFailure;
