@@ -9,6 +9,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <functional>
+
 namespace flexmb::io {
 namespace {
 
@@ -177,10 +179,15 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
     const int nd = E.impl ? E.impl->numDeformations() : 0;
     for (int j = 0; j < nd; ++j) le(E.label - 1, j) = L.ePos[E.firstDef + j] + 1;
     it(E.label - 1, 0) = elementTypeId(E.type);
-    // Reference length: distance of the first two position nodes in the initial configuration.
+    // Reference length: the element's own l0, else the distance of its first two position nodes
+    // (planar or spatial) in the initial configuration.
+    if (E.impl && E.impl->referenceLength() > 0.0) {
+      rl0(E.label - 1, 0) = E.impl->referenceLength();
+      continue;
+    }
     std::vector<const core::Node*> pos;
     for (int ni : E.nodes)
-      if (model.nodes[ni].kind == core::NodeKind::Position) pos.push_back(&model.nodes[ni]);
+      if (core::isTranslational(model.nodes[ni].kind)) pos.push_back(&model.nodes[ni]);
     if (pos.size() >= 2) {
       double s2 = 0.0;
       for (int k = 0; k < std::min(pos[0]->dim(), pos[1]->dim()); ++k) {
@@ -193,16 +200,77 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   return {lnp, ln, le, it, rl0};
 }
 
-Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows) {
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows, int end) {
   if (!model.spatial) return Eigen::MatrixXd(0, 0);
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, 9);
   Eigen::Matrix3d A;
   for (const auto& el : model.elements) {
-    if (!el.impl || el.label < 1 || el.label > rows || !el.impl->elementFrame(A)) continue;
+    if (!el.impl || el.label < 1 || el.label > rows || !el.impl->elementFrame(end, A)) continue;
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) R(el.label - 1, 3 * c + r) = A(r, c);
   }
   return R;
+}
+
+namespace {
+// Rows by element label, one column per value (0 pads); 0 x 0 when no element has a value.
+Eigen::MatrixXd perElement(const core::Model& model, Eigen::Index rows,
+                           const std::function<std::vector<double>(const core::ElementEntry&)>& values) {
+  std::vector<std::vector<double>> v(model.elements.size());
+  size_t width = 0;
+  for (size_t e = 0; e < model.elements.size(); ++e) {
+    v[e] = values(model.elements[e]);
+    width = std::max(width, v[e].size());
+  }
+  if (width == 0) return Eigen::MatrixXd(0, 0);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(width));
+  for (size_t e = 0; e < model.elements.size(); ++e) {
+    const int label = model.elements[e].label;
+    if (label < 1 || label > rows) continue;
+    for (size_t j = 0; j < v[e].size(); ++j) M(label - 1, static_cast<Eigen::Index>(j)) = v[e][j];
+  }
+  return M;
+}
+}  // namespace
+
+SpacarElementData spacarElementData(const core::Model& model, Eigen::Index rows) {
+  SpacarElementData d;
+  d.rxyz = spacarElementTriads(model, rows, 0);
+  d.rxyzq = spacarElementTriads(model, rows, 1);
+  d.estiff = perElement(model, rows, [](const core::ElementEntry& E) {
+    return E.hasStiffness ? E.stiffnessParams : std::vector<double>{};
+  });
+  d.edamp = perElement(
+      model, rows, [](const core::ElementEntry& E) { return E.hasDamping ? E.dampingParams : std::vector<double>{}; });
+  d.em = perElement(model, rows, [](const core::ElementEntry& E) {
+    std::vector<double> v;
+    if (!E.inertia.any()) return v;
+    // The EM layout of the element type (by the parameter names of the registry).
+    const core::ElementInertia& in = E.inertia;
+    if (E.type->inertia.empty()) return std::vector<double>{in.rhoA, in.rhoI};
+    for (const auto& p : E.type->inertia) {
+      const std::string& n = p.name;
+      v.push_back(n == "rhoA"   ? in.rhoA
+                  : n == "Jxx"  ? in.jxx
+                  : n == "Jyy"  ? in.jyy
+                  : n == "Jzz"  ? in.jzz
+                  : n == "Jyz"  ? in.jyz
+                  : n == "rhoI" ? in.rhoI
+                                : 0.0);
+    }
+    return v;
+  });
+  d.esig = perElement(model, rows, [&](const core::ElementEntry& E) {
+    std::vector<double> v;
+    if (model.sigma0.size() != model.ne) return v;
+    bool any = false;
+    for (int i = 0; i < E.impl->numDeformations(); ++i) {
+      v.push_back(model.sigma0[E.firstDef + i]);
+      any = any || v.back() != 0.0;
+    }
+    return any ? v : std::vector<double>{};
+  });
+  return d;
 }
 
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
@@ -262,7 +330,14 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.matrix("le", le);
     w.matrix("it", it);
     w.matrix("rl0", rl0);
-    w.matrix("rxyz", spacarElementTriads(model, le.rows()));
+    const SpacarElementData ed = spacarElementData(model, le.rows());
+    w.matrix("rxyz", ed.rxyz);
+    w.matrix("rxyzq", ed.rxyzq);
+    w.matrix("estiff", ed.estiff);
+    w.matrix("stif", ed.estiff);  // spatools' name (spacar2step.m)
+    w.matrix("em", ed.em);
+    w.matrix("edamp", ed.edamp);
+    w.matrix("esig", ed.esig);
     w.matrix("x0", L.sortX(model.x0));
     // Per step: one row per stored step.
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));

@@ -42,10 +42,19 @@ struct SpacarTopology {
 };
 SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layout);
 
-// rxyz (io/results.md): row el = the initial triad of element el at its first orientation node,
-// in that node's frame (columns e_x, e_y, e_z, stored column-wise: reshape(rxyz(el, :), 3, 3));
-// zeros for elements without a triad; 0 x 0 for planar models.
-Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows);
+// rxyz (end 0) and rxyzq (end 1) (io/results.md): row el = the triad of element el at its first
+// (second) orientation node, in that node's body frame (columns e_x, e_y, e_z, stored column-wise:
+// reshape(rxyz(el, :), 3, 3); Element::elementFrame); zeros for elements without a triad there; 0 x 0
+// for planar models.
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows, int end = 0);
+
+// The per-element constants of the .sbd, rows by element label (0 pads; 0 x 0 when no element has
+// one): rxyz, rxyzq as above; estiff and edamp the ESTIFF / EDAMP values as given, em the EM values
+// in the type's layout, esig the ESIG prestress per deformation (keyword order).
+struct SpacarElementData {
+  Eigen::MatrixXd rxyz, rxyzq, estiff, edamp, em, esig;
+};
+SpacarElementData spacarElementData(const core::Model& model, Eigen::Index rows);
 
 // Element type id written to `it`: SPACAR's code of the element's type (ElementTypeInfo::spacarTypeId,
 // listed in io/results.md); 0 without a type.
