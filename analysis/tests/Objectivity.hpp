@@ -129,7 +129,7 @@ inline std::string rotatedDat(const std::string& text, const Eigen::Matrix3d& R)
 
 // Largest distance between two configurations of the same model text, one of them turned by R:
 // |R p_a - p_b| over the position nodes (relative to `length`) and |R R(lambda_a) - R(lambda_b)|
-// (Frobenius) over the orientation nodes.
+// (Frobenius) over the orientation nodes, |w_a - w_b| length over BEAMW's warping nodes.
 inline double configurationDifference(const core::Model& a, const Eigen::VectorXd& xa, const core::Model& b,
                                       const Eigen::VectorXd& xb, const Eigen::Matrix3d& R, double length) {
   double worst = 0.0;
@@ -141,13 +141,16 @@ inline double configurationDifference(const core::Model& a, const Eigen::VectorX
       const Eigen::Matrix3d Ra = core::euler::rotation(xa.segment<4>(na.firstCoord).normalized());
       const Eigen::Matrix3d Rb = core::euler::rotation(xb.segment<4>(nb.firstCoord).normalized());
       worst = std::max(worst, (R * Ra - Rb).norm());
+    } else if (na.kind == core::NodeKind::Warping) {  // a rate of twist: the same in any orientation
+      worst = std::max(worst, std::abs(xa[na.firstCoord] - xb[nb.firstCoord]) * length);
     }
   }
   return worst;
 }
 
 // A nodal mode shape dx at x as global motions: per position node its displacement, per orientation
-// node its rotation 2 E(lambda) d lambda, turned by R; stacked by node label.
+// node its rotation 2 E(lambda) d lambda, turned by R (a warping node: its rate, as it is); stacked
+// by node label.
 inline Eigen::VectorXd globalShape(const core::Model& m, const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
                                    const Eigen::Matrix3d& R) {
   std::map<int, Eigen::Vector3d> parts;
@@ -157,6 +160,8 @@ inline Eigen::VectorXd globalShape(const core::Model& m, const Eigen::VectorXd& 
     else if (n.kind == core::NodeKind::EulerParameters)
       parts[n.label] =
           R * (2.0 * core::euler::globalRateMatrix(x.segment<4>(n.firstCoord)) * dx.segment<4>(n.firstCoord));
+    else if (n.kind == core::NodeKind::Warping)  // a scalar: not turned
+      parts[n.label] = Eigen::Vector3d(dx[n.firstCoord], 0.0, 0.0);
   }
   Eigen::VectorXd v(3 * parts.size());
   int i = 0;
