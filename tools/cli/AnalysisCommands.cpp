@@ -92,7 +92,9 @@ int runModes(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   try {
     files.checkWritable();
-    if (!svg.empty()) io::OutputSet(svg).checkWritable();
+    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
+    for (const std::string& extra : {svg, html, vtk})
+      if (!extra.empty()) io::OutputSet(extra).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -228,9 +230,14 @@ int runStatic(const std::vector<std::string>& args) {
   else
     csvPath = io::OutputSet::resolvePrefix(out, m.file, "_static") + ".csv";
   io::OutputSet files(csvPath.substr(0, csvPath.size() - 4));
+  const std::string prefix = csvPath.substr(0, csvPath.size() - 4);
+  if (html == "<prefix>.html") html = prefix + ".html";
+  if (vtk == "<prefix>") vtk = prefix;
   try {
     files.checkWritable();
-    if (!svg.empty()) io::OutputSet(svg).checkWritable();
+    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
+    for (const std::string& extra : {svg, html, vtk})
+      if (!extra.empty()) io::OutputSet(extra).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -304,14 +311,11 @@ int runStatic(const std::vector<std::string>& args) {
       if (!writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;  // no manifest: the set is incomplete
       files.record(svg);
     }
-    const std::string prefix = csvPath.substr(0, csvPath.size() - 4);
     if (!html.empty()) {
-      if (html == "<prefix>.html") html = prefix + ".html";
       if (!writeStaticPage(html, model, m.file, run)) return kWriteFailed;
       files.record(html);
     }
     if (!vtk.empty()) {
-      if (vtk == "<prefix>") vtk = prefix;
       if (!writeStaticVtk(vtk, model, run)) return kWriteFailed;
       files.record(vtk + ".pvd");
       files.record(vtk + "_vtu");

@@ -13,9 +13,16 @@
 namespace flexmb::cli {
 
 namespace {
-// A load step's progress for figure labels: the fraction of the DEL* totals, or of the initial
-// loads while those are being applied (analysis/Statics.hpp: the load schedule).
-double loadLabel(const analysis::StaticStep& st) { return st.loadFactor > 0 ? st.loadFactor : st.initialFactor; }
+// A load step's name in figures: SPACAR's load step k with the fraction of the DEL* totals, or the
+// fraction of the initial loads for a ramp step before load step 0 (analysis/Statics.hpp: the load
+// schedule). Load step 0 has the initial loads and no DEL* share: "load step 0, load factor 0".
+std::string loadLabel(const analysis::StaticStep& st) {
+  if (st.loadStep < 0) return "initial loads x " + io::shortNumber(st.initialFactor, 6);
+  std::string s = "load step " + std::to_string(st.loadStep);
+  s += ", load factor ";
+  s += io::shortNumber(st.loadFactor, 6);
+  return s;
+}
 }  // namespace
 
 namespace {
@@ -118,18 +125,13 @@ bool writeStaticPage(const std::string& path, const core::Model& model, const st
     steps.labels.push_back("initial configuration");
     for (const auto& st : run.steps) {
       steps.x.push_back(st.x);
-      steps.labels.push_back("load step " + std::to_string(steps.x.size() - 1) + ", load factor " +
-                             io::shortNumber(loadLabel(st), 6));
+      steps.labels.push_back(loadLabel(st));
     }
     std::vector<io::AnimationSequence> seqs{steps};
     if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
       const auto& st = run.steps.back();
-      const ModeSet set{"load factor " + io::shortNumber(loadLabel(st), 6),
-                        st.eta,
-                        st.frequencies.modes,
-                        st.frequencies.omega,
-                        model.settings.t0,
-                        st.loadFactor};
+      const ModeSet set{loadLabel(st),     st.eta,       st.frequencies.modes, st.frequencies.omega,
+                        model.settings.t0, st.loadFactor};
       for (auto& m : modeSequences(model, set)) seqs.push_back(std::move(m));
     }
     io::AnimationOptions o;
@@ -143,7 +145,9 @@ bool writeStaticVtk(const std::string& prefix, const core::Model& model, const a
   return reported(prefix + ".pvd", [&] {
     core::Trajectory traj;
     for (const auto& st : run.steps) {
-      traj.time.push_back(loadLabel(st));
+      // The series' time: the DEL* load factor, 0 at load step 0; ramp steps of the initial loads
+      // before it at their fraction minus 1 (-1..0), so the times increase.
+      traj.time.push_back(st.loadStep >= 0 ? st.loadFactor : st.initialFactor - 1.0);
       traj.states.push_back(restState(model, st.x, st.e, st.sigma));
     }
     if (traj.time.empty()) throw std::runtime_error("no load step was reached: nothing to write");
@@ -222,13 +226,13 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
                        const analysis::StaticRun& run) {
   try {
     std::vector<NamedConfiguration> configs;
-    for (const auto& st : run.steps) configs.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.x});
+    for (const auto& st : run.steps) configs.push_back({loadLabel(st), st.x});
     std::vector<ModeSet> sets;
     if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
       const auto& st = run.steps.back();
       // Static analyses run on the full model: eta = q.
-      sets.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.eta, st.frequencies.modes,
-                      st.frequencies.omega, model.settings.t0, st.loadFactor});
+      sets.push_back(
+          {loadLabel(st), st.eta, st.frequencies.modes, st.frequencies.omega, model.settings.t0, st.loadFactor});
     }
     writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);
   } catch (const std::exception& e) {

@@ -57,7 +57,8 @@ void writeAnimation(const std::string& prefix, const core::Model& model, const c
 // The 3-D page (io/HtmlAnimation.hpp) and the ParaView series (io/VtkWriter.hpp) of the other analyses:
 //   show --html: the model in its initial configuration, numbers shown;
 //   static --html: the load steps (from the initial configuration) and each mode shape of the last
-//   step; static --vtk: one .vtu per load step (time = the load factor), with e and sigma;
+//   step; static --vtk: one .vtu per load step (time = the load factor: 0 at load step 0, a ramp
+//   step of the initial loads before it at its fraction minus 1), with e and sigma;
 //   modes --html: each mode shape; modes --vtk: one .vtu per mode (time = the mode's number), the
 //   configuration moved by the drawn mode shape (displacement and rotation fields are the shape).
 // Each prints "wrote <path>", or the error (false).
