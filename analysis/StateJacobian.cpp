@@ -36,6 +36,7 @@ void StateJacobian::evaluate(double t, const Eigen::VectorXd& y, const Eigen::Ve
   stiffness_ = sys_.K;
   stiffness_ += sys_.N;
   stiffness_ += sys_.G;
+  if (sys_.Gskew.size()) stiffness_ += sys_.Gskew;  // moments on Euler parameters
   damping_ = sys_.C;
   damping_ += sys_.D;
   llt_.solveInPlace(stiffness_);

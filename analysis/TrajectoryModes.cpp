@@ -33,7 +33,9 @@ TrajectoryModes trajectoryModes(const core::Model& model, const core::Trajectory
       out.stopReason = std::string("linearisation failed: ") + e.what();
       break;
     }
-    const solvers::QuadraticModes qm = solvers::quadraticModes(sys.M, sys.C + sys.D, sys.K + sys.N + sys.G, k);
+    Eigen::MatrixXd stiffness = sys.K + sys.N + sys.G;
+    if (sys.Gskew.size()) stiffness += sys.Gskew;  // moments on Euler parameters
+    const solvers::QuadraticModes qm = solvers::quadraticModes(sys.M, sys.C + sys.D, stiffness, k);
     if (!qm.ok) {
       out.completed = false;
       out.stopReason = "eigenvalues at t = " + std::to_string(t) + ": " + qm.message;

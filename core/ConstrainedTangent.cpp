@@ -96,6 +96,11 @@ bool ConstrainedTangent::factorize(const NodalMatrices& nodal, const GeometricTr
   std::fill(values_.begin(), values_.end(), 0.0);
   for (size_t p = 0; p < hSlot_.size(); ++p)
     if (hSlot_[p] >= 0) values_[hSlot_[p]] += K.valuePtr()[p] + G.valuePtr()[p];
+  if (nodal.hasMomentStiffness()) {  // the moments' skew load stiffness W_x (not symmetric: LU)
+    const double* w = nodal.W().valuePtr();
+    for (size_t p = 0; p < hSlot_.size(); ++p)
+      if (hSlot_[p] >= 0) values_[hSlot_[p]] += w[p];
+  }
   for (const auto& e : entries_) {
     const double v = gtf.elementJacobian(e.element)(e.row, e.col);
     values_[e.slotC] = v;

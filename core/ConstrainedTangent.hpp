@@ -1,5 +1,6 @@
 #pragma once
-// The static Newton tangent Kbar + Gbar = F_q^T H F_q (paper Eq. 16, H = K_x + G_x) of a full
+// The static Newton tangent Kbar + Gbar = F_q^T H F_q (paper Eq. 16, H = K_x + G_x + W_x, W_x the
+// skew load stiffness of moments on Euler parameters, so H need not be symmetric) of a full
 // model without F_q: on the free coordinates (calculable and DYNX) and the constrained
 // deformations (fixed and input, Jacobian C),
 //   [H  C^T] [dx]   [P^T b]
@@ -24,7 +25,7 @@ class ConstrainedTangent {
   // pattern: the nodal matrices' common pattern (NodalMatrices::K(), G() share it).
   ConstrainedTangent(const Model& model, const NodalMatrices::Sparse& pattern);
 
-  // Factorises with H = K_x + G_x of `nodal` and the element Jacobians of gtf's configuration
+  // Factorises with H = K_x + G_x + W_x of `nodal` and the element Jacobians of gtf's configuration
   // (their DYNE rows are copied: solve() stays valid when the kinematics move on). False when
   // the saddle-point matrix is singular.
   bool factorize(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf);

@@ -147,6 +147,19 @@ void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::V
   Eigen::Map<Eigen::VectorXd>(KG_.valuePtr(), KG_.nonZeros()) +=
       Eigen::Map<const Eigen::VectorXd>(nodal_.G().valuePtr(), nodal_.G().nonZeros());
   project(KG_, T);
+  if (nodal_.hasMomentStiffness()) addMomentStiffness(T);
+}
+
+void Linearization::addMomentStiffness(Eigen::MatrixXd& out) {
+  for (const auto& mo : model_.moments) {
+    const int at = model_.nodes[mo.node].firstCoord;
+    const auto& W = nodal_.W();
+    Eigen::Matrix4d Wb;  // the node's block of W_x
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) Wb(r, c) = W.coeff(at + r, at + c);
+    WA_.noalias() = Wb * FqV_.middleRows(at, 4);
+    out.noalias() += FqV_.middleRows(at, 4).transpose() * WA_;
+  }
 }
 
 void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
@@ -155,7 +168,14 @@ void Linearization::geometricStiffness(LinearizedSystem& out, bool projectG) {
   gtf_.addConstraintStresses(r_, out.sigma);
   nodal_.assembleGeometric(gtf_.x(), out.sigma, steps_, initialFactor_, loadFactor_);
   nodal_.assembleStiffness(gtf_, active_);
-  if (projectG) project(nodal_.G(), out.G);
+  if (!projectG) return;
+  project(nodal_.G(), out.G);
+  if (nodal_.hasMomentStiffness()) {
+    out.Gskew.setZero(m_, m_);
+    addMomentStiffness(out.Gskew);
+  } else {
+    out.Gskew.resize(0, 0);
+  }
 }
 
 void Linearization::initialRest(LinearizedSystem& out, Eigen::VectorXd& eta, bool withMass) {

@@ -10,7 +10,11 @@
 // in G, and the variations of the velocities and accelerations give
 //   C = A^T (M dxdd/dqd + dh/dxd A),
 //   N = A^T (M dxdd/dq + d(M xdd + h)/dx A + dh/dxd dxd/dq) + (E_q V)^T S_d de_d/dq.
-// Both G variants include the load stiffness of gravity on distributed masses.
+// Both G variants include the load stiffness of gravity on distributed masses. Global moments on
+// Euler parameters add a load stiffness that is antisymmetric (NodalMatrices: W_x), kept apart in
+// Gskew: G is the symmetric part, which the symmetric eigen, buckling and stability problems use
+// (Gskew does no work along any motion: v^T Gskew v = 0, so their Rayleigh quotients are those of
+// the full matrix); Newton tangents and the Jacobians of the motion use G + Gskew.
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -27,7 +31,8 @@
 namespace flexmb::core {
 
 struct LinearizedSystem {
-  Eigen::MatrixXd M, K, G, D;  // m x m
+  Eigen::MatrixXd M, K, G, D;  // m x m (G symmetric)
+  Eigen::MatrixXd Gskew;       // m x m, antisymmetric load stiffness of moments; 0 x 0 without
   Eigen::MatrixXd C, N;        // m x m: velocity sensitivity, dynamic stiffening (0 at rest)
   // Generalised forces (F_q V)^T (f - D_x^T sigma) at rest; in motion the residual of Eq. 13,
   // (F_q V)^T (f - M xdd - h - D_x^T sigma), which vanishes on a trajectory.
@@ -85,7 +90,8 @@ class Linearization {
   void constrainedPencil(ConstrainedPencil& out) const;
   // F_q V at the last atRest / tangent / inMotion (nx x m; staticForces does not form it).
   const Eigen::MatrixXd& transfer() const { return FqV_; }
-  // Q and the static Newton tangent T = Kbar + Gbar only (one projection instead of atRest's four).
+  // Q and the static Newton tangent T = Kbar + Gbar + Gskew only (one projection instead of atRest's
+  // four; T is not symmetric under moments on Euler parameters).
   void tangent(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f, Eigen::VectorXd& Q, Eigen::MatrixXd& T);
   // Q and the diagonal of Kbar = F^T K_x F only (statics' force scale): O(nnz(K_x) m), where
   // atRest's projections cost O(nx m^2) each.
@@ -124,6 +130,8 @@ class Linearization {
   void updateTransfer();
   // out = A^T X A for a sparse symmetric nodal X, A = F_q V (after updateTransfer).
   void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
+  // out += A^T W_x A: the moments' 4 x 4 blocks only (W_x is zero elsewhere).
+  void addMomentStiffness(Eigen::MatrixXd& out);
   // Q = (F_q V)^T r_ by one transposed kinematic solve.
   void generalizedForces(Eigen::VectorXd& Q);
   // sigma_, r_ = f - D_x^T sigma and Q at the current kinematic configuration.
@@ -140,7 +148,7 @@ class Linearization {
   NodalMatrices& nodal_;
   std::vector<char> active_;  // per deformation: carries a stress
   Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
-  Eigen::MatrixXd FqV_, EqV_, MF_, HF_;
+  Eigen::MatrixXd FqV_, EqV_, MF_, HF_, WA_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> FqVrows_, XArows_;
   NodalMatrices::Sparse KG_;
   std::unique_ptr<ConstrainedTangent> constrainedTangent_;  // made at the first staticTangent

@@ -98,6 +98,20 @@ struct TransferChannel {
   std::string keyword;
 };
 
+// Drawing hints of an element from the file's VISUALIZATION section (SPACAR Light writes BEAMPROPS /
+// CROSSTYPE / CROSSDIM, GRAPHICS / FACECOLOR / OPACITY and DONOTDRAW): pictures only, no mechanics
+// reads them.
+struct ElementAppearance {
+  enum class Section { Unknown, Rectangle, Circle };
+  Section section = Section::Unknown;
+  double width = 0.0;      // rectangle: along the local y axis; circle: the diameter
+  double thickness = 0.0;  // rectangle: along the local z axis
+  bool hasColor = false;
+  double color[3] = {0.0, 0.0, 0.0};  // FACECOLOR, 0..1
+  double opacity = 1.0;
+  bool hidden = false;  // DONOTDRAW
+};
+
 struct AnalysisSettings {
   double t0 = 0.0;
   double tEnd = 1.0;
@@ -174,6 +188,7 @@ struct Model {
   AnalysisSettings settings;
   // Mode 9: the transfer block's inputs and outputs, each in channel order (empty without one).
   std::vector<TransferChannel> transferInputs, transferOutputs;
+  std::map<int, ElementAppearance> appearance;  // by element label: the VISUALIZATION section
 
   // USERSIG / USERINP: the MATLAB function names the file gives (with their lines), and the
   // implementation a front end sets before an analysis (null: none; the command line rejects them).

@@ -56,6 +56,7 @@ NodalMatrices::NodalMatrices(const Model& model) : model_(model) {
   K_ = pattern_;
   D_ = pattern_;
   G_ = pattern_;
+  W_ = pattern_;
   M_ = pattern_;
 }
 
@@ -132,14 +133,9 @@ void NodalMatrices::assembleGeometric(const Eigen::VectorXd& x, const Eigen::Vec
       addBlock(G_, el, Ye);
     }
   }
-  for (size_t k = 0; k < model_.moments.size(); ++k) {
-    const auto& mo = model_.moments[k];
-    const Eigen::Matrix4d Z = momentMatrix(initialFactor * mo.value + loadFactor * mo.increment);
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r) G_.valuePtr()[momentSlot_[k][c * 4 + r]] -= Z(r, c);
-  }
-  // Symmetrise in place (the pattern is symmetric): G = (G + G^T)/2.
-  if (model_.hasGravity || !model_.moments.empty()) {
+  // Symmetrise in place (the pattern is symmetric): G = (G + G^T)/2. Gravity's load stiffness is
+  // the Hessian of a potential; symmetrising removes the noise of its difference quotients.
+  if (model_.hasGravity) {
     const int n = static_cast<int>(G_.cols());
     double* v = G_.valuePtr();
     for (int c = 0; c < n; ++c)
@@ -150,6 +146,16 @@ void NodalMatrices::assembleGeometric(const Eigen::VectorXd& x, const Eigen::Vec
         const double s = 0.5 * (v[p] + v[q]);
         v[p] = v[q] = s;
       }
+  }
+  // W = -dm/dx of the moments: skew, kept apart (see the header).
+  hasMoments_ = false;
+  for (size_t k = 0; k < model_.moments.size(); ++k) {
+    const auto& mo = model_.moments[k];
+    const Eigen::Vector3d M = initialFactor * mo.value + loadFactor * mo.increment;
+    const Eigen::Matrix4d Z = momentMatrix(M);
+    hasMoments_ = hasMoments_ || !M.isZero(0.0);
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) W_.valuePtr()[momentSlot_[k][c * 4 + r]] = -Z(r, c);
   }
 }
 

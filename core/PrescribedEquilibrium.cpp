@@ -27,6 +27,7 @@ std::string prescribedEquilibrium(Linearization& lin, double t, int k, double va
                                         1e-3 * L * sys.K.diagonal().cwiseAbs().maxCoeff()});
     if (R.head(m).lpNorm<Eigen::Infinity>() <= 1e-8 * forceScale && std::abs(R[m]) <= 1e-10 * L) return "";
     A.topLeftCorner(m, m) = -(sys.K + sys.G);
+    if (sys.Gskew.size()) A.topLeftCorner(m, m) -= sys.Gskew;  // moments on Euler parameters
     A.topRightCorner(m, 1) = b;
     A.bottomLeftCorner(1, m) = b.transpose();
     A(m, m) = 0.0;

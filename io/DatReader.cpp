@@ -13,6 +13,7 @@
 #include "core/ModelBuilder.hpp"
 #include "io/ExpressionFunction.hpp"
 #include "io/KeywordTable.hpp"
+#include "io/Visualization.hpp"
 
 namespace flexmb::io {
 
@@ -230,6 +231,8 @@ class Reader {
   int transferFirst_ = 0;
   std::vector<Statement> transfer_;
   void resolveTransfer(core::Model& model) const;
+  size_t visualizationAt_ = std::string_view::npos;  // text offset after the VISUALIZATION line
+  int visualizationLine_ = 0;                        // the line after it
   // Per block: the SPACAR95 TIMESTEP period (the end time is TIME + period at the block's END).
   std::optional<double> period_;
   int timestepLine_ = 0, timeLine_ = 0;
@@ -393,6 +396,10 @@ void Reader::scan() {
         if (open)
           fail(lineNo, name,
                "inside the " + blockName + " (begun at line " + std::to_string(openedAt) + "): missing END");
+        if (info->action == Action::Visualization) {
+          visualizationAt_ = std::min(pos, text_.size());
+          visualizationLine_ = lineNo + 1;
+        }
         done = true;
         continue;
       default:
@@ -881,6 +888,23 @@ std::vector<AnalysisStage> Reader::build(const ReadOptions& options) {
       fail(kinematicLast, kinematicLast ? "END" : "",
            "the model defines no elements (the kinematic block needs at least one)");
     resolveTransfer(stages.back().model);
+    if (visualizationAt_ != std::string_view::npos) {
+      VisualizationSection vis = parseVisualization(text_.substr(visualizationAt_), visualizationLine_, file_);
+      for (auto& stage : stages) {
+        core::Model& m = stage.model;
+        for (const auto& [label, look] : vis.appearance)
+          if (m.elementByLabel.count(label)) m.appearance[label] = look;
+        for (const auto& note : vis.notes) m.notes.push_back(note);
+      }
+      std::string unknown;
+      for (const auto& [label, look] : vis.appearance)
+        if (!stages.back().model.elementByLabel.count(label))
+          (unknown += unknown.empty() ? "" : ", ") += std::to_string(label);
+      if (!unknown.empty())
+        for (auto& stage : stages)
+          stage.model.notes.push_back(file_ + ": VISUALIZATION names elements the model does not have: " + unknown +
+                                      " (ignored)");
+    }
     return stages;
   } catch (const DatError&) {
     throw;

@@ -1,5 +1,7 @@
 #include "io/KeywordTable.hpp"
 
+#include "io/Visualization.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <functional>
@@ -295,8 +297,9 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("EOF", kBothDialects, B::Structure, A::Eof, {},
                  "after a block's END: ends the input; the rest of the file is ignored"));
   t.push_back(kw("VISUALIZATION", kBothDialects, B::Structure, A::Visualization, {},
-                 "after a block's END: the visualization section; it and the rest of the file are "
-                 "skipped"));
+                 "after a block's END: the visualization section, to the end of the file: drawing hints "
+                 "for the pictures (cross-sections, colours, hidden elements; see the VISUALIZATION "
+                 "section below), never used by the analyses"));
 
   // SPACAR keywords flexmb does not support (yet).
   // The element types of one kind (planar or spatial), for "use one of these instead".
@@ -636,7 +639,8 @@ is an error naming one keyword of each.
   node does not have, a fixed coordinate as input or OUTX/OUTXP output, a force input on an input
   (INPUTX) coordinate (not a load point: the prescribed motion takes it), INX on a coordinate that
   is not an input coordinate, OUTF on a calculable or DYNX coordinate (the force there is the
-  applied load). A `VISUALIZATION` section after the final `END` is skipped.
+  applied load). A `VISUALIZATION` section after the final `END` gives drawing hints (see the
+  section below).
 - **SPACAR95**: a sequence of blocks, each closed by `END`, up to `EOF` or the end of the file. The
   first block may hold every keyword at once (elements, coordinates, roles, masses, `TIMESTEP`, ...).
   At each `END` the analysis runs over that block's period; reading then resumes and a later block
@@ -691,6 +695,13 @@ is an error naming one keyword of each.
           << " |\n";
     }
   }
+  out << "\n## VISUALIZATION section\nAfter the final `END`, `VISUALIZATION` starts a section of drawing hints, as "
+         "SPACAR Light and oopspa write it. The pictures (`flexmb show`, `--svg`, `--html`) draw beams with these "
+         "cross-sections (else with the rectangle of the section's radii of gyration from `EM` or `ESTIFF`), and "
+         "leave out `DONOTDRAW` elements; the analyses never read it. What the section holds that flexmb cannot "
+         "use (an unknown statement, a value out of range, an element the model does not have) is a note, never "
+         "an error.\n\n| statement | meaning |\n|---|---|\n";
+  for (const auto& [name, meaning] : visualizationKeywords()) out << "| `" << name << "` | " << cell(meaning) << " |\n";
 }
 
 }  // namespace flexmb::io

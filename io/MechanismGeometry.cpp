@@ -3,11 +3,25 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/elements/EulerParameters.hpp"
+
 namespace flexmb::io {
 
 namespace {
-// Drawn with its displacement field (the planar beam's, below): the registry says which types are.
+using Vec3 = Eigen::Vector3d;
+using Vec4 = Eigen::Vector4d;
+using Mat3 = Eigen::Matrix3d;
+
+// Drawn with its displacement field: the registry says which types are (planar or spatial below).
 bool drawnCurved(const core::ElementEntry& el) { return el.type->drawnCurved && el.nodes.size() == 4 && el.impl; }
+bool isPlanarBeam(const core::Model& m, const core::ElementEntry& el) {
+  return drawnCurved(el) && m.nodes[el.nodes[1]].kind == core::NodeKind::Orientation;
+}
+
+bool isEuler(const core::Model& m, int node) { return m.nodes[node].kind == core::NodeKind::EulerParameters; }
+bool isOrientation(const core::Model& m, int node) {
+  return m.nodes[node].kind == core::NodeKind::Orientation || isEuler(m, node);
+}
 
 Point3 positionOf(const core::Model& m, int node, const Eigen::VectorXd& x) {
   const core::Node& n = m.nodes[node];
@@ -18,13 +32,127 @@ Point3 positionOf(const core::Model& m, int node, const Eigen::VectorXd& x) {
   if (d >= 3) p.z = x[n.firstCoord + 2];
   return p;
 }
+Vec3 vec(const Point3& p) { return {p.x, p.y, p.z}; }
+Point3 point(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+// The rotation of an Euler-parameter node at x (normalised: mode shapes x + s dx leave |lambda| != 1).
+Mat3 rotationOf(const core::Model& m, int node, const Eigen::VectorXd& x) {
+  Vec4 l = x.segment<4>(m.nodes[node].firstCoord);
+  const double n = l.norm();
+  if (!(n > 0) || !std::isfinite(n)) return Mat3::Identity();
+  return core::euler::rotation(l / n);
+}
+
+// Slots (keyword order) of the element's position nodes and its Euler-parameter nodes.
+void slots(const core::Model& m, const core::ElementEntry& el, std::vector<int>& pos, std::vector<int>& rot) {
+  pos.clear(), rot.clear();
+  for (size_t s = 0; s < el.nodes.size(); ++s) {
+    if (core::isTranslational(m.nodes[el.nodes[s]].kind)) pos.push_back(el.nodes[s]);
+    if (isEuler(m, el.nodes[s])) rot.push_back(el.nodes[s]);
+  }
+}
+
+// A spatial element drawn with the co-rotated cubic field: two position nodes, triads at two
+// Euler-parameter nodes.
+bool isSpatialBeam(const core::Model& m, const core::ElementEntry& el) {
+  if (!drawnCurved(el)) return false;
+  std::vector<int> pos, rot;
+  slots(m, el, pos, rot);
+  Mat3 A;
+  return pos.size() == 2 && rot.size() >= 2 && el.impl->elementFrame(0, A) && el.impl->elementFrame(1, A);
+}
+
+// The element's stiffness parameter called `name` in its ESTIFF layout, 0 when it has none.
+double stiffnessParameter(const core::ElementEntry& el, const char* name) {
+  const auto& spec = el.type->stiffness;
+  for (size_t i = 0; i < spec.size() && i < el.stiffnessParams.size(); ++i)
+    if (spec[i].name == name) return el.stiffnessParams[i];
+  return 0.0;
+}
+
+// Samples a framed element (spatial beam, or a straight element with a triad at its first
+// orientation node) at x: centre points and, when ys is given, the section axes.
+struct FramedSampler {
+  const core::Model& m;
+  const core::ElementEntry& el;
+  int segments;
+  void sample(const Eigen::VectorXd& x, Point3* pts, Point3* ys, Point3* zs) const {
+    std::vector<int> pos, rot;
+    slots(m, el, pos, rot);
+    const Vec3 xp = vec(positionOf(m, pos[0], x)), xq = vec(positionOf(m, pos[1], x));
+    const Vec3 d = xq - xp;
+    const double l = d.norm();
+    const Vec3 el0 = l > 0 ? Vec3(d / l) : Vec3::UnitX();
+    Mat3 Ap, Aq;
+    el.impl->elementFrame(0, Ap);
+    const Mat3 Rp = rotationOf(m, rot[0], x) * Ap;
+    const bool curved = rot.size() >= 2 && el.impl->elementFrame(1, Aq);
+    const Mat3 Rq = curved ? Mat3(rotationOf(m, rot[1], x) * Aq) : Rp;
+    const int n = curved ? segments : 1;
+    double l0 = el.impl->referenceLength();
+    if (!(l0 > 0)) l0 = l;
+    for (int k = 0; k <= n; ++k) {
+      const double xi = static_cast<double>(k) / n;
+      Vec3 r = (1 - xi) * xp + xi * xq, t = d;
+      if (curved) {
+        const Vec3 tp = Rp.col(0) - el0, tq = Rq.col(0) - el0;
+        r += l0 * (xi * (1 - xi) * (1 - xi) * tp + xi * xi * (xi - 1) * tq);
+        t += l0 * ((1 - xi) * (1 - 3 * xi) * tp + xi * (3 * xi - 2) * tq);
+      }
+      pts[k] = point(r);
+      if (!ys) continue;
+      t = t.norm() > 0 ? Vec3(t.normalized()) : el0;
+      Vec3 y = (1 - xi) * Rp.col(1) + xi * Rq.col(1);
+      y -= y.dot(t) * t;
+      if (!(y.norm() > 1e-12)) y = Rp.col(2).cross(t);
+      y.normalize();
+      ys[k] = point(y);
+      zs[k] = point(t.cross(y));
+    }
+  }
+};
 }  // namespace
+
+bool MechanismGeometry::isPositionNode(int node) const { return core::isTranslational(model_.nodes[node].kind); }
+
+DrawnSection elementSection(const core::Model& model, int element) {
+  const core::ElementEntry& el = model.elements[element];
+  DrawnSection s;
+  const auto look = model.appearance.find(el.label);
+  if (look != model.appearance.end() && look->second.section != core::ElementAppearance::Section::Unknown) {
+    const bool circle = look->second.section == core::ElementAppearance::Section::Circle;
+    s.kind = circle ? DrawnSection::Kind::Circle : DrawnSection::Kind::Rectangle;
+    s.width = look->second.width;
+    s.thickness = circle ? look->second.width : look->second.thickness;
+    s.fromFile = true;
+    return s;
+  }
+  // Radii of gyration: I/A from EM (Jyy/rhoA, Jzz/rhoA) or ESTIFF (EIy/EA, EIz/EA).
+  double iy = 0.0, iz = 0.0;
+  const core::ElementInertia& in = el.inertia;
+  if (in.rhoA > 0 && in.jyy > 0 && in.jzz > 0) {
+    iy = in.jyy / in.rhoA, iz = in.jzz / in.rhoA;
+  } else {
+    const double EA = stiffnessParameter(el, "EA"), EIy = stiffnessParameter(el, "EIy"),
+                 EIz = stiffnessParameter(el, "EIz");
+    if (EA > 0 && EIy > 0 && EIz > 0) iy = EIy / EA, iz = EIz / EA;
+  }
+  if (!(iy > 0 && iz > 0) || !std::isfinite(iy + iz)) return s;
+  if (std::abs(iy - iz) <= 1e-6 * std::max(iy, iz)) {  // equal: drawn round (I/A = d^2/16)
+    s.kind = DrawnSection::Kind::Circle;
+    s.width = s.thickness = 4 * std::sqrt(iy);
+  } else {  // rectangle w x t: Iz/A = w^2/12, Iy/A = t^2/12
+    s.kind = DrawnSection::Kind::Rectangle;
+    s.width = std::sqrt(12 * iz);
+    s.thickness = std::sqrt(12 * iy);
+  }
+  return s;
+}
 
 MechanismGeometry::MechanismGeometry(const core::Model& model, int beamSegments)
     : model_(model), beamSegments_(std::max(1, beamSegments)), anchor_(model.nodes.size(), -1) {
-  using core::NodeKind;
   for (size_t i = 0; i < model.nodes.size(); ++i) {
-    if (model.nodes[i].kind == NodeKind::Position) {
+    if (core::isTranslational(model.nodes[i].kind)) {
       anchor_[i] = static_cast<int>(i);
       if (model.nodes[i].dim() >= 3) spatial_ = true;
     }
@@ -32,8 +160,8 @@ MechanismGeometry::MechanismGeometry(const core::Model& model, int beamSegments)
   // Orientation nodes after a position node in an element's list belong to it.
   for (const auto& el : model.elements)
     for (size_t s = 1; s < el.nodes.size(); ++s)
-      if (model.nodes[el.nodes[s]].kind == NodeKind::Orientation && anchor_[el.nodes[s]] < 0 &&
-          model.nodes[el.nodes[s - 1]].kind == NodeKind::Position)
+      if (isOrientation(model, el.nodes[s]) && anchor_[el.nodes[s]] < 0 &&
+          core::isTranslational(model.nodes[el.nodes[s - 1]].kind))
         anchor_[el.nodes[s]] = el.nodes[s - 1];
   // Orientation nodes only joints use (a ground node) take their joint partners' attachment.
   for (size_t pass = 0; pass < model.elements.size(); ++pass) {
@@ -44,25 +172,35 @@ MechanismGeometry::MechanismGeometry(const core::Model& model, int beamSegments)
         if (a < 0 && anchor_[n] >= 0) a = anchor_[n];
       if (a < 0) continue;
       for (int n : el.nodes)
-        if (anchor_[n] < 0 && model.nodes[n].kind == NodeKind::Orientation) anchor_[n] = a, changed = true;
+        if (anchor_[n] < 0 && isOrientation(model, n)) anchor_[n] = a, changed = true;
     }
     if (!changed) break;
   }
+  std::vector<int> positions, rotations;
+  Mat3 A;
   for (size_t e = 0; e < model.elements.size(); ++e) {
     const auto& el = model.elements[e];
+    if (el.type->internal) continue;  // L2MIN1: no geometry of its own
+    const auto look = model.appearance.find(el.label);
+    if (look != model.appearance.end() && look->second.hidden) continue;
     DrawnElement d;
     d.element = static_cast<int>(e);
     d.firstPoint = numPoints_;
-    std::vector<int> positions;
-    for (int n : el.nodes)
-      if (model.nodes[n].kind == NodeKind::Position) positions.push_back(n);
-    if (drawnCurved(el)) {
+    slots(model, el, positions, rotations);
+    if (isPlanarBeam(model, el)) {
       d.numPoints = beamSegments_ + 1;
       pointNode_.push_back(el.nodes[0]);
       for (int k = 1; k < beamSegments_; ++k) pointNode_.push_back(-1);
       pointNode_.push_back(el.nodes[2]);
+    } else if (isSpatialBeam(model, el)) {
+      d.numPoints = beamSegments_ + 1;
+      d.framed = true;
+      pointNode_.push_back(positions[0]);
+      for (int k = 1; k < beamSegments_; ++k) pointNode_.push_back(-1);
+      pointNode_.push_back(positions[1]);
     } else if (positions.size() >= 2) {
       d.numPoints = static_cast<int>(positions.size());
+      d.framed = positions.size() == 2 && !rotations.empty() && el.impl && el.impl->elementFrame(0, A);
       pointNode_.insert(pointNode_.end(), positions.begin(), positions.end());
     } else {
       d.shape = DrawnShape::Joint;
@@ -73,6 +211,7 @@ MechanismGeometry::MechanismGeometry(const core::Model& model, int beamSegments)
       d.numPoints = 1;
       pointNode_.push_back(a);
     }
+    if (d.framed) d.section = elementSection(model, d.element);
     numPoints_ += d.numPoints;
     drawn_.push_back(d);
   }
@@ -88,7 +227,7 @@ void MechanismGeometry::points(const Eigen::VectorXd& x, std::vector<Point3>& ou
   core::DefVec e;
   for (const DrawnElement& d : drawn_) {
     const auto& el = model_.elements[d.element];
-    if (d.shape == DrawnShape::Curve && drawnCurved(el)) {
+    if (d.shape == DrawnShape::Curve && isPlanarBeam(model_, el)) {
       // The beam's own field (PlanarBeam.hpp): chord plus n(alpha) (H2 e2 + H3 e3).
       el.gather(x, xe);
       el.impl->deformations(xe, e);
@@ -102,9 +241,61 @@ void MechanismGeometry::points(const Eigen::VectorXd& x, std::vector<Point3>& ou
         out[d.firstPoint + k] = {(1 - xi) * p.x + xi * q.x + nx * w, (1 - xi) * p.y + xi * q.y + ny * w,
                                  (1 - xi) * p.z + xi * q.z};
       }
+    } else if (d.framed && d.numPoints == beamSegments_ + 1 && isSpatialBeam(model_, el)) {
+      FramedSampler{model_, el, beamSegments_}.sample(x, &out[d.firstPoint], nullptr, nullptr);
     } else {
       for (int k = 0; k < d.numPoints; ++k) out[d.firstPoint + k] = positionOf(model_, pointNode_[d.firstPoint + k], x);
     }
+  }
+}
+
+void MechanismGeometry::sectionAxes(const Eigen::VectorXd& x, std::vector<Point3>& y, std::vector<Point3>& z) const {
+  y.assign(numPoints_, Point3{});
+  z.assign(numPoints_, Point3{});
+  std::vector<Point3> scratch(static_cast<size_t>(beamSegments_) + 1);
+  for (const DrawnElement& d : drawn_) {
+    if (!d.framed) continue;
+    FramedSampler{model_, model_.elements[d.element], beamSegments_}.sample(x, scratch.data(), &y[d.firstPoint],
+                                                                            &z[d.firstPoint]);
+  }
+}
+
+bool MechanismGeometry::jointAxis(const DrawnElement& d, const Eigen::VectorXd& x, Point3& axis) const {
+  const auto& el = model_.elements[d.element];
+  if (d.shape != DrawnShape::Joint || !el.impl) return false;
+  Mat3 A;
+  if (!el.impl->elementFrame(0, A)) return false;
+  for (int n : el.nodes)
+    if (isEuler(model_, n)) {
+      axis = point(rotationOf(model_, n, x) * A.col(0));
+      return true;
+    }
+  return false;
+}
+
+Axonometry axonometry(double azimuthDeg, double elevationDeg) {
+  const double a = azimuthDeg * M_PI / 180, e = elevationDeg * M_PI / 180;
+  Axonometry o;
+  o.azimuth = azimuthDeg, o.elevation = elevationDeg;
+  const double toViewer[3] = {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+  const double right[3] = {-std::sin(a), std::cos(a), 0.0};
+  const double up[3] = {-std::sin(e) * std::cos(a), -std::sin(e) * std::sin(a), std::cos(e)};
+  std::copy(toViewer, toViewer + 3, o.toViewer);
+  std::copy(right, right + 3, o.right);
+  std::copy(up, up + 3, o.up);
+  return o;
+}
+
+Axonometry axonometry(View view) {
+  switch (view) {
+    case View::XZ:
+      return axonometry(-90, 0);
+    case View::YZ:
+      return axonometry(0, 0);
+    case View::Isometric:
+      return axonometry(-127.5, 30);  // MATLAB's view(3): azimuth -37.5, elevation 30 degrees
+    default:
+      return axonometry(-90, 90);
   }
 }
 
@@ -120,12 +311,39 @@ Point2 project(const Point3& p, View view) {
     case View::YZ:
       return {p.y, p.z};
     case View::Isometric: {
-      // z up, x towards the lower left, y towards the lower right (30 degrees below horizontal).
-      const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
-      return {c * (p.y - p.x), p.z - s * (p.x + p.y)};
+      const Axonometry a = axonometry(view);
+      return {a.right[0] * p.x + a.right[1] * p.y + a.right[2] * p.z, a.up[0] * p.x + a.up[1] * p.y + a.up[2] * p.z};
     }
     default:
       return {p.x, p.y};
+  }
+}
+
+double depth(const Point3& p, View view) {
+  switch (view) {
+    case View::XZ:
+      return -p.y;
+    case View::YZ:
+      return p.x;
+    case View::Isometric: {
+      const Axonometry a = axonometry(view);
+      return a.toViewer[0] * p.x + a.toViewer[1] * p.y + a.toViewer[2] * p.z;
+    }
+    default:
+      return p.z;
+  }
+}
+
+const char* viewName(View view) {
+  switch (view) {
+    case View::XZ:
+      return "xz";
+    case View::YZ:
+      return "yz";
+    case View::Isometric:
+      return "iso";
+    default:
+      return "xy";
   }
 }
 
@@ -133,7 +351,7 @@ double modelSize(const core::Model& model, const Eigen::VectorXd& x) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   bool any = false;
   for (size_t i = 0; i < model.nodes.size(); ++i) {
-    if (model.nodes[i].kind != core::NodeKind::Position) continue;
+    if (!core::isTranslational(model.nodes[i].kind)) continue;
     const Point3 p = positionOf(model, static_cast<int>(i), x);
     const Eigen::Vector3d v(p.x, p.y, p.z);
     if (!v.allFinite()) continue;
@@ -147,10 +365,12 @@ Eigen::VectorXd scaledShape(const core::Model& model, const Eigen::VectorXd& x, 
                             double fraction) {
   double maxDisp = 0.0, maxRot = 0.0;
   for (const core::Node& n : model.nodes) {
-    if (n.kind == core::NodeKind::Position)
+    if (core::isTranslational(n.kind))
       maxDisp = std::max(maxDisp, dx.segment(n.firstCoord, n.dim()).norm());
-    else if (n.kind == core::NodeKind::Orientation)  // planar angle; Euler parameters, warping: not angles
+    else if (n.kind == core::NodeKind::Orientation)  // planar angle (a warping node's rate of twist is none)
       maxRot = std::max(maxRot, std::abs(dx[n.firstCoord]));
+    else if (n.kind == core::NodeKind::EulerParameters)  // |d lambda| = half the rotation angle
+      maxRot = std::max(maxRot, 2 * dx.segment(n.firstCoord, 4).norm());
   }
   double s = 0.0;
   if (maxDisp > 0) s = fraction * modelSize(model, x) / maxDisp;

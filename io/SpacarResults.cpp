@@ -239,16 +239,29 @@ Eigen::MatrixXd spacarElementConstants(const core::Model& model, ElementConstant
   return C;
 }
 
-Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows) {
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows, int end) {
   if (!model.spatial) return Eigen::MatrixXd(0, 0);
   Eigen::MatrixXd R = Eigen::MatrixXd::Zero(rows, 9);
   Eigen::Matrix3d A;
   for (const auto& el : model.elements) {
-    if (!el.impl || el.label < 1 || el.label > rows || !el.impl->elementFrame(A)) continue;
+    if (!el.impl || el.label < 1 || el.label > rows || !el.impl->elementFrame(end, A)) continue;
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) R(el.label - 1, 3 * c + r) = A(r, c);
   }
   return R;
+}
+
+Eigen::MatrixXd spacarElementPrestress(const core::Model& model, Eigen::Index rows) {
+  if (model.sigma0.size() != model.ne) return Eigen::MatrixXd(0, 0);
+  if (model.sigma0.isZero(0.0)) return Eigen::MatrixXd(0, 0);
+  Eigen::Index cols = 0;
+  for (const auto& el : model.elements)
+    if (el.impl) cols = std::max<Eigen::Index>(cols, el.impl->numDeformations());
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(rows, cols);
+  for (const auto& el : model.elements)
+    if (el.impl && el.label >= 1 && el.label <= rows)
+      for (int i = 0; i < el.impl->numDeformations(); ++i) S(el.label - 1, i) = model.sigma0[el.firstDef + i];
+  return S;
 }
 
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
@@ -340,11 +353,13 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     w.matrix("le", le);
     w.matrix("it", it);
     w.matrix("rl0", rl0);
-    w.matrix("rxyz", spacarElementTriads(model, le.rows()));
+    w.matrix("rxyz", spacarElementTriads(model, le.rows(), 0));
+    w.matrix("rxyzq", spacarElementTriads(model, le.rows(), 1));
     w.matrix("estiff", spacarElementConstants(model, ElementConstant::Stiffness, le.rows()));
     w.matrix("stif", spacarElementConstants(model, ElementConstant::Stiffness, le.rows(), 6));
     w.matrix("edamp", spacarElementConstants(model, ElementConstant::Damping, le.rows()));
     w.matrix("em", spacarElementConstants(model, ElementConstant::Mass, le.rows()));
+    w.matrix("esig", spacarElementPrestress(model, le.rows()));
     w.matrix("x0", L.sortX(model.x0));
     // Per step: one row per stored step.
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));

@@ -43,10 +43,15 @@ struct SpacarTopology {
 };
 SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& layout);
 
-// rxyz (io/results.md): row el = the initial triad of element el at its first orientation node,
-// in that node's frame (columns e_x, e_y, e_z, stored column-wise: reshape(rxyz(el, :), 3, 3));
-// zeros for elements without a triad; 0 x 0 for planar models.
-Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows);
+// rxyz (end 0) and rxyzq (end 1) (io/results.md): row el = the triad of element el at its first
+// (second) orientation node, in that node's body frame (columns e_x, e_y, e_z, stored column-wise:
+// reshape(rxyz(el, :), 3, 3); Element::elementFrame); zeros for elements without a triad there; 0 x 0
+// for planar models.
+Eigen::MatrixXd spacarElementTriads(const core::Model& model, Eigen::Index rows, int end = 0);
+
+// esig (io/results.md): row el = the ESIG prestress of element el's deformations (keyword order, as
+// le); 0 pads; 0 x 0 when no element has a prestress.
+Eigen::MatrixXd spacarElementPrestress(const core::Model& model, Eigen::Index rows);
 
 // The element constants as the file gives them (io/results.md): row el = element el's ESTIFF,
 // EDAMP or EM values (trailing ones the file omits and unused labels are 0); at least `minCols`

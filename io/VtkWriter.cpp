@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/elements/EulerParameters.hpp"
 #include "io/TextOutput.hpp"
 
 namespace flexmb::io {
@@ -21,6 +22,51 @@ void checkFinite(const Eigen::VectorXd& v, const char* what, double t, Eigen::In
     if (!std::isfinite(v[i]))
       throw std::invalid_argument(std::string("VTK output: ") + what + "(" + std::to_string(i + 1) +
                                   ") is not finite at t = " + shortNumber(t, 10));
+}
+
+// Per sampled point the rotation from the initial configuration as a rotation vector (axis times
+// angle, rad): the section frame of a framed element's point, else the orientation node attached at
+// the point's position node (planar: about z), else zero.
+std::vector<Point3> pointRotations(const MechanismGeometry& g, const Eigen::VectorXd& x) {
+  const core::Model& m = g.model();
+  std::vector<Point3> rot(g.numPoints()), y, z, y0, z0;
+  g.sectionAxes(x, y, z);
+  g.sectionAxes(m.x0, y0, z0);
+  std::vector<int> orientationAt(m.nodes.size(), -1);
+  for (size_t n = 0; n < m.nodes.size(); ++n)
+    if (!g.isPositionNode(static_cast<int>(n)) && g.anchor(static_cast<int>(n)) >= 0 &&
+        orientationAt[g.anchor(static_cast<int>(n))] < 0)
+      orientationAt[g.anchor(static_cast<int>(n))] = static_cast<int>(n);
+  auto v = [](const Point3& p) { return Eigen::Vector3d(p.x, p.y, p.z); };
+  auto frame = [&](const Point3& a, const Point3& b) {
+    Eigen::Matrix3d F;
+    F.col(1) = v(a), F.col(2) = v(b), F.col(0) = v(a).cross(v(b));
+    return F;
+  };
+  auto rotationVector = [](const Eigen::Matrix3d& R) {
+    const Eigen::AngleAxisd aa(R);
+    const Eigen::Vector3d r = aa.angle() * aa.axis();
+    return Point3{r[0], r[1], r[2]};
+  };
+  for (int i = 0; i < g.numPoints(); ++i) {
+    if (v(y[i]).squaredNorm() > 0.5 && v(y0[i]).squaredNorm() > 0.5) {
+      rot[i] = rotationVector(frame(y[i], z[i]) * frame(y0[i], z0[i]).transpose());
+      continue;
+    }
+    const int node = g.pointNodes()[i];
+    const int o = node >= 0 ? orientationAt[node] : -1;
+    if (o < 0) continue;
+    const core::Node& n = m.nodes[o];
+    if (n.kind == core::NodeKind::Orientation) {
+      rot[i] = {0.0, 0.0, x[n.firstCoord] - m.x0[n.firstCoord]};
+    } else if (n.kind == core::NodeKind::EulerParameters) {
+      const Eigen::Vector4d l = x.segment<4>(n.firstCoord), l0 = m.x0.segment<4>(n.firstCoord);
+      if (l.norm() > 0 && l0.norm() > 0)
+        rot[i] =
+            rotationVector(core::euler::rotation(l.normalized()) * core::euler::rotation(l0.normalized()).transpose());
+    }
+  }
+  return rot;
 }
 
 int maxDeformations(const core::Model& m) {
@@ -68,6 +114,8 @@ std::string renderVtu(const MechanismGeometry& g, const core::StateOutputs& s, d
        "format=\"ascii\">\n";
   for (size_t i = 0; i < p.size(); ++i)
     o += n17(p[i].x - p0[i].x) + " " + n17(p[i].y - p0[i].y) + " " + n17(p[i].z - p0[i].z) + "\n";
+  o += "</DataArray>\n<DataArray type=\"Float64\" Name=\"rotation\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const Point3& r : pointRotations(g, s.x)) o += n17(r.x) + " " + n17(r.y) + " " + n17(r.z) + "\n";
   o += "</DataArray>\n<DataArray type=\"Int32\" Name=\"node_label\" format=\"ascii\">\n";
   for (int n : g.pointNodes()) o += std::to_string(n >= 0 ? m.nodes[n].label : 0) + " ";
   o += "\n</DataArray>\n</PointData>\n<CellData Scalars=\"element_label\">\n";

@@ -1,11 +1,13 @@
 #pragma once
-// ParaView time series of a simulation: one VTK XML UnstructuredGrid (.vtu, ASCII) per output time
-// and a .pvd collection naming them with their times. Geometry from MechanismGeometry (the points
-// of the drawn elements in model coordinates, z = 0 for planar models):
+// ParaView time series of a simulation (or of load steps, or mode shapes): one VTK XML UnstructuredGrid (.vtu, ASCII)
+// per output time and a .pvd collection naming them with their times. Geometry from MechanismGeometry (the points of
+// the drawn elements in model coordinates, z = 0 for planar models):
 //   * cells: one VTK_POLY_LINE (type 4) per beam / truss (its sampled points), one VTK_VERTEX
 //     (type 1) per joint (hinge);
-//   * point data: "displacement" (3 components, from the initial configuration), "node_label"
-//     (the position node's label, 0 for points inside a beam);
+//   * point data: "displacement" (3 components, from the initial configuration), "rotation" (the
+//     rotation from the initial configuration as a rotation vector, axis times angle in rad: of the
+//     section frame along a spatial beam, else of the orientation node at the point's position node;
+//     planar models about z), "node_label" (the position node's label, 0 for points inside a beam);
 //   * cell data: "element_label", "deformation", "deformation_rate", "stress" (the element's e, ed
 //     and sigma in keyword order, as many components as the model's largest element has
 //     deformations, unused components 0);

@@ -13,16 +13,32 @@ bool positiveDefinite(const Eigen::LDLT<Eigen::MatrixXd>& ldlt) {
 }
 }  // namespace
 
-bool isPositiveDefinite(const Eigen::MatrixXd& T) { return positiveDefinite(Eigen::LDLT<Eigen::MatrixXd>(T)); }
+bool isSymmetric(const Eigen::MatrixXd& T) {
+  const double scale = T.cwiseAbs().maxCoeff();
+  return (T - T.transpose()).cwiseAbs().maxCoeff() <= 1e-14 * scale;
+}
+
+bool isPositiveDefinite(const Eigen::MatrixXd& T) {
+  if (isSymmetric(T)) return positiveDefinite(Eigen::LDLT<Eigen::MatrixXd>(T));
+  return positiveDefinite(Eigen::LDLT<Eigen::MatrixXd>(0.5 * (T + T.transpose())));
+}
 
 TangentKind DenseStaticProblem::linearize(const Eigen::VectorXd& eta, Eigen::VectorXd& Q) {
   f_(eta, Q, &T_);
   if (!T_.allFinite()) throw std::runtime_error("non-finite tangent");
-  ldlt_.compute(T_);
-  spd_ = positiveDefinite(ldlt_);
+  const bool symmetric = isSymmetric(T_);
+  // A non-symmetric tangent (moments on Euler parameters) is classified by its symmetric part and
+  // solved by LU.
+  if (symmetric)
+    ldlt_.compute(T_);
+  else
+    ldlt_.compute(0.5 * (T_ + T_.transpose()));
+  const bool definite = positiveDefinite(ldlt_);
+  spd_ = definite && symmetric;
   if (spd_) return TangentKind::PositiveDefinite;
   lu_.compute(T_);
-  return lu_.isInvertible() ? TangentKind::Indefinite : TangentKind::Singular;
+  if (!lu_.isInvertible()) return TangentKind::Singular;
+  return definite ? TangentKind::PositiveDefinite : TangentKind::Indefinite;
 }
 
 void DenseStaticProblem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {

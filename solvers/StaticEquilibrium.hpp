@@ -56,12 +56,14 @@ class StaticProblem {
   virtual void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
 };
 
-// T is positive definite: its LDLT succeeds with pivots above 1e-14 of the largest (the stability
-// test of an equilibrium).
+// T is positive definite (x^T T x > 0): the LDLT of its symmetric part succeeds with pivots above
+// 1e-14 of the largest (the stability test of an equilibrium).
 bool isPositiveDefinite(const Eigen::MatrixXd& T);
+// T equals its transpose to 1e-14 of its largest entry.
+bool isSymmetric(const Eigen::MatrixXd& T);
 
-// A dense tangent from a callable: LDLT when positive definite (pivots above 1e-14 of the
-// largest), else full-pivot LU.
+// A dense tangent from a callable: LDLT when symmetric and positive definite (pivots above 1e-14 of
+// the largest), else full-pivot LU (a non-symmetric tangent is classified by its symmetric part).
 class DenseStaticProblem final : public StaticProblem {
  public:
   // Residual Q(eta); when T is non-null also the tangent T = -dQ/deta.

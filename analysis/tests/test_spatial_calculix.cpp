@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "analysis/Statics.hpp"
+#include "analysis/tests/Objectivity.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;
@@ -256,4 +257,36 @@ TEST(SpatialCalculix, ParallelGuidanceFrequenciesAndStaticDeflection) {
     std::printf("                 horizontal difference %.3f%%\n", 100 * d);
     EXPECT_LT(d, 1e-2) << c.name;
   }
+}
+
+TEST(SpatialCalculix, GuidanceTurnsWithTheModel) {
+  // Objectivity (issue 22): the guidance of the comparison above, turned by a random rotation, has
+  // the same frequencies and the turned mode shapes, and the turned static deflection.
+  const Eigen::Matrix3d R = objectivity::randomRotation(13);
+  const Frame frame(4);
+  const std::string freeDat = frame.flexmbDat(false), loadedDat = frame.flexmbDat(true);
+  const core::Model a = io::readDatString(freeDat, "a.dat");
+  const core::Model b = io::readDatString(objectivity::rotatedDat(freeDat, R), "b.dat");
+  const auto ra = analysis::staticAnalysis(a, 6), rb = analysis::staticAnalysis(b, 6);
+  ASSERT_TRUE(ra.completed && rb.completed);
+  const auto &fa = ra.steps.back().frequencies, &fb = rb.steps.back().frequencies;
+  ASSERT_EQ(fa.omega.size(), 6);
+  ASSERT_EQ(fb.omega.size(), 6);
+  const double df = ((fa.omega - fb.omega).cwiseQuotient(fa.omega)).cwiseAbs().maxCoeff();
+  const double dm = objectivity::modeDifference(a, ra.steps.back().x, fa.nodalModes, fa.omega, b, rb.steps.back().x,
+                                                fb.nodalModes, fb.omega, R);
+  const core::Model la = io::readDatString(loadedDat, "la.dat");
+  const core::Model lb = io::readDatString(objectivity::rotatedDat(loadedDat, R), "lb.dat");
+  const auto sa = analysis::staticAnalysis(la, 0), sb = analysis::staticAnalysis(lb, 0);
+  ASSERT_TRUE(sa.completed && sb.completed);
+  // Relative to the corner's deflection (about 1e-4 m), not to the frame's size.
+  const double u = (sa.steps.back().x - la.x0).lpNorm<Eigen::Infinity>();
+  const double ds = objectivity::configurationDifference(la, sa.steps.back().x, lb, sb.steps.back().x, R, u);
+  std::printf(
+      "guidance turned by a random rotation: 6 frequencies differ by %.1e (relative), modes by %.1e, the static "
+      "deflection by %.1e of itself\n",
+      df, dm, ds);
+  EXPECT_LT(df, 1e-9);
+  EXPECT_LT(dm, 1e-7);
+  EXPECT_LT(ds, 1e-7);
 }

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "analysis/Statics.hpp"
+#include "analysis/tests/Objectivity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
@@ -212,6 +213,132 @@ TEST(SpatialModels, TipMomentRollsTheBeamIntoACircle) {
       }
     }
   }
+}
+
+namespace {
+// The roll-up of a cantilever by an end moment M = 2 pi EI / L about its local z axis, along a
+// beam axis `dir` with cross-section y axis `y`: at each load step the tip error against the exact
+// circle (tip at (EI/M)(sin phi, 1 - cos phi) in the bending plane, phi = M L / EI) in units of L,
+// and the tip rotation's error (|R(lambda_tip) - Rot(z, phi)|, Frobenius).
+struct RollUp {
+  std::vector<double> position, rotation;
+  std::vector<int> iterations;
+  std::string stop;
+};
+RollUp rollUp(const Vec3& dir, const Vec3& y, int n, int steps) {
+  Cantilever c;
+  c.n = n;
+  c.dir = dir;
+  c.y = y;
+  c.EIz = c.EIy = 2.0;
+  c.GIt = 2.0;
+  c.EA = 1e8;
+  c.steps = steps;
+  const Mat3 F = core::euler::elementFrame(dir, y);
+  c.dM = F * Vec3(0, 0, 2 * kPi * c.EIz / c.L);
+  const core::Model m = io::readDatString(c.dat(), "rollup.dat");
+  const auto run = analysis::staticAnalysis(m, 0);
+  RollUp r;
+  r.stop = run.completed ? "" : run.stopReason;
+  for (const auto& st : run.steps) {  // SPACAR's load steps 0..steps, step 0 unloaded
+    const double phi = st.loadFactor * 2 * kPi;
+    const Vec3 ref =
+        phi == 0.0 ? Vec3(c.L * F.col(0)) : Vec3(F * Vec3(std::sin(phi), 1 - std::cos(phi), 0) * (c.L / phi));
+    r.position.push_back((tipPosition(m, st.x, c.tipPos()) - ref).norm() / c.L);
+    const Mat3 Rz = Eigen::AngleAxisd(phi, F.col(2)).toRotationMatrix();
+    r.rotation.push_back((core::euler::rotation(tipParameters(m, st.x, c.tipOri())) - Rz).norm());
+    r.iterations.push_back(st.iterations);
+  }
+  return r;
+}
+}  // namespace
+
+TEST(SpatialModels, EndMomentRollUpIsTheSameInAnySkewOrientation) {
+  // The moment's load stiffness on Euler parameters is antisymmetric (core/NodalMatrices.hpp): with
+  // it in the Newton tangent the roll-up converges in any orientation, and the skew beam (axis
+  // (1, 2, 2)/3) has the aligned beam's errors to round-off.
+  const int n = 32, steps = 8;
+  const RollUp aligned = rollUp(Vec3::UnitX(), Vec3::UnitY(), n, steps);
+  const Vec3 axis = Vec3(1, 2, 2) / 3, y = Vec3(2, -2, 1) / 3;  // y orthogonal to the axis
+  const RollUp skew = rollUp(axis, y, n, steps);
+  ASSERT_TRUE(aligned.stop.empty()) << aligned.stop;
+  ASSERT_TRUE(skew.stop.empty()) << skew.stop;
+  ASSERT_EQ(aligned.position.size(), size_t(steps + 1));
+  ASSERT_EQ(skew.position.size(), size_t(steps + 1));
+  double worst = 0.0;
+  for (int k = 0; k <= steps; ++k) {
+    std::printf(
+        "roll-up, %d BEAM, load %d/%d: tip error %.3e L aligned, %.3e L skew; rotation error %.3e / %.3e; Newton "
+        "iterations %d / %d\n",
+        n, k, steps, aligned.position[k], skew.position[k], aligned.rotation[k], skew.rotation[k],
+        aligned.iterations[k], skew.iterations[k]);
+    worst = std::max(
+        {worst, std::abs(aligned.position[k] - skew.position[k]), std::abs(aligned.rotation[k] - skew.rotation[k])});
+    EXPECT_LT(skew.iterations[k], 10) << "load step " << k;
+    EXPECT_LT(aligned.position[k], 1e-2);  // the O(h^2) discretisation error of 32 elements
+  }
+  std::printf("roll-up: largest difference of the errors, skew against aligned: %.2e\n", worst);
+  EXPECT_LT(worst, 1e-9);
+  // A full turn: the tip is back at the root, turned by 2 pi (to the discretisation error).
+  EXPECT_LT(aligned.position.back(), 1e-2);
+  EXPECT_LT(aligned.rotation.back(), 0.1);
+}
+
+TEST(SpatialModels, EndMomentTangentIsTheDerivativeOfTheResidual) {
+  // The full (non-symmetric) tangent T = Kbar + Gbar + Gskew of the skew roll-up at a deformed
+  // state (a third of a turn, with a twisting and a lateral component, in one load step) against
+  // central differences of the static residual Q, column by
+  // column, for the dense projection (Linearization::tangent) and the sparse saddle-point solve
+  // (staticTangent). Without Gskew the difference is O(1) of T's skew part.
+  Cantilever c;
+  c.n = 6;
+  c.dir = Vec3(1, 2, 2) / 3;
+  c.y = Vec3(2, -2, 1) / 3;
+  c.EIz = c.EIy = 2.0, c.GIt = 1.5, c.EA = 1e4;
+  c.dM = core::euler::elementFrame(c.dir, c.y) * Vec3(0.3, -0.4, 2 * kPi * c.EIz / c.L) / 3.0;
+  c.steps = 1;
+  const core::Model m = io::readDatString(c.dat(), "rollup.dat");
+  const auto run = analysis::staticAnalysis(m, 0);
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  ASSERT_EQ(run.steps.back().loadFactor, 1.0);
+  const double s = run.steps.back().loadFactor;
+  core::Linearization lin(m);
+  lin.kinematics().setRelativeTolerance(1e-15);
+  lin.kinematics().setConfiguration(run.steps.back().x);
+  Eigen::VectorXd eta = run.steps.back().eta;
+  for (int i = 0; i < eta.size(); ++i) eta[i] += 1e-3 * std::sin(0.3 + 1.1 * i);  // off the equilibrium
+  Eigen::VectorXd Q, Qp, Qm, f;
+  lin.staticResidual(0.0, eta, s, 1.0, Q);
+  lin.appliedForces(0.0, s, f, 1.0);
+  Eigen::MatrixXd T;
+  lin.tangent(0.0, eta, f, Q, T);
+  const int nq = lin.size();
+  Eigen::MatrixXd Tfd(nq, nq);
+  const double h = 1e-6;
+  for (int j = 0; j < nq; ++j) {
+    Eigen::VectorXd ep = eta, em = eta;
+    ep[j] += h, em[j] -= h;
+    lin.staticResidual(0.0, ep, s, 1.0, Qp);
+    lin.staticResidual(0.0, em, s, 1.0, Qm);
+    Tfd.col(j) = -(Qp - Qm) / (2 * h);
+  }
+  const double skewPart = (0.5 * (Tfd - Tfd.transpose())).norm() / Tfd.norm();
+  const double dense = (T - Tfd).norm() / Tfd.norm();
+  ASSERT_TRUE(lin.staticTangent(0.0, eta, s, 1.0, Q));
+  Eigen::MatrixXd Tinv(nq, nq);
+  Eigen::VectorXd col;
+  for (int j = 0; j < nq; ++j) {
+    lin.solveStaticTangent(Tfd.col(j), col);
+    Tinv.col(j) = col;
+  }
+  const double sparse = (Tinv - Eigen::MatrixXd::Identity(nq, nq)).norm() / std::sqrt(double(nq));
+  std::printf(
+      "skew roll-up tangent (%d DOF): |T - FD| / |FD| = %.2e dense, |T^-1 FD - I| = %.2e sparse; skew part of the "
+      "FD tangent %.2e\n",
+      nq, dense, sparse, skewPart);
+  EXPECT_GT(skewPart, 1e-3);  // the moment's load stiffness matters here
+  EXPECT_LT(dense, 1e-6);
+  EXPECT_LT(sparse, 1e-5);
 }
 
 TEST(SpatialModels, EulerColumnBucklingWithBeamNL) {
@@ -448,4 +575,131 @@ TEST(SpatialModels, SpaLightPivotFilesRunUnchangedWithTheirIterstep) {
         name, 2 * std::atan2(l[3], l[0]), diff);
     EXPECT_LT(diff, 1e-12);
   }
+}
+
+// Objectivity (issue 22): every benchmark above that runs along a global axis, turned as a whole by
+// a random rotation R (objectivity::rotatedDat: positions, y axes, loads, gravity, initial Euler
+// parameters), gives the turned answer: configurations x' = R x at every load step, the same
+// buckling factors and frequencies, and the turned mode shapes.
+namespace {
+struct Pair {
+  core::Model a, b;
+  analysis::StaticRun ra, rb;
+};
+Pair solvedTurned(const std::string& dat, const Mat3& R, int buckling = 0, int nev = 0) {
+  Pair p{io::readDatString(dat, "a.dat"), io::readDatString(objectivity::rotatedDat(dat, R), "b.dat"), {}, {}};
+  p.ra = analysis::staticAnalysis(p.a, nev, 0, {}, buckling);
+  p.rb = analysis::staticAnalysis(p.b, nev, 0, {}, buckling);
+  return p;
+}
+double stepsDifference(const Pair& p, const Mat3& R, double L) {
+  double worst = 0.0;
+  for (size_t k = 0; k < p.ra.steps.size(); ++k)
+    worst = std::max(worst, objectivity::configurationDifference(p.a, p.ra.steps[k].x, p.b, p.rb.steps[k].x, R, L));
+  return worst;
+}
+}  // namespace
+
+TEST(SpatialObjectivity, StaticBenchmarksTurnWithTheModel) {
+  const Mat3 R = objectivity::randomRotation();
+  struct Case {
+    const char* name;
+    Cantilever c;
+  };
+  std::vector<Case> cases;
+  {  // elastica, load in the x-y plane (ElasticaInTwoPlanesAndASkewPlane)
+    Cantilever c;
+    c.n = 8, c.L = 2.0, c.EIy = c.EIz = 3.0, c.GIt = 2.0, c.EA = 1e7 * 3.0 / 4.0;
+    c.dF = -(c.EIz / (c.L * c.L)) * Vec3::UnitY();
+    cases.push_back({"elastica", c});
+  }
+  {  // half a turn by a tip moment (TipMomentRollsTheBeamIntoACircle)
+    Cantilever c;
+    c.n = 16, c.EIz = c.EIy = 2.0, c.EA = 1e8;
+    c.dM = Vec3(0, 0, kPi * c.EIz / c.L);
+    cases.push_back({"tip moment", c});
+  }
+  {  // a full turn in 8 steps (EndMomentRollUpIsTheSameInAnySkewOrientation)
+    Cantilever c;
+    c.n = 16, c.EIz = c.EIy = 2.0, c.GIt = 2.0, c.EA = 1e8, c.steps = 8;
+    c.dM = Vec3(0, 0, 2 * kPi * c.EIz / c.L);
+    cases.push_back({"roll-up", c});
+  }
+  for (const Case& cs : cases) {
+    const Pair p = solvedTurned(cs.c.dat(), R);
+    ASSERT_TRUE(p.ra.completed) << cs.name << ": " << p.ra.stopReason;
+    ASSERT_TRUE(p.rb.completed) << cs.name << " turned: " << p.rb.stopReason;
+    ASSERT_EQ(p.ra.steps.size(), p.rb.steps.size()) << cs.name;
+    const double d = stepsDifference(p, R, cs.c.L);
+    std::printf("objectivity, %-10s: %zu load steps, largest |R x - x'| %.2e L (positions) / rotations\n", cs.name,
+                p.ra.steps.size(), d);
+    EXPECT_LT(d, 1e-8) << cs.name;
+  }
+}
+
+TEST(SpatialObjectivity, BucklingFactorsDoNotDependOnTheOrientation) {
+  const Mat3 R = objectivity::randomRotation(7);
+  // Euler column (BEAMNL) and lateral-torsional buckling (BEAM), as above.
+  Cantilever column;
+  column.n = 8, column.type = "BEAMNL", column.EIy = 1.0, column.EIz = 1.5, column.GIt = 1.0, column.EA = 1e5;
+  column.F = Vec3(-1e-3, 0, 0);
+  Cantilever strip;
+  strip.n = 16, strip.EIy = 1.0, strip.EIz = 1e4, strip.GIt = 1.0, strip.EA = 1e5;
+  strip.F = Vec3(0, -1e-3, 0);
+  for (const auto& [name, c] : {std::pair{"Euler column", column}, std::pair{"lateral-torsional", strip}}) {
+    const Pair p = solvedTurned(c.dat(), R, 3);
+    ASSERT_TRUE(p.ra.completed && p.rb.completed) << name;
+    const Eigen::VectorXd& a = p.ra.steps.back().buckling;
+    const Eigen::VectorXd& b = p.rb.steps.back().buckling;
+    ASSERT_EQ(a.size(), 3) << name;
+    ASSERT_EQ(b.size(), 3) << name;
+    const double d = ((a - b).cwiseQuotient(a)).cwiseAbs().maxCoeff();
+    std::printf("objectivity, %s buckling factors %.6g %.6g %.6g: turned model differs by %.1e (relative)\n", name,
+                a[0], a[1], a[2], d);
+    EXPECT_LT(d, 1e-8) << name;
+  }
+}
+
+TEST(SpatialObjectivity, FrequenciesAndModeShapesTurnWithTheModel) {
+  const Mat3 R = objectivity::randomRotation(11);
+  Cantilever c;  // CantileverFrequenciesInBothPlanesAndTorsion, 8 elements
+  c.n = 8, c.EA = 1e6, c.GIt = 1.0, c.EIy = 4.0, c.EIz = 1.0, c.rhoA = 1.0, c.Jxx = 0.02;
+  const Pair p = solvedTurned(c.dat(), R, 0, 6);
+  ASSERT_TRUE(p.ra.completed && p.rb.completed);
+  const auto& fa = p.ra.steps.back().frequencies;
+  const auto& fb = p.rb.steps.back().frequencies;
+  ASSERT_EQ(fa.omega.size(), 6);
+  ASSERT_EQ(fb.omega.size(), 6);
+  const double df = ((fa.omega - fb.omega).cwiseQuotient(fa.omega)).cwiseAbs().maxCoeff();
+  const double dm = objectivity::modeDifference(p.a, p.ra.steps.back().x, fa.nodalModes, fa.omega, p.b,
+                                                p.rb.steps.back().x, fb.nodalModes, fb.omega, R);
+  std::printf("objectivity, cantilever: 6 frequencies differ by %.1e (relative), mode shapes by %.1e\n", df, dm);
+  EXPECT_LT(df, 1e-9);
+  EXPECT_LT(dm, 1e-8);
+}
+
+TEST(SpatialObjectivity, CrossSpringPivotTurnsWithTheModel) {
+  // The SPACAR Light style pivot with its loads and gravity (9 load steps) and its frequencies.
+  std::ifstream in(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_coarse.dat");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const Mat3 R = objectivity::randomRotation(3);
+  const Pair p = solvedTurned(text.str(), R, 0, 4);
+  ASSERT_TRUE(p.ra.completed) << p.ra.stopReason;
+  ASSERT_TRUE(p.rb.completed) << p.rb.stopReason;
+  ASSERT_EQ(p.ra.steps.size(), 10u);  // ITERSTEP's 9 steps: load steps 0..9
+  ASSERT_EQ(p.rb.steps.size(), 10u);
+  const double d = stepsDifference(p, R, 0.1);
+  const auto& fa = p.ra.steps.back().frequencies;
+  const auto& fb = p.rb.steps.back().frequencies;
+  const double df = ((fa.omega - fb.omega).cwiseQuotient(fa.omega)).cwiseAbs().maxCoeff();
+  const double dm = objectivity::modeDifference(p.a, p.ra.steps.back().x, fa.nodalModes, fa.omega, p.b,
+                                                p.rb.steps.back().x, fb.nodalModes, fb.omega, R);
+  std::printf(
+      "objectivity, cross-spring pivot (coarse): 10 load steps differ by %.1e (positions / 0.1 m, rotations), "
+      "4 frequencies by %.1e, modes by %.1e\n",
+      d, df, dm);
+  EXPECT_LT(d, 1e-8);
+  EXPECT_LT(df, 1e-7);
+  EXPECT_LT(dm, 1e-6);
 }

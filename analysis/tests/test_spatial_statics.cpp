@@ -11,9 +11,12 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "analysis/Statics.hpp"
+#include "analysis/tests/Objectivity.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
 
@@ -162,5 +165,54 @@ TEST(SpatialStatics, StabilityOfAColumnBelowAndAboveItsBucklingLoad) {
     std::printf("spatial column at %.1f P_cr: %s after %d iterations\n", fraction,
                 st.newton.stable ? "stable" : "unstable", st.iterations);
     EXPECT_EQ(st.newton.stable, fraction < 1.0);
+  }
+}
+
+TEST(SpatialStatics, PivotLoadStepsTurnWithTheModel) {
+  // Objectivity (issue 22): the pivot (2 x 20 BEAM, moment and force on the platform, gravity)
+  // turned by a random rotation: every load step's equilibrium is the turned one, reached with the
+  // same Newton iterations, and the stability flags agree.
+  std::ifstream in(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot.dat");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const Eigen::Matrix3d R = objectivity::randomRotation(5);
+  const core::Model a = pivot();
+  const core::Model b = io::readDatString(objectivity::rotatedDat(text.str(), R), "turned.dat");
+  const analysis::StaticRun ra = analysis::staticAnalysis(a, 0, 10), rb = analysis::staticAnalysis(b, 0, 10);
+  ASSERT_TRUE(ra.completed) << ra.stopReason;
+  ASSERT_TRUE(rb.completed) << rb.stopReason;
+  ASSERT_EQ(ra.steps.size(), rb.steps.size());
+  double worst = 0.0;
+  std::string iterations;
+  for (size_t k = 0; k < ra.steps.size(); ++k) {
+    worst = std::max(worst, objectivity::configurationDifference(a, ra.steps[k].x, b, rb.steps[k].x, R, 0.1));
+    (((iterations += ' ') += std::to_string(ra.steps[k].iterations)) += '/') += std::to_string(rb.steps[k].iterations);
+    EXPECT_EQ(ra.steps[k].newton.stable, rb.steps[k].newton.stable) << "step " << k + 1;
+    EXPECT_LE(std::abs(ra.steps[k].iterations - rb.steps[k].iterations), 1) << "step " << k + 1;
+  }
+  std::printf("pivot turned by a random rotation: largest difference %.1e; Newton iterations (aligned/turned)%s\n",
+              worst, iterations.c_str());
+  EXPECT_LT(worst, 1e-8);
+}
+
+TEST(SpatialStatics, ColumnStabilityDoesNotDependOnTheOrientation) {
+  // The column of StabilityOfAColumnBelowAndAboveItsBucklingLoad along a random direction.
+  const double Pcr = M_PI * M_PI / 4.0;
+  const Eigen::Matrix3d R = objectivity::randomRotation(9);
+  for (double fraction : {0.5, 1.5}) {
+    std::string dat;
+    for (int e = 1; e <= 8; ++e)
+      dat += "BEAMNL " + std::to_string(e) + " " + std::to_string(2 * e - 1) + " " + std::to_string(2 * e) + " " +
+             std::to_string(2 * e + 1) + " " + std::to_string(2 * e + 2) + " 0 1 0\n";
+    for (int i = 1; i <= 9; ++i)
+      dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
+    for (int e = 1; e <= 8; ++e) dat += "DYNE " + std::to_string(e) + " 1 2 3 4 5 6\n";
+    dat += "FIX 1\nFIX 2\nEND\nHALT\n";
+    for (int e = 1; e <= 8; ++e) dat += "ESTIFF " + std::to_string(e) + " 1e5 1 1 1.5\n";
+    dat += "XF 17 " + std::to_string(-fraction * Pcr) + " 0 0\nITERSTEP 10 2\nEND\nEND\n";
+    const core::Model m = io::readDatString(objectivity::rotatedDat(dat, R), "column.dat");
+    const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
+    ASSERT_TRUE(run.completed) << run.stopReason;
+    EXPECT_EQ(run.steps.back().newton.stable, fraction < 1.0) << fraction;
   }
 }

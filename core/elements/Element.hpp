@@ -155,10 +155,12 @@ class Element {
   }
   // Reference (undeformed) length l0, 0 for an element without one (hinge). Written as LENGTH0.
   virtual double referenceLength() const { return 0.0; }
-  // The element triad at its first orientation node in that node's body frame (columns e_x along
-  // the chord, e_y, e_z): the `.sbd` variable rxyz. False for an element that keeps none.
-  virtual bool elementFrame(Eigen::Matrix3d& A) const {
-    (void)A;
+  // The element triad in the body frame of its end-th orientation node (keyword order: 0 the first,
+  // 1 the second): columns e_x (along the chord; a hinge's axis), e_y, e_z; the current triad is
+  // R(lambda) A (spatial-elements.md 1.4). The `.sbd` rxyz (end 0) and rxyzq (end 1), and the
+  // cross-sections of the pictures. False for an element without a triad there.
+  virtual bool elementFrame(int end, Eigen::Matrix3d& A) const {
+    (void)end, (void)A;
     return false;
   }
   // True for a deformation that is an angle known only modulo 2 pi (a spatial hinge's rotation,
@@ -211,8 +213,10 @@ struct ElementTypeInfo {
   // Deformations (0-based) that are large rotations, such as a hinge's angle: a DYNE one keeps an
   // identity column in a reduction basis (the q_l of Eq. 21, analysis::defaultLargeCoordinates).
   std::vector<int> largeRotations = {};
-  // Drawn as the curve of its displacement field from its deformations (the planar beam's cubic,
-  // PlanarBeam.hpp) instead of straight lines between its position nodes (io/MechanismGeometry).
+  // Drawn as the curve of its displacement field instead of straight lines between its position
+  // nodes (io/MechanismGeometry): planar (p, phi_p, q, phi_q) from the bending deformations (the
+  // planar beam's cubic, PlanarBeam.hpp); spatial (p, lambda_p, q, lambda_q) as the cubic through
+  // the end triads R(lambda) elementFrame.
   bool drawnCurved = false;
   int numCoords() const;
   int numDeformations() const { return static_cast<int>(deformationNames.size()); }

@@ -128,6 +128,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       b.spacarTypeId = 1;
       b.ignoredStiffness = tail(sectionParams, spatialBeamParams.size());
       b.ignoredInertia = tail(sectionMass, spatialBeamMass.size());
+      b.drawnCurved = true;
       t.push_back(b);
       b.keyword = "BEAMNL";
       b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";

@@ -18,6 +18,13 @@ class RigidBeam final : public EvaluatedElement<RigidBeam, 10, 3> {
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
   void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
+  double referenceLength() const override { return l0_; }
+  bool elementFrame(int end, Eigen::Matrix3d& A) const override {
+    if (end != 0) return false;
+    A = Ap_;
+    return true;
+  }
+
  private:
   friend class EvaluatedElement<RigidBeam, 10, 3>;
   // e1..e3 of the header with their derivatives up to order (EvaluatedElement).

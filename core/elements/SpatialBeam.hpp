@@ -44,11 +44,12 @@ class SpatialBeam final : public EvaluatedElement<SpatialBeam, 14, 6> {
   void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
   double l0() const { return l0_; }
-  // The body-frame triad A_p of end p (columns e_x, e_y, e_z).
-  bool elementFrame(Eigen::Matrix3d& A) const override {
-    A = Ap_;
+  bool elementFrame(int end, Eigen::Matrix3d& A) const override {
+    if (end < 0 || end > 1) return false;
+    A = end == 0 ? Ap_ : Aq_;
     return true;
   }
+  double referenceLength() const override { return l0_; }
 
  private:
   friend class EvaluatedElement<SpatialBeam, 14, 6>;

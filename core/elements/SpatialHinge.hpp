@@ -24,6 +24,12 @@ class SpatialHinge final : public EvaluatedElement<SpatialHinge, 8, 3> {
   void constitutive(std::span<const double> params, DefMat& S) const override;
   bool isPeriodicAngle(int i) const override { return i == 0; }
 
+  bool elementFrame(int end, Eigen::Matrix3d& A) const override {
+    if (end < 0 || end > 1) return false;
+    A = end == 0 ? Ap_ : Aq_;
+    return true;
+  }
+
  private:
   friend class EvaluatedElement<SpatialHinge, 8, 3>;
   // e1..e3 of the header with their derivatives up to order (EvaluatedElement).

@@ -19,6 +19,8 @@ class SpatialTruss final : public Element {
   void mass(const ElemVec& x, const ElementInertia& inertia, ElemMat& M) const override;
   void gravityForces3(const ElemVec& x, const ElementInertia& inertia, const double* g, ElemVec& f) const override;
 
+  double referenceLength() const override { return l0_; }
+
  private:
   double l0_ = 0.0;
 };

@@ -47,7 +47,7 @@ class SpatialWarpingBeam final : public Element {
 
   double l0() const { return beam_.l0(); }
   // BEAM's triad at end p (the `.sbd` rxyz).
-  bool elementFrame(Eigen::Matrix3d& A) const override { return beam_.elementFrame(A); }
+  bool elementFrame(int end, Eigen::Matrix3d& A) const override { return beam_.elementFrame(end, A); }
 
   // Local indices of the warping coordinates.
   static constexpr int kWp = 7, kWq = 15;

@@ -413,10 +413,16 @@ TEST(Elements, Registry) {
       EXPECT_GE(i, 0) << info->keyword;
       EXPECT_LT(i, info->numDeformations()) << info->keyword;
     }
-    // The curve is the planar beam's field from its bending deformations e2, e3 (MechanismGeometry).
-    if (info->drawnCurved) {
+    // The planar curve is the planar beam's field from its bending deformations e2, e3; the spatial
+    // one the cubic through the end triads (MechanismGeometry).
+    if (info->drawnCurved && !isSpatial(info->slots[0])) {
       EXPECT_EQ(info->slots, (std::vector<NodeKind>{Position, Orientation, Position, Orientation})) << info->keyword;
       EXPECT_EQ(info->numDeformations(), 3) << info->keyword;
+    }
+    if (info->drawnCurved && isSpatial(info->slots[0])) {
+      EXPECT_EQ(info->slots,
+                (std::vector<NodeKind>{SpatialPosition, EulerParameters, SpatialPosition, EulerParameters}))
+          << info->keyword;
     }
   }
   // SPACAR's type codes (the .sbd `it`, io/results.md) where they are known, flexmb's own above 100

@@ -150,3 +150,136 @@ TEST(SpacarResults, ElementTriadsOfSpatialBeams) {
   const io::SpacarTopology T = io::spacarTopology(m, io::spacarLayout(m));
   EXPECT_NEAR(T.rl0(2 - 1), std::sqrt(2.0), 1e-15);
 }
+
+namespace {
+// Reads a variable of a MAT file as a matrix (0 x 0 when missing).
+Eigen::MatrixXd readMat(const std::string& path, const char* name) {
+  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
+  if (!mat) return {};
+  matvar_t* v = Mat_VarRead(mat, name);
+  Eigen::MatrixXd M;
+  if (v && v->rank == 2 && v->class_type == MAT_C_DOUBLE) {
+    M.resize(static_cast<Eigen::Index>(v->dims[0]), static_cast<Eigen::Index>(v->dims[1]));
+    if (M.size()) std::copy_n(static_cast<const double*>(v->data), M.size(), M.data());
+  }
+  if (v) Mat_VarFree(v);
+  Mat_Close(mat);
+  return M;
+}
+
+Eigen::Matrix3d rowAsMatrix(const Eigen::MatrixXd& R, int label) {
+  Eigen::Matrix3d A;
+  for (int k = 0; k < 9; ++k) A(k % 3, k / 3) = R(label - 1, k);
+  return A;
+}
+
+// R(lambda) of spatial-elements.md 1.2, written out here.
+Eigen::Matrix3d rotationOf(const Eigen::Vector4d& l) {
+  const Eigen::Quaterniond q(l[0], l[1], l[2], l[3]);
+  return q.normalized().toRotationMatrix();
+}
+}  // namespace
+
+// The per-element variables of a spatial model (issue 22) against values computed here from the
+// file's numbers: a BEAM (1), a HINGE (2), an RBEAM (3), a TRUSS (4) and a BEAMW (5), nodes turned
+// by LAMBDA.
+//   rl0   the distance of the element's position nodes in the initial configuration (0: hinge);
+//   rxyz  R(lambda_p0)^T [e_x e_y e_z] at the first orientation node (BEAM, RBEAM: e_x the chord,
+//         e_y the given y vector made normal to it; HINGE: e_x the axis);
+//   rxyzq the same at the second orientation node (BEAM, BEAMW, HINGE);
+//   estiff/stif, edamp, em, esig: the ESTIFF, EDAMP, EM and ESIG values as the file gives them.
+TEST(SpacarResults, SpatialElementVariables) {
+  const std::string dat =
+      "BEAM 1 1 2 3 4 0 0.3 1\nHINGE 2 4 6 0.2 1 0.1\nRBEAM 3 3 6 5 0 0 1\nTRUSS 4 5 7\n"
+      "X 1 0 0 0\nX 3 0.6 0.8 0\nX 5 1.1 0.9 0.3\nX 7 1.5 0.2 0.4\n"
+      "BEAMW 5 7 8 9 10 11 12 1 1 1\nX 10 2.0 0.6 0.9\n"
+      "LAMBDA 4 0.9 0.1 -0.3 0.2\nLAMBDA 6 0.7 -0.2 0.5 0.1\nLAMBDA 8 0.5 0.5 -0.5 0.5\nLAMBDA 11 0.8 0 0.6 0\n"
+      "FIX 1\nFIX 2\nFIX 7\nFIX 8\nFIX 9\nDYNE 1 1 2 3 4 5 6\nDYNE 2 1\nDYNE 4 1\nDYNE 5 1 2 3 4 5 6\n"
+      "END\nHALT\n"
+      "ESTIFF 1 100 2 3 4 0.01 0.02\nEDAMP 1 0.1 0.2 0.3 0.4\nEM 1 1.5 0.01 0.02 0.03 0.004\n"
+      "ESTIFF 2 7\nEM 3 0.8\nESTIFF 4 50\nEM 4 0.25\nESIG 4 3.5\n"
+      "ESTIFF 5 200 5 6 8 0 0 0.5\nEM 5 2 0.1 0.2 0.3 0 0.05\nESIG 5 6 1.25\nEND\nEND\n";
+  const core::Model m = io::readDatString(dat, "spatial_vars.dat");
+  const fs::path dir = fs::temp_directory_path() / "flexmb_spacar_spatial_vars";
+  fs::create_directories(dir);
+  const auto written = io::writeSpacarResults((dir / "s").string(), m, oneStep(m));
+  const std::string sbd = written.at(0);
+
+  const Eigen::Vector3d x1(0, 0, 0), x3(0.6, 0.8, 0), x5(1.1, 0.9, 0.3), x7(1.5, 0.2, 0.4), x10(2.0, 0.6, 0.9);
+  const Eigen::Vector4d l2(1, 0, 0, 0), l4 = Eigen::Vector4d(0.9, 0.1, -0.3, 0.2).normalized(),
+                                        l6 = Eigen::Vector4d(0.7, -0.2, 0.5, 0.1).normalized(), l8(0.5, 0.5, -0.5, 0.5),
+                                        l11(0.8, 0, 0.6, 0);
+  // Rows by element label: the five elements and the normalisation elements (L2MIN1) flexmb adds
+  // for the free orientation nodes after them (labels 6, 7, 8: nodes 4, 6, 11), zeros there.
+  int rows = 0;
+  for (const auto& el : m.elements) rows = std::max(rows, el.label);
+  ASSERT_EQ(rows, 8);
+  const Eigen::MatrixXd rl0 = readMat(sbd, "rl0");
+  ASSERT_EQ(rl0.rows(), rows);
+  EXPECT_EQ(rl0.bottomRows(3).norm(), 0.0);
+  EXPECT_NEAR(rl0(4), (x10 - x7).norm(), 1e-15);
+  const Eigen::MatrixXd it = readMat(sbd, "it");
+  ASSERT_EQ(it.rows(), rows);
+  EXPECT_EQ(it(0), 1.0);   // BEAM
+  EXPECT_EQ(it(3), 2.0);   // TRUSS
+  EXPECT_EQ(it(4), 18.0);  // BEAMW
+  EXPECT_NEAR(rl0(0), (x3 - x1).norm(), 1e-15);
+  EXPECT_EQ(rl0(1), 0.0);
+  EXPECT_NEAR(rl0(2), (x5 - x3).norm(), 1e-15);
+  EXPECT_NEAR(rl0(3), (x7 - x5).norm(), 1e-15);
+
+  auto frame = [](const Eigen::Vector3d& ex, Eigen::Vector3d y) {
+    y = (y - y.dot(ex) * ex).normalized();
+    Eigen::Matrix3d F;
+    F << ex, y, ex.cross(y);
+    return F;
+  };
+  const Eigen::Matrix3d beam = frame((x3 - x1).normalized(), Eigen::Vector3d(0, 0.3, 1));
+  const Eigen::Matrix3d rbeam = frame((x5 - x3).normalized(), Eigen::Vector3d(0, 0, 1));
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 1, 0.1).normalized();
+  const Eigen::MatrixXd rxyz = readMat(sbd, "rxyz"), rxyzq = readMat(sbd, "rxyzq");
+  ASSERT_EQ(rxyz.rows(), rows);
+  ASSERT_EQ(rxyz.cols(), 9);
+  ASSERT_EQ(rxyzq.rows(), rows);
+  EXPECT_LT((rowAsMatrix(rxyz, 1) - rotationOf(l2).transpose() * beam).norm(), 1e-14);
+  EXPECT_LT((rowAsMatrix(rxyzq, 1) - rotationOf(l4).transpose() * beam).norm(), 1e-14);
+  EXPECT_LT((rowAsMatrix(rxyz, 3) - rotationOf(l6).transpose() * rbeam).norm(), 1e-14);
+  const Eigen::Matrix3d beamw = frame((x10 - x7).normalized(), Eigen::Vector3d(1, 1, 1));
+  EXPECT_LT((rowAsMatrix(rxyz, 5) - rotationOf(l8).transpose() * beamw).norm(), 5e-14);
+  EXPECT_LT((rowAsMatrix(rxyzq, 5) - rotationOf(l11).transpose() * beamw).norm(), 5e-14);
+  EXPECT_EQ(rxyzq.row(2).norm(), 0.0);  // an RBEAM has no second orientation node
+  // The hinge: e_x is the axis in either node's frame, the triad proper and orthonormal.
+  for (const auto& [R, l] : {std::pair{rxyz, l4}, std::pair{rxyzq, l6}}) {
+    const Eigen::Matrix3d A = rowAsMatrix(R, 2);
+    EXPECT_LT((rotationOf(l) * A.col(0) - axis).norm(), 1e-14);
+    EXPECT_LT((A.transpose() * A - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+    EXPECT_NEAR(A.determinant(), 1.0, 1e-14);
+  }
+  EXPECT_EQ(rxyz.row(3).norm(), 0.0);  // a truss has no triad
+
+  const Eigen::MatrixXd estiff = readMat(sbd, "estiff"), stif = readMat(sbd, "stif"), em = readMat(sbd, "em"),
+                        edamp = readMat(sbd, "edamp"), esig = readMat(sbd, "esig");
+  ASSERT_EQ(estiff.rows(), rows);
+  ASSERT_EQ(estiff.cols(), 7);  // BEAMW's seven values
+  EXPECT_EQ(Eigen::RowVectorXd(estiff.row(0)), (Eigen::RowVectorXd(7) << 100, 2, 3, 4, 0.01, 0.02, 0).finished());
+  EXPECT_EQ(Eigen::RowVectorXd(estiff.row(4)), (Eigen::RowVectorXd(7) << 200, 5, 6, 8, 0, 0, 0.5).finished());
+  EXPECT_EQ(estiff(1, 0), 7.0);
+  EXPECT_EQ(estiff.row(2).norm(), 0.0);
+  EXPECT_EQ(estiff(3, 0), 50.0);
+  EXPECT_EQ(stif, estiff);
+  ASSERT_EQ(em.rows(), rows);
+  ASSERT_EQ(em.cols(), 6);
+  EXPECT_EQ(Eigen::RowVectorXd(em.row(0)), (Eigen::RowVectorXd(6) << 1.5, 0.01, 0.02, 0.03, 0.004, 0).finished());
+  EXPECT_EQ(Eigen::RowVectorXd(em.row(4)), (Eigen::RowVectorXd(6) << 2, 0.1, 0.2, 0.3, 0, 0.05).finished());
+  EXPECT_EQ(em(2, 0), 0.8);
+  EXPECT_EQ(em(3, 0), 0.25);
+  ASSERT_EQ(edamp.rows(), rows);
+  EXPECT_EQ(Eigen::RowVectorXd(edamp.row(0).head(4)), Eigen::RowVector4d(0.1, 0.2, 0.3, 0.4));
+  ASSERT_EQ(esig.rows(), rows);
+  ASSERT_EQ(esig.cols(), 8);  // BEAMW's eight deformations
+  EXPECT_EQ(esig(3, 0), 3.5);
+  EXPECT_EQ(esig(4, 5), 1.25);  // BEAMW's 6th deformation
+  EXPECT_EQ(esig.row(0).norm(), 0.0);
+  EXPECT_EQ(esig.norm(), std::hypot(3.5, 1.25));  // nothing else
+  fs::remove_all(dir);
+}

@@ -63,14 +63,22 @@ int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6;
-  std::string basisFile, out, svg;
+  std::string basisFile, out, svg, html, vtk;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)")(
-      "svg", po::value(&svg), "also draw the mode shapes into this SVG file");
+      "svg", po::value(&svg), "also draw the mode shapes into this SVG file")(
+      "html", po::value(&html)->implicit_value("<model>_modes.html"),
+      "also write a 3-D page that plays each mode shape (default <model>_modes.html)")(
+      "vtk", po::value(&vtk)->implicit_value("<model>_modes"),
+      "also write the mode shapes as a ParaView series <prefix>.pvd (default <model>_modes)");
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg]"))
+                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg] "
+                             "[--html [file.html]] [--vtk [prefix]]"))
     return *rc;
+  const std::string stem = std::filesystem::path(m.file).stem().string();
+  if (html == "<model>_modes.html") html = stem + "_modes.html";
+  if (vtk == "<model>_modes") vtk = stem + "_modes";
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
   std::optional<Eigen::MatrixXd> basis;
@@ -84,7 +92,9 @@ int runModes(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   try {
     files.checkWritable();
-    if (!svg.empty()) io::OutputSet(svg).checkWritable();
+    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
+    for (const std::string& extra : {svg, html, vtk})
+      if (!extra.empty()) io::OutputSet(extra).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -112,11 +122,20 @@ int runModes(const std::vector<std::string>& args) {
     for (const auto& p : io::writeSpacarResults(temp, model, sr))
       files.adopt(p, files.prefix() + p.substr(temp.size()));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
+    const ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
     if (!svg.empty()) {
-      ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
       writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
       std::cout << "wrote " << svg << "\n";
       files.record(svg);
+    }
+    if (!html.empty()) {
+      if (!writeModesPage(html, model, m.file, set)) return kWriteFailed;
+      files.record(html);
+    }
+    if (!vtk.empty()) {
+      if (!writeModesVtk(vtk, model, set)) return kWriteFailed;
+      files.record(vtk + ".pvd");
+      files.record(vtk + "_vtu");
     }
     std::cout << "wrote " << files.writeManifest("complete") << "\n";
   } catch (const std::exception& e) {
@@ -169,7 +188,7 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
-  std::string out, svg;
+  std::string out, svg, html, vtk;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
       "ltv", po::bool_switch(&ltv),
       "SPACAR's mode 3 on a static file (`--mode 3`): also M0 and K0B = K0 + N0 + G0 over every kinematic degree "
@@ -179,10 +198,14 @@ int runStatic(const std::vector<std::string>& args) {
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
-      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file");
+      "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file")(
+      "html", po::value(&html)->implicit_value("<prefix>.html"),
+      "also write a 3-D page that plays the load steps and the last one's mode shapes (default: beside the CSV)")(
+      "vtk", po::value(&vtk)->implicit_value("<prefix>"),
+      "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--out "
-                             "file.csv] [--svg file.svg]"))
+                             "file.csv] [--svg file.svg] [--html [file.html]] [--vtk [prefix]]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
@@ -207,9 +230,14 @@ int runStatic(const std::vector<std::string>& args) {
   else
     csvPath = io::OutputSet::resolvePrefix(out, m.file, "_static") + ".csv";
   io::OutputSet files(csvPath.substr(0, csvPath.size() - 4));
+  const std::string prefix = csvPath.substr(0, csvPath.size() - 4);
+  if (html == "<prefix>.html") html = prefix + ".html";
+  if (vtk == "<prefix>") vtk = prefix;
   try {
     files.checkWritable();
-    if (!svg.empty()) io::OutputSet(svg).checkWritable();
+    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
+    for (const std::string& extra : {svg, html, vtk})
+      if (!extra.empty()) io::OutputSet(extra).checkWritable();
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -282,6 +310,15 @@ int runStatic(const std::vector<std::string>& args) {
     if (!svg.empty()) {
       if (!writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;  // no manifest: the set is incomplete
       files.record(svg);
+    }
+    if (!html.empty()) {
+      if (!writeStaticPage(html, model, m.file, run)) return kWriteFailed;
+      files.record(html);
+    }
+    if (!vtk.empty()) {
+      if (!writeStaticVtk(vtk, model, run)) return kWriteFailed;
+      files.record(vtk + ".pvd");
+      files.record(vtk + "_vtu");
     }
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";

@@ -42,10 +42,14 @@ std::string joined(const std::vector<std::string>& v, size_t shown) {
 int runShow(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
-  std::string out, viewName;
+  std::string out, viewName, html;
   d.add_options()("out,o", po::value(&out), "SVG file to write (default: <model>_model.svg in the current folder)")(
-      "view", po::value(&viewName), "projection: auto (default), xy, xz, yz or iso (spatial models)");
-  if (auto rc = parseCommand(args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso]"))
+      "view", po::value(&viewName),
+      "projection: auto (default: xy for planar, iso for spatial models), xy, xz, yz or iso")(
+      "html", po::value(&html)->implicit_value("<model>_model.html"),
+      "also write the model as a 3-D page to rotate and zoom in a browser (default <model>_model.html)");
+  if (auto rc = parseCommand(
+          args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso] [--html [page.html]]"))
     return *rc;
   io::ModelDrawing drawing;
   if (!parseView(viewName, drawing.view)) {
@@ -55,6 +59,7 @@ int runShow(const std::vector<std::string>& args) {
   core::Model model;
   if (!loadModel(m, model)) return kInputError;
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_model.svg";
+  if (html == "<model>_model.html") html = std::filesystem::path(m.file).stem().string() + "_model.html";
   // The output folder is checked before the work, as every command does (README: exit codes).
   if (const auto folder = std::filesystem::path(out).parent_path();
       !folder.empty() && !std::filesystem::is_directory(folder)) {
@@ -95,6 +100,7 @@ int runShow(const std::vector<std::string>& args) {
     return kWriteFailed;
   }
   std::cout << "wrote " << out << "\n";
+  if (!html.empty() && !writeModelPage(html, model, drawing.title)) return kWriteFailed;
   if (!wellPosed)
     std::cerr << "flexmb: the kinematic check found problems (see the notes in the picture, or run flexmb check)\n";
   return 0;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "io/HtmlAnimation.hpp"
 #include "io/MechanismSvg.hpp"
@@ -12,9 +13,16 @@
 namespace flexmb::cli {
 
 namespace {
-// A load step's progress for figure labels: the fraction of the DEL* totals, or of the initial
-// loads while those are being applied (analysis/Statics.hpp: the load schedule).
-double loadLabel(const analysis::StaticStep& st) { return st.loadFactor > 0 ? st.loadFactor : st.initialFactor; }
+// A load step's name in figures: SPACAR's load step k with the fraction of the DEL* totals, or the
+// fraction of the initial loads for a ramp step before load step 0 (analysis/Statics.hpp: the load
+// schedule). Load step 0 has the initial loads and no DEL* share: "load step 0, load factor 0".
+std::string loadLabel(const analysis::StaticStep& st) {
+  if (st.loadStep < 0) return "initial loads x " + io::shortNumber(st.initialFactor, 6);
+  std::string s = "load step " + std::to_string(st.loadStep);
+  s += ", load factor ";
+  s += io::shortNumber(st.loadFactor, 6);
+  return s;
+}
 }  // namespace
 
 namespace {
@@ -37,6 +45,138 @@ std::vector<Eigen::VectorXd> positionsOf(const core::Model& model, const std::ve
     xs.push_back(gtf.x());
   }
   return xs;
+}
+
+namespace {
+// The configuration of a mode set and its mode shapes in x (F_q v), by the model's kinematics.
+struct NodalShapes {
+  Eigen::VectorXd x;
+  Eigen::MatrixXd shapes;  // nx x k
+};
+NodalShapes nodalShapes(const core::Model& model, const ModeSet& set) {
+  core::GeometricTransferFunctions gtf(model);
+  gtf.setInputLoadFactor(set.inputLoadFactor);
+  gtf.solvePositions(set.t, set.q);
+  NodalShapes n{gtf.x(), {}};
+  gtf.firstOrder(&set.modes, n.shapes);
+  return n;
+}
+
+std::string modeName(const ModeSet& set, Eigen::Index j) {
+  const double f = j < set.omega.size() ? set.omega[j] / (2 * M_PI) : NAN;
+  std::string s = (set.title.empty() ? "" : set.title + ": ") + "mode " + std::to_string(j + 1);
+  if (std::isfinite(f)) s += ", " + io::shortNumber(f, 5) + " Hz";
+  return s;
+}
+
+std::vector<io::AnimationSequence> modeSequences(const core::Model& model, const ModeSet& set) {
+  std::vector<io::AnimationSequence> seqs;
+  if (set.modes.cols() == 0) return seqs;
+  const NodalShapes n = nodalShapes(model, set);
+  for (Eigen::Index j = 0; j < set.modes.cols(); ++j)
+    seqs.push_back(io::modeSequence(model, modeName(set, j), n.x, n.shapes.col(j)));
+  return seqs;
+}
+
+// A state of the ParaView series from a configuration (rates zero).
+core::StateOutputs restState(const core::Model& model, const Eigen::VectorXd& x, const Eigen::VectorXd& e,
+                             const Eigen::VectorXd& sig) {
+  core::StateOutputs s;
+  s.x = x;
+  s.xd = s.xdd = Eigen::VectorXd::Zero(model.nx);
+  s.e = e.size() == model.ne ? e : Eigen::VectorXd::Zero(model.ne);
+  s.sig = sig.size() == model.ne ? sig : Eigen::VectorXd::Zero(model.ne);
+  s.ed = s.edd = Eigen::VectorXd::Zero(model.ne);
+  return s;
+}
+
+template <class Write>
+bool reported(const std::string& path, Write&& write) {
+  try {
+    write();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << path << ": " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool writeModelPage(const std::string& path, const core::Model& model, const std::string& title) {
+  return reported(path, [&] {
+    io::AnimationSequence s;
+    s.name = "initial configuration";
+    s.x.push_back(model.x0);
+    s.labels.push_back("initial configuration");
+    io::AnimationOptions o;
+    o.title = title;
+    o.numbers = true;
+    io::writeHtmlPage(path, model, {s}, o);
+    std::cout << "wrote " << path << "\n";
+  });
+}
+
+bool writeStaticPage(const std::string& path, const core::Model& model, const std::string& modelFile,
+                     const analysis::StaticRun& run) {
+  return reported(path, [&] {
+    io::AnimationSequence steps;
+    steps.name = "load steps";
+    steps.x.push_back(model.x0);
+    steps.labels.push_back("initial configuration");
+    for (const auto& st : run.steps) {
+      steps.x.push_back(st.x);
+      steps.labels.push_back(loadLabel(st));
+    }
+    std::vector<io::AnimationSequence> seqs{steps};
+    if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
+      const auto& st = run.steps.back();
+      const ModeSet set{loadLabel(st),     st.eta,       st.frequencies.modes, st.frequencies.omega,
+                        model.settings.t0, st.loadFactor};
+      for (auto& m : modeSequences(model, set)) seqs.push_back(std::move(m));
+    }
+    io::AnimationOptions o;
+    o.title = "Static equilibria of " + modelFile + (run.completed ? "" : " (stopped early)");
+    io::writeHtmlPage(path, model, seqs, o);
+    std::cout << "wrote " << path << "\n";
+  });
+}
+
+bool writeStaticVtk(const std::string& prefix, const core::Model& model, const analysis::StaticRun& run) {
+  return reported(prefix + ".pvd", [&] {
+    core::Trajectory traj;
+    for (const auto& st : run.steps) {
+      // The series' time: the DEL* load factor, 0 at load step 0; ramp steps of the initial loads
+      // before it at their fraction minus 1 (-1..0), so the times increase.
+      traj.time.push_back(st.loadStep >= 0 ? st.loadFactor : st.initialFactor - 1.0);
+      traj.states.push_back(restState(model, st.x, st.e, st.sigma));
+    }
+    if (traj.time.empty()) throw std::runtime_error("no load step was reached: nothing to write");
+    writeVtk(prefix, model, traj);
+  });
+}
+
+bool writeModesPage(const std::string& path, const core::Model& model, const std::string& modelFile,
+                    const ModeSet& set) {
+  return reported(path, [&] {
+    io::AnimationOptions o;
+    o.title = "Mode shapes of " + modelFile;
+    io::writeHtmlPage(path, model, modeSequences(model, set), o);
+    std::cout << "wrote " << path << "\n";
+  });
+}
+
+bool writeModesVtk(const std::string& prefix, const core::Model& model, const ModeSet& set) {
+  return reported(prefix + ".pvd", [&] {
+    const NodalShapes n = nodalShapes(model, set);
+    core::Trajectory traj;
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.ne);
+    for (Eigen::Index j = 0; j < n.shapes.cols(); ++j) {
+      traj.time.push_back(static_cast<double>(j + 1));
+      traj.states.push_back(restState(model, io::scaledShape(model, n.x, n.shapes.col(j)), zero, zero));
+    }
+    if (traj.time.empty()) throw std::runtime_error("no mode shapes to write");
+    writeVtk(prefix, model, traj);
+  });
 }
 
 void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
@@ -86,13 +226,13 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
                        const analysis::StaticRun& run) {
   try {
     std::vector<NamedConfiguration> configs;
-    for (const auto& st : run.steps) configs.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.x});
+    for (const auto& st : run.steps) configs.push_back({loadLabel(st), st.x});
     std::vector<ModeSet> sets;
     if (!run.steps.empty() && run.steps.back().frequencies.modes.cols() > 0) {
       const auto& st = run.steps.back();
       // Static analyses run on the full model: eta = q.
-      sets.push_back({"load factor " + io::shortNumber(loadLabel(st), 6), st.eta, st.frequencies.modes,
-                      st.frequencies.omega, model.settings.t0, st.loadFactor});
+      sets.push_back(
+          {loadLabel(st), st.eta, st.frequencies.modes, st.frequencies.omega, model.settings.t0, st.loadFactor});
     }
     writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);
   } catch (const std::exception& e) {

@@ -54,4 +54,20 @@ bool writeSweepFigure(const std::string& path, const core::Model& model, const s
 void writeVtk(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
 void writeAnimation(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
 
+// The 3-D page (io/HtmlAnimation.hpp) and the ParaView series (io/VtkWriter.hpp) of the other analyses:
+//   show --html: the model in its initial configuration, numbers shown;
+//   static --html: the load steps (from the initial configuration) and each mode shape of the last
+//   step; static --vtk: one .vtu per load step (time = the load factor: 0 at load step 0, a ramp
+//   step of the initial loads before it at its fraction minus 1), with e and sigma;
+//   modes --html: each mode shape; modes --vtk: one .vtu per mode (time = the mode's number), the
+//   configuration moved by the drawn mode shape (displacement and rotation fields are the shape).
+// Each prints "wrote <path>", or the error (false).
+bool writeModelPage(const std::string& path, const core::Model& model, const std::string& title);
+bool writeStaticPage(const std::string& path, const core::Model& model, const std::string& modelFile,
+                     const analysis::StaticRun& run);
+bool writeStaticVtk(const std::string& prefix, const core::Model& model, const analysis::StaticRun& run);
+bool writeModesPage(const std::string& path, const core::Model& model, const std::string& modelFile,
+                    const ModeSet& set);
+bool writeModesVtk(const std::string& prefix, const core::Model& model, const ModeSet& set);
+
 }  // namespace flexmb::cli

@@ -241,12 +241,17 @@ TEST_F(Cli, OutputLocationIsCheckedBeforeTheAnalysis) {
         std::string("simulate ") + kData + "portal.dat --linearize 2 --out /nonexistent/m",
         std::string("static ") + kData + "portal.dat --out /nonexistent/s.csv",
         std::string("sweep ") + kData + "portal.dat --node 3 --from 0 --to 0.01 --out /nonexistent/p",
-        std::string("reduce ") + kData + "portal.dat --out /nonexistent/b.csv"}) {
+        std::string("reduce ") + kData + "portal.dat --out /nonexistent/b.csv",
+        std::string("modes ") + kData + "portal.dat --vtk /nonexistent/v",
+        std::string("modes ") + kData + "portal.dat --html /nonexistent/v.html",
+        std::string("static ") + kData + "portal.dat --vtk /nonexistent/v",
+        std::string("static ") + kData + "portal.dat --html /nonexistent/v.html"}) {
     const Result r = flexmb(c + " -q");
     EXPECT_EQ(r.code, 1) << c << "\n" << r.err;
     EXPECT_NE(r.err.find("/nonexistent"), std::string::npos) << r.err;
     EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << c << ": the analysis ran first";
     EXPECT_EQ(r.out.find("wrote"), std::string::npos) << c;
+    EXPECT_FALSE(std::filesystem::exists("/nonexistent")) << c << ": made the missing folder";
   }
 }
 

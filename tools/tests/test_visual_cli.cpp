@@ -205,3 +205,153 @@ TEST(VisualCli, SimulateWritesParaViewSeriesAndAnAnimationThatPlaysInABrowser) {
   EXPECT_GT(grey, 300) << px.second;
   EXPECT_GT(blue, 800) << px.second;
 }
+
+namespace {
+// Pixels of a screenshot inside the canvas (960 x 600 at (13, 38)): "width height mechanism
+// changed", mechanism = not white and not the light grey of traces and borders; with a second
+// screenshot, changed = canvas pixels that are mechanism in exactly one of the two.
+const char* kCanvasPixels = R"PY(
+import sys, zlib, struct
+def load(path):
+    data = open(path, 'rb').read()
+    assert data[:8] == b'\x89PNG\r\n\x1a\n'
+    pos, idat = 8, b''
+    while pos < len(data):
+        n, kind = struct.unpack('>I4s', data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b'IHDR':
+            w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
+        elif kind == b'IDAT':
+            idat += body
+        pos += 12 + n
+    assert depth == 8 and ctype in (2, 6)
+    bpp = 3 if ctype == 2 else 4
+    raw = zlib.decompress(idat)
+    stride = w * bpp
+    rows, prev, i = [], bytearray(stride), 0
+    for y in range(h):
+        f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+            if f == 1: line[x] = (line[x] + a) & 255
+            elif f == 2: line[x] = (line[x] + b) & 255
+            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line); prev = line
+    mask = set()
+    for y in range(40, 40 + 590):
+        line = rows[y]
+        for x in range(15, 15 + 950):
+            r, g, b = line[bpp * x], line[bpp * x + 1], line[bpp * x + 2]
+            if r + g + b < 600 and max(r, g, b) - min(r, g, b) + (255 - max(r, g, b)) > 40:
+                mask.add((x, y))
+    return w, h, mask
+w, h, m1 = load(sys.argv[1])
+changed = len(m1 ^ load(sys.argv[2])[2]) if len(sys.argv) > 2 else 0
+print(w, h, len(m1), changed)
+)PY";
+}  // namespace
+
+TEST(VisualCli, SpatialModelsAreDrawnInThreeDimensions) {
+  TempDir dir;
+  const std::string pivot = kData + "spatial/cross_spring_pivot_coarse.dat";
+  // show: iso by default, every element drawn with its cross-section (faces), the position nodes as
+  // markers (orientation nodes only as labels), the table with position and Euler-parameter nodes.
+  for (const char* view : {"", "iso", "xy", "xz", "yz"}) {
+    const fs::path svg = dir.path / (std::string("pivot_") + view + ".svg");
+    const auto [rc, out] =
+        run(kFlexmb + " show " + pivot + (*view ? std::string(" --view ") + view : "") + " --out " + svg.string());
+    ASSERT_EQ(rc, 0) << out;
+    const std::string s = slurp(svg);
+    for (int e = 1; e <= 7; ++e) {
+      EXPECT_NE(s.find("class=\"face\" data-element=\"" + std::to_string(e) + "\""), std::string::npos) << view << e;
+      EXPECT_NE(s.find(">[" + std::to_string(e) + "]<"), std::string::npos) << view << e;
+    }
+    // The 8 position nodes, no orientation node (the legend's five node markers come after).
+    EXPECT_EQ(count(s.substr(0, s.find("<g class=\"legend\"")), "class=\"node "), 8u) << view;
+    EXPECT_NE(s.find("  1 (0, 0, 0): fixed"), std::string::npos);
+    EXPECT_NE(s.find("  \u03bb2 (1, 0, 0, 0): fixed"), std::string::npos);
+    EXPECT_EQ(s.find("\u03b83 "), std::string::npos);  // no position node labelled as an orientation node
+    EXPECT_NE(s.find("class=\"axes\""), std::string::npos);
+  }
+  // The same picture from different sides differs.
+  EXPECT_NE(slurp(dir.path / "pivot_xy.svg"), slurp(dir.path / "pivot_iso.svg"));
+  EXPECT_EQ(slurp(dir.path / "pivot_.svg"), slurp(dir.path / "pivot_iso.svg"));
+
+  // modes --svg / --html / --vtk and static --svg / --html / --vtk.
+  auto r = run("cd " + dir.path.string() + " && " + kFlexmb + " modes " + pivot +
+               " --nev 3 --svg m.svg --html m.html --vtk m");
+  ASSERT_EQ(r.first, 0) << r.second;
+  std::string s = slurp(dir.path / "m.svg");
+  EXPECT_EQ(count(s, "class=\"panel\""), 4u);
+  EXPECT_GT(count(s, "class=\"face\""), 100u);
+  EXPECT_GE(count(slurp(dir.path / "m.pvd"), "<DataSet "), 3u);
+  s = slurp(dir.path / "m.html");
+  EXPECT_NE(s.find("\"name\":\"mode 3, "), std::string::npos);
+  r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + pivot + " --nev 2 --svg s.svg --html --vtk -q");
+  ASSERT_EQ(r.first, 0) << r.second;
+  EXPECT_EQ(count(slurp(dir.path / "s.svg"), "class=\"panel\""), 3u);
+  // ITERSTEP's 9 steps: SPACAR's load steps 0..9.
+  EXPECT_EQ(count(slurp(dir.path / "cross_spring_pivot_coarse_static.pvd"), "<DataSet "), 10u);
+  s = slurp(dir.path / "cross_spring_pivot_coarse_static.html");
+  EXPECT_NE(s.find("\"name\":\"load steps\""), std::string::npos);
+  EXPECT_NE(s.find("load factor 1: mode 2"), std::string::npos);
+}
+
+TEST(VisualCli, SpatialMotionInParaViewAndInABrowserThatRotatesTheView) {
+  TempDir dir;
+  const fs::path prefix = dir.path / "wg";
+  const auto [rc, out] = run(kFlexmb + " simulate " + kData +
+                             "spatial/wire_guidance.dat --format none --vtk --html -q --out " + prefix.string());
+  ASSERT_EQ(rc, 0) << out;
+  // Every .vtu has the 8 beams: 8 x 9 points, 8 cells, with displacement, rotation and stress.
+  const std::string vtu = slurp(dir.path / "wg_vtu" / "wg_00010.vtu");
+  EXPECT_NE(vtu.find("NumberOfPoints=\"72\" NumberOfCells=\"8\""), std::string::npos) << vtu.substr(0, 600);
+  for (const char* field : {"Name=\"displacement\"", "Name=\"rotation\"", "Name=\"stress\"", "Name=\"deformation\""})
+    EXPECT_NE(vtu.find(field), std::string::npos) << field;
+  EXPECT_EQ(count(slurp(dir.path / "wg.pvd"), "<DataSet "), 31u);
+
+  const std::string exe = chromium();
+  if (exe.empty()) GTEST_SKIP() << "chromium is not installed (tools/setup.sh installs it): the page was not loaded";
+  const fs::path html = dir.path / "wg.html";
+  ASSERT_TRUE(fs::exists(html));
+  auto shot = [&](const std::string& fragment, const fs::path& png) {
+    const fs::path profile = dir.path / ("profile_" + png.stem().string());
+    fs::create_directories(profile);
+    const auto dom =
+        run("timeout 120 " + browser(exe, profile, "--dump-dom 'file://" + html.string() + fragment + "'") +
+            " 2>/dev/null");
+    fs::remove_all(profile);
+    fs::create_directories(profile);
+    run("timeout 120 " + browser(exe, profile,
+                                 "--hide-scrollbars --window-size=1000,720 --screenshot=" + png.string() + " 'file://" +
+                                     html.string() + fragment + "'"));
+    const size_t at = dom.second.find("<title>");
+    return at == std::string::npos ? std::string() : dom.second.substr(at + 7, dom.second.find("</title>") - at - 7);
+  };
+  const fs::path iso = dir.path / "iso.png", turned = dir.path / "turned.png";
+  EXPECT_EQ(shot("#pause", iso), "ok");
+  const std::string title = shot("#pause&drag=180,-60", turned);
+  // The page opens in MATLAB's view(3) (azimuth -37.5 degrees, the page's -127.5: measured from +x,
+  // elevation 30). A drag of 180 px to the right turns the azimuth by -90 degrees (-127.5 -> -217.5),
+  // 60 px up the elevation by -30 (30 -> 0).
+  EXPECT_EQ(title, "ok az=-217.5 el=0.0");
+  ASSERT_TRUE(fs::exists(iso));
+  ASSERT_TRUE(fs::exists(turned));
+  const fs::path script = dir.path / "canvas.py";
+  std::ofstream(script) << kCanvasPixels;
+  const auto px = run("/usr/bin/python3 " + script.string() + " " + iso.string() + " " + turned.string());
+  ASSERT_EQ(px.first, 0) << px.second;
+  std::istringstream in(px.second);
+  int w = 0, h = 0, mech = 0, changed = 0;
+  in >> w >> h >> mech >> changed;
+  EXPECT_EQ(w, 1000);
+  EXPECT_EQ(h, 720);
+  // The guidance (four wires and a platform frame, drawn as solids) covers a good part of the canvas,
+  // and the rotated view shows it from another side.
+  EXPECT_GT(mech, 20000) << px.second;
+  EXPECT_GT(changed, mech / 4) << px.second;
+}
