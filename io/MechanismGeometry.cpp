@@ -76,7 +76,8 @@ struct FramedSampler {
   const core::Model& m;
   const core::ElementEntry& el;
   int segments;
-  void sample(const Eigen::VectorXd& x, Point3* pts, Point3* ys, Point3* zs) const {
+  // Writes n + 1 points (n = segments for a curved element, else 1) and returns n + 1.
+  int sample(const Eigen::VectorXd& x, Point3* pts, Point3* ys, Point3* zs) const {
     std::vector<int> pos, rot;
     slots(m, el, pos, rot);
     const Vec3 xp = vec(positionOf(m, pos[0], x)), xq = vec(positionOf(m, pos[1], x));
@@ -109,6 +110,7 @@ struct FramedSampler {
       ys[k] = point(y);
       zs[k] = point(t.cross(y));
     }
+    return n + 1;
   }
 };
 }  // namespace
@@ -252,11 +254,20 @@ void MechanismGeometry::points(const Eigen::VectorXd& x, std::vector<Point3>& ou
 void MechanismGeometry::sectionAxes(const Eigen::VectorXd& x, std::vector<Point3>& y, std::vector<Point3>& z) const {
   y.assign(numPoints_, Point3{});
   z.assign(numPoints_, Point3{});
-  std::vector<Point3> scratch(static_cast<size_t>(beamSegments_) + 1);
+  const size_t most = static_cast<size_t>(beamSegments_) + 1;
+  std::vector<Point3> scratch(most), ys(most), zs(most);
   for (const DrawnElement& d : drawn_) {
-    if (!d.framed) continue;
-    FramedSampler{model_, model_.elements[d.element], beamSegments_}.sample(x, scratch.data(), &y[d.firstPoint],
-                                                                            &z[d.firstPoint]);
+    if (!d.framed || d.numPoints < 1) continue;
+    // The sampler's count can differ from the drawn points (an element drawn straight whose ends
+    // both carry a triad, e.g. BEAMW): its axes are spread over the drawn points, never past them.
+    const int count = FramedSampler{model_, model_.elements[d.element], beamSegments_}.sample(x, scratch.data(),
+                                                                                              ys.data(), zs.data());
+    for (int k = 0; k < d.numPoints; ++k) {
+      const int from =
+          count == d.numPoints || d.numPoints == 1 ? std::min(k, count - 1) : (k * (count - 1)) / (d.numPoints - 1);
+      y[d.firstPoint + k] = ys[from];
+      z[d.firstPoint + k] = zs[from];
+    }
   }
 }
 
