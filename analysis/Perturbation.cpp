@@ -60,10 +60,14 @@ void placeAt(core::Linearization& lin, const core::Model& augmented, const Stati
 }  // namespace
 
 Eigen::MatrixXd transferAt(const core::Model& augmented, const StaticStep& step) {
-  core::Linearization lin(augmented);
+  return placedAt(augmented, step)->firstOrderTransfer();
+}
+
+std::unique_ptr<core::Linearization> placedAt(const core::Model& augmented, const StaticStep& step) {
+  auto lin = std::make_unique<core::Linearization>(augmented);
   Eigen::VectorXd q;
-  placeAt(lin, augmented, step, q);
-  return lin.firstOrderTransfer();
+  placeAt(*lin, augmented, step, q);
+  return lin;
 }
 
 PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step) {

@@ -9,6 +9,7 @@
 // formerly fixed coordinate j give the change of the force it takes: fxt_j = f_j - Q_j (Q_j the
 // generalised force of x_j; the reaction stresses of the fixed deformations do no work along it).
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "analysis/Statics.hpp"
@@ -41,6 +42,9 @@ PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step
 // F = dx/dq alone at the equilibrium `step` (no projection): with no known coordinates the
 // system is the step's own (StaticStep::system), and only F is missing.
 Eigen::MatrixXd transferAt(const core::Model& augmented, const StaticStep& step);
+// A linearisation of `augmented` (which must outlive it) with its positions solved at the
+// equilibrium `step`: transferAt's F is its firstOrderTransfer(), and it factorises Mbar there.
+std::unique_ptr<core::Linearization> placedAt(const core::Model& augmented, const StaticStep& step);
 
 // SPACAR's mode-3 .ltv: M0 and K0B = K0 + N0 + G0 over every kinematic degree of freedom (ndof:
 // [x^m input, x^m dynamic, e^m input, e^m dynamic], the columns of dx) in a static equilibrium.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "analysis/Interrupt.hpp"
 #include "core/ElementValidity.hpp"
@@ -305,9 +306,9 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
       }
       st.e = lin.kinematics().e();
       st.sigma = sys.sigma;
-      st.system = sys;
       if (nev > 0 && sys.M.rows() > 0) st.frequencies = naturalFrequencies(lin, sys, nev, options.eigenPath);
       if (buckling > 0) st.buckling = bucklingFactors(sys, buckling);
+      st.system = std::move(sys);  // seven m x m matrices: moved, not copied
       run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <stdexcept>
 
 #include "analysis/Perturbation.hpp"
@@ -91,35 +92,68 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
                          step.system.D.rows() == model.numDofs() && step.system.C.rows() == model.numDofs() &&
                          step.system.N.rows() == model.numDofs();
   PerturbedSystem p;
-  if (ownSystem)
-    p.F = transferAt(aug, step);
-  else
+  std::unique_ptr<core::Linearization> placed;  // the step's own system: Mbar factorised sparse there
+  if (ownSystem) {
+    placed = placedAt(aug, step);
+    p.F = placed->firstOrderTransfer();
+  } else {
     p = linearizeAt(aug, step);
+  }
   const DofPlaces at = dofPlaces(aug);
   const core::LinearizedSystem& s = ownSystem ? step.system : p.system;
   const Eigen::MatrixXd Kt = s.K + s.N + s.G, Ct = s.C + s.D;
   const int m = model.numDofs();
   std::vector<int> qi(m);
-  for (int k = 0; k < m; ++k) qi[k] = at.of(model.dofs[k]);
+  bool inOrder = s.M.rows() == m;
+  for (int k = 0; k < m; ++k) {
+    qi[k] = at.of(model.dofs[k]);
+    inOrder = inOrder && qi[k] == k;
+  }
   auto block = [&](const Eigen::MatrixXd& X, int row) {  // X(row, q) as a row vector
     Eigen::RowVectorXd r(m);
     for (int k = 0; k < m; ++k) r[k] = X(row, qi[k]);
     return r;
   };
-  Eigen::MatrixXd M(m, m), K(m, m), Cd(m, m);
-  for (int j = 0; j < m; ++j)
-    for (int i = 0; i < m; ++i) M(i, j) = s.M(qi[i], qi[j]), K(i, j) = Kt(qi[i], qi[j]), Cd(i, j) = Ct(qi[i], qi[j]);
+  // M0, K0 + N0 + G0 and C0 + D0 over the model's degrees of freedom (copies only when the
+  // augmented model orders them otherwise).
+  Eigen::MatrixXd Mc, Kc, Cc;
+  if (!inOrder) {
+    Mc.resize(m, m), Kc.resize(m, m), Cc.resize(m, m);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+        Mc(i, j) = s.M(qi[i], qi[j]), Kc(i, j) = Kt(qi[i], qi[j]), Cc(i, j) = Ct(qi[i], qi[j]);
+  }
+  const Eigen::MatrixXd &M = inOrder ? s.M : Mc, &K = inOrder ? Kt : Kc, &Cd = inOrder ? Ct : Cc;
   const Eigen::LLT<Eigen::MatrixXd> mass(M);
   if (mass.info() != Eigen::Success)
     throw std::runtime_error(
         "the mass matrix M0 is not positive definite (a degree of freedom without mass: give EM or XM), so the "
         "state-space model d/dt [dq; dqd] = A [dq; dqd] + B u does not exist");
+  // M0^-1 X: by sparse saddle-point solves (O(m nnz) per column, where the Cholesky factor's two
+  // triangular solves cost O(m^2)) when the step's own linearisation is placed, accepted by the
+  // residual of one combination of the columns; else, or when that fails, by the Cholesky factor.
+  bool sparseMass = placed && inOrder && placed->factorizeMass();
+  auto solveMass = [&](const Eigen::MatrixXd& X, Eigen::MatrixXd& Y) {
+    if (sparseMass) {
+      placed->solveMass(X, Y);
+      const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(X.cols(), 1.0, 2.0);
+      const Eigen::VectorXd y = Y * w, x = X * w;
+      if ((M * y - x).norm() <= 1e-9 * (M.norm() * y.norm() + x.norm())) return;
+      sparseMass = false;
+    }
+    Y = mass.solve(X);
+  };
 
   StateSpace ss;
   ss.A = Eigen::MatrixXd::Zero(2 * m, 2 * m);
   ss.A.topRightCorner(m, m).setIdentity();
-  ss.A.bottomLeftCorner(m, m) = -mass.solve(K);
-  if (!Cd.isZero(0.0)) ss.A.bottomRightCorner(m, m) = -mass.solve(Cd);  // undamped: stays 0 (an m^3 solve saved)
+  Eigen::MatrixXd Y;
+  solveMass(K, Y);
+  ss.A.bottomLeftCorner(m, m) = -Y;
+  if (!Cd.isZero(0.0)) {  // undamped: stays 0 (a solve saved)
+    solveMass(Cd, Y);
+    ss.A.bottomRightCorner(m, m) = -Y;
+  }
 
   // Inputs: the generalised load on q of each channel (columns), before M0^-1.
   std::vector<Eigen::VectorXd> loads;
@@ -157,7 +191,8 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   Eigen::MatrixXd Q(m, ni);
   for (int k = 0; k < ni; ++k) Q.col(k) = loads[k];
   ss.B = Eigen::MatrixXd::Zero(2 * m, ni);
-  ss.B.bottomRows(m) = mass.solve(Q);
+  solveMass(Q, Y);
+  ss.B.bottomRows(m) = Y;
 
   ss.C = Eigen::MatrixXd::Zero(no, 2 * m);
   ss.D = Eigen::MatrixXd::Zero(no, ni);

@@ -101,6 +101,20 @@ bool ConstrainedTangent::factorize(const NodalMatrices& nodal, const GeometricTr
     for (size_t p = 0; p < hSlot_.size(); ++p)
       if (hSlot_[p] >= 0) values_[hSlot_[p]] += w[p];
   }
+  return factorizeFilled(gtf);
+}
+
+bool ConstrainedTangent::factorizeMass(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf) {
+  const auto& M = nodal.M();
+  if (M.nonZeros() != static_cast<Eigen::Index>(hSlot_.size()))
+    throw std::logic_error("ConstrainedTangent: nodal mass matrix off the analysed pattern");
+  std::fill(values_.begin(), values_.end(), 0.0);
+  for (size_t p = 0; p < hSlot_.size(); ++p)
+    if (hSlot_[p] >= 0) values_[hSlot_[p]] += M.valuePtr()[p];
+  return factorizeFilled(gtf);
+}
+
+bool ConstrainedTangent::factorizeFilled(const GeometricTransferFunctions& gtf) {
   for (const auto& e : entries_) {
     const double v = gtf.elementJacobian(e.element)(e.row, e.col);
     values_[e.slotC] = v;

@@ -29,7 +29,10 @@ class ConstrainedTangent {
   // (their DYNE rows are copied: solve() stays valid when the kinematics move on). False when
   // the saddle-point matrix is singular.
   bool factorize(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf);
-  // x = (Kbar + Gbar)^-1 b for b, x in q (full model), with the last factorisation.
+  // The same form with H = M_x: solve() then gives x = Mbar^-1 b (Mbar = F_q^T M_x F_q, the mass
+  // matrix of Eq. 16; null(C) is range(F_q) likewise). False when singular: a motion without mass.
+  bool factorizeMass(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf);
+  // x = (Kbar + Gbar)^-1 b (or Mbar^-1 b) for b, x in q (full model), with the last factorisation.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
   int size() const { return n_; }
 
@@ -43,6 +46,9 @@ class ConstrainedTangent {
     int freeIndex = -1;          // DYNX: the free index of its coordinate
     int first = 0;               // DYNE: offset of its copied row in prow_
   };
+
+  // The constraint Jacobian C, C^T and P's rows from gtf's configuration, then the factorisation.
+  bool factorizeFilled(const GeometricTransferFunctions& gtf);
 
   const Model& model_;
   int nf_ = 0, n_ = 0;                // free coordinates; saddle-point size n_f + constraints

@@ -1,5 +1,6 @@
 #include "core/Linearization.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace flexmb::core {
@@ -22,6 +23,12 @@ Linearization::Linearization(std::unique_ptr<Workspace> own, Workspace* shared, 
       nodal_((shared ? *shared : *own_).nodal()) {
   active_.resize(model_.ne);
   for (int k = 0; k < model_.ne; ++k) active_[k] = stresses_.isActive(k) ? 1 : 0;
+  defDof_.assign(model_.ne, -1);
+  defCalc_.assign(model_.ne, -1);
+  for (int j = 0; j < model_.numDofs(); ++j)
+    if (model_.dofs[j].isDeformation) defDof_[model_.dofs[j].index] = j;
+  for (int k = 0; k < model_.ne; ++k)
+    if (active_[k] && model_.eRole[k] == Role::Calculable) defCalc_[k] = nCalc_++;
 }
 
 void Linearization::dofs(const Eigen::VectorXd& eta, Eigen::VectorXd& q) const { coords_.toFull(eta, q); }
@@ -67,6 +74,24 @@ void Linearization::solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd
   constrainedTangent_->solve(b, x);
 }
 
+bool Linearization::factorizeMass() {
+  if (basis()) throw std::logic_error("Linearization::factorizeMass: full models only (no basis)");
+  nodal_.assembleMass(gtf_.x());
+  if (!constrainedMass_) constrainedMass_ = std::make_unique<ConstrainedTangent>(model_, nodal_.M());
+  return constrainedMass_->factorizeMass(nodal_, gtf_);
+}
+
+void Linearization::solveMass(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  if (!constrainedMass_) throw std::logic_error("Linearization::solveMass before factorizeMass");
+  X.resize(B.rows(), B.cols());
+  Eigen::VectorXd b, x;
+  for (Eigen::Index j = 0; j < B.cols(); ++j) {
+    b = B.col(j);
+    constrainedMass_->solve(b, x);
+    X.col(j) = x;
+  }
+}
+
 void Linearization::generalizedForces(Eigen::VectorXd& Q) {
   // Q = (F_q V)^T r without F_q (one transposed solve instead of n_q): J^T lambda = r_c gives the
   // DYNE components (lambda on their rows: F_q e_j solves J dx_c = e_j), r - D_x^T lambda the DYNX
@@ -105,15 +130,23 @@ void Linearization::constitutiveProduct(const Eigen::MatrixXd& L, const Eigen::M
 }
 
 void Linearization::updateTransfer() {
+  // F_q V depends on the configuration alone: statics asks for it at one equilibrium up to three
+  // times (force scale, Newton tangent, atRest), each an m-column kinematic solve and a copy.
+  if (transferX_.size() == gtf_.x().size() && transferX_ == gtf_.x()) return;
   gtf_.firstOrder(basis(), FqV_);
   FqVrows_ = FqV_;
+  transferX_ = gtf_.x();
 }
 
 void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out) {
+  const double* v = X.valuePtr();
+  if (std::all_of(v, v + X.nonZeros(), [](double a) { return a == 0.0; })) {  // unloaded, unstressed G_x
+    out.setZero(m_, m_);
+    return;
+  }
   // X A by rows: entry X(r, c) adds X(r, c) A(c, :) to row r, a contiguous axpy of length m in
   // the row-major copies (the column-major sparse-dense product strides through A per entry).
   XArows_.setZero(FqV_.rows(), m_);
-  const double* v = X.valuePtr();
   for (int c = 0; c < X.outerSize(); ++c)
     for (int p = X.outerIndexPtr()[c]; p < X.outerIndexPtr()[c + 1]; ++p)
       if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
@@ -123,11 +156,82 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
   out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
 }
 
+bool Linearization::deformationProjection(bool damping, Eigen::MatrixXd& out, bool diagonalOnly) {
+  // The dense rows cost n_c m^2 against the nodal projection's n_x m^2 / 2.
+  if (basis() || 4 * nCalc_ > model_.nx) return false;
+  // E_q's calculable rows D_c F_q, element by element from the Jacobians.
+  Ec_.setZero(nCalc_, m_);
+  for (const auto& E : model_.elements) {
+    const int nd = E.impl->numDeformations();
+    const DefJac& J = gtf_.elementJacobian(static_cast<int>(&E - model_.elements.data()));
+    for (int i = 0; i < nd; ++i) {
+      const int c = defCalc_[E.firstDef + i];
+      if (c < 0) continue;
+      for (std::size_t k = 0; k < E.coords.size(); ++k)
+        if (J(i, static_cast<int>(k)) != 0.0) Ec_.row(c) += J(i, static_cast<int>(k)) * FqVrows_.row(E.coords[k]);
+    }
+  }
+  // sum over element pairs (i, j) of S_ij row_i^T row_j: unit rows add entries, a unit and a
+  // calculable row add a row and a column, two calculable rows go into S Ec for one product.
+  if (diagonalOnly)
+    out.setZero(m_, 1);
+  else
+    out.setZero(m_, m_);
+  SEc_.setZero(nCalc_, m_);
+  for (const auto& E : model_.elements) {
+    if (damping ? !E.hasDamping : !E.hasStiffness) continue;
+    const DefMat& S = damping ? E.Sd : E.S;
+    const int nd = E.impl->numDeformations();
+    for (int i = 0; i < nd; ++i) {
+      const int ki = E.firstDef + i;
+      if (!active_[ki]) continue;
+      const int di = defDof_[ki], ci = defCalc_[ki];
+      if (di < 0 && ci < 0) continue;  // a fixed or input deformation: a zero row
+      for (int j = 0; j < nd; ++j) {
+        const int kj = E.firstDef + j;
+        const double sij = S(i, j);
+        if (!active_[kj] || sij == 0.0) continue;
+        const int dj = defDof_[kj], cj = defCalc_[kj];
+        if (ci >= 0 && cj >= 0) {
+          SEc_.row(ci) += sij * Ec_.row(cj);
+        } else if (di >= 0 && dj >= 0) {
+          if (!diagonalOnly)
+            out(di, dj) += sij;
+          else if (di == dj)
+            out(di, 0) += sij;
+        } else if (di >= 0 && cj >= 0) {
+          if (!diagonalOnly)
+            out.row(di) += sij * Ec_.row(cj);
+          else
+            out(di, 0) += sij * Ec_(cj, di);
+        } else if (ci >= 0 && dj >= 0) {
+          if (!diagonalOnly)
+            out.col(dj) += sij * Ec_.row(ci).transpose();
+          else
+            out(dj, 0) += sij * Ec_(ci, dj);
+        }
+      }
+    }
+  }
+  if (nCalc_ == 0) return true;
+  if (diagonalOnly)
+    out.col(0) += (Ec_.cwiseProduct(SEc_)).colwise().sum().transpose();
+  else {  // the lower triangle, mirrored: exactly symmetric, as the nodal projection
+    out.triangularView<Eigen::Lower>() += Ec_.transpose() * SEc_;
+    out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
+  }
+  return true;
+}
+
 void Linearization::stiffnessDiagonal(double t, const Eigen::VectorXd& eta, const Eigen::VectorXd& f,
                                       Eigen::VectorXd& Q, Eigen::VectorXd& diagonal) {
   staticForces(t, eta, f, Q);
   updateTransfer();
   geometricStiffness(scratch_, false);
+  if (deformationProjection(false, Gq_, true)) {
+    diagonal = Gq_.col(0);
+    return;
+  }
   const NodalMatrices::Sparse& X = nodal_.K();
   XArows_.setZero(FqV_.rows(), m_);
   const double* v = X.valuePtr();
@@ -143,6 +247,12 @@ void Linearization::tangent(double t, const Eigen::VectorXd& eta, const Eigen::V
   staticForces(t, eta, f, Q);
   updateTransfer();
   geometricStiffness(scratch_, false);
+  if (deformationProjection(false, T)) {
+    project(nodal_.G(), Gq_);
+    T += Gq_;
+    if (nodal_.hasMomentStiffness()) addMomentStiffness(T);
+    return;
+  }
   KG_ = nodal_.K();
   Eigen::Map<Eigen::VectorXd>(KG_.valuePtr(), KG_.nonZeros()) +=
       Eigen::Map<const Eigen::VectorXd>(nodal_.G().valuePtr(), nodal_.G().nonZeros());
@@ -193,11 +303,11 @@ void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::Ve
   staticForces(t, eta, f, out.Q);
   updateTransfer();
   geometricStiffness(out);
-  project(nodal_.K(), out.K);
-  if (nodal_.hasDamping())
-    project(nodal_.D(), out.D);
-  else
+  if (!deformationProjection(false, out.K)) project(nodal_.K(), out.K);
+  if (!nodal_.hasDamping())
     out.D.setZero(m_, m_);
+  else if (!deformationProjection(true, out.D))
+    project(nodal_.D(), out.D);
   out.C.setZero(m_, m_);  // Eq. 16a
   out.N.setZero(m_, m_);
   if (withMass) {

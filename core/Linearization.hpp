@@ -116,6 +116,11 @@ class Linearization {
   bool staticTangent(double t, const Eigen::VectorXd& eta, double loadFactor, double initialFactor, Eigen::VectorXd& Q);
   // x = (Kbar + Gbar)^-1 b with the last staticTangent.
   void solveStaticTangent(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  // Mbar factorised sparse in the same saddle-point form (H = M_x) at the configuration the positions
+  // were last solved in; false when singular. Full models only (throws with a basis). Then
+  // solveMass: X = Mbar^-1 B column by column, O(m nnz) where a dense Cholesky costs O(m^3).
+  bool factorizeMass();
+  void solveMass(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
 
  private:
   Linearization(std::unique_ptr<Workspace> own, Workspace* shared, std::optional<Eigen::MatrixXd> basis);
@@ -130,6 +135,12 @@ class Linearization {
   void updateTransfer();
   // out = A^T X A for a sparse symmetric nodal X, A = F_q V (after updateTransfer).
   void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
+  // Kbar (damping: Dbar) = E_q^T S E_q through the deformations (Eq. 16) when that is cheaper than
+  // the nodal projection: a full model whose few calculable deformations carry the only dense rows
+  // of E_q (a DYNE deformation's row is its unit row, a fixed or input one's is zero, by Eq. 7).
+  // False (out untouched) otherwise; after updateTransfer, with the element Jacobians of the
+  // configuration. diagonalOnly: only out's diagonal, as an m x 1 matrix.
+  bool deformationProjection(bool damping, Eigen::MatrixXd& out, bool diagonalOnly = false);
   // out += A^T W_x A: the moments' 4 x 4 blocks only (W_x is zero elsewhere).
   void addMomentStiffness(Eigen::MatrixXd& out);
   // Q = (F_q V)^T r_ by one transposed kinematic solve.
@@ -147,11 +158,17 @@ class Linearization {
   const ElementSteps& steps_;
   NodalMatrices& nodal_;
   std::vector<char> active_;  // per deformation: carries a stress
+  std::vector<int> defDof_;   // per deformation: its degree of freedom (DYNE), else -1
+  std::vector<int> defCalc_;  // per deformation: its row in Ec_ (active and calculable), else -1
+  int nCalc_ = 0;
   Eigen::VectorXd q_, qd_, r_, sigma_, xd_, xdd_, ed_, work_, lambda_, qf_;
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_, WA_;
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> FqVrows_, XArows_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> FqVrows_, XArows_, Ec_, SEc_;
+  Eigen::VectorXd transferX_;  // the configuration FqV_ was formed in (empty: none yet)
+  Eigen::MatrixXd Gq_;         // the projected G_x of a Newton tangent taken through the deformations
   NodalMatrices::Sparse KG_;
   std::unique_ptr<ConstrainedTangent> constrainedTangent_;  // made at the first staticTangent
+  std::unique_ptr<ConstrainedTangent> constrainedMass_;     // made at the first factorizeMass
   Eigen::VectorXd f_;
   LinearizedSystem scratch_;
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms

@@ -27,6 +27,19 @@ TangentKind DenseStaticProblem::linearize(const Eigen::VectorXd& eta, Eigen::Vec
   f_(eta, Q, &T_);
   if (!T_.allFinite()) throw std::runtime_error("non-finite tangent");
   const bool symmetric = isSymmetric(T_);
+  // A symmetric positive definite tangent (the usual case) by Cholesky, with the pivots' test of
+  // positiveDefinite (D = diag(L)^2); anything else by LDLT.
+  byCholesky_ = false;
+  if (symmetric) {
+    llt_.compute(T_);
+    if (llt_.info() == Eigen::Success) {
+      const Eigen::VectorXd d = llt_.matrixLLT().diagonal().array().square();
+      if (d.size() == 0 || d.minCoeff() > 1e-14 * d.maxCoeff()) {
+        spd_ = byCholesky_ = true;
+        return TangentKind::PositiveDefinite;
+      }
+    }
+  }
   // A non-symmetric tangent (moments on Euler parameters) is classified by its symmetric part and
   // solved by LU.
   if (symmetric)
@@ -42,7 +55,9 @@ TangentKind DenseStaticProblem::linearize(const Eigen::VectorXd& eta, Eigen::Vec
 }
 
 void DenseStaticProblem::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-  if (spd_)
+  if (byCholesky_)
+    x = llt_.solve(b);
+  else if (spd_)
     x = ldlt_.solve(b);
   else
     x = lu_.solve(b);

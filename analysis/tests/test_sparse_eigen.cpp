@@ -103,7 +103,11 @@ TEST(SparseEigen, AgreesWithDenseOnPlanarModels) {
 TEST(SparseEigen, AgreesWithDenseOnALoadedChain) {
   const core::Model m = io::readDatString(chain(60, -0.5), "chain.dat");
   const Compared c = compare(m, 10, nullptr, "chain of 60 PLBEAMs, tip load");
-  EXPECT_LT(c.maxRelLambda, 1e-9);
+  // The dense oracle's Kbar is exact here (all deformations are DYNE: E_q's rows are unit rows,
+  // Linearization takes Kbar = S through them), so this is the nodal sparse path's own round-off:
+  // of the order of eps times the axial-to-bending stiffness ratio 5e4 times the number of elements (1.8e-9; against
+  // the nodal projection F^T K_x F, which shares that round-off, it was 1.8e-10).
+  EXPECT_LT(c.maxRelLambda, 5e-9);
   EXPECT_LT(c.maxResidual, 1e-8);
   EXPECT_LT(c.maxNorm, 1e-8);
   EXPECT_LT(c.maxNodal, 1e-7);

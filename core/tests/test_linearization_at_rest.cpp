@@ -131,3 +131,62 @@ TEST(LinearizationAtRest, MatricesMatchFiniteDifferencesOnLoadedSamples) {
     EXPECT_EQ(sys.N.norm(), 0.0);
   }
 }
+
+// Kbar and Dbar are taken through the deformations (E_q^T S E_q, unit rows for DYNE, the calculable
+// rows dense) where that is cheaper than the nodal projection F_q^T K_x F_q: both must equal the
+// dense product with E_q = D_x F_q from the kinematics, and the Newton tangent and the force scale's
+// diagonal must agree with atRest, on every sample, whichever way each is taken.
+TEST(LinearizationAtRest, StiffnessThroughDeformationsEqualsDenseProduct) {
+  bool mixedRoute = false;  // a sample with calculable rows among few enough for the deformation route
+  for (const auto& sample : samples::allSamples()) {
+    SCOPED_TRACE(sample.name);
+    const core::Model m = sample.build();
+    core::Linearization lin(m);
+    core::GeometricTransferFunctions& gtf = lin.kinematics();
+    core::Stresses stresses(m);
+    const int n = lin.size();
+    VectorXd eta = gtf.initialDofs();
+    for (int j = 0; j < n; ++j) eta[j] += (m.spatial ? 1e-4 : 1e-3) * std::sin(1.7 * j + 0.3);
+    const double t = 0.0;
+    gtf.solvePositions(t, eta);
+    VectorXd f;
+    lin.appliedForces(t, 1.0, f);
+    core::LinearizedSystem sys;
+    lin.atRest(t, eta, f, sys);
+    MatrixXd A0, E0;
+    gtf.firstOrder(nullptr, A0);
+    gtf.deformationFirstOrder(A0, E0);
+    MatrixXd S = MatrixXd::Zero(m.ne, m.ne), Sd = S;
+    int calculable = 0;
+    for (const auto& E : m.elements) {
+      const int nd = E.impl->numDeformations();
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j) {
+          if (!stresses.isActive(E.firstDef + i) || !stresses.isActive(E.firstDef + j)) continue;
+          if (E.hasStiffness) S(E.firstDef + i, E.firstDef + j) = E.S(i, j);
+          if (E.hasDamping) Sd(E.firstDef + i, E.firstDef + j) = E.Sd(i, j);
+        }
+    }
+    for (int k = 0; k < m.ne; ++k) calculable += stresses.isActive(k) && m.eRole[k] == core::Role::Calculable;
+    mixedRoute = mixedRoute || (calculable > 0 && 4 * calculable <= m.nx);
+    const MatrixXd Kref = E0.transpose() * S * E0, Dref = E0.transpose() * Sd * E0;
+    const double scale = std::max(Kref.norm(), 1e-300);
+    VectorXd Q, diagonal;
+    MatrixXd T;
+    lin.tangent(t, eta, f, Q, T);
+    lin.stiffnessDiagonal(t, eta, f, Q, diagonal);
+    MatrixXd Tref = sys.K + sys.G;
+    if (sys.Gskew.size()) Tref += sys.Gskew;
+    std::printf(
+        "  %-30s %3d DOF, %3d calculable stressed deformations of %3d, nx %3d: K %.1e D %.1e T %.1e diag %.1e\n",
+        sample.name.c_str(), n, calculable, m.ne, m.nx, (sys.K - Kref).norm() / scale,
+        (sys.D - Dref).norm() / std::max(Dref.norm(), 1e-300), (T - Tref).norm() / scale,
+        (diagonal - Kref.diagonal()).norm() / scale);
+    EXPECT_LT((sys.K - Kref).norm(), 1e-11 * scale);
+    EXPECT_LT((sys.D - Dref).norm(), 1e-11 * std::max(Dref.norm(), 1e-300));
+    EXPECT_LT((T - Tref).norm(), 1e-11 * std::max(Tref.norm(), 1e-300));
+    EXPECT_LT((diagonal - Kref.diagonal()).norm(), 1e-11 * scale);
+    EXPECT_EQ((sys.K - sys.K.transpose()).norm(), 0.0);
+  }
+  EXPECT_TRUE(mixedRoute) << "no sample takes the deformation route with calculable rows";
+}
