@@ -152,6 +152,12 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
       if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
   // X symmetric: half a product (the lower triangle), mirrored.
   out.resize(m_, m_);
+  // Eigen 3.4's triangular product binds a reference to its operands' first coefficient, null when
+  // they are empty (UBSan; a model without degrees of freedom): the empty or zero result directly.
+  if (m_ == 0 || FqV_.rows() == 0) {
+    out.setZero();
+    return;
+  }
   out.triangularView<Eigen::Lower>() = FqV_.transpose() * XArows_;
   out.triangularView<Eigen::StrictlyUpper>() = out.transpose();
 }

@@ -4,13 +4,15 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 
 namespace flexmb::io {
 
 namespace {
 
+// Words of a line up to a comment (#, % or ;). Any other byte, a NUL too, belongs to a word:
+// strchr would find a NUL in its own terminator and split nothing.
 std::vector<std::string> words(std::string_view line) {
+  constexpr std::string_view kEnds = " \t\r\v\f#%;";
   std::vector<std::string> w;
   size_t i = 0;
   while (i < line.size()) {
@@ -21,7 +23,7 @@ std::vector<std::string> words(std::string_view line) {
       continue;
     }
     size_t j = i;
-    while (j < line.size() && !std::strchr(" \t\r\v\f#%;", line[j])) ++j;
+    while (j < line.size() && kEnds.find(line[j]) == std::string_view::npos) ++j;
     w.emplace_back(line.substr(i, j - i));
     i = j;
   }

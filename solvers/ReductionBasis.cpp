@@ -73,7 +73,11 @@ Eigen::MatrixXd assembleBasis(const Partition& p, const Eigen::MatrixXd& Vs) {
   const Eigen::Index nl = p.nLarge();
   Eigen::MatrixXd V = Eigen::MatrixXd::Zero(nq, nl + Vs.cols());
   for (Eigen::Index j = 0; j < nl; ++j) V(p.large[static_cast<std::size_t>(j)], j) = 1.0;
-  for (Eigen::Index i = 0; i < Vs.rows(); ++i) V.row(p.small[static_cast<std::size_t>(i)]).tail(Vs.cols()) = Vs.row(i);
+  // No rows to copy without reduced columns: Eigen's row() of a matrix without columns offsets its null
+  // data pointer (undefined behaviour, UBSan's pointer-overflow check in the sanitizer pass).
+  if (Vs.cols() > 0)
+    for (Eigen::Index i = 0; i < Vs.rows(); ++i)
+      V.row(p.small[static_cast<std::size_t>(i)]).tail(Vs.cols()) = Vs.row(i);
   return V;
 }
 

@@ -315,3 +315,35 @@ TEST(Malformed, TruncatedAndMutatedInputsNeverCrash) {
   }
   EXPECT_GT(runs, 1000u);
 }
+
+// A NUL byte in the VISUALIZATION section (found by flexmb_fuzz_dat in CI's sanitizer run: the word
+// splitter looked each byte up with strchr, which finds a NUL in its own terminator, so a line with
+// one never advanced and the reader filled memory until the fuzzer's time-out). A NUL belongs to its
+// word: the model reads, a statement with one is noted with its line, the lines after it still count.
+TEST(Malformed, NulBytesInTheVisualizationSectionAreWordCharacters) {
+  using namespace std::string_literals;
+  // Lines 1-5: the base kinematic block; 6: END; 7: VISUALIZATION.
+  const std::string text = join(kKin) + "END\nVISUALIZATION\n" +
+                           "BEAMPROPS 1\n"               // 8
+                           "CROSSTYPE RECT\n"s +         // 9
+                           "CROSS\0\aM 0.01 0.001\n"s +  // 10
+                           "CROSSDIM 0.02 0.002\n"       // 11
+                           "GRAPHICS 1\0\n"s +           // 12
+                           "\0\n"s +                     // 13
+                           "OPACITY 0.5\n";              // 14
+  core::Model m;
+  ASSERT_NO_THROW(m = io::readDatString(text, "v.dat"));
+  auto noted = [&](const std::string& part) {
+    for (const std::string& n : m.notes)
+      if (n.find(part) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(noted("v.dat:10: VISUALIZATION: unknown statement")) << ::testing::PrintToString(m.notes);
+  EXPECT_TRUE(noted("v.dat:12: VISUALIZATION: GRAPHICS: '1\0' is not an element number"s))
+      << ::testing::PrintToString(m.notes);
+  EXPECT_TRUE(noted("v.dat:13: VISUALIZATION: unknown statement")) << ::testing::PrintToString(m.notes);
+  ASSERT_EQ(m.appearance.count(1), 1u);
+  EXPECT_DOUBLE_EQ(m.appearance.at(1).width, 0.02);
+  EXPECT_DOUBLE_EQ(m.appearance.at(1).thickness, 0.002);
+  EXPECT_DOUBLE_EQ(m.appearance.at(1).opacity, 1.0);  // GRAPHICS named no element: OPACITY applies to none
+}
