@@ -164,7 +164,7 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
 
 bool Linearization::deformationProjection(bool damping, Eigen::MatrixXd& out, bool diagonalOnly) {
   // The dense rows cost n_c m^2 against the nodal projection's n_x m^2 / 2.
-  if (basis() || 4 * nCalc_ > model_.nx) return false;
+  if (basis() || m_ == 0 || 4 * nCalc_ > model_.nx) return false;
   // E_q's calculable rows D_c F_q, element by element from the Jacobians.
   Ec_.setZero(nCalc_, m_);
   for (const auto& E : model_.elements) {
