@@ -416,6 +416,22 @@ void Reader::scan() {
     st.info = info;  // provisional (dialect detection); resolve() picks the block's entry
     statements_.push_back(std::move(st));
   }
+  // SPACAR reads nothing after the end of the input, but SPACAR Light writes its VISUALIZATION
+  // section (cross-sections, colours; pictures only) after END END: it is found there too.
+  while (visualizationAt_ == std::string_view::npos && pos < text_.size()) {
+    size_t nl = text_.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text_.size();
+    std::string_view line = text_.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++lineNo;
+    const size_t b = line.find_first_not_of(" \t\r");
+    if (b == std::string_view::npos) continue;
+    const size_t e = line.find_first_of(" \t\r", b);
+    if (upper(std::string(line.substr(b, e == std::string_view::npos ? line.size() - b : e - b))) == "VISUALIZATION") {
+      visualizationAt_ = std::min(pos, text_.size());
+      visualizationLine_ = lineNo + 1;
+    }
+  }
   if (!any) {
     if (lastLine_ == 0) fail(0, "", "the file is empty");
     fail(0, "", "the file holds no statements (only comments or blank lines)");

@@ -296,10 +296,12 @@ std::vector<KeywordInfo> buildTable() {
                  "block's END: ends the input"));
   t.push_back(kw("EOF", kBothDialects, B::Structure, A::Eof, {},
                  "after a block's END: ends the input; the rest of the file is ignored"));
-  t.push_back(kw("VISUALIZATION", kBothDialects, B::Structure, A::Visualization, {},
-                 "after a block's END: the visualization section, to the end of the file: drawing hints "
-                 "for the pictures (cross-sections, colours, hidden elements; see the VISUALIZATION "
-                 "section below), never used by the analyses"));
+  t.push_back(
+      kw("VISUALIZATION", kBothDialects, B::Structure, A::Visualization, {},
+         "after a block's END (SPACAR Light: after END END, where it is found too): the visualization section, to the "
+         "end of the file: drawing hints "
+         "for the pictures (cross-sections, colours, hidden elements; see the VISUALIZATION "
+         "section below), never used by the analyses"));
 
   // SPACAR keywords flexmb does not support (yet).
   // The element types of one kind (planar or spatial), for "use one of these instead".
@@ -695,8 +697,10 @@ is an error naming one keyword of each.
           << " |\n";
     }
   }
-  out << "\n## VISUALIZATION section\nAfter the final `END`, `VISUALIZATION` starts a section of drawing hints, as "
-         "SPACAR Light and oopspa write it. The pictures (`flexmb show`, `--svg`, `--html`) draw beams with these "
+  out << "\n## VISUALIZATION section\nAfter the final `END` (or after `END END`, where SPACAR Light writes it and "
+         "SPACAR reads no "
+         "more input), `VISUALIZATION` starts a section of drawing hints, as SPACAR Light and oopspa write it. The "
+         "pictures (`flexmb show`, `--svg`, `--html`) draw beams with these "
          "cross-sections (else with the rectangle of the section's radii of gyration from `EM` or `ESTIFF`), and "
          "leave out `DONOTDRAW` elements; the analyses never read it. What the section holds that flexmb cannot "
          "use (an unknown statement, a value out of range, an element the model does not have) is a note, never "

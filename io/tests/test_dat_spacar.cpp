@@ -156,6 +156,30 @@ TEST(Spacar2013Light, SpacarLightStyleFile) {
   EXPECT_EQ(m.numDofs(), 6);
 }
 
+// SPACAR Light writes its VISUALIZATION section after END END, where SPACAR reads no more input:
+// the cross-sections and colours there reach the pictures (they were dropped), and a malformed
+// line there is a note, as in a section after a single END.
+TEST(Spacar2013Light, VisualizationAfterEndEndIsRead) {
+  const core::Model m = io::readDatFile(kData + "spacarlight_style_2013.dat");
+  ASSERT_EQ(m.appearance.count(1), 1u);
+  const core::ElementAppearance& look = m.appearance.at(1);
+  EXPECT_EQ(look.section, core::ElementAppearance::Section::Rectangle);
+  EXPECT_DOUBLE_EQ(look.width, 0.01);
+  EXPECT_DOUBLE_EQ(look.thickness, 0.001);
+  EXPECT_TRUE(look.hasColor);
+  EXPECT_DOUBLE_EQ(look.color[0], 0.5);
+  const std::string kin = "PLTRUSS 1 1 2\nX 2 1 0\nFIX 1\nDYNE 1 1\nEND\nHALT\nESTIFF 1 1\n";
+  // The CROSSTYPE line is line 14 after END END and two blank lines, line 11 after one END.
+  for (const auto& [ending, where] : {std::pair<std::string, std::string>{"END\nEND\n\n\n", "v.dat:14:"},
+                                      std::pair<std::string, std::string>{"END\n", "v.dat:11:"}}) {
+    const core::Model v = io::readDatString(kin + ending + "VISUALIZATION\nBEAMPROPS 1\nCROSSTYPE HEXAGON\n", "v.dat");
+    bool noted = false;
+    for (const auto& n : v.notes)
+      noted = noted || n.find(where + " VISUALIZATION: CROSSTYPE must be") != std::string::npos;
+    EXPECT_TRUE(noted) << ending;
+  }
+}
+
 // SPACAR Light fixes the warping node ((i-1)*3+3) of every fixed node also when no BEAMW uses it,
 // oopspa writes `FIX n 1` for it and an X line for every keypoint's position node, used or not, and
 // SPACAR runs those files: statements that fix or place a node no element uses change nothing, so
