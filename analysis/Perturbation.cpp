@@ -103,7 +103,7 @@ KinematicDofMatrices kinematicDofMatrices(const core::Model& model, const Static
   for (Eigen::Index j = 0; j < n; ++j)
     for (Eigen::Index i = 0; i < n; ++i) {
       r.M0(i, j) = s.M(at[i], at[j]);
-      r.K0B(i, j) = s.K(at[i], at[j]) + s.N(at[i], at[j]) + s.G(at[i], at[j]);
+      r.K0B(i, j) = s.K(at[i], at[j]) + s.G(at[i], at[j]) + (s.N.size() ? s.N(at[i], at[j]) : 0.0);
     }
   return r;
 }

@@ -46,8 +46,9 @@ io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, co
 }
 
 void setMatrices(io::SpacarStep& st, const core::LinearizedSystem& sys) {
-  st.M0 = sys.M, st.K0 = sys.K, st.G0 = sys.G, st.D0 = sys.D;
+  st.M0 = sys.M, st.K0 = sys.K, st.G0 = sys.G;
   const Eigen::Index m = sys.M.rows();
+  st.D0 = sys.D.size() ? sys.D : Eigen::MatrixXd::Zero(m, m);
   st.C0 = sys.C.size() ? sys.C : Eigen::MatrixXd::Zero(m, m);
   st.N0 = sys.N.size() ? sys.N : Eigen::MatrixXd::Zero(m, m);
 }

@@ -87,10 +87,11 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   const core::Model aug = withKnownAsDofs(model, known, {});
   // Without known coordinates the statics' own linearisation of the step is the one needed (its
   // four projections cost O(nx m^2) each): only F is computed here.
-  const bool ownSystem = known.empty() && step.system.M.rows() == model.numDofs() &&
-                         step.system.K.rows() == model.numDofs() && step.system.G.rows() == model.numDofs() &&
-                         step.system.D.rows() == model.numDofs() && step.system.C.rows() == model.numDofs() &&
-                         step.system.N.rows() == model.numDofs();
+  const int nq = model.numDofs();
+  const bool ownSystem = known.empty() && step.system.M.rows() == nq && step.system.K.rows() == nq &&
+                         step.system.G.rows() == nq && (step.system.D.size() == 0 || step.system.D.rows() == nq) &&
+                         (step.system.C.size() == 0 || step.system.C.rows() == nq) &&
+                         (step.system.N.size() == 0 || step.system.N.rows() == nq);
   PerturbedSystem p;
   std::unique_ptr<core::Linearization> placed;  // the step's own system: Mbar factorised sparse there
   if (ownSystem) {
@@ -101,7 +102,17 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   }
   const DofPlaces at = dofPlaces(aug);
   const core::LinearizedSystem& s = ownSystem ? step.system : p.system;
-  const Eigen::MatrixXd Kt = s.K + s.N + s.G, Ct = s.C + s.D;
+  // K0 + N0 + G0 and C0 + D0 (at rest N0 and C0 are empty, D0 too without damping: zero). The
+  // known coordinates' INX and OUTF channels read Ct's entries: then it is whole.
+  const Eigen::MatrixXd Kt = s.N.size() ? Eigen::MatrixXd(s.K + s.G + s.N) : Eigen::MatrixXd(s.K + s.G);
+  const Eigen::Index na = s.M.rows();
+  Eigen::MatrixXd Cs;
+  if (s.C.size() || (!known.empty() && s.D.size() == 0)) {
+    Cs.setZero(na, na);
+    if (s.C.size()) Cs += s.C;
+    if (s.D.size()) Cs += s.D;
+  }
+  const Eigen::MatrixXd& Ct = Cs.size() ? Cs : s.D;
   const int m = model.numDofs();
   std::vector<int> qi(m);
   bool inOrder = s.M.rows() == m;
@@ -150,7 +161,7 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   Eigen::MatrixXd Y;
   solveMass(K, Y);
   ss.A.bottomLeftCorner(m, m) = -Y;
-  if (!Cd.isZero(0.0)) {  // undamped: stays 0 (a solve saved)
+  if (Cd.size() && !Cd.isZero(0.0)) {  // undamped: stays 0 (a solve saved)
     solveMass(Cd, Y);
     ss.A.bottomRightCorner(m, m) = -Y;
   }

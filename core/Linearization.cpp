@@ -134,7 +134,7 @@ void Linearization::updateTransfer() {
   // times (force scale, Newton tangent, atRest), each an m-column kinematic solve and a copy.
   if (transferX_.size() == gtf_.x().size() && transferX_ == gtf_.x()) return;
   gtf_.firstOrder(basis(), FqV_);
-  FqVrows_ = FqV_;
+  transferRows_ = false;  // the row-major copy when a projection needs it
   transferX_ = gtf_.x();
 }
 
@@ -146,10 +146,11 @@ void Linearization::project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out
   }
   // X A by rows: entry X(r, c) adds X(r, c) A(c, :) to row r, a contiguous axpy of length m in
   // the row-major copies (the column-major sparse-dense product strides through A per entry).
+  const auto& Frows = transferRows();
   XArows_.setZero(FqV_.rows(), m_);
   for (int c = 0; c < X.outerSize(); ++c)
     for (int p = X.outerIndexPtr()[c]; p < X.outerIndexPtr()[c + 1]; ++p)
-      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
+      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * Frows.row(c);
   // X symmetric: half a product (the lower triangle), mirrored.
   out.resize(m_, m_);
   // Eigen 3.4's triangular product binds a reference to its operands' first coefficient, null when
@@ -174,7 +175,7 @@ bool Linearization::deformationProjection(bool damping, Eigen::MatrixXd& out, bo
       const int c = defCalc_[E.firstDef + i];
       if (c < 0) continue;
       for (std::size_t k = 0; k < E.coords.size(); ++k)
-        if (J(i, static_cast<int>(k)) != 0.0) Ec_.row(c) += J(i, static_cast<int>(k)) * FqVrows_.row(E.coords[k]);
+        if (J(i, static_cast<int>(k)) != 0.0) Ec_.row(c) += J(i, static_cast<int>(k)) * FqV_.row(E.coords[k]);
     }
   }
   // sum over element pairs (i, j) of S_ij row_i^T row_j: unit rows add entries, a unit and a
@@ -239,11 +240,12 @@ void Linearization::stiffnessDiagonal(double t, const Eigen::VectorXd& eta, cons
     return;
   }
   const NodalMatrices::Sparse& X = nodal_.K();
+  const auto& Frows = transferRows();
   XArows_.setZero(FqV_.rows(), m_);
   const double* v = X.valuePtr();
   for (int c = 0; c < X.outerSize(); ++c)
     for (int p = X.outerIndexPtr()[c]; p < X.outerIndexPtr()[c + 1]; ++p)
-      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * FqVrows_.row(c);
+      if (v[p] != 0.0) XArows_.row(X.innerIndexPtr()[p]) += v[p] * Frows.row(c);
   diagonal.resize(m_);
   for (int j = 0; j < m_; ++j) diagonal[j] = FqV_.col(j).dot(XArows_.col(j));
 }
@@ -311,11 +313,11 @@ void Linearization::atRest(double t, const Eigen::VectorXd& eta, const Eigen::Ve
   geometricStiffness(out);
   if (!deformationProjection(false, out.K)) project(nodal_.K(), out.K);
   if (!nodal_.hasDamping())
-    out.D.setZero(m_, m_);
+    out.D.resize(0, 0);  // no damping: left empty, as C and N
   else if (!deformationProjection(true, out.D))
     project(nodal_.D(), out.D);
-  out.C.setZero(m_, m_);  // Eq. 16a
-  out.N.setZero(m_, m_);
+  out.C.resize(0, 0);  // Eq. 16a: C = N = 0 at rest, left empty (no m^2 zeros each per equilibrium)
+  out.N.resize(0, 0);
   if (withMass) {
     nodal_.assembleMass(gtf_.x());
     project(nodal_.M(), out.M);

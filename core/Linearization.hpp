@@ -5,7 +5,7 @@
 //   Gbar = -F_qq^T f + E_qq^T sigma = A^T H A,  H = sum_i sigma~_i d^2 D_i/dx^2,
 // sigma~ = elastic stresses + reaction stresses of the constrained deformations solving
 // D_x^T sigma~ = f on the calculable coordinates (the constraint second derivatives vanish along q,
-// so this identity is exact), and C = N = 0. -dQ/dq = Kbar + Gbar is the static Newton tangent.
+// so this identity is exact), and C = N = 0 (left empty). -dQ/dq = Kbar + Gbar is the static Newton tangent.
 // In motion (ref. [13]; derivation in core/README.md) the inertia forces M xdd + h join the loads
 // in G, and the variations of the velocities and accelerations give
 //   C = A^T (M dxdd/dqd + dh/dxd A),
@@ -31,9 +31,9 @@
 namespace flexmb::core {
 
 struct LinearizedSystem {
-  Eigen::MatrixXd M, K, G, D;  // m x m (G symmetric)
+  Eigen::MatrixXd M, K, G, D;  // m x m (G symmetric); D at rest without damping 0 x 0 (zero)
   Eigen::MatrixXd Gskew;       // m x m, antisymmetric load stiffness of moments; 0 x 0 without
-  Eigen::MatrixXd C, N;        // m x m: velocity sensitivity, dynamic stiffening (0 at rest)
+  Eigen::MatrixXd C, N;        // m x m: velocity sensitivity, dynamic stiffening; at rest 0 x 0 (zero)
   // Generalised forces (F_q V)^T (f - D_x^T sigma) at rest; in motion the residual of Eq. 13,
   // (F_q V)^T (f - M xdd - h - D_x^T sigma), which vanishes on a trajectory.
   Eigen::VectorXd Q;
@@ -131,8 +131,13 @@ class Linearization {
   // G = A^T G_x A (H(sigma~) - dg/dx - dm/dx); sigma~ = sigma_ + reaction stresses for the nodal
   // residual r_. Also assembles the nodal K_x (and D_x).
   void geometricStiffness(LinearizedSystem& out, bool projectG = true);
-  // F_q V (and its row-major copy) at the current configuration.
+  // F_q V at the current configuration (formed once per configuration).
   void updateTransfer();
+  // Its row-major copy (made at the first use after updateTransfer).
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& transferRows() {
+    if (!transferRows_) FqVrows_ = FqV_, transferRows_ = true;
+    return FqVrows_;
+  }
   // out = A^T X A for a sparse symmetric nodal X, A = F_q V (after updateTransfer).
   void project(const NodalMatrices::Sparse& X, Eigen::MatrixXd& out);
   // Kbar (damping: Dbar) = E_q^T S E_q through the deformations (Eq. 16) when that is cheaper than
@@ -165,6 +170,7 @@ class Linearization {
   Eigen::MatrixXd FqV_, EqV_, MF_, HF_, WA_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> FqVrows_, XArows_, Ec_, SEc_;
   Eigen::VectorXd transferX_;  // the configuration FqV_ was formed in (empty: none yet)
+  bool transferRows_ = false;  // FqVrows_ is FqV_'s copy
   Eigen::MatrixXd Gq_;         // the projected G_x of a Newton tangent taken through the deformations
   NodalMatrices::Sparse KG_;
   std::unique_ptr<ConstrainedTangent> constrainedTangent_;  // made at the first staticTangent

@@ -170,6 +170,8 @@ TEST(LinearizationAtRest, StiffnessThroughDeformationsEqualsDenseProduct) {
     for (int k = 0; k < m.ne; ++k) calculable += stresses.isActive(k) && m.eRole[k] == core::Role::Calculable;
     mixedRoute = mixedRoute || (calculable > 0 && 4 * calculable <= m.nx);
     const MatrixXd Kref = E0.transpose() * S * E0, Dref = E0.transpose() * Sd * E0;
+    if (sys.D.size() == 0) sys.D.setZero(n, n);  // no damping: left empty (zero)
+    EXPECT_EQ(sys.D.isZero(0.0), Dref.isZero(0.0));
     const double scale = std::max(Kref.norm(), 1e-300);
     VectorXd Q, diagonal;
     MatrixXd T;
