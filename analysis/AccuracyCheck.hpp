@@ -28,11 +28,12 @@ namespace flexmb::analysis {
 
 struct SimulationOptions;
 
-// A stretch of the run between two of its output times: the states y = [eta; etad] at both ends
-// and the nodal coordinates at the start (where the window's kinematics start).
+// A stretch of the run between two of its output times: the states y = [eta; etad] and the nodal
+// coordinates at both ends (the window's kinematics start from xa; the reference's end is solved
+// from xb, near it: a mechanism may have turned far from its initial configuration).
 struct AccuracyWindow {
   double ta = 0.0, tb = 0.0;
-  Eigen::VectorXd ya, yb, xa;
+  Eigen::VectorXd ya, yb, xa, xb;
 };
 
 // Picks the windows from the output times as the run passes them: three, centred at 1/6, 1/2 and
@@ -60,10 +61,13 @@ constexpr double kAccuracyReferenceFactor = 100.0;
 // Runs the windows again (options: the run's, with its integrator, basis and tolerances) and
 // estimates the global error over [t0, tEnd]. limit: the estimate above which the run is not
 // converged, 10 RelTol (a converged run's error is of the order of its tolerance) but at least 1e-6.
+// Never throws for a numerical failure: a check that cannot run returns checked = false with the
+// reason in note, and the run it checks stands.
 core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationOptions& options, double t0, double tEnd,
                                      const std::vector<AccuracyWindow>& windows);
 
-// The check's result in one line for the screen and the manifest.
+// The check's result in one line for the screen and the manifest: "converged: ...", "NOT
+// CONVERGED: ..." or "not checked: <reason>".
 std::string describeAccuracy(const core::AccuracyEstimate& a);
 
 }  // namespace flexmb::analysis

@@ -55,6 +55,9 @@ void placeAt(core::Linearization& lin, const core::Model& augmented, const Stati
   }
   lin.kinematics().setRelativeTolerance(std::min(augmented.settings.kinematicTol, 1e-12));
   lin.kinematics().setInputLoadFactor(step.loadFactor, step.initialFactor);
+  // From the equilibrium's own configuration: Newton from the initial one may not reach a large
+  // deflection, or reach another assembly branch.
+  if (step.x.size() == augmented.nx) lin.kinematics().setConfiguration(step.x);
   lin.kinematics().solvePositions(augmented.settings.t0, q);
 }
 }  // namespace

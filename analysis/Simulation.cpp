@@ -220,6 +220,22 @@ class StageRun {
   }
 
   core::Trajectory run(bool* interrupted) {
+    // A failure no integrator maps to a stop (an unexpected exception from a solver, out of memory)
+    // still keeps the output times reached: the run stops there with the reason.
+    try {
+      integrate(interrupted);
+    } catch (const std::exception& e) {
+      traj_.completed = false;
+      traj_.stopReason =
+          std::string(e.what()) + " after t = " + solvers::shortest(tReached_) + "; results before it are kept";
+    }
+    if (windows_ && traj_.completed)
+      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
+    return std::move(traj_);
+  }
+
+ private:
+  void integrate(bool* interrupted) {
     solvers::OdeResult r;
     if (set_.bdf) {
       r = integrateImplicit(set_.tspan, y0_);
@@ -246,12 +262,8 @@ class StageRun {
       }
     }
     finish(r, interrupted);
-    if (windows_ && traj_.completed)
-      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
-    return std::move(traj_);
   }
 
- private:
   // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
   void startImplicit() {
     jacobian_.emplace(workspace_, opt_.basis);
@@ -302,11 +314,14 @@ class StageRun {
   }
 
   template <class F>
-  static void kinematicsAsRhsError(F&& f) {
+  void kinematicsAsRhsError(F&& f) {
     try {
       f();
     } catch (const core::KinematicsError& e) {
-      throw solvers::RhsError(e.what());  // a trial state: retried with a smaller step
+      throw solvers::RhsError(e.what());          // a trial state: retried with a smaller step
+    } catch (const core::UserFunctionError& e) {  // USERINP in the Jacobian or an accepted step: as in rhs
+      userError_ = e.what();
+      throw solvers::RhsAbort(e.what());
     }
   }
 
@@ -452,16 +467,27 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
   if (stages.size() == 1) return simulate(*stages.front(), opt, interrupted);
   if (opt.basis) throw std::invalid_argument("a reduction basis is only supported for a file with one analysis block");
   if (!opt.keepStates) throw std::invalid_argument("several analysis blocks need the states (keepStates)");
+  // Checked before any block runs: a later block must not throw away the blocks integrated before it.
+  for (const core::Model* m : stages)
+    if (m->numDofs() != stages.front()->numDofs() || m->nx != stages.front()->nx)
+      throw std::invalid_argument("analysis blocks with different degrees of freedom cannot continue each other");
   core::Trajectory all;
   Continuation state;
   for (size_t k = 0; k < stages.size(); ++k) {
     const core::Model& m = *stages[k];
-    if (m.numDofs() != stages.front()->numDofs() || m.nx != stages.front()->nx)
-      throw std::invalid_argument("analysis blocks with different degrees of freedom cannot continue each other");
     SimulationOptions o = opt;
     if (k + 1 < stages.size()) o.tEnd.reset();
     Continuation end;
-    core::Trajectory part = simulateStage(m, o, k ? &state : nullptr, &end, interrupted);
+    core::Trajectory part;
+    try {
+      part = simulateStage(m, o, k ? &state : nullptr, &end, interrupted);
+    } catch (const std::exception& e) {  // the block could not start: the blocks before it stand
+      if (k == 0) throw;
+      all.completed = false;
+      all.stopReason = "analysis block " + std::to_string(k + 1) + " could not start: " + e.what() +
+                       "; the results of the blocks before it are kept";
+      return all;
+    }
     const size_t skip =
         (k > 0 && !part.time.empty() && !all.time.empty() && part.time.front() == all.time.back()) ? 1 : 0;
     for (size_t i = skip; i < part.time.size(); ++i) {

@@ -22,7 +22,7 @@ io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, co
                          double loadFactor, const core::StateOutputs& s, const SpacarOutputOptions& o,
                          double initialFactor = 1.0) {
   io::SpacarStep st;
-  rq.setState(t, dofsOf(model, s, 0), loadFactor, initialFactor);
+  rq.setState(t, dofsOf(model, s, 0), loadFactor, initialFactor, &s.x);  // from the state's own configuration
   Eigen::VectorXd sig, fxt;
   core::ResultQuantities::AppliedForces applied;
   rq.forces(t, loadFactor, s, Eigen::VectorXd(), sig, fxt, initialFactor, &applied);

@@ -277,7 +277,13 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
     if (r.completed) r.completed = false, r.stopReason = "no load step reached";
     return r;
   }
-  r.model = stateSpaceAt(model, r.statics.steps.back());
+  try {  // the statics stand when the state-space model cannot be made
+    r.model = stateSpaceAt(model, r.statics.steps.back());
+  } catch (const std::exception& e) {
+    r.completed = false;
+    r.stopReason =
+        std::string("the state-space model at the last load step: ") + e.what() + "; the load steps are kept";
+  }
   return r;
 }
 

@@ -11,8 +11,9 @@ namespace flexmb::core {
 namespace {
 std::string describe(double t, int iterations, double residual, const std::string& reason) {
   std::ostringstream s;
-  s << "kinematics failed at t = " << t << ": " << reason << " (iterations " << iterations << ", residual " << residual
-    << ")";
+  s << "kinematics failed at t = " << t << ": " << reason;
+  if (iterations > 0 || std::isfinite(residual))  // a Newton iteration ran: how far it got
+    s << " (iterations " << iterations << ", residual " << residual << ")";
   return s.str();
 }
 }  // namespace

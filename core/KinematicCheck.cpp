@@ -128,17 +128,25 @@ std::string formatReport(const KinematicReport& r) {
     for (size_t i = 0; i < shown; ++i) o << "  " << v[i] << "\n";
     if (v.size() > shown) o << "  ... and " << v.size() - shown << " more\n";
   };
+  // How many to change: one per missing or redundant equation (a closed loop of beams needs six
+  // releases in space, three in the plane), so the advice counts them.
+  auto howMany = [](int n, const char* one, const char* several) {
+    return n == 1 ? std::string(one) : std::to_string(n) + " " + several;
+  };
   if (!r.underdetermined.empty()) {
-    o << "UNDER-DETERMINED: " << (r.xCalculable - r.rank)
+    const int free = r.xCalculable - r.rank;
+    o << "UNDER-DETERMINED: " << free
       << " free motion(s) that no kinematic equation fixes; involved coordinates (most first):\n";
     list(r.underdetermined);
-    o << "  fix: FIX or DYNX one of these coordinates, or make a released deformation DYNE/fixed\n";
+    o << "  fix: FIX or DYNX " << howMany(free, "one of these coordinates", "of these coordinates") << ", or make "
+      << howMany(free, "a released deformation", "released deformations") << " DYNE/fixed\n";
   }
   if (!r.overdetermined.empty()) {
-    o << "OVER-DETERMINED: " << (r.eFixed + r.eInput + r.eDynamic - r.rank)
-      << " redundant kinematic equation(s); dependent deformations (most first):\n";
+    const int redundant = r.eFixed + r.eInput + r.eDynamic - r.rank;
+    o << "OVER-DETERMINED: " << redundant << " redundant kinematic equation(s); dependent deformations (most first):\n";
     list(r.overdetermined);
-    o << "  fix: release (RLSE) one of these deformations\n";
+    o << "  fix: release (RLSE) " << howMany(redundant, "one of these deformations", "of these deformations")
+      << " (one per redundant equation, chosen so that the rank check passes)\n";
   }
   return o.str();
 }

@@ -82,6 +82,11 @@ struct ModelBuilder::Impl {
     double value;
     int line;
   };
+  struct NoValuesStmt {  // EM / ESTIFF / EDAMP / ESIG with the element alone
+    std::string keyword;
+    int id;
+    int line;
+  };
 
   std::vector<ElemStmt> elements;
   std::vector<CoordStmt> coords;
@@ -95,7 +100,9 @@ struct ModelBuilder::Impl {
   std::vector<VectorStmt> nodeInertias;
   std::vector<CompValues> inputXValues, inputEValues, initialDeformations;
   std::vector<CompFns> inputXFunctions, inputEFunctions;
-  std::vector<CompScalar> inputIncrements, prestress, coordinateRates, coordinateAccelerations;
+  std::vector<CompScalar> inputIncrements, coordinateRates, coordinateAccelerations;
+  std::vector<VectorStmt> prestress;  // ESIG: a value per deformation
+  std::vector<NoValuesStmt> noValues;
   std::vector<ScalarStmt> referenceLengths;
   std::vector<std::string> notes;
 };
@@ -191,8 +198,11 @@ void ModelBuilder::setInitialDeformation(int element, int comp, std::optional<do
                                          std::optional<double> edd, int line) {
   impl_->initialDeformations.push_back({element, comp, e, ed, edd, line});
 }
-void ModelBuilder::setPrestress(int element, int comp, double sigma, int line) {
-  impl_->prestress.push_back({element, comp, sigma, line});
+void ModelBuilder::setPrestress(int element, std::span<const double> values, int line) {
+  impl_->prestress.push_back({element, {values.begin(), values.end()}, line});
+}
+void ModelBuilder::noValues(const std::string& keyword, int element, int line) {
+  impl_->noValues.push_back({keyword, element, line});
 }
 void ModelBuilder::setCoordinateRate(int node, int comp, double v, int line) {
   impl_->coordinateRates.push_back({node, comp, v, line});
@@ -237,6 +247,15 @@ std::string slotName(const ElementTypeInfo& type, size_t slot) {
                      : k == NodeKind::Warping ? "warping "
                                               : "orientation ") +
          static_cast<char>('p' + std::min(idx, 9));
+}
+
+// "12, 15, 18": the lines of statements a note names, the first eight and how many more.
+std::string lineList(const std::vector<int>& lines) {
+  std::string s;
+  const size_t shown = std::min<size_t>(lines.size(), 8);
+  for (size_t i = 0; i < shown; ++i) (s += i ? ", " : "") += std::to_string(lines[i]);
+  if (lines.size() > shown) ((s += " and ") += std::to_string(lines.size() - shown)) += " more";
+  return s;
 }
 
 // "1st", "2nd", "7th": the position of a value in a statement.
@@ -357,6 +376,7 @@ struct ModelBuilder::Finalizer {
   void normalisationElements();
   void elementObjects(const ElementOptions& options);
   void restartReferences();
+  void linesWithoutValues();
   void constitutive(const std::vector<Impl::VectorStmt>& stmts, bool damping);
   void elementInertia();
   void nodeInertia();
@@ -372,6 +392,7 @@ struct ModelBuilder::Finalizer {
   void initialDeformations();
   void note(std::string text) { addOnce(in.notes, std::move(text)); }
   void requireStiffness(int ei, size_t given, int line);
+  void refuseStiffnessLostToAShortLine(int ei, const std::vector<double>& given, const DefMat& S, int line);
   void ignoreExtras(const std::string& keyword, int ei, size_t given, size_t own,
                     const std::vector<ParameterSpec>& ignored, int line);
   void ignoredValueNotes();
@@ -391,6 +412,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   f.normalisationElements();
   f.elementObjects(options);
   f.restartReferences();
+  f.linesWithoutValues();
   f.constitutive(impl_->stiffness, false);
   f.constitutive(impl_->damping, true);
   f.elementInertia();
@@ -727,6 +749,7 @@ void ModelBuilder::Finalizer::constitutive(const std::vector<Impl::VectorStmt>& 
         st.values.begin(), st.values.begin() + static_cast<std::ptrdiff_t>(std::min(st.values.size(), layout.size())));
     DefMat S = DefMat::Zero(el.type->numDeformations(), el.type->numDeformations());
     el.impl->constitutive(own, S);
+    if (!damping && own.size() < layout.size()) refuseStiffnessLostToAShortLine(ei, own, S, st.line);
     if (damping) {
       el.Sd = S;
       el.hasDamping = true;
@@ -760,13 +783,63 @@ void ModelBuilder::Finalizer::ignoreExtras(const std::string& keyword, int ei, s
 }
 
 void ModelBuilder::Finalizer::ignoredValueNotes() {
-  for (const auto& [key, ig] : ignoredValues) {
-    std::string lines;
-    const size_t shown = std::min<size_t>(ig.lines.size(), 8);
-    for (size_t i = 0; i < shown; ++i) lines += (i ? ", " : "") + std::to_string(ig.lines[i]);
-    if (ig.lines.size() > shown) lines += " and " + std::to_string(ig.lines.size() - shown) + " more";
+  for (const auto& [key, ig] : ignoredValues)
     note(in.file + ":" + std::to_string(ig.lines.front()) + ": " + ig.what +
-         (ig.lines.size() > 1 ? " (lines " + lines + ")" : ""));
+         (ig.lines.size() > 1 ? " (lines " + lineList(ig.lines) + ")" : ""));
+}
+
+// EM, ESTIFF, EDAMP or ESIG with the element number and no values: oopspa's writer gives every
+// element such a line, also those without the property, and SPACAR runs those files. The line sets
+// nothing (the element keeps no stiffness, damping, inertia or prestress from it, and a full line
+// for the element, before or after, keeps its values), so it is a note, one per keyword naming
+// the elements and the lines (io/README.md, "Harmless extras"). The element must exist. These
+// lines never reach constitutive(): ModelBuilder::noValues keeps them apart.
+void ModelBuilder::Finalizer::linesWithoutValues() {
+  std::vector<std::string> keywords;  // in the order of their first such line
+  std::map<std::string, std::pair<std::vector<int>, std::vector<int>>> byKeyword;  // element labels, lines
+  for (const auto& st : in.noValues) {
+    r.element(st.id, st.line);
+    auto [it, fresh] = byKeyword.try_emplace(st.keyword);
+    if (fresh) keywords.push_back(st.keyword);
+    std::vector<int>& labels = it->second.first;
+    if (std::find(labels.begin(), labels.end(), st.id) == labels.end()) labels.push_back(st.id);
+    it->second.second.push_back(st.line);
+  }
+  for (const std::string& keyword : keywords) {
+    const auto& [labels, lines] = byKeyword.at(keyword);
+    std::string labelText;
+    for (size_t i = 0; i < labels.size(); ++i) (labelText += i ? ", " : "") += std::to_string(labels[i]);
+    const bool several = lines.size() > 1;
+    note(in.file + ":" + std::to_string(lines.front()) + ": " + keyword + " without values for element" +
+         (labels.size() > 1 ? "s " : " ") + labelText + (several ? " (lines " + lineList(lines) + ")" : "") +
+         ": nothing set, as if the line" + (several ? "s were" : " were") +
+         " absent (oopspa writes such lines for elements without the property)");
+  }
+}
+
+// A short ESTIFF line (trailing values omitted count as 0, as SPACAR files write them) must not
+// leave a dynamic deformation without stiffness: that deformation would move freely (a flexure
+// platform sagging by millimetres) with exit 0. An explicit 0 stays legal. The deformations the
+// omitted values reach are found by giving them a nonzero value.
+void ModelBuilder::Finalizer::refuseStiffnessLostToAShortLine(int ei, const std::vector<double>& given, const DefMat& S,
+                                                              int line) {
+  const ElementEntry& el = m.elements[ei];
+  const ElementTypeInfo& type = *el.type;
+  std::vector<double> full = given;
+  full.resize(type.stiffness.size(), 1.0);
+  DefMat withAll = DefMat::Zero(type.numDeformations(), type.numDeformations());
+  el.impl->constitutive(full, withAll);
+  for (int d = 0; d < type.numDeformations(); ++d) {
+    const int di = el.firstDef + d;
+    if (m.eRole[di] != Role::Dynamic) continue;
+    if (S.row(d).cwiseAbs().maxCoeff() != 0.0 || withAll.row(d).cwiseAbs().maxCoeff() == 0.0) continue;
+    std::string missing;
+    for (size_t i = given.size(); i < type.stiffness.size(); ++i)
+      missing += (i > given.size() ? ", " : "") + type.stiffness[i].name;
+    R::fail(line, "ESTIFF of " + r.elemName(ei) + " gives " + std::to_string(given.size()) + " of its " +
+                      std::to_string(type.stiffness.size()) + " stiffness values: without " + missing +
+                      ", the dynamic " + m.deformationName(di) +
+                      " has no stiffness and moves freely; give the values (write 0 where " + "no stiffness is meant)");
   }
 }
 
@@ -893,6 +966,12 @@ void ModelBuilder::Finalizer::nodalLoads(const std::vector<Impl::VectorStmt>& st
       if (fresh) m.moments.push_back({ni, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
       const Eigen::Vector3d v(st.values[0], st.values[1], st.values[2]);
       (increment ? m.moments[it->second].increment : m.moments[it->second].value) += v;
+      bool fixed = true;
+      for (int c = 0; c < n.dim(); ++c) fixed = fixed && m.xRole[n.firstCoord + c] == Role::Fixed;
+      if (fixed && v.squaredNorm() > 0.0)
+        m.warnings.push_back("line " + std::to_string(st.line) + ": the moment " + (increment ? "(DELXF" : "(XF") +
+                             ") on node " + std::to_string(n.label) +
+                             " acts on a fixed orientation (FIX): the support takes it and it moves nothing");
       continue;
     }
     if (isSpatial(n.kind) && static_cast<int>(st.values.size()) > n.dim())
@@ -905,7 +984,13 @@ void ModelBuilder::Finalizer::nodalLoads(const std::vector<Impl::VectorStmt>& st
                            std::to_string(st.values.size()));
     for (size_t c = 0; c < st.values.size(); ++c) {
       if (!std::isfinite(st.values[c])) R::fail(st.line, "load is not finite");
-      f[n.firstCoord + static_cast<int>(c)] += st.values[c];
+      const int coord = n.firstCoord + static_cast<int>(c);
+      f[coord] += st.values[c];
+      // Legal (SPACAR takes it into the support's reaction), but it moves nothing: said, not dropped silently.
+      if (st.values[c] != 0.0 && m.xRole[coord] == Role::Fixed)
+        m.warnings.push_back("line " + std::to_string(st.line) + ": the load " + (increment ? "(DELXF" : "(XF") +
+                             ") on node " + std::to_string(n.label) + ", component " + std::to_string(c + 1) +
+                             ", acts on a fixed coordinate (FIX): the support takes it and it moves nothing");
     }
   }
 }
@@ -927,16 +1012,52 @@ void ModelBuilder::Finalizer::loads() {
 
 void ModelBuilder::Finalizer::stresses() {
   m.sigma0 = Eigen::VectorXd::Zero(m.ne);
+  // ESIG e s1 [s2 ... sn]: a value per deformation in the element's order, as ESTIFF and EM list
+  // theirs, the rest 0; a later line replaces the row. This is SPACAR's reading: its .sbd of
+  // oopspa's `ESIG 1 1.000000` on a HINGE holds ESIG(1,:) = [1 0 0 ...] (io/README.md).
   for (const auto& st : in.prestress) {
-    int comp = st.comp;
-    if (comp == 0) {  // ESIG e s: an element with one deformation
-      const int ei = r.element(st.id, st.line);
-      if (m.elements[ei].type->numDeformations() != 1)
-        R::fail(st.line, "ESIG e s (two numbers) is for an element with one deformation; " + r.elementDescription(ei) +
-                             ": write ESIG e i s");
-      comp = 1;
+    const int ei = r.element(st.id, st.line);
+    const ElementEntry& el = m.elements[ei];
+    const int n = el.type->numDeformations();
+    const std::vector<double>& v = st.values;
+    const int k = static_cast<int>(v.size());
+    if (k == 0) R::fail(st.line, "ESIG of " + r.elemName(ei) + " gives no value");
+    for (double x : v)
+      if (!std::isfinite(x)) R::fail(st.line, "prestress is not finite");
+    std::string given = "ESIG " + std::to_string(st.id);
+    for (double x : v) (given += ' ') += num(x);
+    std::vector<double> row = v;
+    if (k == 2 && n == 1 && v[0] == 1.0) {
+      // flexmb's former ESIG e i s (component, then stress), kept where no other reading fits.
+      row = {v[1]};
+      note(given + " (line " + std::to_string(st.line) +
+           "): flexmb's former form ESIG e 1 s, read as the prestress of " + r.elemName(ei) + "'s only deformation (" +
+           el.type->deformationNames[0] + "); SPACAR's form is ESIG " + std::to_string(st.id) + " " + num(v[1]));
+    } else if (k > n) {
+      std::string hint;
+      if (k == 2 && n == 1)
+        hint = "; for its one deformation write ESIG " + std::to_string(st.id) +
+               " s (flexmb's former ESIG e i s is now a value per deformation)";
+      else if (k == 2)
+        hint =
+            "; flexmb's former ESIG e i s is now written as a value per deformation, e.g. ESIG e 0 0 s for "
+            "the third";
+      R::fail(st.line, r.elementDescription(ei) + ", ESIG gives " + std::to_string(k) +
+                           " values (one per deformation, in this order)" + hint);
+    } else if (k == 2 && n >= 2 && v[0] >= 1.0 && v[0] <= static_cast<double>(n) && v[0] == std::floor(v[0])) {
+      // Also flexmb's former ESIG e i s (7.5 on deformation 3): read SPACAR's way, and said.
+      const int comp = static_cast<int>(v[0]);
+      std::string former = "ESIG " + std::to_string(st.id);
+      for (int j = 1; j < comp; ++j) former += " 0";
+      (former += ' ') += num(v[1]);
+      m.warnings.push_back("line " + std::to_string(st.line) + ": " + given +
+                           " is read as SPACAR reads it, a value per deformation (" + el.type->deformationNames[0] +
+                           " " + num(v[0]) + ", " + el.type->deformationNames[1] + " " + num(v[1]) +
+                           "); flexmb before read it as " + num(v[1]) + " on deformation " + std::to_string(comp) +
+                           " (" + el.type->deformationNames[comp - 1] + "): for that write " + former);
     }
-    m.sigma0[r.e(st.id, comp, st.line)] = st.value;
+    row.resize(static_cast<size_t>(n), 0.0);
+    for (int j = 0; j < n; ++j) m.sigma0[el.firstDef + j] = row[static_cast<size_t>(j)];
   }
   for (const auto& st : in.timeStresses) m.timeStresses.push_back({r.e(st.id, st.comp, st.line), st.f});
   std::map<int, int> referenceLine;

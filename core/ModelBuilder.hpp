@@ -63,8 +63,16 @@ class ModelBuilder {
   void setInputIncrement(int node, int comp, double delta, int line);  // DELINPX
   void setInitialDeformation(int element, int comp, std::optional<double> e, std::optional<double> ed,
                              std::optional<double> edd, int line);  // E/ED/EDD, STARTDE
-  // ESIG; comp 0 = the element's only deformation (ESIG e s), an error for an element with several.
-  void setPrestress(int element, int comp, double sigma, int line);
+  // ESIG e s1 [s2 ... sn]: the prestress of the element's deformations in their order (values left
+  // off at the end are 0; a later ESIG for the element replaces the row). Resolved in finalize():
+  // flexmb's former ESIG e 1 s on an element with one deformation is read with a note; more values
+  // than deformations are an error; two values on an element with more deformations whose first is
+  // a deformation number (the former ESIG e i s) are read as SPACAR reads them, with a warning.
+  void setPrestress(int element, std::span<const double> values, int line);
+  // EM / ESTIFF / EDAMP / ESIG with the element number and no values (oopspa writes such lines for
+  // elements without the property): nothing is set, as if the line were absent. The element must
+  // exist; one note per keyword names the lines.
+  void noValues(const std::string& keyword, int element, int line);
   // SPACAR95 XD: the rate of an input coordinate, or the initial rate of a DYNX coordinate.
   void setCoordinateRate(int node, int comp, double v, int line);
   // SPACAR95 XDD: the acceleration of an input coordinate; on a DYNX coordinate (SPACAR95's echo of

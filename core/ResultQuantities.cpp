@@ -16,7 +16,9 @@ ResultQuantities::ResultQuantities(std::unique_ptr<Workspace> own, Workspace* sh
   for (int c : gtf_.calculableCoords()) calculable_[c] = 1;
 }
 
-void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor, double initialFactor) {
+void ResultQuantities::setState(double t, const Eigen::VectorXd& q, double inputLoadFactor, double initialFactor,
+                                const Eigen::VectorXd* near) {
+  if (near && near->size() == model_.nx) gtf_.setConfiguration(*near);
   gtf_.setInputLoadFactor(inputLoadFactor, initialFactor);
   gtf_.solvePositions(t, q);
 }

@@ -594,6 +594,18 @@ core::TimeFunctionPtr Reader::function(const Statement& s, size_t k, const std::
 void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
   const KeywordInfo& info = *s.info;
   const auto& layout = info.layout(spacar95);
+  // EM, ESTIFF, EDAMP or ESIG with the element number alone: oopspa's writer gives every element
+  // such a line, also those without the property, and SPACAR runs those files. Nothing is set
+  // (ModelBuilder::noValues: a note naming the lines; the element must exist). Anything else that
+  // is short falls through to the layout's error. EMASS and EDAMPP (SPACAR95) stay strict.
+  if (s.args.size() == 1 && !s.args[0].quoted &&
+      (info.name == "EM" || info.name == "ESTIFF" || info.name == "EDAMP" || info.name == "ESIG")) {
+    long long element = 0;
+    if (parseWhole(s.args[0].text, element) == NumParse::Ok && element > 0) {
+      b.noValues(info.name, static_cast<int>(element), s.line);
+      return;
+    }
+  }
   if (info.action == Action::TimeStep) {
     if (auto err = layoutError(s, layout)) {
       std::string msg = *err;
@@ -713,17 +725,8 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::InputIncrement:
       b.setInputIncrement(integer(s, 0), integer(s, 1), real(s, 2), line);
       break;
-    case Action::Prestress:
-      if (s.args.size() == 2) {  // ESIG e s: an element with one deformation
-        b.setPrestress(integer(s, 0), 0, real(s, 1), line);
-      } else {
-        long long comp = 0;
-        if (parseWhole(s.args[1].text, comp) != NumParse::Ok || comp <= 0)
-          fail(line, s.keyword,
-               "expected a positive integer for component, found " + show(s.args[1].text) +
-                   " (ESIG e i s; ESIG e s for an element with one deformation)");
-        b.setPrestress(integer(s, 0), static_cast<int>(comp), real(s, 2), line);
-      }
+    case Action::Prestress:  // ESIG e s1 [s2 ... sn]: a value per deformation (ModelBuilder::setPrestress)
+      b.setPrestress(integer(s, 0), reals(1), line);
       break;
     case Action::OutLevel:
       set.outputLevel = integer(s, 0);

@@ -166,7 +166,8 @@ std::vector<KeywordInfo> buildTable() {
                  "length, rho I of the section); spatial beams: rhoA Jxx Jyy Jzz Jyz (mass moments of inertia "
                  "per length about the local x (torsion), y and z axes and the product Jyz), BEAMW also Jw "
                  "(warping inertia rho Cw); a 6th value on BEAM or values after rhoA on TRUSS (SPACAR Light, "
-                 "oopspa) are ignored with a note"));
+                 "oopspa) are ignored with a note; a line with the element alone (oopspa writes them for "
+                 "elements without the property) sets nothing, with a note"));
   const std::string layouts = stiffnessLayouts();
   t.push_back(kw("ESTIFF", kBothDialects, B::Dynamic, A::Stiffness,
                  {element(), real("parameter", "p", Cardinality::Many)},
@@ -176,11 +177,13 @@ std::vector<KeywordInfo> buildTable() {
                      "correction factor; Timoshenko, Phi = 12 c / l0^2; 0 or absent: Euler-Bernoulli, no "
                      "shear deformation); the values after an element's own layout that SPACAR Light and "
                      "oopspa write (BEAMW's seven for every BEAM and TRUSS) are ignored with a note; BEAMW "
-                     "needs all seven"));
+                     "needs all seven; a line with the element alone (oopspa writes them for elements without "
+                     "the property) sets nothing, with a note"));
   t.push_back(kw("EDAMPP", kSpacar95, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
                  "damping coefficients, same layout as ESTIFF"));
   t.push_back(kw("EDAMP", kSpacar2013, B::Dynamic, A::Damping, {element(), real("parameter", "p", Cardinality::Many)},
-                 "damping coefficients, same layout as ESTIFF"));
+                 "damping coefficients, same layout as ESTIFF; a line with the element alone (oopspa writes "
+                 "them for elements without the property) sets nothing, with a note"));
   const std::vector<ArgSpec> loadArgs = {node(), real("f1"), optReal("f2"), optReal("f3"), optReal("f4")};
   t.push_back(kw("FORCE", kSpacar95, B::Dynamic, A::Force, loadArgs,
                  "constant nodal force Fx Fy (position node) or moment (orientation node); spatial: "
@@ -220,11 +223,17 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(kw("DELINPX", kSpacar2013, B::Dynamic, A::InputIncrement, {node(), component(), real("increment", "dx")},
                  "increment of an input coordinate in a static analysis: the TOTAL increment reached "
                  "at the last load step, applied in equal parts"));
-  t.push_back(kw(
-      "ESIG", kSpacar2013, B::Dynamic, A::Prestress,
-      {element(), real("component (or the stress of an element with one deformation)", "i|s"), optReal("stress", "s")},
-      "prestress of a deformation: ESIG e i s, or ESIG e s for an element with one "
-      "deformation"));
+  t.push_back(kw("ESIG", kSpacar2013, B::Dynamic, A::Prestress,
+                 {element(), real("stress", "s1"), real("stress", "s2", Cardinality::Many)},
+                 "prestress (generalized stress at zero deformation) of the element's deformations, one value "
+                 "per deformation in the element's deformation order, as ESTIFF and EM list theirs: ESIG e s1 "
+                 "[s2 ... sn]; values left off at the end are 0, a later ESIG for the element replaces them "
+                 "(SPACAR reads oopspa's ESIG 1 1.0 on a HINGE as the pre-torque of its rotation). flexmb's "
+                 "former ESIG e 1 s on an element with one deformation is read with a note; two values on an "
+                 "element with more deformations, the first a deformation number (ESIG 2 3 7.5), are read "
+                 "SPACAR's way with a warning (the former reading, 7.5 on deformation 3, is ESIG 2 0 0 7.5); a "
+                 "line with the element alone (oopspa writes them for elements without the property) sets "
+                 "nothing, with a note"));
   {
     KeywordInfo ts = kw("TIMESTEP", kBothDialects, B::Dynamic, A::TimeStep,
                         {real("end time", "T"), count("number of output intervals", "n")},
@@ -278,7 +287,8 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(ext(kw("XFT", kBothDialects, B::Dynamic, A::TimeForce, {node(), component(), expr("f(t)")},
                      "time-dependent nodal force component, added to XF/FORCE")));
   t.push_back(ext(kw("ESIGT", kBothDialects, B::Dynamic, A::TimeStress, {element(), component(), expr("sigma(t)")},
-                     "time-dependent generalized stress (actuator force or torque) added to sigma")));
+                     "time-dependent generalized stress (actuator force or torque) added to sigma; per "
+                     "component (ESIGT e i), unlike ESIG, which lists a value per deformation")));
   t.push_back(ext(kw("EREF", kBothDialects, B::Dynamic, A::Reference, {element(), component(), expr("eref(t)")},
                      "time-dependent rest value of a deformation: sigma = S (e - eref(t))")));
   t.push_back(ext(kw("INPUTXT", kBothDialects, B::Dynamic, A::InputXFunctions,

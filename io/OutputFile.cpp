@@ -1,5 +1,7 @@
 #include "io/OutputFile.hpp"
 
+#include <algorithm>
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -202,26 +204,64 @@ std::string OutputSet::temporaryPath(const std::string& path) {
   return files_.back().second;
 }
 
+void OutputSet::discardPending() {
+  for (const auto& f : files_) std::remove(f.second.c_str());
+  files_.clear();
+}
+
 void OutputSet::adopt(const std::string& temporary, const std::string& path) { files_.emplace_back(path, temporary); }
 
 void OutputSet::setting(const std::string& name, double value) { setting(name, solvers::shortest(value)); }
 
 std::vector<std::string> OutputSet::renameFiles() {
+  // Every file that is whole is renamed even when another is not: one truncated .mat must not take
+  // the complete files of the same run with it. The failures are reported together afterwards.
+  std::string failed;
   for (const auto& [final, temp] : files_) {
-    const std::string ext = fs::path(final).extension().string();
-    if (ext == ".mat" || ext == ".sbd" || ext == ".sbm") {  // MAT v5 files (matio ignores a full disk)
-      try {
-        checkMatFileComplete(temp);
-      } catch (const std::exception& e) {
-        std::remove(temp.c_str());
-        throw std::runtime_error(e.what());
+    try {
+      const std::string ext = fs::path(final).extension().string();
+      if (ext == ".mat" || ext == ".sbd" || ext == ".sbm") {  // MAT v5 files (matio ignores a full disk)
+        try {
+          checkMatFileComplete(temp);
+        } catch (const std::exception&) {
+          std::remove(temp.c_str());
+          throw;
+        }
       }
+      commitTemporary(temp, final, sync_);
+      renamed_.push_back(final);
+    } catch (const std::exception& e) {
+      failed += (failed.empty() ? "" : "; ") + std::string(e.what());
     }
-    commitTemporary(temp, final, sync_);
-    renamed_.push_back(final);
   }
   files_.clear();
+  for (auto& r : removeStaleSpacarCompanions(renamed_)) removedStale_.push_back(std::move(r));
+  if (!failed.empty()) throw std::runtime_error(failed);
   return renamed_;
+}
+
+std::vector<std::string> removeStaleSpacarCompanions(const std::vector<std::string>& written) {
+  static const char* const kFamily[] = {".sbd", ".sbm", ".ltv"};
+  std::vector<std::string> removed;
+  for (const std::string& w : written) {
+    const fs::path p(w);
+    const std::string ext = p.extension().string();
+    if (ext != ".sbd") continue;  // every SPACAR result set has its .sbd; its companions are optional
+    for (const char* other : kFamily) {
+      fs::path companion = p;
+      companion.replace_extension(other);
+      const std::string c = companion.string();
+      if (std::find(written.begin(), written.end(), c) != written.end()) continue;
+      std::error_code ec;
+      if (fs::exists(companion, ec) && fs::remove(companion, ec)) removed.push_back(c);
+    }
+  }
+  return removed;
+}
+
+std::string describeRemovedStale(const std::string& path) {
+  return "removed " + path + ": an earlier run's file under this run's name (this run writes no " +
+         fs::path(path).extension().string() + "; getfrsbf would have read another analysis from it)";
 }
 
 std::string OutputSet::writeManifest(const std::string& status) {
@@ -236,10 +276,14 @@ std::string OutputSet::writeManifest(const std::string& status) {
     return s;
   };
   OutputFile m(manifestPath(), sync_);
-  m << "flexmb run\nstatus: " << status << "\n";
+  // A product of the run that could not be written (setting "not written") makes the set incomplete.
+  bool missing = false;
+  for (const auto& kv : settings_) missing = missing || kv.first == "not written";
+  m << "flexmb run\nstatus: " << (missing ? "incomplete (see not written): " : "") << status << "\n";
   for (const auto& [name, value] : settings_) m << name << ": " << value << "\n";
   for (const auto& w : renamed_) m << "file: " << listed(w) << "\n";
   for (const auto& w : recorded_) m << "file: " << listed(w) << "\n";
+  for (const auto& w : removedStale_) m << "removed: " << listed(w) << " (an earlier run's, not written by this one)\n";
   m.commit();
   return manifestPath();
 }

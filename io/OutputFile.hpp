@@ -57,6 +57,13 @@ void writeThroughMemory(const std::string& path, const std::function<void(const 
 // under matio); throws std::runtime_error naming the path.
 void checkMatFileComplete(const std::string& path);
 
+// A SPACAR result set is <base>.sbd with optional <base>.sbm and <base>.ltv beside it. For each
+// .sbd among written, removes the companions that exist but are not among written (files of an
+// earlier run of another analysis under the same name); returns their paths.
+std::vector<std::string> removeStaleSpacarCompanions(const std::vector<std::string>& written);
+// "removed <path>: an earlier run's file under this run's name (...)" for the screen.
+std::string describeRemovedStale(const std::string& path);
+
 class OutputSet {
  public:
   // --out as given (may be empty, a prefix, "dir/" or an existing directory) and the model file:
@@ -86,7 +93,13 @@ class OutputSet {
   void setting(const std::string& name, const std::string& value) { settings_.emplace_back(name, value); }
   void setting(const std::string& name, double value);
   // Renames every temporary (a .mat is checked first). Returns the final paths. Throws on failure.
+  // Then removes the SPACAR companions (.sbm, .ltv) an earlier run left beside a .sbd this run
+  // wrote (removedStale()): getfrsbf reads them as one set.
   std::vector<std::string> renameFiles();
+  const std::vector<std::string>& removedStale() const { return removedStale_; }
+  // Drops the temporaries registered since the last renameFiles() (a step that failed half-way),
+  // removing what of them exists; the files renamed before stay.
+  void discardPending();
   // Lists a file (or folder) written under its final name after renameFiles().
   void record(const std::string& path) { recorded_.push_back(path); }
   // Writes the manifest with the status line ("complete" or why the run stopped) and every file
@@ -107,7 +120,7 @@ class OutputSet {
   std::string prefix_;
   std::vector<std::pair<std::string, std::string>> files_;  // final, temporary
   std::vector<std::pair<std::string, std::string>> settings_;
-  std::vector<std::string> renamed_, recorded_;
+  std::vector<std::string> renamed_, recorded_, removedStale_;
   bool sync_ = true;
 };
 

@@ -45,7 +45,17 @@ struct Writer {
 
 }  // namespace
 
+std::string restartUnsupportedReason(const Model& m) {
+  for (const auto& n : m.nodes)
+    if (core::isSpatial(n.kind))
+      return "the restart echo (--echo) is written for planar models only; " + m.sourceFile + " is spatial (node " +
+             std::to_string(n.label) +
+             "), and its echo would need Euler parameters and the elements' reference orientations";
+  return {};
+}
+
 std::string restartText(const Model& m, double t, const core::StateOutputs& state) {
+  if (const std::string why = restartUnsupportedReason(m); !why.empty()) throw std::invalid_argument(why);
   if (state.x.size() != m.nx || state.xd.size() != m.nx || state.e.size() != m.ne || state.ed.size() != m.ne)
     throw std::invalid_argument("restart state: the state does not match the model's sizes");
   if (!std::isfinite(t)) throw std::invalid_argument("restart state: the time is not finite");
@@ -137,8 +147,18 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     if (anyDel) w.line("DELXF " + std::to_string(n.label) + d);
   }
   if (m.hasGravity) w.line("GRAVITY " + num(m.gravity[0]) + " " + num(m.gravity[1]));
-  for (int di = 0; di < m.ne; ++di)
-    if (m.sigma0.size() && m.sigma0[di] != 0.0) w.line("ESIG " + w.eId(di) + " " + num(m.sigma0[di]));
+  // ESIG e s1 ... sn: every deformation's value (n >= 3 numbers on elements with several, so that
+  // reading it back never meets the two-value reading of flexmb's former ESIG e i s).
+  if (m.sigma0.size() == m.ne)
+    for (const auto& el : m.elements) {
+      const int n = el.type->numDeformations();
+      bool any = false;
+      for (int c = 0; c < n; ++c) any = any || m.sigma0[el.firstDef + c] != 0.0;
+      if (!any) continue;
+      std::string s = "ESIG " + std::to_string(el.label);
+      for (int c = 0; c < n; ++c) (s += ' ') += num(m.sigma0[el.firstDef + c]);
+      w.line(s);
+    }
   for (const auto& tl : m.timeForces) w.line("XFT " + w.xId(tl.index) + " " + quoted(tl.f));
   for (const auto& tl : m.timeStresses) w.line("ESIGT " + w.eId(tl.index) + " " + quoted(tl.f));
   for (const auto& tl : m.references) w.line("EREF " + w.eId(tl.index) + " " + quoted(tl.f));

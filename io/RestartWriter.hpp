@@ -16,8 +16,16 @@
 
 namespace flexmb::io {
 
+// Why flexmb cannot write a restart echo of this model (empty: it can). Asked before a run, so
+// that --echo is refused with its reason instead of producing a file the reader refuses: the
+// writer covers planar models; a spatial model's echo would need its 3-D coordinates, Euler
+// parameters (without the normalisation elements flexmb adds) and the elements' reference
+// orientations, which it does not write yet.
+std::string restartUnsupportedReason(const core::Model& model);
+
 // The restart text of `model` at time t in `state` (x, xd, e, ed of the final output time).
-// Throws std::invalid_argument when the state does not match the model or is not finite.
+// Throws std::invalid_argument when the state does not match the model or is not finite, or the
+// model is one restartUnsupportedReason names.
 std::string restartText(const core::Model& model, double t, const core::StateOutputs& state);
 
 // Writes restartText to path (std::runtime_error naming the path when it cannot be written).

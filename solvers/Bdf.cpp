@@ -259,6 +259,9 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     if (!accepted) return true;
     try {
       accepted(t, state);
+    } catch (const RhsAbort& e) {  // a user function or Ctrl-C at an accepted state: stop, keep the results
+      fail(OdeStatus::RhsFailed, std::string(e.what()) + " (at the accepted state t = " + shortest(t) + ")");
+      return false;
     } catch (const RhsError& e) {
       fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + shortest(t) + ": " + e.what() +
                                      "; results up to there are kept");

@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "analysis/AccuracyCheck.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "core/EquationsOfMotion.hpp"
@@ -211,4 +212,50 @@ TEST(Dynamics, PendulumOnAcceleratingSupportStaysAtRelativeEquilibrium) {
     EXPECT_NEAR(tr.states[i].xd[supportX], a * t, 1e-12);
     EXPECT_NEAR(tr.states[i].xdd[supportX], a, 1e-12);
   }
+}
+
+// Issue 34 item 1: the accuracy check solves each window's kinematics from the run's own
+// configuration (the crank of this slider-crank has turned three times; Newton from the initial
+// configuration diverged and the completed run was discarded), and a check that cannot run is the
+// check's failure, said with its reason, never the run's.
+TEST(AccuracyCheck, WindowsFarFromTheInitialConfigurationAreChecked) {
+  const core::Model m = io::readDatFile(dat("tests/slider_crank_manual_s95.dat"));
+  analysis::SimulationOptions o;
+  o.accuracyCheck = true;
+  const core::Trajectory run = analysis::simulate(m, o);
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  ASSERT_TRUE(run.accuracy.checked) << run.accuracy.note;
+  EXPECT_EQ(run.accuracy.windows, 3);
+  EXPECT_TRUE(run.accuracy.converged()) << analysis::describeAccuracy(run.accuracy);
+  EXPECT_GT(std::abs(run.states.back().x[m.nodes[m.nodeByLabel.at(2)].firstCoord]), 3 * 2 * M_PI * 0.9)
+      << "the crank must turn far from its initial configuration for this test to mean anything";
+}
+
+TEST(AccuracyCheck, ACheckThatCannotRunSaysWhyAndTheRunStands) {
+  const core::Model m = io::readDatFile(dat("tests/slider_crank_manual_s95.dat"));
+  analysis::SimulationOptions o;
+  o.keepStates = true;
+  const core::Trajectory run = analysis::simulate(m, o);
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  analysis::AccuracyWindowRecorder rec(m.settings.t0, m.settings.tEnd);
+  for (size_t k = 0; k < run.time.size(); ++k) {
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * m.numDofs());
+    for (size_t j = 0; j < m.dofs.size(); ++j) {
+      const auto& d = m.dofs[j];
+      y[static_cast<Eigen::Index>(j)] = d.isDeformation ? run.states[k].e[d.index] : run.states[k].x[d.index];
+      y[static_cast<Eigen::Index>(j + m.dofs.size())] =
+          d.isDeformation ? run.states[k].ed[d.index] : run.states[k].xd[d.index];
+    }
+    rec.observe(run.time[k], y, run.states[k].x);
+  }
+  std::vector<analysis::AccuracyWindow> windows = rec.complete();
+  ASSERT_EQ(windows.size(), 3u);
+  // Sanity: the recorded windows check as the run's own check does.
+  EXPECT_TRUE(analysis::checkAccuracy(m, o, m.settings.t0, m.settings.tEnd, windows).checked);
+  // A window whose configurations are nonsense: the kinematics cannot be solved from there.
+  for (auto& w : windows) w.xb.setConstant(1e6), w.xa.setConstant(1e6);
+  const core::AccuracyEstimate a = analysis::checkAccuracy(m, o, m.settings.t0, m.settings.tEnd, windows);
+  EXPECT_FALSE(a.checked);
+  EXPECT_FALSE(a.note.empty());
+  EXPECT_EQ(analysis::describeAccuracy(a).rfind("not checked: ", 0), 0u) << analysis::describeAccuracy(a);
 }

@@ -198,7 +198,7 @@ TEST(SpacarResults, SpatialElementVariables) {
       "END\nHALT\n"
       "ESTIFF 1 100 2 3 4 0.01 0.02\nEDAMP 1 0.1 0.2 0.3 0.4\nEM 1 1.5 0.01 0.02 0.03 0.004\n"
       "ESTIFF 2 7\nEM 3 0.8\nESTIFF 4 50\nEM 4 0.25\nESIG 4 3.5\n"
-      "ESTIFF 5 200 5 6 8 0 0 0.5\nEM 5 2 0.1 0.2 0.3 0 0.05\nESIG 5 6 1.25\nEND\nEND\n";
+      "ESTIFF 5 200 5 6 8 0 0 0.5\nEM 5 2 0.1 0.2 0.3 0 0.05\nESIG 5 0 0 0 0 0 1.25\nEND\nEND\n";
   const core::Model m = io::readDatString(dat, "spatial_vars.dat");
   const fs::path dir = fs::temp_directory_path() / "flexmb_spacar_spatial_vars";
   fs::create_directories(dir);

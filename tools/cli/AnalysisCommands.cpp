@@ -122,27 +122,38 @@ int runModes(const std::vector<std::string>& args) {
     for (const auto& p : io::writeSpacarResults(temp, model, sr))
       files.adopt(p, files.prefix() + p.substr(temp.size()));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
-    const ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
-    if (!svg.empty()) {
+    sayRemovedStale(files.removedStale());
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  // The pictures, each on its own: a failed one leaves the SPACAR files and the other pictures.
+  const ModeSet set{"", im.q, basis ? Eigen::MatrixXd(*basis * fr.modes) : fr.modes, fr.omega, model.settings.t0};
+  bool complete = true;
+  if (!svg.empty())
+    complete &= tryProduct(files, "the figure " + svg, [&] {
       writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
       std::cout << "wrote " << svg << "\n";
       files.record(svg);
-    }
-    if (!html.empty()) {
-      if (!writeModesPage(html, model, m.file, set)) return kWriteFailed;
+    });
+  if (!html.empty())
+    complete &= tryProduct(files, "the page " + html, [&] {
+      if (!writeModesPage(html, model, m.file, set)) throw ProductFailed("see above");
       files.record(html);
-    }
-    if (!vtk.empty()) {
-      if (!writeModesVtk(vtk, model, set)) return kWriteFailed;
+    });
+  if (!vtk.empty())
+    complete &= tryProduct(files, "the VTK series " + vtk, [&] {
+      if (!writeModesVtk(vtk, model, set)) throw ProductFailed("see above");
       files.record(vtk + ".pvd");
       files.record(vtk + "_vtu");
-    }
+    });
+  try {
     std::cout << "wrote " << files.writeManifest("complete") << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  return kOk;
+  return complete ? kOk : kWriteFailed;
 }
 
 namespace {
@@ -297,7 +308,14 @@ int runStatic(const std::vector<std::string>& args) {
     if (!csv) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
     csv.close();
     printFinalDisplacements(std::cout, model, run);
-    // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md); the steps reached are kept.
+    files.renameFiles();  // the load steps' CSV first: nothing after it can take it away
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md; the steps reached), then the pictures:
+  // each on its own (tryProduct).
+  bool complete = tryProduct(files, "SPACAR's .sbd/.sbm", [&] {
     const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
     analysis::SpacarOutputOptions spo;
     spo.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
@@ -306,20 +324,31 @@ int runStatic(const std::vector<std::string>& args) {
         ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
     const std::string tempBase = io::temporaryName(base);
     for (const auto& p : io::writeSpacarResults(tempBase, model, sr)) files.adopt(p, base + p.substr(tempBase.size()));
+  });
+  try {
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
-    if (!svg.empty()) {
-      if (!writeStaticFigure(svg, model, m.file, run)) return kWriteFailed;  // no manifest: the set is incomplete
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    complete = false;
+  }
+  sayRemovedStale(files.removedStale());
+  if (!svg.empty())
+    complete &= tryProduct(files, "the figure " + svg, [&] {
+      if (!writeStaticFigure(svg, model, m.file, run)) throw ProductFailed("see above");
       files.record(svg);
-    }
-    if (!html.empty()) {
-      if (!writeStaticPage(html, model, m.file, run)) return kWriteFailed;
+    });
+  if (!html.empty())
+    complete &= tryProduct(files, "the page " + html, [&] {
+      if (!writeStaticPage(html, model, m.file, run)) throw ProductFailed("see above");
       files.record(html);
-    }
-    if (!vtk.empty()) {
-      if (!writeStaticVtk(vtk, model, run)) return kWriteFailed;
+    });
+  if (!vtk.empty())
+    complete &= tryProduct(files, "the VTK series " + vtk, [&] {
+      if (!writeStaticVtk(vtk, model, run)) throw ProductFailed("see above");
       files.record(vtk + ".pvd");
       files.record(vtk + "_vtu");
-    }
+    });
+  try {
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";
   } catch (const std::exception& e) {
@@ -334,7 +363,7 @@ int runStatic(const std::vector<std::string>& args) {
     std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
     return kNumericalFailure;
   }
-  return kOk;
+  return complete ? kOk : kWriteFailed;
 }
 
 int runSweep(const std::vector<std::string>& args) {

@@ -2,6 +2,7 @@
 #include <atomic>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "core/Model.hpp"
 #include "io/DatReader.hpp"
+#include "io/OutputFile.hpp"
 
 namespace flexmb::cli {
 
@@ -76,5 +78,20 @@ void installInterruptHandler();
 const std::atomic<bool>* interruptFlag();
 const std::atomic<int>* interruptSignal();  // the signal that set the flag (0: none yet)
 int interruptedExitCode();                  // kInterrupted (SIGINT) or kTerminated (SIGTERM)
+
+// One product of a finished analysis (SPACAR's files, a picture, the echo) made and renamed into
+// place on its own: a failure is said on stderr ("<what> not written: reason; the other results are
+// written") and in the manifest ("not written: ..."), its temporaries are dropped, the files renamed
+// before it stand. Returns false on failure: the command then exits with kWriteFailed after writing
+// the manifest. A step that reports its own failure (a picture writer returning false) throws
+// ProductFailed, whose reason is already printed.
+struct ProductFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step);
+
+// The stale SPACAR companions (.sbm, .ltv) a file set removed when it renamed its files into place:
+// one line each on stdout, after the "wrote" lines.
+void sayRemovedStale(const std::vector<std::string>& removed);
 
 }  // namespace flexmb::cli

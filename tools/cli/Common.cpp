@@ -9,6 +9,8 @@
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
 #include "io/DatReader.hpp"
+#include "io/KeywordTable.hpp"
+#include "io/OutputFile.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;
@@ -95,6 +97,24 @@ po::options_description commonModelOptions(ModelOptions& m) {
   return d;
 }
 
+namespace {
+// "; did you mean --view?" for a mistyped option (within two edits of one of the command's own),
+// as a mistyped command and .dat keyword get.
+std::string nearestOptionHint(const po::options_description& d, const std::string& given) {
+  std::string name = given;
+  while (!name.empty() && name.front() == '-') name.erase(name.begin());
+  if (const auto eq = name.find('='); eq != std::string::npos) name.resize(eq);
+  std::string nearest;
+  int best = 3;
+  for (const auto& option : d.options()) {
+    const std::string& candidate = option->long_name();
+    if (candidate.empty()) continue;
+    if (const int dist = io::editDistance(name, candidate); dist < best) best = dist, nearest = candidate;
+  }
+  return nearest.empty() ? std::string() : "; did you mean --" + nearest + "?";
+}
+}  // namespace
+
 std::optional<int> parseCommand(const std::vector<std::string>& args, po::options_description& d, ModelOptions& m,
                                 const char* usage, bool needsModel) {
   d.add_options()("help,h", "this help");
@@ -112,6 +132,10 @@ std::optional<int> parseCommand(const std::vector<std::string>& args, po::option
       return kOk;
     }
     po::notify(vm);
+  } catch (const po::unknown_option& e) {
+    std::cerr << "flexmb: " << e.what() << nearestOptionHint(d, e.get_option_name()) << "\n"
+              << usage << "\n(flexmb <command> --help lists the options)\n";
+    return kUsageError;
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << decimalCommaHint(args, e.what()) << "\n"
               << usage << "\n(flexmb <command> --help lists the options)\n";
@@ -228,6 +252,26 @@ bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, b
     std::cerr << e.what() << "\n";
   }
   return false;
+}
+
+bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step) {
+  try {
+    step();
+    files.renameFiles();
+    return true;
+  } catch (const ProductFailed& e) {  // the step said why already
+    files.discardPending();
+    files.setting("not written", what + ": " + e.what());
+  } catch (const std::exception& e) {
+    files.discardPending();
+    files.setting("not written", what + ": " + e.what());
+    std::cerr << "flexmb: " << what << " not written: " << e.what() << "; the other results are written\n";
+  }
+  return false;
+}
+
+void sayRemovedStale(const std::vector<std::string>& removed) {
+  for (const auto& r : removed) std::cout << io::describeRemovedStale(r) << "\n";
 }
 
 }  // namespace flexmb::cli

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 
@@ -301,11 +302,19 @@ std::optional<analysis::TrajectoryModes> writeTrajectoryModes(io::OutputSet& fil
   return std::nullopt;
 }
 
-// Every result file of the run (temporary names, committed with the manifest), the pictures and the
-// restart echo; the list of files written.
+// Every result file of the run, the pictures and the restart echo; the list of files written. The
+// trajectory's own files (CSV, .mat) are renamed into place first; each product derived from them
+// afterwards (the linearisation of modes 3/4, SPACAR's .sbd/.sbm, the echo, the pictures) is tried
+// on its own, and one that fails is named on stderr and in the manifest ("not written: ...") while
+// the rest stand: a finished run is never discarded by a step after it. incomplete: such a failure.
 std::vector<std::string> writeSimulationResults(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
                                                 const analysis::SimulationOptions& opt, const core::Trajectory& traj,
-                                                bool interrupted) {
+                                                bool interrupted, bool& incomplete) {
+  incomplete = false;
+  std::vector<std::string> report;
+  auto attempt = [&](const std::string& what, const std::function<void()>& step) {
+    if (!tryProduct(files, what, step)) incomplete = true;
+  };
   if (!traj.time.empty()) {
     if (a.csv()) {
       for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
@@ -318,31 +327,38 @@ std::vector<std::string> writeSimulationResults(io::OutputSet& files, const Simu
     }
     if (a.mat())  // through memory: matio does not report a full disk
       io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+    report = files.renameFiles();
     std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
-    if (a.linearize > 0 && !interrupted) kept = writeTrajectoryModes(files, a, model, opt, traj);
-    if (a.mat()) {  // SPACAR's <name>.sbd / .sbm (io/results.md), renamed into place with the rest
-      analysis::SpacarOutputOptions so;
-      so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-      const int mode = a.matrices ? 3 : a.linearize > 0 ? 4 : 1;
-      const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr, mode, so);
-      const std::string temp = files.temporaryPrefix();
-      for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
-    }
+    if (a.linearize > 0 && !interrupted)
+      attempt("the linearisation along the trajectory (--linearize, --matrices)",
+              [&] { kept = writeTrajectoryModes(files, a, model, opt, traj); });
+    if (a.mat())  // SPACAR's <name>.sbd / .sbm (io/results.md)
+      attempt("SPACAR's .sbd/.sbm", [&] {
+        analysis::SpacarOutputOptions so;
+        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+        const int mode = a.matrices ? 3 : a.linearize > 0 ? 4 : 1;
+        const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr, mode, so);
+        const std::string temp = files.temporaryPrefix();
+        for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
+      });
   }
   if (!a.echo.empty() && !traj.time.empty())
-    io::writeRestart(files.temporaryPath(a.echo), model, traj.time.back(), traj.states.back());
-  std::vector<std::string> report = files.renameFiles();
+    attempt("the restart echo " + a.echo,
+            [&] { io::writeRestart(files.temporaryPath(a.echo), model, traj.time.back(), traj.states.back()); });
   if (!traj.time.empty()) {  // pictures of the motion (they name their own files), then the manifest
-    if (a.vtk) {
-      writeVtk(files.prefix(), model, traj);
-      files.record(files.prefix() + ".pvd");
-      files.record(files.prefix() + "_vtu");
-    }
-    if (a.html) {
-      writeAnimation(files.prefix(), model, traj);
-      files.record(files.prefix() + ".html");
-    }
+    if (a.vtk)
+      attempt("the VTK series", [&] {
+        writeVtk(files.prefix(), model, traj);
+        files.record(files.prefix() + ".pvd");
+        files.record(files.prefix() + "_vtu");
+      });
+    if (a.html)
+      attempt("the HTML animation", [&] {
+        writeAnimation(files.prefix(), model, traj);
+        files.record(files.prefix() + ".html");
+      });
   }
+  report = files.renameFiles();
   report.push_back(files.writeManifest(traj.completed ? "complete" : "stopped: " + traj.stopReason));
   return report;
 }
@@ -403,7 +419,11 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
   try {
     files.checkWritable();
-    if (!a.echo.empty()) io::OutputSet(a.echo).checkWritable();
+    if (!a.echo.empty()) {
+      io::OutputSet(a.echo).checkWritable();
+      if (const std::string why = io::restartUnsupportedReason(model); !why.empty())
+        throw std::runtime_error(why + " (run without --echo)");
+    }
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -453,15 +473,18 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
   if (!traj.time.empty()) printInputForces(std::cout, model, traj, all.fxt);
   if (!traj.completed) std::cerr << "flexmb: stopped early: " << traj.stopReason << "\n";
   std::vector<std::string> report;
+  bool incomplete = false;
   try {
     if (!traj.time.empty() && a.csv()) writeForceCsv(files.temporaryFor("_fxt.csv"), model, traj, all.fxt);
-    report = writeSimulationResults(files, a, model, analysis::SimulationOptions(), traj, all.interrupted);
+    report = writeSimulationResults(files, a, model, analysis::SimulationOptions(), traj, all.interrupted, incomplete);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   for (const auto& f : report) std::cout << "wrote " << f << "\n";
+  sayRemovedStale(files.removedStale());
   if (all.interrupted) return interruptedExitCode();
+  if (incomplete) return kWriteFailed;
   return traj.completed ? kOk : kNumericalFailure;
 }
 
@@ -507,7 +530,11 @@ int runSimulate(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file, suffix));
   try {
     files.checkWritable();
-    if (!a.echo.empty()) io::OutputSet(a.echo).checkWritable();
+    if (!a.echo.empty()) {
+      io::OutputSet(a.echo).checkWritable();
+      if (const std::string why = io::restartUnsupportedReason(model); !why.empty())
+        throw std::runtime_error(why + " (run without --echo)");
+    }
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
@@ -549,14 +576,17 @@ int runSimulate(const std::vector<std::string>& args) {
   }
 
   std::vector<std::string> report;
+  bool incomplete = false;
   try {
-    report = writeSimulationResults(files, a, model, opt, traj, interrupted);
+    report = writeSimulationResults(files, a, model, opt, traj, interrupted, incomplete);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   for (const auto& f : report) std::cout << "wrote " << f << "\n";
+  sayRemovedStale(files.removedStale());
   if (interrupted) return interruptedExitCode();
+  if (incomplete) return kWriteFailed;
   return traj.completed ? kOk : kNumericalFailure;
 }
 

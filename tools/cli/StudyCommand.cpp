@@ -882,9 +882,11 @@ int runStudy(const std::vector<std::string>& args) {
     std::cout << "\n";
   }
   if (rep.interrupted) {
-    std::cerr << "flexmb: study interrupted: " << done + rep.finished << " of " << share.size()
-              << " variants finished; run the same command again to resume\n";
-    return kInterrupted;
+    std::cerr << "flexmb: interrupted: " << done + rep.finished << " of " << share.size()
+              << " variants finished; the same command resumes\n";
+    // The variants finished so far in the table and report (marked incomplete), as after a run.
+    if (task < 0) collect(s.dir, s.plot, m.quiet);
+    return interruptedExitCode();
   }
   if (rep.busy > 0) std::cerr << "flexmb: " << rep.busy << " variants were being run by another process (skipped)\n";
   if (rep.writeFailed > 0) {

@@ -155,48 +155,57 @@ int runTransfer(const std::vector<std::string>& args) {
       std::cout << "  no static gain: A is singular (a free motion without stiffness)\n";
     }
   }
-  try {
-    analysis::SpacarOutputOptions so;
-    so.transferFunctions = true;
-    so.jacobian = true;
-    const io::SpacarResults sr = analysis::spacarFromTransfer(model, run, so);
-    // The SPACAR files (.sbd, .sbm, .ltv) under temporary names, renamed with the set.
-    const std::string tmp = files.temporaryPrefix();
-    for (const auto& p : io::writeSpacarResults(tmp, model, sr)) files.temporaryFor(p.substr(tmp.size()));
-    if (run.completed) {
+  // The state-space matrices first, then SPACAR's files, then the Bode diagrams, each on its own
+  // (tryProduct): a failure in a later one leaves the earlier ones written.
+  bool complete = true;
+  if (run.completed)
+    complete &= tryProduct(files, "the state-space matrices A, B, C, D", [&] {
       const Eigen::Index mm = ss.A.rows() / 2;
       const std::vector<std::string> states = stateNames(mm);
       io::writeMatrixCsv(files.temporaryFor("_A.csv"), ss.A, states, states, "A");
       io::writeMatrixCsv(files.temporaryFor("_B.csv"), ss.B, states, ss.inputNames, "B");
       io::writeMatrixCsv(files.temporaryFor("_C.csv"), ss.C, ss.outputNames, states, "C");
       io::writeMatrixCsv(files.temporaryFor("_D.csv"), ss.D, ss.outputNames, ss.inputNames, "D");
-      // A large model's Bode diagrams cost seconds (a Hessenberg reduction of A and 400 O(n^2)
-      // solves) that nobody asked for: drawn up to 400 states, beyond that with --bode.
-      if (bode && ss.A.rows() > 400 && !forceBode) {
-        std::cout << "  Bode diagrams not drawn for " << ss.A.rows() << " states (--bode draws them)\n";
-      } else if (bode) {
-        const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
-        const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
-        for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
-          for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
-            const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
-            const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
-            io::writeSvgStack(files.temporaryFor(name),
-                              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h));
-          }
-      }
-    }
+    });
+  complete &= tryProduct(files, "SPACAR's .sbd/.sbm/.ltv", [&] {
+    analysis::SpacarOutputOptions so;
+    so.transferFunctions = true;
+    so.jacobian = true;
+    const io::SpacarResults sr = analysis::spacarFromTransfer(model, run, so);
+    const std::string tmp = files.temporaryPrefix();
+    for (const auto& p : io::writeSpacarResults(tmp, model, sr)) files.temporaryFor(p.substr(tmp.size()));
+  });
+  // A large model's Bode diagrams cost seconds (a Hessenberg reduction of A and 400 O(n^2) solves)
+  // that nobody asked for: drawn up to 400 states, beyond that with --bode.
+  if (run.completed && bode && ss.A.rows() > 400 && !forceBode) {
+    std::cout << "  Bode diagrams not drawn for " << ss.A.rows() << " states (--bode draws them)\n";
+  } else if (run.completed && bode) {
+    complete &= tryProduct(files, "the Bode diagrams", [&] {
+      const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
+      const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
+      for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
+        for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
+          const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
+          const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
+          io::writeSvgStack(files.temporaryFor(name),
+                            bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h));
+        }
+    });
+  }
+  try {
     for (const auto& p : files.commit(run.completed ? "complete" : "stopped: " + run.stopReason))
       std::cout << "wrote " << p << "\n";
+    sayRemovedStale(files.removedStale());
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   if (!run.completed) {
-    std::cerr << "flexmb: transfer: the static analysis stopped: " << run.stopReason
-              << " (the load steps before it are written; no state-space model)\n";
+    std::cerr << "flexmb: transfer stopped: " << run.stopReason
+              << " (the load steps reached are written; no state-space model)\n";
     return kNumericalFailure;
   }
+  if (!complete) return kWriteFailed;
   return kOk;
 }
 

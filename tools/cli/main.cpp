@@ -69,8 +69,15 @@ int main(int argc, char** argv) {
         {"0", "check"}, {"1", "simulate"}, {"3", "mode3"}, {"9", "transfer"}, {"10", "static"}};
     if (n == "4") args.push_back("--linearize=6");  // eigenfrequencies along the trajectory
     auto it = n == "4" ? modes.find("1") : modes.find(n);
+    if (n == "8") {  // SPACAR's buckling mode: flexmb computes it with the static load steps
+      std::cerr << "flexmb: mode 8 (buckling load factors) is part of the static analysis here: flexmb static "
+                   "--buckling N model.dat gives the N lowest factors mu of (K0 + mu G0) v = 0 at every load step\n";
+      return kUsageError;
+    }
     if (it == modes.end()) {
-      std::cerr << "flexmb: mode " << n << " is not supported (supported: 0, 1, 3, 4, 9, 10)\n";
+      std::cerr << "flexmb: mode " << n
+                << " is not supported (supported: 0, 1, 3, 4, 9, 10; buckling, SPACAR's mode "
+                   "8: static --buckling N)\n";
       return kUsageError;
     }
     command = it->second;

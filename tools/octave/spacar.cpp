@@ -32,6 +32,7 @@
 #include "analysis/TrajectoryModes.hpp"
 #include "analysis/Transfer.hpp"
 #include "io/DatReader.hpp"
+#include "io/OutputFile.hpp"
 #include "io/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
 #include "tools/octave/OctaveInterrupt.hpp"
@@ -124,6 +125,11 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     run.errorId = "flexmb:spacar:input";
     return;
   }
+  // Legal input that is probably a mistake (a load on a fixed coordinate, a node without X): said
+  // here as on the command line.
+  if (!silent)
+    for (const auto& w : model.warnings)
+      mexWarnMsgIdAndTxt("flexmb:spacar:model", "%s: %s", datFile.c_str(), w.c_str());
   auto user = std::make_shared<octave_gateway::MatlabUserFunctions>(model);
   if (user->active()) model.userFunctions = user;
   if (user->active() && mode != 1 && mode != 0) {
@@ -135,6 +141,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   io::SpacarResults results;
   std::ostringstream out;
   bool interrupted = false;
+  std::string afterRun;  // a step after a completed run that failed (its results are still written)
   try {
     switch (mode) {
       case 0:
@@ -188,10 +195,18 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
               << "faster\n";
         analysis::SpacarOutputOptions so;
         so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-        std::optional<analysis::TrajectoryModes> tm;
-        if (mode != 1 && !traj.time.empty())
-          tm = analysis::trajectoryModes(model, traj, std::min(6, model.numDofs()), std::nullopt, true);
-        results = analysis::spacarFromTrajectory(model, traj, tm ? &*tm : nullptr, mode, so);
+        // The trajectory stands whatever happens after it: a failing linearisation (modes 3, 4) or
+        // derived quantity leaves the states written, with the reason as the error after them.
+        try {
+          std::optional<analysis::TrajectoryModes> tm;
+          if (mode != 1 && !traj.time.empty())
+            tm = analysis::trajectoryModes(model, traj, std::min(6, model.numDofs()), std::nullopt, true);
+          results = analysis::spacarFromTrajectory(model, traj, tm ? &*tm : nullptr, mode, so);
+        } catch (const std::exception& e) {
+          afterRun = std::string("the run's results are written, but ") +
+                     (mode != 1 ? "the linearisation along it" : "its derived quantities") + " failed: " + e.what();
+          results = analysis::spacarFromTrajectory(model, traj, nullptr, 1, analysis::SpacarOutputOptions());
+        }
         break;
       }
       case 10: {
@@ -218,7 +233,12 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
       }
       default:
         run.error =
-            "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 9, 10 and their negatives)";
+            "spacar: mode " + std::to_string(mode) + " is not supported (0, 1, 3, 4, 9, 10 and their negatives)" +
+            (mode == 8
+                 ? std::string("; buckling load factors (SPACAR's mode 8) come from mode 10's K0 and G0 (the .sbm: "
+                               "getfrsbf), or from the command line: flexmb static --buckling N " +
+                               datFile)
+                 : std::string());
         run.errorId = "flexmb:spacar:mode";
         return;
     }
@@ -238,6 +258,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     run.errorId = "flexmb:spacar:interrupted";
   } else if (!results.completed) {
     run.error = datFile + ": run stopped: " + results.stopReason;
+  } else if (!afterRun.empty()) {
+    run.error = datFile + ": " + afterRun;
   }
   say(silent, out.str());
   if (!results.warning.empty() && !silent)
@@ -245,6 +267,9 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   try {
     const auto written = io::writeSpacarResults(name, model, results);
     for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
+    // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's.
+    for (const auto& p : io::removeStaleSpacarCompanions(written))
+      say(silent, "spacar: " + io::describeRemovedStale(p) + "\n");
     readBack(written[0], run.vars, false);
     if (written.size() > 1) readBack(written[1], run.vars, true);
     // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.

@@ -277,6 +277,15 @@ TEST_F(Cli, FailedWritesAreErrors) {
     const Result r =
         sh("trap '' XFSZ; ulimit -f " + std::string(c.rfind("static", 0) == 0 ? "1" : "8") + "; flexmb " + c + " -q");
     EXPECT_EQ(r.code, 4) << c << "\n" << r.err;
+    if (c.find("--linearize") != std::string::npos) {
+      // The linearisation is a product after the run (issue 34): its failure leaves the manifest
+      // saying what was not written, and nothing under a final name but that manifest.
+      const std::string m = slurp(dir_ / "r" / "m_run.txt");
+      EXPECT_NE(m.find("status: incomplete (see not written): complete"), std::string::npos) << m;
+      EXPECT_NE(m.find("not written: the linearisation along the trajectory"), std::string::npos) << m;
+      EXPECT_EQ(files(), std::vector<std::string>({"r", "r/m_run.txt"})) << joined(files());
+      continue;
+    }
     EXPECT_EQ(r.out.find("wrote"), std::string::npos) << c << "\n" << r.out;
     EXPECT_TRUE(fs::is_empty(dir_ / "r")) << c << ": left " << joined(files());
   }

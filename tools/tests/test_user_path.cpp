@@ -328,4 +328,90 @@ TEST_F(UserPath, RunPrintsItsPlan) {
       << r.out;
 }
 
+// ---- Issue 34: no silent wrong answer, no completed run thrown away
+
+TEST_F(UserPath, TheSliderCrankAndItsRestartRunWithTheAccuracyCheck) {
+  // Item 1: the crank turns three times; the check's windows solve their kinematics from the run's
+  // own configuration. Before: "simulation could not start", exit 3, nothing written.
+  Result r = flexmb("simulate " + kData + "tests/slider_crank_manual_s95.dat --echo end.dat --out sc");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "accuracy check: converged")) << r.out;
+  for (const char* f : {"sc_x.csv", "sc.mat", "sc.sbd", "end.dat"}) EXPECT_TRUE(fs::exists(dir_ / f)) << f;
+  EXPECT_TRUE(has(slurp(dir_ / "sc_run.txt"), "accuracy: converged")) << slurp(dir_ / "sc_run.txt");
+  r = flexmb("simulate end.dat --out again");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "accuracy check: converged")) << r.out;
+}
+
+TEST_F(UserPath, AShortEstiffLineThatLeavesADynamicDeformationFreeIsAnError) {
+  // Item 2: a spatial BEAM given 3 of its stiffness values: its bending deformations, DYNE, would
+  // have no stiffness. An error with file and line; explicit zeros stay legal.
+  const std::string kin =
+      "BEAM 1 1 2 3 4 0 1 0\nX 1 0 0 0\nX 3 0.1 0 0\nFIX 1\nFIX 2\nDYNE 1 1 2 3 4 5 6\nEND\nHALT\nEM 1 0.1\n";
+  std::ofstream(dir_ / "short.dat") << kin << "ESTIFF 1 2100000.0 0.0093098 0.007\nDELXF 3 0 0 -0.02\nEND\nEND\n";
+  Result r = flexmb("static short.dat");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "short.dat:10:") && has(r.err, "has no stiffness and moves freely")) << r.err;
+  r = flexmb("check short.dat");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "short.dat:10:")) << r.err;
+  std::ofstream(dir_ / "zeros.dat") << kin << "ESTIFF 1 2100000.0 0.0093098 0.007 0 0 0\nEND\nEND\n";
+  r = flexmb("check zeros.dat");
+  EXPECT_FALSE(has(r.err, "moves freely")) << r.err;
+}
+
+TEST_F(UserPath, ALoadOnAFixedCoordinateIsNamedWithItsLine) {
+  // Item 3: legal (the support takes it), but it moves nothing: a warning naming file and line, in
+  // check and in the analyses.
+  const std::string f = variant("cantilever.dat", "DELXF 5  0.0  -0.1", "DELXF 5  0.0  -0.1\nDELXF 1 0 -0.02");
+  Result r = flexmb("check " + f);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "line 48: the load (DELXF) on node 1, component 2, acts on a fixed coordinate (FIX)"))
+      << r.out;
+  r = flexmb("static " + f + " --out s.csv");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.err, "model.dat: warning: line 48:") && has(r.err, "fixed coordinate")) << r.err;
+}
+
+TEST_F(UserPath, AnEchoIsARestartOrRefusedBeforeTheRun) {
+  // Item 5: a spatial model's echo would not read back: refused with the reason, before the run.
+  const Result r = flexmb("simulate " + kData + "spatial/wire_guidance.dat --echo end.dat --out w");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "planar models only")) << r.err;
+  EXPECT_FALSE(has(r.out, "successful steps")) << "refused after the run:\n" << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "end.dat"));
+}
+
+TEST_F(UserPath, AnEarlierRunsSpacarFilesDoNotPassForThisRuns) {
+  // Item 8: modes writes <name>.sbd and .sbm; a later simulate writes only .sbd: the .sbm of the
+  // modes run is removed and said, so getfrsbf cannot read another analysis' matrices.
+  Result r = flexmb("modes " + kData + "portal.dat -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(dir_ / "portal.sbm"));
+  r = flexmb("simulate " + kData + "portal.dat --t-end 0.01 --intervals 2 --format mat");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "portal.sbd"));
+  EXPECT_FALSE(fs::exists(dir_ / "portal.sbm"));
+  EXPECT_TRUE(has(r.out, "removed portal.sbm: an earlier run's file")) << r.out;
+  EXPECT_TRUE(has(slurp(dir_ / "portal_run.txt"), "removed: portal.sbm")) << slurp(dir_ / "portal_run.txt");
+}
+
+TEST_F(UserPath, MessagesPointToWhatHelps) {
+  // Item 10: SPACAR's mode 8 points to static --buckling; a mistyped option gets the nearest one;
+  // an ill-posed model is not sent to `check` twice and no "residual nan" is printed.
+  Result r = flexmb("--mode 8 " + kData + "cantilever.dat");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "static --buckling")) << r.err;
+  r = flexmb("show " + kData + "cantilever.dat --veiw xy");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "did you mean --view?")) << r.err;
+  r = flexmb("static " + kData + "tests/overconstrained.dat");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_FALSE(has(r.err, "nan")) << r.err;
+  size_t checks = 0;
+  for (size_t at = r.err.find("flexmb check"); at != std::string::npos; at = r.err.find("flexmb check", at + 1))
+    ++checks;
+  EXPECT_EQ(checks, 1u) << r.err;
+}
+
 }  // namespace

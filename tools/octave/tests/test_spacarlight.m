@@ -7,7 +7,8 @@ function test_spacarlight(src, flexmb)
 % transfer_in/out on the body, calccompl = false) and with the options spacarlight.m accepts
 % besides (mode = 3, rigidstress, stressperelement). SPACAR Light is not part of flexmb: without a
 % copy (tools/octave/fetch_public_scripts.sh, or FLEXMB_SPALIGHT_DIR) the test is skipped (exit 77).
-% spacarlight_env/ holds what Octave lacks (username on Linux, datetime). Checks use theory and
+% Nothing is added for Octave: flexmb's folder ships username.m (SPACAR Light sets it only on
+% Windows and macOS) and, through its PKG_ADD, datetime where Octave lacks it. Checks use theory and
 % statics, not flexmb's own output: equilibrium of every load step (the nodal forces of all nodes
 % sum to zero; the clamps carry the weight), the rotation M / (2 EI / L) and compliance L / (2 EI)
 % of the pivot, the state-space static gain against SPACAR Light's compliance, the leaves' bending
@@ -25,7 +26,16 @@ function test_spacarlight(src, flexmb)
   if status ~= 0, commit = '(not a git checkout)'; end
   printf('spacarlight.m from %s, commit %s\n', dir, strtrim(commit));
   addpath(dir);
-  addpath(fullfile(here, 'spacarlight_env'));
+  % Issue 34 item 7: what SPACAR Light needs beyond spacar comes from flexmb's folder alone.
+  for f = {'username', 'datetime'}
+    w = which(f{1});
+    assert(isempty(strfind(w, 'tests')), '%s comes from the tests, not from flexmb''s folder: %s', f{1}, w);
+  end
+  if ~exist('OCTAVE_VERSION', 'builtin') || isempty(strfind(which('datetime'), 'compat'))
+    % MATLAB, or an Octave with its own datetime: nothing of flexmb's in the way.
+  else
+    assert(~isempty(datestr(datetime)), 'datestr(datetime) gave nothing');
+  end
   warning('off', 'all');
   for f = {'spacar', 'getfrsbf', 'getss', 'stressbeam', 'spavisual'}
     assert(~isempty(strfind(which(f{1}), 'octave')), '%s is not flexmb''s (%s)', f{1}, which(f{1}));
