@@ -1,6 +1,7 @@
 #include "analysis/Sweep.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -36,6 +37,10 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     held = solvers::Partition::make(model.numDofs(), *o.heldCoordinates);
   }
   core::Linearization lin(model, o.basis);
+  // As statics: positions to 1e-12 of the model size. At the default 1e-10 a Newton correction of a
+  // stiff model's deformations (1e-11) left the positions where they were, and the bordered Newton
+  // stalled on a smooth path (the cross-spring pivot swept through a leaf end).
+  lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
   const double start = model.x0[k];
@@ -48,7 +53,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   // points, each started from a secant predictor through the two previous equilibria, and a
   // sub-step is accepted only when Newton's correction of the prediction is small against the
   // predicted change (else Newton jumped to another equilibrium: the sub-step is halved). When
-  // even a tiny sub-step fails the check, the path branches or turns there and the sweep stops.
+  // even a tiny sub-step fails, the sweep stops, saying "turns" only where the tangent is singular.
   const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
   const double maxIncrement = 0.025 * L, minIncrement = maxIncrement / 4096;
   double h = maxIncrement / 8;
@@ -56,9 +61,10 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   Eigen::VectorXd etaPrev;
   double Pprev = 0.0, valuePrev = start;
   bool havePrev = false;
+  double rcond = 1.0;  // of the bordered tangent where Newton stopped (near 0: a limit or branch point)
   auto solveAt = [&](double v) -> std::string {
     try {
-      return core::prescribedEquilibrium(lin, o.t, k, v, eta, P);
+      return core::prescribedEquilibrium(lin, o.t, k, v, eta, P, &rcond);
     } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
       std::ostringstream s;
       s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
@@ -104,9 +110,17 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         P = PHere;
         if (xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
         if (h <= minIncrement * (1 + 1e-9) || v == current) {
+          // "Turns" only where the path does: the bordered tangent singular (a limit point, where the
+          // coordinate cannot go further, or a branch point). Else Newton itself failed on a regular path.
           std::ostringstream s;
-          s << "with the prescribed coordinate " << coord << " at " << v << ": " << err
-            << "; the equilibrium path branches or turns here (or has no equilibrium), so the sweep stops";
+          s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
+          if (rcond < 1e-13)
+            s << "; the equilibrium path turns or branches here (its tangent is singular: condition estimate "
+              << rcond << "), so the sweep stops";
+          else
+            s << "; the path is regular here (tangent condition estimate " << rcond << ") but no equilibrium was found "
+              << "even in sub-steps of " << h << ", so the sweep stops (a coordinate the mechanism cannot follow "
+              << "by itself? prescribe one it can)";
           return s.str();
         }
         h = std::max(0.5 * h, minIncrement);

@@ -12,7 +12,10 @@ namespace flexmb::core {
 
 // Newton from (eta, P), both updated in place, at time t (the loads of the model at t, load factor
 // 0). Returns "" on convergence, else the reason (singular bordered system, no equilibrium in 60
-// iterations). Throws KinematicsError when the kinematics fail.
-std::string prescribedEquilibrium(Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta, double& P);
+// iterations). Throws KinematicsError when the kinematics fail. tangentCondition: the reciprocal
+// condition estimate of the last bordered tangent factorised (near 0 at a limit or branch point,
+// where the path turns).
+std::string prescribedEquilibrium(Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta, double& P,
+                                  double* tangentCondition = nullptr);
 
 }  // namespace flexmb::core
