@@ -370,10 +370,6 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
     stage("sweep", [&] {
       SweepOptions o = *a.sweep;
       o.nev = std::min(o.nev, model.numDofs());
-      const auto it = model.nodeByLabel.find(o.node);
-      if (it == model.nodeByLabel.end() || o.component < 1 || o.component > model.nodes[it->second].dim())
-        throw std::invalid_argument("the model has no node " + std::to_string(o.node) + " with component " +
-                                    std::to_string(o.component));
       r.sweep = sweep(model, o);
       for (int i = 0; i < o.nev; ++i) {
         double lo = kNaN;

@@ -22,11 +22,23 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   if (it == model.nodeByLabel.end())
     throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " does not exist");
   const core::Node& node = model.nodes[it->second];
-  if (o.component < 1 || o.component > node.dim())
+  // A spatial orientation node: components 1..3 are its rotation about the global axes (an Euler
+  // parameter itself is no quantity to sweep).
+  const bool rotation = node.kind == core::NodeKind::EulerParameters;
+  const int components = rotation ? 3 : node.dim();
+  if (o.component < 1 || o.component > components)
     throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " has no component " +
-                                std::to_string(o.component));
-  const int k = node.firstCoord + o.component - 1;
-  if (model.xRole[k] == core::Role::Fixed || model.xRole[k] == core::Role::Input)
+                                std::to_string(o.component) +
+                                (rotation ? " (an orientation node: 1, 2, 3 = its rotation about global x, y, z)" : ""));
+  core::PrescribedQuantity pq;
+  pq.coord = node.firstCoord + (rotation ? 0 : o.component - 1);
+  pq.axis = rotation ? o.component : 0;
+  if (rotation) pq.lambda0 = model.x0.segment<4>(pq.coord);
+  const int k = pq.coord;
+  bool movable = false;
+  for (int j = 0; j < pq.width(); ++j)
+    movable = movable || (model.xRole[k + j] != core::Role::Fixed && model.xRole[k + j] != core::Role::Input);
+  if (!movable)
     throw std::invalid_argument("sweep: " + model.coordName(k) + " is " + core::roleName(model.xRole[k]) +
                                 ", it cannot be prescribed");
   if (o.steps < 1) throw std::invalid_argument("sweep: steps must be at least 1");
@@ -43,8 +55,12 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
-  const double start = model.x0[k];
-  const std::string coord = model.coordName(k);
+  const double start = pq.value(model.x0);
+  static const char* const kAxes[] = {"x", "y", "z"};
+  const std::string coord = rotation ? "the rotation of node " + std::to_string(o.node) + " about global " +
+                                           kAxes[o.component - 1] + " (rad)"
+                                     : model.coordName(k);
+  res.prescribed = coord;
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i)
     values.push_back(o.steps == 1 ? o.from : o.from + (o.to - o.from) * i / (o.steps - 1));
@@ -64,7 +80,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   double rcond = 1.0;  // of the bordered tangent where Newton stopped (near 0: a limit or branch point)
   auto solveAt = [&](double v) -> std::string {
     try {
-      return core::prescribedEquilibrium(lin, o.t, k, v, eta, P, &rcond);
+      return core::prescribedEquilibrium(lin, o.t, pq, v, eta, P, &rcond);
     } catch (const core::KinematicsError& e) {  // its time is the load time, not the path
       std::ostringstream s;
       s << "the kinematics did not converge (" << e.iterations() << " iterations, residual " << e.residual() << ")";
@@ -161,7 +177,8 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     if (o.onPoint) o.onPoint(static_cast<int>(res.points.size()), o.steps);
     try {
       lin.appliedForces(o.t, 0.0, f);
-      f[k] += P;
+      const Eigen::Vector4d g = pq.gradient(lin.kinematics().x());
+      for (int j = 0; j < pq.width(); ++j) f[k + j] += P * g[j];
       lin.atRest(o.t, eta, f, sys, true);
       // As in staticAnalysis: a converged but folded equilibrium (a beam node past 90 degrees
       // against its chord, outside Eq. 3b/3c) ends the sweep; the points before it are kept.

@@ -1,6 +1,6 @@
 #pragma once
 // Eigenfrequencies over a range of motion (paper Fig. 5): static equilibria with one nodal
-// coordinate prescribed at equidistant values, held by a dead load along that coordinate (the
+// coordinate (or a spatial orientation node's rotation about a global axis) prescribed at equidistant values, held by a dead load along that coordinate (the
 // load is the Lagrange multiplier of a bordered Newton system), and the natural frequencies of the
 // free system in each, with modes tracked between neighbours by MAC.
 #include <Eigen/Core>
@@ -16,7 +16,7 @@ namespace flexmb::analysis {
 
 struct SweepOptions {
   int node = 0;       // node label
-  int component = 1;  // 1-based
+  int component = 1;  // 1-based; on a spatial orientation node 1..3: its rotation about global x, y, z (rad)
   double from = 0.0, to = 0.0;
   int steps = 10;  // number of configurations (equidistant, both ends included)
   int nev = 4;
@@ -48,6 +48,7 @@ struct SweepPoint {
 };
 
 struct SweepResult {
+  std::string prescribed;  // what was prescribed, in words ("x(node 6, x)", "the rotation of node 4 about global z (rad)")
   std::vector<SweepPoint> points;
   bool completed = true;
   bool interrupted = false;  // stopped by SweepOptions::interrupt (then completed = false)

@@ -8,9 +8,34 @@
 
 namespace flexmb::core {
 
-std::string prescribedEquilibrium(Linearization& lin, double t, int k, double value, Eigen::VectorXd& eta, double& P,
-                                  double* tangentCondition) {
+namespace {
+// q = p (x) c as M(c) p (Hamilton product, scalar first).
+Eigen::Matrix4d rightProduct(const Eigen::Vector4d& c) {
+  Eigen::Matrix4d M;
+  M << c[0], -c[1], -c[2], -c[3], c[1], c[0], c[3], -c[2], c[2], -c[3], c[0], c[1], c[3], c[2], -c[1], c[0];
+  return M;
+}
+Eigen::Vector4d conjugate(const Eigen::Vector4d& l) { return Eigen::Vector4d(l[0], -l[1], -l[2], -l[3]); }
+}  // namespace
+
+double PrescribedQuantity::value(const Eigen::VectorXd& x) const {
+  if (!axis) return x[coord];
+  const Eigen::Vector4d q = rightProduct(conjugate(lambda0)) * x.segment<4>(coord);
+  return 2.0 * std::atan2(q[axis], q[0]);
+}
+
+Eigen::Vector4d PrescribedQuantity::gradient(const Eigen::VectorXd& x) const {
+  if (!axis) return Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
+  const Eigen::Matrix4d M = rightProduct(conjugate(lambda0));
+  const Eigen::Vector4d q = M * x.segment<4>(coord);
+  const double u = q[axis], w = q[0], n2 = u * u + w * w;
+  return 2.0 * (w * M.row(axis) - u * M.row(0)).transpose() / n2;
+}
+
+std::string prescribedEquilibrium(Linearization& lin, double t, const PrescribedQuantity& prescribed, double value,
+                                  Eigen::VectorXd& eta, double& P, double* tangentCondition) {
   const int m = lin.size();
+  const int k = prescribed.coord, width = prescribed.width();
   double previous = std::numeric_limits<double>::infinity();  // the last iteration's force residual
   Eigen::VectorXd f, R(m + 1), dz;
   Eigen::MatrixXd A(m + 1, m + 1);
@@ -20,11 +45,13 @@ std::string prescribedEquilibrium(Linearization& lin, double t, int k, double va
   for (int it = 0; it < 60; ++it) {
     lin.kinematics().solvePositions(t, lin.basis() ? Eigen::VectorXd(*lin.basis() * eta) : eta);
     lin.appliedForces(t, 0.0, f);
-    f[k] += P;
+    const Eigen::Vector4d g = prescribed.gradient(lin.kinematics().x());
+    for (int j = 0; j < width; ++j) f[k + j] += P * g[j];
     lin.atRest(t, eta, f, sys, false);
-    const Eigen::VectorXd b = lin.transfer().row(k).transpose();
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
+    for (int j = 0; j < width; ++j) b += g[j] * lin.transfer().row(k + j).transpose();
     R.head(m) = sys.Q;
-    R[m] = lin.kinematics().x()[k] - value;
+    R[m] = prescribed.value(lin.kinematics().x()) - value;
     // Floors above the kinematic round-off (positions to ~1e-12 of the model size).
     const double forceScale = std::max({std::abs(P) * b.lpNorm<Eigen::Infinity>(), f.lpNorm<Eigen::Infinity>(),
                                         1e-3 * L * sys.K.diagonal().cwiseAbs().maxCoeff()});

@@ -16,6 +16,8 @@
 #include <string>
 
 #include "analysis/Statics.hpp"
+#include "analysis/Sweep.hpp"
+#include "core/elements/EulerParameters.hpp"
 #include "analysis/tests/Objectivity.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
@@ -215,4 +217,58 @@ TEST(SpatialStatics, ColumnStabilityDoesNotDependOnTheOrientation) {
     ASSERT_TRUE(run.completed) << run.stopReason;
     EXPECT_EQ(run.steps.back().newton.stable, fraction < 1.0) << fraction;
   }
+}
+
+// Issue 34 item 4: a sweep prescribes the rotation of a spatial orientation node about a global
+// axis (not an Euler parameter), and sweeps the cross-spring pivot through a leaf end without
+// calling the smooth path a turning point. The load that holds a rotation is the moment about that
+// axis: the static analysis under that moment (gravity as in the sweep) turns the platform by the
+// prescribed angle, measured from the rotation matrices, not from the sweep's own formula.
+TEST(SweepSpatial, ThePivotsRotationIsPrescribedAboutAGlobalAxis) {
+  const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_coarse.dat";
+  const core::Model m = io::readDatFile(path);
+  analysis::SweepOptions o;
+  o.node = 4;
+  o.component = 3;  // about global z
+  o.from = -0.05, o.to = 0.05, o.steps = 3, o.nev = 2;
+  const analysis::SweepResult r = analysis::sweep(m, o);
+  ASSERT_TRUE(r.completed) << r.stopReason;
+  ASSERT_EQ(r.points.size(), 3u);
+  EXPECT_NE(r.prescribed.find("rotation of node 4 about global z"), std::string::npos) << r.prescribed;
+  const core::Node& n4 = m.nodes[m.nodeByLabel.at(4)];
+  const Eigen::Matrix3d R0 = core::euler::rotation(m.x0.segment<4>(n4.firstCoord));
+  for (const auto& p : r.points) {
+    const Eigen::Matrix3d R = core::euler::rotation(p.x.segment<4>(n4.firstCoord)) * R0.transpose();
+    EXPECT_NEAR(std::atan2(R(1, 0), R(0, 0)), p.value, 1e-9) << p.value;
+  }
+  const double moment = r.points.back().load;
+  EXPECT_GT(moment, 0.0);
+  // The same moment as a static load.
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string dat = text.str();
+  for (const char* line : {"DELXF\t\t  3\t\t0.000000\t-0.020000\t0.000000", "DELXF\t\t  4\t\t0.000000\t0.000000\t0.005000"}) {
+    const auto at = dat.find(line);
+    ASSERT_NE(at, std::string::npos) << line;
+    dat.erase(at, std::string(line).size());
+  }
+  const auto end = dat.find("\nITERSTEP");  // the statement, not the header's mention of it
+  ASSERT_NE(end, std::string::npos);
+  char line[64];
+  std::snprintf(line, sizeof line, "\nDELXF 4 0 0 %.17g", moment);
+  dat.insert(end, line);
+  const core::Model loaded = io::readDatString(dat);
+  const analysis::StaticRun st = analysis::staticAnalysis(loaded, 0);
+  ASSERT_TRUE(st.completed) << st.stopReason;
+  const Eigen::Matrix3d R = core::euler::rotation(st.steps.back().x.segment<4>(n4.firstCoord)) * R0.transpose();
+  EXPECT_NEAR(std::atan2(R(1, 0), R(0, 0)), 0.05, 2e-6);
+  // The leaf end sweeps through the same range of motion (before: stopped after one configuration).
+  analysis::SweepOptions x = o;
+  x.node = 3, x.component = 1, x.from = 0.095, x.to = 0.105, x.steps = 3;
+  const analysis::SweepResult rx = analysis::sweep(m, x);
+  EXPECT_TRUE(rx.completed) << rx.stopReason;
+  // An Euler parameter is no quantity to sweep.
+  x.node = 4, x.component = 4;
+  EXPECT_THROW(analysis::sweep(m, x), std::invalid_argument);
 }

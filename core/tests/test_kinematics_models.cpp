@@ -7,6 +7,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/PrescribedEquilibrium.hpp"
+#include "core/elements/EulerParameters.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/KinematicCheck.hpp"
 #include "core/tests/SampleModels.hpp"
@@ -263,5 +265,44 @@ TEST(GeometricTransferFunctions, OpenChainsArePlacedInOnePassWithoutIteration) {
       if (m.eRole[e] == core::Role::Fixed) residual = std::max(residual, std::abs(gtf.e()[e]));
     }
     EXPECT_LT(residual, 1e-14) << "trial " << trial;
+  }
+}
+
+// The rotation a sweep prescribes on a spatial orientation node (core/PrescribedEquilibrium.hpp):
+// exact for a rotation about the axis from any initial orientation, and its gradient on the Euler
+// parameters against central differences (also away from lambda0, where it is not 2 E(lambda)).
+TEST(PrescribedRotation, ValueIsTheAngleAboutTheAxisAndGradientMatchesDifferences) {
+  Eigen::Vector4d l0(0.8, -0.3, 0.4, 0.33);
+  l0.normalize();
+  for (int axis = 1; axis <= 3; ++axis) {
+    flexmb::core::PrescribedQuantity p;
+    p.coord = 2;
+    p.axis = axis;
+    p.lambda0 = l0;
+    for (double theta : {-1.2, 0.0, 0.3, 2.5}) {
+      // q about the global axis, then lambda = q (x) lambda0.
+      const double c = std::cos(theta / 2), s = std::sin(theta / 2);
+      Eigen::Vector4d q(c, 0, 0, 0);
+      q[axis] = s;
+      const Eigen::Vector4d l(q[0] * l0[0] - q.tail<3>().dot(l0.tail<3>()), 0, 0, 0);
+      Eigen::Vector4d lam;
+      lam[0] = l[0];
+      lam.tail<3>() = q[0] * l0.tail<3>() + l0[0] * q.tail<3>() + q.tail<3>().cross(l0.tail<3>());
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(7);
+      x.segment<4>(2) = lam;
+      EXPECT_NEAR(p.value(x), theta, 1e-12) << "axis " << axis << " theta " << theta;
+      // The rotation matrix agrees (the convention of core::euler::rotation).
+      const Eigen::Matrix3d R = flexmb::core::euler::rotation(lam) * flexmb::core::euler::rotation(l0).transpose();
+      const int i = axis % 3, j = (axis + 1) % 3;  // the plane normal to the axis
+      EXPECT_NEAR(std::atan2(R(j, i), R(i, i)), theta, 1e-12) << "axis " << axis;
+      // Gradient at a perturbed, non-normalised lambda.
+      x.segment<4>(2) += Eigen::Vector4d(0.01, -0.02, 0.015, 0.005);
+      const Eigen::Vector4d g = p.gradient(x);
+      for (int k = 0; k < 4; ++k) {
+        Eigen::VectorXd xp = x, xm = x;
+        xp[2 + k] += 1e-6, xm[2 + k] -= 1e-6;
+        EXPECT_NEAR(g[k], (p.value(xp) - p.value(xm)) / 2e-6, 1e-7) << "axis " << axis << " k " << k;
+      }
+    }
   }
 }

@@ -372,7 +372,9 @@ int runSweep(const std::vector<std::string>& args) {
   analysis::SweepOptions o;
   std::string out, basisFile, svg;
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
-      "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)), "its component (1-based)")(
+      "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)),
+      "its component (1-based; a spatial orientation node: 1, 2, 3 = its rotation about global x, y, z in rad from "
+      "its initial orientation)")(
       "from", po::value(&o.from)->required()->notifier(finite("from")), "first value (required)")(
       "to", po::value(&o.to)->required()->notifier(finite("to")), "last value (required)")(
       "steps", po::value(&o.steps)->default_value(10)->notifier(atLeast("steps", 1)),
@@ -391,8 +393,11 @@ int runSweep(const std::vector<std::string>& args) {
     return kUsageError;
   }
   auto it = model.nodeByLabel.find(o.node);
-  if (it == model.nodeByLabel.end() || o.component > model.nodes[it->second].dim()) {
-    std::cerr << "flexmb: " << m.file << " has no node " << o.node << " with component " << o.component << "\n";
+  const bool rotation = it != model.nodeByLabel.end() && model.nodes[it->second].kind == core::NodeKind::EulerParameters;
+  if (it == model.nodeByLabel.end() || o.component > (rotation ? 3 : model.nodes[it->second].dim())) {
+    std::cerr << "flexmb: " << m.file << " has no node " << o.node << " with component " << o.component
+              << (rotation ? " (an orientation node: --comp 1, 2, 3 = its rotation about global x, y, z in rad)" : "")
+              << "\n";
     return kInputError;
   }
   try {
@@ -435,7 +440,6 @@ int runSweep(const std::vector<std::string>& args) {
     return kInputError;
   }
   progress.finish();
-  const int k = model.nodes[it->second].firstCoord + o.component - 1;
   try {
     std::ofstream csv(files.temporaryFor(".csv"));
     csv << std::setprecision(12) << "value,load";
@@ -444,7 +448,7 @@ int runSweep(const std::vector<std::string>& args) {
     for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     csv << "\n";
     io::Plot plot;
-    plot.title = "Eigenfrequencies against " + model.coordName(k);
+    plot.title = "Eigenfrequencies against " + r.prescribed;
     plot.x.label = "prescribed coordinate";
     plot.y.label = "frequency [Hz]";
     plot.series.resize(o.nev);
