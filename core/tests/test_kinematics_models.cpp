@@ -306,3 +306,20 @@ TEST(PrescribedRotation, ValueIsTheAngleAboutTheAxisAndGradientMatchesDifference
     }
   }
 }
+
+// Issue 34 item 10: the advice counts what to change (a closed spatial loop of beams has six
+// redundant equations: "release one" was wrong).
+TEST(KinematicReportAdvice, CountsTheDeformationsToRelease) {
+  flexmb::core::KinematicReport r;
+  r.eFixed = 12, r.rank = 6, r.xCalculable = 6;
+  r.overdetermined = {"a", "b", "c", "d", "e", "f", "g"};
+  const std::string six = flexmb::core::formatReport(r);
+  EXPECT_NE(six.find("release (RLSE) 6 of these deformations"), std::string::npos) << six;
+  r.eFixed = 7;
+  const std::string one = flexmb::core::formatReport(r);
+  EXPECT_NE(one.find("release (RLSE) one of these deformations"), std::string::npos) << one;
+  r.overdetermined.clear();
+  r.eFixed = 3, r.rank = 3, r.underdetermined = {"x", "y"};
+  const std::string free = flexmb::core::formatReport(r);
+  EXPECT_NE(free.find("FIX or DYNX 3 of these coordinates"), std::string::npos) << free;
+}

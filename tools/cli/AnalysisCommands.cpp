@@ -481,10 +481,17 @@ int runSweep(const std::vector<std::string>& args) {
     files.renameFiles();
     std::cout << "wrote " << prefix << ".csv" << (r.points.empty() ? "" : " and " + prefix + ".svg") << " ("
               << r.points.size() << " of " << o.steps << " configurations)\n";
-    if (!svg.empty()) {
-      if (!writeSweepFigure(svg, model, m.file, r, o.t)) return kWriteFailed;  // no manifest: incomplete
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
+  bool complete = true;  // the picture on its own: a failure leaves the CSV and the manifest
+  if (!svg.empty())
+    complete = tryProduct(files, "the figure " + svg, [&] {
+      if (!writeSweepFigure(svg, model, m.file, r, o.t)) throw ProductFailed("see above");
       files.record(svg);
-    }
+    });
+  try {
     std::cout << "wrote " << files.writeManifest(r.completed ? "complete" : "stopped: " + r.stopReason) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
@@ -499,7 +506,7 @@ int runSweep(const std::vector<std::string>& args) {
               << " configurations before it are written)\n";
     return kNumericalFailure;
   }
-  return kOk;
+  return complete ? kOk : kWriteFailed;
 }
 
 }  // namespace flexmb::cli
