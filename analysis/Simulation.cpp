@@ -9,6 +9,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Interrupt.hpp"
+#include "analysis/ReductionError.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
@@ -231,6 +232,9 @@ class StageRun {
     }
     if (windows_ && traj_.completed)
       traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
+    // Also for a run that stopped: the states it reached say how good the basis was so far.
+    if (opt_.basis && opt_.reductionEstimate && opt_.keepStates && !traj_.states.empty())
+      traj_.reduction = estimateReductionError(model_, *opt_.basis, traj_);
     return std::move(traj_);
   }
 

@@ -72,6 +72,9 @@ struct SimulationOptions {
   // The a-posteriori accuracy check (analysis/AccuracyCheck.hpp) into Trajectory::accuracy, for a
   // run that completes and keeps its states.
   bool accuracyCheck = false;
+  // The reduction error estimate (analysis/ReductionError.hpp) into Trajectory::reduction, for a
+  // reduced run (basis) that keeps its states: on by default, as every reduced run must say it.
+  bool reductionEstimate = true;
 };
 
 core::Trajectory simulate(const core::Model& model, const SimulationOptions& options, bool* interrupted = nullptr);

@@ -27,9 +27,9 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   const bool rotation = node.kind == core::NodeKind::EulerParameters;
   const int components = rotation ? 3 : node.dim();
   if (o.component < 1 || o.component > components)
-    throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " has no component " +
-                                std::to_string(o.component) +
-                                (rotation ? " (an orientation node: 1, 2, 3 = its rotation about global x, y, z)" : ""));
+    throw std::invalid_argument(
+        "sweep: node " + std::to_string(o.node) + " has no component " + std::to_string(o.component) +
+        (rotation ? " (an orientation node: 1, 2, 3 = its rotation about global x, y, z)" : ""));
   core::PrescribedQuantity pq;
   pq.coord = node.firstCoord + (rotation ? 0 : o.component - 1);
   pq.axis = rotation ? o.component : 0;
@@ -57,9 +57,9 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   double P = 0.0;
   const double start = pq.value(model.x0);
   static const char* const kAxes[] = {"x", "y", "z"};
-  const std::string coord = rotation ? "the rotation of node " + std::to_string(o.node) + " about global " +
-                                           kAxes[o.component - 1] + " (rad)"
-                                     : model.coordName(k);
+  const std::string coord =
+      rotation ? "the rotation of node " + std::to_string(o.node) + " about global " + kAxes[o.component - 1] + " (rad)"
+               : model.coordName(k);
   res.prescribed = coord;
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i)
@@ -131,8 +131,8 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
           std::ostringstream s;
           s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
           if (rcond < 1e-13)
-            s << "; the equilibrium path turns or branches here (its tangent is singular: condition estimate "
-              << rcond << "), so the sweep stops";
+            s << "; the equilibrium path turns or branches here (its tangent is singular: condition estimate " << rcond
+              << "), so the sweep stops";
           else
             s << "; the path is regular here (tangent condition estimate " << rcond << ") but no equilibrium was found "
               << "even in sub-steps of " << h << ", so the sweep stops (a coordinate the mechanism cannot follow "

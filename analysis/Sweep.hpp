@@ -1,8 +1,8 @@
 #pragma once
 // Eigenfrequencies over a range of motion (paper Fig. 5): static equilibria with one nodal
-// coordinate (or a spatial orientation node's rotation about a global axis) prescribed at equidistant values, held by a dead load along that coordinate (the
-// load is the Lagrange multiplier of a bordered Newton system), and the natural frequencies of the
-// free system in each, with modes tracked between neighbours by MAC.
+// coordinate (or a spatial orientation node's rotation about a global axis) prescribed at equidistant values, held by a
+// dead load along that coordinate (the load is the Lagrange multiplier of a bordered Newton system), and the natural
+// frequencies of the free system in each, with modes tracked between neighbours by MAC.
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
@@ -48,7 +48,8 @@ struct SweepPoint {
 };
 
 struct SweepResult {
-  std::string prescribed;  // what was prescribed, in words ("x(node 6, x)", "the rotation of node 4 about global z (rad)")
+  std::string
+      prescribed;  // what was prescribed, in words ("x(node 6, x)", "the rotation of node 4 about global z (rad)")
   std::vector<SweepPoint> points;
   bool completed = true;
   bool interrupted = false;  // stopped by SweepOptions::interrupt (then completed = false)

@@ -18,7 +18,7 @@ struct PrescribedQuantity {
   int coord = 0;  // the coordinate, or the node's first Euler parameter
   int axis = 0;   // 0: the coordinate itself; 1..3: the rotation about global x, y, z
   Eigen::Vector4d lambda0 = Eigen::Vector4d::Zero();  // the initial orientation (axis > 0)
-  int width() const { return axis ? 4 : 1; }         // coordinates it depends on: coord .. coord + width - 1
+  int width() const { return axis ? 4 : 1; }          // coordinates it depends on: coord .. coord + width - 1
   double value(const Eigen::VectorXd& x) const;
   Eigen::Vector4d gradient(const Eigen::VectorXd& x) const;  // d value / d x on those coordinates
 };

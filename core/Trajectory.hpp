@@ -25,6 +25,19 @@ struct AccuracyEstimate {
   std::string note;  // why it was not run, or what limited it
 };
 
+// The reduction error of a reduced run (analysis/ReductionError.hpp): the full model's residual at
+// the reduced states, its quasi-static deflection outside the basis, relative to the motion.
+struct ReductionEstimate {
+  bool estimated = false;
+  double estimate = 0.0;  // largest position deflection / scale
+  double scale = 0.0;     // the motion (or model size) it is relative to, in m
+  std::string scaleText;  // "of the motion (0.0833 m)" or "of the model size (...)"
+  double atTime = 0.0;    // where the largest was found
+  int samples = 0;        // output times evaluated
+  double seconds = 0.0;   // its cost
+  std::string note;       // why not estimated
+};
+
 struct Trajectory {
   std::vector<double> time;
   std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
@@ -43,6 +56,7 @@ struct Trajectory {
   bool completed = true;
   std::string stopReason;  // why the run stopped early (time and reason); empty when completed
   AccuracyEstimate accuracy;
+  ReductionEstimate reduction;  // reduced runs (a basis) that keep their states
 };
 
 }  // namespace flexmb::core

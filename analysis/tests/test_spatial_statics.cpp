@@ -17,9 +17,9 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
-#include "core/elements/EulerParameters.hpp"
 #include "analysis/tests/Objectivity.hpp"
 #include "core/Linearization.hpp"
+#include "core/elements/EulerParameters.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;
@@ -248,7 +248,8 @@ TEST(SweepSpatial, ThePivotsRotationIsPrescribedAboutAGlobalAxis) {
   std::stringstream text;
   text << in.rdbuf();
   std::string dat = text.str();
-  for (const char* line : {"DELXF\t\t  3\t\t0.000000\t-0.020000\t0.000000", "DELXF\t\t  4\t\t0.000000\t0.000000\t0.005000"}) {
+  for (const char* line :
+       {"DELXF\t\t  3\t\t0.000000\t-0.020000\t0.000000", "DELXF\t\t  4\t\t0.000000\t0.000000\t0.005000"}) {
     const auto at = dat.find(line);
     ASSERT_NE(at, std::string::npos) << line;
     dat.erase(at, std::string(line).size());

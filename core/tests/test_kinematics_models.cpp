@@ -7,10 +7,10 @@
 #include <cmath>
 #include <string>
 
-#include "core/PrescribedEquilibrium.hpp"
-#include "core/elements/EulerParameters.hpp"
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/KinematicCheck.hpp"
+#include "core/PrescribedEquilibrium.hpp"
+#include "core/elements/EulerParameters.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;

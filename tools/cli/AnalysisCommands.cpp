@@ -374,9 +374,9 @@ int runSweep(const std::vector<std::string>& args) {
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)),
       "its component (1-based; a spatial orientation node: 1, 2, 3 = its rotation about global x, y, z in rad from "
-      "its initial orientation)")(
-      "from", po::value(&o.from)->required()->notifier(finite("from")), "first value (required)")(
-      "to", po::value(&o.to)->required()->notifier(finite("to")), "last value (required)")(
+      "its initial orientation)")("from", po::value(&o.from)->required()->notifier(finite("from")),
+                                  "first value (required)")("to", po::value(&o.to)->required()->notifier(finite("to")),
+                                                            "last value (required)")(
       "steps", po::value(&o.steps)->default_value(10)->notifier(atLeast("steps", 1)),
       "number of equidistant configurations (the continuation sub-steps them as it needs)")(
       "nev", po::value(&o.nev)->default_value(4)->notifier(atLeast("nev", 1)), "eigenfrequencies per configuration")(
@@ -393,7 +393,8 @@ int runSweep(const std::vector<std::string>& args) {
     return kUsageError;
   }
   auto it = model.nodeByLabel.find(o.node);
-  const bool rotation = it != model.nodeByLabel.end() && model.nodes[it->second].kind == core::NodeKind::EulerParameters;
+  const bool rotation =
+      it != model.nodeByLabel.end() && model.nodes[it->second].kind == core::NodeKind::EulerParameters;
   if (it == model.nodeByLabel.end() || o.component > (rotation ? 3 : model.nodes[it->second].dim())) {
     std::cerr << "flexmb: " << m.file << " has no node " << o.node << " with component " << o.component
               << (rotation ? " (an orientation node: --comp 1, 2, 3 = its rotation about global x, y, z in rad)" : "")

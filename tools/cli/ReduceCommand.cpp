@@ -1,8 +1,11 @@
 #include <boost/program_options.hpp>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
+#include "analysis/BasisForTarget.hpp"
 #include "analysis/Reduction.hpp"
 #include "io/BasisFile.hpp"
 #include "io/OutputFile.hpp"
@@ -14,11 +17,27 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
+namespace {
+// The candidates a target scan ran: size, estimate, cost.
+void printCandidates(std::ostream& out, const analysis::TargetResult& tr) {
+  out << "basis for the target: " << tr.tried.size() << " candidate runs after the basis (" << tr.buildSeconds
+      << " s), " << tr.seconds << " s in all\n  vectors  estimate     fevals   seconds\n";
+  for (const auto& c : tr.tried) {
+    char line[128];
+    std::snprintf(line, sizeof line, "  %7d  %-11.3g  %6ld   %.4g%s\n", c.vectors,
+                  c.estimate.estimated ? c.estimate.estimate : NAN, c.fevals, c.seconds,
+                  c.completed ? "" : "  (the run stopped)");
+    out << line;
+  }
+}
+}  // namespace
+
 int runReduce(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   analysis::ReductionOptions o;
   std::string out, large;
+  double target = NAN;  // not given
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
       "modes", po::value(&o.modes)->default_value(3)->notifier(atLeast("modes", 1)), "r: modes per configuration")(
       "normalise", po::value(&o.normalise)->default_value("mass"),
@@ -36,7 +55,11 @@ int runReduce(const std::vector<std::string>& args) {
       "to", po::value(&o.to)->notifier(finite("to")), "path end value")(
       "large", po::value(&large),
       "degrees of freedom kept with identity columns (Eq. 20), 1-based in `flexmb check`'s order (DYNX, then DYNE), "
-      "comma-separated (default: the hinges)")("out", po::value(&out)->default_value("basis.csv"), "basis file");
+      "comma-separated (default: the hinges)")("out", po::value(&out)->default_value("basis.csv"), "basis file")(
+      "target", po::value(&target)->notifier(finite("target")),
+      "choose the basis size from an error target EPS (0 < EPS < 1): the smallest basis of --method whose reduced run "
+      "over the model's TIMESTEP span has a reduction error estimate of at most EPS (largest position deviation "
+      "relative to the motion); --modes / --count are chosen");
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
     return *rc;
@@ -112,7 +135,26 @@ int runReduce(const std::vector<std::string>& args) {
   try {
     Progress progress("reduce", !m.quiet);
     o.onConfig = [&](int i, int n) { progress.update(i, n, "configurations"); };
-    r = analysis::buildBasis(model, o);
+    if (!std::isnan(target)) {
+      analysis::TargetOptions to;
+      to.target = target;
+      to.basis = o;
+      const analysis::TargetResult tr = analysis::basisForTarget(model, to);
+      progress.finish();
+      printCandidates(std::cout, tr);
+      files.setting("target", target);
+      files.setting("choosing", solvers::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s (" +
+                                    std::to_string(tr.tried.size()) + " candidate runs)");
+      if (tr.full) {
+        std::cout << "target " << solvers::shortest(target) << ": " << tr.note << "; no basis written\n";
+        files.commit("complete: " + tr.note);
+        std::cout << "wrote " << files.manifestPath() << "\n";
+        return kOk;
+      }
+      r = tr.basis;
+    } else {
+      r = analysis::buildBasis(model, o);
+    }
   } catch (const std::invalid_argument& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;

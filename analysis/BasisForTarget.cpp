@@ -1,0 +1,106 @@
+#include "analysis/BasisForTarget.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "analysis/ReductionError.hpp"
+#include "solvers/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+// Output times a candidate's estimate samples (the chosen basis' own run samples 40).
+constexpr int kCandidateSamples = 16;
+
+double since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
+  if (!(o.target > 0.0 && o.target < 1.0))
+    throw std::invalid_argument("--target must be a number between 0 and 1 (the reduction error relative to the "
+                                "motion), not " + solvers::shortest(o.target));
+  const auto start = std::chrono::steady_clock::now();
+  TargetResult res;
+  // One basis with every candidate's columns: the most modes the q_s subproblem has, or every
+  // singular vector of the SVD-modal configurations.
+  ReductionOptions all = o.basis;
+  const std::vector<int> large = all.large ? *all.large : defaultLargeCoordinates(model);
+  const int small = model.numDofs() - static_cast<int>(large.size());
+  if (small < 2)
+    throw std::invalid_argument("the model has " + std::to_string(small) +
+                                " coordinate(s) to reduce besides the large-rotation ones: nothing to choose");
+  const int most = o.maxVectors > 0 ? std::min(o.maxVectors, small - 1) : small - 1;
+  if (all.method == "modal") {
+    all.modes = most;
+  } else {
+    all.count = std::min(most, all.modes * all.configs);
+  }
+  const ReductionResult whole = buildBasis(model, all);
+  res.buildSeconds = since(start);
+  const Eigen::Index nl = static_cast<Eigen::Index>(whole.large.size());
+  const int available = std::min(most, static_cast<int>(whole.V.cols() - nl));
+  auto tryVectors = [&](int k) -> const TargetCandidate& {
+    const auto t0 = std::chrono::steady_clock::now();
+    SimulationOptions so = o.run;
+    so.basis = whole.V.leftCols(nl + k);
+    so.keepStates = true;
+    so.accuracyCheck = false;
+    so.reductionEstimate = false;
+    so.progress = false;
+    const core::Trajectory run = simulate(model, so);
+    TargetCandidate c;
+    c.vectors = k;
+    c.estimate = estimateReductionError(model, *so.basis, run, kCandidateSamples);
+    c.fevals = run.nfevals;
+    c.completed = run.completed;
+    c.stopReason = run.stopReason;
+    c.seconds = since(t0);
+    res.tried.push_back(c);
+    if (o.onCandidate) o.onCandidate(k, c.estimate.estimated ? c.estimate.estimate : NAN);
+    return res.tried.back();
+  };
+  auto meets = [&](const TargetCandidate& c) {
+    return c.completed && c.estimate.estimated && c.estimate.estimate <= o.target;
+  };
+  // The first guess: the SVD-modal 1% rule's size (the paper's), or --modes for a modal basis.
+  int first = whole.method == "svd-modal" ? 0 : o.basis.modes;
+  if (whole.method == "svd-modal")
+    for (Eigen::Index i = 0; i < whole.scaledSingularValues.size(); ++i)
+      first += whole.scaledSingularValues[i] >= o.basis.threshold * whole.scaledSingularValues.sum();
+  first = std::clamp(first, 1, std::max(available, 1));
+  int chosen = 0;
+  if (available >= 1 && meets(tryVectors(first))) {
+    // Down while the smaller basis still meets the target: the smallest is the answer.
+    chosen = first;
+    while (chosen > 1 && meets(tryVectors(chosen - 1))) --chosen;
+  } else {
+    for (int k = first + 1; k <= available; ++k)
+      if (meets(tryVectors(k))) {
+        chosen = k;
+        break;
+      }
+  }
+  if (chosen > 0) {
+    const int k = chosen;
+    res.met = true;
+    res.basis = whole;
+    res.basis.V = whole.V.leftCols(nl + k);
+    if (whole.omegaSmall.size() > k) res.basis.omegaSmall = whole.omegaSmall.head(k);
+    for (auto& [name, value] : res.basis.parameters)
+      if ((name == "r" && whole.method == "modal") || name == "kept") value = std::to_string(k);
+    res.basis.parameters.push_back({"target", solvers::shortest(o.target)});
+  }
+  if (!res.met) {
+    res.full = true;
+    res.note = "no basis of up to " + std::to_string(available) +
+               " vectors meets the target " + solvers::shortest(o.target) + ": the full model is used";
+  }
+  res.seconds = since(start);
+  return res;
+}
+
+}  // namespace flexmb::analysis

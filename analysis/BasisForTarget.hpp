@@ -1,0 +1,55 @@
+#pragma once
+// A reduction basis chosen from an error target (issue 32): the smallest basis of the requested
+// kind whose reduced run's reduction error estimate (analysis/ReductionError.hpp) is at most the
+// target. The candidates are the leading columns of one basis (modal: the lowest modes of the q_s
+// subproblem, Eq. 21; SVD-modal: the leading singular vectors, Eq. 22-23), so one eigenanalysis or
+// one sweep serves them all; each candidate is run over the model's span with the run's integrator
+// and estimated. The scan starts at a first guess (SVD-modal: the paper's 1% rule; modal: --modes):
+// when that meets the target it goes down one vector at a time while the smaller one still meets
+// it, else up until one does; the answer is the smallest that meets it along that path (the
+// estimates fall with the size on the paper's models). Where none smaller than the full model
+// does, the full model is the answer (`full`).
+#include <Eigen/Core>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+
+namespace flexmb::analysis {
+
+struct TargetOptions {
+  double target = 1e-3;       // the reduction error, relative to the run's motion (ReductionError.hpp)
+  ReductionOptions basis;     // kind and parameters; modes / count are what the scan chooses
+  SimulationOptions run;      // the integrator and tolerances of the candidate runs (basis set here)
+  int maxVectors = 0;         // reduced columns to try at most (0: every small coordinate but one)
+  std::function<void(int vectors, double estimate)> onCandidate;  // progress
+};
+
+struct TargetCandidate {
+  int vectors = 0;  // reduced columns (besides the identity columns of Eq. 20)
+  core::ReductionEstimate estimate;
+  long fevals = 0;
+  double seconds = 0.0;  // the candidate's run and estimate
+  bool completed = false;
+  std::string stopReason;
+};
+
+struct TargetResult {
+  bool met = false;   // a basis smaller than the full model meets the target
+  bool full = false;  // none does: use the full model
+  ReductionResult basis;  // the chosen one (met), with its parameters (and "target")
+  std::vector<TargetCandidate> tried;
+  double buildSeconds = 0.0, seconds = 0.0;  // the basis of all candidates; everything
+  std::string note;                          // why the full model (or what limited the scan)
+};
+
+// Throws std::invalid_argument for a target outside (0, 1) or a model without degrees of freedom
+// to reduce.
+TargetResult basisForTarget(const core::Model& model, const TargetOptions& options);
+
+}  // namespace flexmb::analysis

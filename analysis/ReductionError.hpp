@@ -1,0 +1,45 @@
+#pragma once
+// The reduction error of a reduced run (issue 32), estimated from the run itself and the full
+// model, without a full run: at output times, the full model's residual of Eq. 13 at the reduced
+// state, Q(q, qd, qdd) with q = V eta (the generalised forces the reduced model leaves unbalanced;
+// V^T Q = 0 by Eq. 19), and the deflection the missing coordinates take under it, quasi-statically:
+//   (K + G + N) dq = Q  on the coordinates V does not hold exactly (its identity columns: the
+//   large-rotation coordinates of Eq. 20 are held, dq = 0 there),
+// mapped to the nodal positions, dx = F_q dq. The estimate is twice the largest |dx| over the
+// positions and the sampled output times (the factor calibrated in ReductionError.cpp), relative
+// to the run's motion (the largest displacement of any
+// position coordinate from its initial value; the model size where the motion is smaller than
+// 1e-3 of it). It is the residual flexibility of the modes the basis leaves out (the static
+// correction of modal truncation), which is what a basis of low modes misses when the loads and
+// inertia forces change slowly against those modes; it does not see phase errors of the kept
+// modes. Calibrated against full references in the validation report (effectivity = estimate /
+// true error, same measure).
+#include <Eigen/Core>
+#include <string>
+
+#include "core/Model.hpp"
+#include "core/Trajectory.hpp"
+
+namespace flexmb::analysis {
+
+using ReductionErrorEstimate = core::ReductionEstimate;
+
+// The largest displacement of any position coordinate from its initial value over the run.
+double motionScale(const core::Model& model, const core::Trajectory& run);
+
+// The estimate for a run of `model` with basis V (nq x m), from its stored output states
+// (x, xd, xdd, e, ed, edd: q, qd, qdd are read there), at most `maxSamples` output times spread over
+// the run (and always its last). Never throws for a numerical failure: estimated = false with the
+// reason in note.
+ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
+                                              const core::Trajectory& run, int maxSamples = 40);
+
+// The same measure between two runs of the model (a reduced run against a full reference on the
+// same output times): the largest |x_a - x_b| over the positions and times, relative to b's motion
+// (or model size). NaN when the output times differ.
+double positionErrorAgainst(const core::Model& model, const core::Trajectory& a, const core::Trajectory& b);
+
+// "reduction error estimate: 3.1e-04 of the motion (0.0833 m), ..." for the screen and the manifest.
+std::string describeReductionError(const ReductionErrorEstimate& e);
+
+}  // namespace flexmb::analysis
