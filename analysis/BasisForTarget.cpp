@@ -21,8 +21,10 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
   if (!(o.target > 0.0 && o.target < 1.0))
-    throw std::invalid_argument("--target must be a number between 0 and 1 (the reduction error relative to the "
-                                "motion), not " + solvers::shortest(o.target));
+    throw std::invalid_argument(
+        "--target must be a number between 0 and 1 (the reduction error relative to the "
+        "motion), not " +
+        solvers::shortest(o.target));
   const auto start = std::chrono::steady_clock::now();
   TargetResult res;
   // One basis with every candidate's columns: the most modes the q_s subproblem has, or every
@@ -96,8 +98,8 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
   }
   if (!res.met) {
     res.full = true;
-    res.note = "no basis of up to " + std::to_string(available) +
-               " vectors meets the target " + solvers::shortest(o.target) + ": the full model is used";
+    res.note = "no basis of up to " + std::to_string(available) + " vectors meets the target " +
+               solvers::shortest(o.target) + ": the full model is used";
   }
   res.seconds = since(start);
   return res;

@@ -23,10 +23,10 @@
 namespace flexmb::analysis {
 
 struct TargetOptions {
-  double target = 1e-3;       // the reduction error, relative to the run's motion (ReductionError.hpp)
-  ReductionOptions basis;     // kind and parameters; modes / count are what the scan chooses
-  SimulationOptions run;      // the integrator and tolerances of the candidate runs (basis set here)
-  int maxVectors = 0;         // reduced columns to try at most (0: every small coordinate but one)
+  double target = 1e-3;    // the reduction error, relative to the run's motion (ReductionError.hpp)
+  ReductionOptions basis;  // kind and parameters; modes / count are what the scan chooses
+  SimulationOptions run;   // the integrator and tolerances of the candidate runs (basis set here)
+  int maxVectors = 0;      // reduced columns to try at most (0: every small coordinate but one)
   std::function<void(int vectors, double estimate)> onCandidate;  // progress
 };
 
@@ -40,8 +40,8 @@ struct TargetCandidate {
 };
 
 struct TargetResult {
-  bool met = false;   // a basis smaller than the full model meets the target
-  bool full = false;  // none does: use the full model
+  bool met = false;       // a basis smaller than the full model meets the target
+  bool full = false;      // none does: use the full model
   ReductionResult basis;  // the chosen one (met), with its parameters (and "target")
   std::vector<TargetCandidate> tried;
   double buildSeconds = 0.0, seconds = 0.0;  // the basis of all candidates; everything

@@ -61,12 +61,15 @@ struct ErrorScale {
 ErrorScale errorScaleOf(const core::Model& model, double motion) {
   const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
   ErrorScale s;
+  char b[32];
   if (motion >= 1e-3 * L) {
     s.value = motion;
-    s.text = "of the motion (" + solvers::shortest(motion) + " m)";
+    std::snprintf(b, sizeof b, "%.3g", motion);
+    s.text = "of the motion (" + std::string(b) + " m)";
   } else {
     s.value = L;
-    s.text = "of the model size (" + solvers::shortest(L) + " m; the motion is smaller)";
+    std::snprintf(b, sizeof b, "%.3g", L);
+    s.text = "of the model size (" + std::string(b) + " m; the motion is smaller)";
   }
   return s;
 }

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "analysis/AccuracyCheck.hpp"
+#include "analysis/BasisForTarget.hpp"
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/ReductionError.hpp"
@@ -78,6 +79,8 @@ struct SimulateArgs {
   int intervals = -1, linearize = 0, bdfOrder = 0;
   std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false;
+  double target = NAN;  // --target: the reduction error target (NaN: not given)
+  std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
   analysis::Integrator chosen = analysis::Integrator::Ode45;
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
   bool csv() const { return format == "csv" || format == "both"; }
@@ -108,7 +111,14 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "echo", po::value(&a.echo),
       "write the end-of-run state as a .dat input that continues the run (SPACAR95 restart: elements, XY/BETA, "
       "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
-      "basis", po::value(&a.basisFile), "reduced model: q = V eta with V from this file (flexmb reduce)")(
+      "basis", po::value(&a.basisFile),
+      "reduced model: q = V eta with V from this file (flexmb reduce), or auto: the smallest basis whose reduction "
+      "error estimate meets --target")(
+      "target", po::value(&a.target)->notifier(finite("target")),
+      "the reduction error target EPS (0 < EPS < 1, largest position deviation relative to the motion): chooses the "
+      "basis with --basis auto; with a basis file, the estimate above it is a warning (else above 10 RelTol)")(
+      "svd-path", po::value(&a.svdPath),
+      "--basis auto: an SVD-modal basis over NODE,COMP,FROM,TO (10 equilibria, 3 modes each) instead of a modal one")(
       "dynamics", po::value(&a.dynamics),
       (std::string("how the accelerations are solved: projected (Eq. 13 in the independent coordinates, dense), "
                    "saddle-point (sparse nodal form, full models) or auto (saddle-point from ") +
@@ -152,7 +162,56 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
     return kUsageError;
   }
   if (a.matrices && a.linearize <= 0) a.linearize = 6;
+  if (!std::isnan(a.target) && !(a.target > 0.0 && a.target < 1.0)) {
+    std::cerr << "flexmb: --target must be between 0 and 1 (the reduction error relative to the motion), not "
+              << solvers::shortest(a.target) << "\n";
+    return kUsageError;
+  }
+  if (a.basisFile == "auto" && std::isnan(a.target)) {
+    std::cerr << "flexmb: --basis auto needs --target EPS (the reduction error to meet)\n";
+    return kUsageError;
+  }
+  if (!a.svdPath.empty() && a.basisFile != "auto") {
+    std::cerr << "flexmb: --svd-path applies to --basis auto\n";
+    return kUsageError;
+  }
   return std::nullopt;
+}
+
+// --basis auto --target EPS: the basis chosen by analysis::basisForTarget with the run's own
+// integrator and tolerances (nothing: the full model, said). Throws std::invalid_argument for a
+// malformed --svd-path.
+std::optional<Eigen::MatrixXd> chooseBasis(const SimulateArgs& a, const core::Model& model,
+                                           const analysis::SimulationOptions& opt, io::OutputSet& files) {
+  analysis::TargetOptions to;
+  to.target = a.target;
+  to.run = opt;
+  to.run.tEnd = opt.tEnd;
+  if (!a.svdPath.empty()) {
+    std::stringstream ss(a.svdPath);
+    char c1 = 0, c2 = 0, c3 = 0;
+    to.basis.method = "svd-modal";
+    if (!(ss >> to.basis.node >> c1 >> to.basis.component >> c2 >> to.basis.from >> c3 >> to.basis.to) || c1 != ',' ||
+        c2 != ',' || c3 != ',' || !ss.eof())
+      throw std::invalid_argument("--svd-path must be NODE,COMP,FROM,TO (e.g. 6,1,-0.0833,0.0833), not '" + a.svdPath +
+                                  "'");
+  }
+  const analysis::TargetResult tr = analysis::basisForTarget(model, to);
+  std::ostringstream tried;
+  for (const auto& c : tr.tried) {
+    char e[32];
+    std::snprintf(e, sizeof e, "%.2g", c.estimate.estimate);
+    tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
+          << " vectors: " << (c.estimate.estimated ? e : "not estimated");
+  }
+  const std::string how = "target " + solvers::shortest(a.target) + ", " + to.basis.method + "; tried " + tried.str() +
+                          "; choosing took " + solvers::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
+  files.setting("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
+                                 : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
+  std::cout << "basis auto: " << (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") << " (" << how
+            << ")\n";
+  if (tr.full) return std::nullopt;
+  return tr.basis.V;
 }
 
 analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
@@ -251,7 +310,7 @@ void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model&
                  const analysis::SimulationOptions& opt) {
   files.setting("command", "simulate");
   files.setting("model", a.m.file);
-  if (!a.basisFile.empty()) files.setting("basis", a.basisFile);
+  if (!a.basisFile.empty() && a.basisFile != "auto") files.setting("basis", a.basisFile);
   files.setting("integrator", analysis::integratorDescription(opt));
   files.setting("integration", integrationText(model, opt));
   files.setting("dynamics", a.dynamics);
@@ -517,14 +576,14 @@ int runSimulate(const std::vector<std::string>& args) {
 
   analysis::SimulationOptions opt = simulationOptions(a);
   try {
-    opt.basis = readBasisFor(a.basisFile, model);
+    if (a.basisFile != "auto") opt.basis = readBasisFor(a.basisFile, model);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
   }
   if (auto rc = refuseOversizedRun(model, opt, a.m.quiet)) return *rc;
 
-  // Output location checked before the analysis.
+  // Output location checked before the analysis (and before choosing a basis).
   std::string suffix;
   if (!a.basisFile.empty() && (a.out.empty() || a.out.back() == '/' || std::filesystem::is_directory(a.out)))
     suffix = "_" + std::filesystem::path(a.basisFile).stem().string();
@@ -539,6 +598,17 @@ int runSimulate(const std::vector<std::string>& args) {
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
+  }
+  if (a.basisFile == "auto") {
+    try {
+      opt.basis = chooseBasis(a, model, opt, files);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "flexmb: " << e.what() << "\n";
+      return kInputError;
+    } catch (const std::exception& e) {
+      std::cerr << "flexmb: no basis could be chosen: " << e.what() << "\n";
+      return kNumericalFailure;
+    }
   }
   describeRun(files, a, model, opt);
 
@@ -586,13 +656,13 @@ int runSimulate(const std::vector<std::string>& args) {
     const std::string text = analysis::describeReductionError(re);
     std::cout << "reduction error estimate: " << text << "\n";
     files.setting("reduction error estimate", text);
-    const double limit = 10.0 * opt.relTol.value_or(model.settings.relTol);
+    const double limit = !std::isnan(a.target) ? a.target : 10.0 * opt.relTol.value_or(model.settings.relTol);
     if (re.estimated && re.estimate > limit)
       std::fprintf(stderr,
-                   "flexmb: warning: the reduction error estimate %.2g is larger than 10 RelTol (%.2g): the basis "
+                   "flexmb: warning: the reduction error estimate %.2g is larger than %s (%.2g): the basis "
                    "leaves out deflections the full model has; a larger basis (flexmb reduce --target) or the full "
                    "model is more accurate\n",
-                   re.estimate, limit);
+                   re.estimate, !std::isnan(a.target) ? "the target" : "10 RelTol", limit);
   }
 
   std::vector<std::string> report;

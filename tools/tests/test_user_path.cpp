@@ -414,4 +414,37 @@ TEST_F(UserPath, MessagesPointToWhatHelps) {
   EXPECT_EQ(checks, 1u) << r.err;
 }
 
+// ---- Issue 32: the reduction error of every reduced run, and a basis from a target
+
+TEST_F(UserPath, AReducedRunSaysItsReductionErrorAndABasisMeetsATarget) {
+  Result r = flexmb("reduce " + kData + "manipulator.dat -q --modes 2 --out m2.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = flexmb("simulate " + kData + "manipulator.dat --basis m2.csv --format none -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "integration accuracy check: converged")) << r.out;
+  EXPECT_TRUE(has(r.out, "reduction error estimate: ")) << r.out;
+  EXPECT_TRUE(has(slurp(dir_ / "manipulator_m2_run.txt"), "reduction error estimate: ")) << listing();
+  // A target the basis misses is a warning; one it meets is not.
+  r = flexmb("simulate " + kData + "manipulator.dat --basis m2.csv --format none -q --target 1e-6");
+  EXPECT_TRUE(has(r.err, "larger than the target")) << r.err;
+  // reduce --target writes the smallest basis meeting it (the manipulator: two hinges + modes).
+  r = flexmb("reduce " + kData + "manipulator.dat -q --target 1e-3 --out t.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(slurp(dir_ / "t_run.txt"), "target: 0.001")) << slurp(dir_ / "t_run.txt");
+  r = flexmb("simulate " + kData + "manipulator.dat --basis auto --target 1e-3 --format none -q --out a");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "basis auto: 4 columns")) << r.out;
+  // Bad targets and --basis auto without one are usage errors.
+  for (const char* bad : {"0", "-1e-3", "1", "2", "nan", "abc"}) {
+    r = flexmb("simulate " + kData + "manipulator.dat --basis auto --format none -q --target " + bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+  }
+  r = flexmb("reduce " + kData + "manipulator.dat -q --target 0 --out z.csv");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(has(r.err, "target")) << r.err;
+  r = flexmb("simulate " + kData + "manipulator.dat --basis auto --format none -q");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "needs --target")) << r.err;
+}
+
 }  // namespace
