@@ -6,9 +6,9 @@
 // one sweep serves them all; each candidate is run over the model's span with the run's integrator
 // and estimated. The scan starts at a first guess (SVD-modal: the paper's 1% rule; modal: --modes):
 // when that meets the target it goes down one vector at a time while the smaller one still meets
-// it, else up until one does; the answer is the smallest that meets it along that path (the
-// estimates fall with the size on the paper's models). Where none smaller than the full model
-// does, the full model is the answer (`full`).
+// it; else it goes up, each time to the first size whose estimate, predicted from the last run's
+// deflections (predictReductionError), is within half the target, and runs that. Where none smaller
+// than the full model meets it, the full model is the answer (`full`).
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -37,6 +37,7 @@ struct TargetCandidate {
   double seconds = 0.0;  // the candidate's run and estimate
   bool completed = false;
   std::string stopReason;
+  int predictedNext = 0;  // scanning up: the size its deflections predicted to meet the target (run next)
 };
 
 struct TargetResult {

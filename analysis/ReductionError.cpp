@@ -86,7 +86,7 @@ double motionScale(const core::Model& model, const core::Trajectory& run) {
 }
 
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
-                                              const core::Trajectory& run, int maxSamples) {
+                                              const core::Trajectory& run, int maxSamples, ResidualDeflections* keep) {
   ReductionErrorEstimate e;
   const auto start = std::chrono::steady_clock::now();
   const int m = model.numDofs();
@@ -107,6 +107,10 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
   for (int j = 0; j < m; ++j)
     if (!held[static_cast<size_t>(j)]) free.push_back(j);
   const int nf = static_cast<int>(free.size());
+  std::vector<int> positions;
+  for (int i = 0; i < model.nx; ++i)
+    if (isPositionCoordinate(model, i)) positions.push_back(i);
+  if (keep) *keep = ResidualDeflections{free, {}, {}, {}, e.scale};
 
   const int n = static_cast<int>(run.states.size());
   std::vector<int> samples;
@@ -139,6 +143,14 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
       dq.setZero();
       for (int a = 0; a < nf; ++a) dq[free[a]] = dqs[a];
       const Eigen::VectorXd dx = lin.transfer() * dq;
+      if (keep) {
+        Eigen::MatrixXd Fpos(positions.size(), nf);
+        for (size_t i = 0; i < positions.size(); ++i)
+          for (int a = 0; a < nf; ++a) Fpos(static_cast<Eigen::Index>(i), a) = lin.transfer()(positions[i], free[a]);
+        keep->dq.push_back(dqs);
+        keep->T.push_back(Tss);
+        keep->Fpos.push_back(std::move(Fpos));
+      }
       double worst = 0.0;
       for (int i = 0; i < model.nx; ++i)
         if (isPositionCoordinate(model, i)) worst = std::max(worst, std::abs(dx[i]));
@@ -154,6 +166,27 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
   }
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return e;
+}
+
+double predictReductionError(const ResidualDeflections& found, const Eigen::MatrixXd& W) {
+  const Eigen::Index nf = static_cast<Eigen::Index>(found.free.size());
+  // W's columns on the free coordinates (its identity columns of held coordinates vanish there).
+  Eigen::MatrixXd Ws(nf, W.cols());
+  for (Eigen::Index a = 0; a < nf; ++a) Ws.row(a) = W.row(found.free[static_cast<size_t>(a)]);
+  std::vector<Eigen::Index> keepCols;
+  for (Eigen::Index c = 0; c < Ws.cols(); ++c)
+    if (Ws.col(c).cwiseAbs().maxCoeff() > 0.0) keepCols.push_back(c);
+  Eigen::MatrixXd Wf(nf, static_cast<Eigen::Index>(keepCols.size()));
+  for (size_t c = 0; c < keepCols.size(); ++c) Wf.col(static_cast<Eigen::Index>(c)) = Ws.col(keepCols[c]);
+  double worst = 0.0;
+  for (size_t s = 0; s < found.dq.size(); ++s) {
+    const Eigen::MatrixXd& T = found.T[s];
+    const Eigen::VectorXd& d = found.dq[s];
+    const Eigen::VectorXd rest =
+        d - Wf * (Wf.transpose() * T * Wf).completeOrthogonalDecomposition().solve(Wf.transpose() * (T * d));
+    if (found.Fpos[s].rows() > 0) worst = std::max(worst, (found.Fpos[s] * rest).cwiseAbs().maxCoeff());
+  }
+  return kSafety * worst / found.scale;
 }
 
 double positionErrorAgainst(const core::Model& model, const core::Trajectory& a, const core::Trajectory& b) {

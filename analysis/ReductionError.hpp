@@ -16,6 +16,7 @@
 // true error, same measure).
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "core/Model.hpp"
 #include "core/Trajectory.hpp"
@@ -31,8 +32,24 @@ double motionScale(const core::Model& model, const core::Trajectory& run);
 // (x, xd, xdd, e, ed, edd: q, qd, qdd are read there), at most `maxSamples` output times spread over
 // the run (and always its last). Never throws for a numerical failure: estimated = false with the
 // reason in note.
+// What an estimate found at its samples, kept to predict the estimate of a larger basis without its
+// run (predictReductionError).
+struct ResidualDeflections {
+  std::vector<int> free;                 // the q indices not held by the basis (rows of dq, T)
+  std::vector<Eigen::VectorXd> dq;       // the deflection on them, per sample
+  std::vector<Eigen::MatrixXd> T, Fpos;  // K + G + N on them; F_q's position rows on them
+  double scale = 1.0;
+};
+
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
-                                              const core::Trajectory& run, int maxSamples = 40);
+                                              const core::Trajectory& run, int maxSamples = 40,
+                                              ResidualDeflections* keep = nullptr);
+
+// The estimate a basis W (with the same held coordinates, e.g. more columns of the same kind)
+// would give, predicted from the deflections of another basis' run: what of each deflection W does
+// not take up statically (dq - W (W^T T W)^-1 W^T T dq on the free coordinates), doubled, relative
+// to the same scale. It assumes the run with W moves as the run behind `found` did.
+double predictReductionError(const ResidualDeflections& found, const Eigen::MatrixXd& W);
 
 // The same measure between two runs of the model (a reduced run against a full reference on the
 // same output times): the largest |x_a - x_b| over the positions and times, relative to b's motion

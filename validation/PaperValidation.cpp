@@ -464,6 +464,9 @@ class PaperValidation {
         to.run = stoppable();
         const analysis::TargetResult tr = analysis::basisForTarget(*c.model, to);
         row.choosing = tr.seconds;
+        for (const auto& cand : tr.tried)  // the chosen size's own candidate run is the reduced run itself
+          if (tr.met && cand.vectors == static_cast<int>(tr.basis.V.cols() - tr.basis.large.size()))
+            row.chosenCandidate = cand.seconds;
         row.candidates = static_cast<int>(tr.tried.size());
         if (!tr.met) {
           row.note = tr.note;
@@ -595,20 +598,22 @@ class PaperValidation {
           "smallest basis of the kind whose reduced run's estimate meets EPS, the scan starting at the paper's 1% "
           "rule (SVD-modal) or 3 modes (modal). Vectors: reduced columns besides the identity columns of Eq. 20 "
           "(the manipulator's two hinges). Smallest: the smallest size whose true error meets EPS, found by running "
-          "every size against the full run. Choosing: every candidate's run and estimate, the chosen one's "
-          "included, as a fraction of one full run.\n\n"
+          "every size against the full run. Choosing: the candidates' runs and estimates besides the chosen size's "
+          "own run (which is the reduced run), as a fraction of one full run; all candidates: with it.\n\n"
           "| model | EPS | vectors | smallest | true error | estimate | effectivity | candidates | choosing / full "
-          "run | reduced run [s] | full run [s] |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "run | all candidates / full run | reduced run [s] | full run [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& t : targetRows) {
       md << "| " << t.name << " | " << fmt(t.eps, 2) << " | ";
       if (!t.note.empty()) {
-        md << t.note << " | | | | | " << t.candidates << " | " << fmt(t.choosing / t.fullWall, 3) << " | | "
-           << fmt(t.fullWall, 3) << " |\n";
+        md << t.note << " | | | | | " << t.candidates << " | " << fmt(t.choosing / t.fullWall, 3) << " | "
+           << fmt(t.choosing / t.fullWall, 3) << " | | " << fmt(t.fullWall, 3) << " |\n";
         continue;
       }
       md << t.vectors << " | " << t.smallest << " | " << fmt(t.trueError, 3) << " | " << fmt(t.estimate, 3) << " | "
-         << fmt(t.estimate / t.trueError, 3) << " | " << t.candidates << " | " << fmt(t.choosing / t.fullWall, 3)
-         << " | " << fmt(t.reducedWall, 3) << " | " << fmt(t.fullWall, 3) << " |\n";
+         << fmt(t.estimate / t.trueError, 3) << " | " << t.candidates << " | "
+         << fmt((t.choosing - t.chosenCandidate) / t.fullWall, 3) << " | " << fmt(t.choosing / t.fullWall, 3) << " | "
+         << fmt(t.reducedWall, 3) << " | " << fmt(t.fullWall, 3) << " |\n";
     }
     md << "\nMODAL bases have mass-normalised columns (V_s^T M_s V_s = I, as MATLAB's eig(K, M) returns them; `reduce "
           "--normalise unit` "
@@ -750,7 +755,8 @@ class PaperValidation {
   // Bases from an error target (targets()).
   struct TargetRow {
     std::string name, note;
-    double eps = 0.0, trueError = NAN, estimate = NAN, choosing = 0.0, reducedWall = 0.0, fullWall = 0.0;
+    double eps = 0.0, trueError = NAN, estimate = NAN, choosing = 0.0, chosenCandidate = 0.0, reducedWall = 0.0,
+           fullWall = 0.0;
     int vectors = 0, smallest = 0, candidates = 0;
   };
   std::vector<TargetRow> targetRows;

@@ -26,6 +26,8 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/BasisForTarget.hpp"
+#include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
@@ -67,8 +69,10 @@ void readBack(const std::string& path, Variables& vars, bool skipTime) {
 //   reltol, abstol, maxstep, tend   positive numbers overriding the file's ERROR / TIMESTEP / HMAX
 //   intervals   output intervals (a whole number >= 0; 0: every step)
 //   bdforder    the highest BDF order, 1 to 5 (bdf and auto)
+//   target      a reduction error target (0 < target < 1): the run is reduced with the smallest modal
+//               basis whose reduction error estimate meets it (analysis/BasisForTarget.hpp)
 // Returns an error message (empty: fine).
-std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt) {
+std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, double& target) {
   if (!mxIsStruct(o) || mxGetNumberOfElements(o) != 1)
     return "spacar: the third argument must be a struct of options (integrator, reltol, abstol, maxstep, tend, "
            "intervals, bdforder)";
@@ -93,12 +97,15 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt) {
     } else if (name == "bdforder") {
       if (!(x >= 1 && x <= 5 && x == std::floor(x))) return "spacar: opts.bdforder must be 1, 2, 3, 4 or 5";
       opt.bdfMaxOrder = static_cast<int>(x);
+    } else if (name == "target") {
+      if (!(x > 0 && x < 1)) return "spacar: opts.target must be a number between 0 and 1 (the reduction error)";
+      target = x;
     } else if (name == "reltol" || name == "abstol" || name == "maxstep" || name == "tend") {
       if (!(std::isfinite(x) && x > 0)) return "spacar: opts." + name + " must be a positive finite number";
       (name == "reltol" ? opt.relTol : name == "abstol" ? opt.absTol : name == "maxstep" ? opt.maxStep : opt.tEnd) = x;
     } else {
       return "spacar: unknown option '" + name +
-             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder)";
+             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, target)";
     }
   }
   return "";
@@ -114,7 +121,8 @@ void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
 }
 
-void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, Run& run) {
+void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
+               Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
   core::Model model;
@@ -163,6 +171,16 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
       case 1:
       case 4: {
         analysis::SimulationOptions opt = simOptions;
+        if (!std::isnan(target)) {  // opts.target: a reduced run with the basis chosen for it
+          analysis::TargetOptions to;
+          to.target = target;
+          to.run = opt;
+          const analysis::TargetResult tr = analysis::basisForTarget(model, to);
+          if (tr.met) opt.basis = tr.basis.V;
+          out << "spacar: target " << target << ": "
+              << (tr.met ? "a modal basis of " + std::to_string(tr.basis.V.cols()) + " columns" : tr.note) << " ("
+              << tr.tried.size() << " candidate runs, " << tr.seconds << " s)\n";
+        }
         core::Trajectory traj;
         const auto start = std::chrono::steady_clock::now();
         {
@@ -185,6 +203,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         } else {
           out << "spacar: wall time " << wall << " s\n";
         }
+        if (opt.basis && traj.reduction.estimated)
+          out << "spacar: reduction error estimate: " << analysis::describeReductionError(traj.reduction) << "\n";
         if (!std::isnan(traj.switchedAt))
           out << "spacar: auto: ode45's step was bound by stability at t = " << traj.switchedAt << " s (|lambda| about "
               << traj.stiffLambda << " 1/s): bdf from there on\n";
@@ -293,17 +313,18 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   const std::string name = nameC ? nameC : "";
   mxFree(nameC);
   Run run;
+  double target = std::nan("");  // opts.target
   analysis::SimulationOptions options;
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";
-  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options)).empty()) {
+  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target)).empty()) {
     run.errorId = "flexmb:spacar:usage";
   } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4) {
     run.error = "spacar: options (the third argument) apply to modes 1, 3 and 4 (time integration)";
     run.errorId = "flexmb:spacar:usage";
   } else {
-    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, run);
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, run);
   }
   // Results so far go to the workspace even when the run stopped.
   // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().

@@ -55,6 +55,25 @@ function test_spacar_options(src, flexmb)
   interrupt('rod_slow', struct('tend', 100, 'intervals', 100000), 'flexmb_test_slow_loads');
   d = spacar(-1, 'damped_probe', struct('integrator', 'bdf'));
   assert(isequal(d.x, b.x), 'the gateway differs after the interrupts');
+  % opts.target (issue 32): the guidance reduced with the smallest modal basis meeting 1e-2, against
+  % the full run in the same measure (every position, of the motion).
+  copyfile(fullfile(src, 'datfiles', 'straight_guidance.dat'), '.');
+  full = spacar(-1, 'straight_guidance');
+  red = spacar(-1, 'straight_guidance', struct('target', 1e-2));
+  assert(red.tdef == full.tdef, 'output times: %d against %d', red.tdef, full.tdef);
+  pos = reshape(full.lnp(full.lnp(:, 2) > 0, 1:2), [], 1);  % planar position nodes: x and y
+  motion = max(max(abs(full.x(:, pos) - full.x(1, pos))));
+  err = max(max(abs(red.x(:, pos) - full.x(:, pos)))) / motion;
+  fprintf('opts.target 1e-2 on the guidance: error %.3g of the motion\n', err);
+  assert(err <= 1e-2, 'opts.target 1e-2: the reduced run is %g off', err);
+  for bad = {0, 1, -1, 'x'}
+    try
+      spacar(-1, 'straight_guidance', struct('target', bad{1}));
+      error('target %s was accepted', num2str(bad{1}));
+    catch err
+      assert(strcmp(err.identifier, 'flexmb:spacar:usage'), '%s (%s)', err.message, err.identifier);
+    end
+  end
 end
 
 function interrupt(name, opts, usersig)
