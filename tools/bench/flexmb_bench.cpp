@@ -29,6 +29,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Reduction.hpp"
+#include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/EquationsOfMotion.hpp"
@@ -290,6 +291,20 @@ core::AccuracyEstimate accuracyOf(const Problem& p, const Run& r, double relTol,
   return analysis::checkAccuracy(m, o, p.tspan.front(), p.tspan.back(), rec.complete());
 }
 
+// A reduced run's reduction error estimate (analysis/ReductionError.hpp), as simulate prints it:
+// from the run's output states. Outside the timing.
+core::ReductionEstimate reductionOf(const Problem& p, const Run& r) {
+  core::Trajectory traj;
+  core::EquationsOfMotion probe(*p.model, p.basis);
+  for (size_t i = 0; i < r.t.size(); ++i) {
+    core::StateOutputs out;
+    probe.outputs(r.t[i], r.y[i], out);
+    traj.time.push_back(r.t[i]);
+    traj.states.push_back(std::move(out));
+  }
+  return analysis::estimateReductionError(*p.model, *p.basis, traj);
+}
+
 struct Reference {
   std::vector<Eigen::Vector2d> r;
   double scale = 1.0;  // max deflection (guidance) or reach (manipulator)
@@ -315,7 +330,8 @@ struct Point {
   std::string status;
   std::string note;  // failure reason or prediction
   bool completed() const { return status == "ok" || status == "not converged"; }
-  double estimate = NAN;  // the accuracy check's estimate of the error (of the model size)
+  double estimate = NAN;   // the accuracy check's estimate of the error (of the model size)
+  double reduction = NAN;  // reduced runs: the reduction error estimate (of the motion)
   long fevals = 0, jacFevals = 0, nsteps = 0, nfailed = 0, njac = 0;
   double wall = NAN, error = NAN;
   int runs = 0;
@@ -689,6 +705,13 @@ int main(int argc, char** argv) {
             pt.status = "failed";
             pt.note = std::string("response evaluation: ") + e.what();
           }
+          if (pt.status != "failed" && prob.basis) {
+            try {
+              const core::ReductionEstimate re = reductionOf(prob, r);
+              if (re.estimated) pt.reduction = re.estimate;
+            } catch (const std::exception&) {  // the column stays empty
+            }
+          }
           if (pt.status == "ok") {  // "ok" means converged, as simulate's accuracy check says it
             try {
               const core::AccuracyEstimate acc = accuracyOf(prob, r, tol, tol * absFactor, m.bdfOrder);
@@ -709,13 +732,15 @@ int main(int argc, char** argv) {
           pt.note = r.reason;
         }
         if (pt.completed()) {
-          std::printf("%s: %ld fevals%s, %s s (%s), error %s, accuracy check %s%s\n", tag.c_str(), pt.fevals,
+          std::printf("%s: %ld fevals%s, %s s (%s), error %s, accuracy check %s, reduction estimate %s%s\n",
+                      tag.c_str(), pt.fevals,
                       cv ? (" (" + std::to_string(pt.njac) + " Jacobians, " + std::to_string(pt.jacFevals) +
                             " evaluations in them)")
                                .c_str()
                          : "",
                       secText(pt.wall).c_str(), pt.runs > 1 ? "median of 3" : "1 run", sci(pt.error).c_str(),
                       std::isfinite(pt.estimate) ? sci(pt.estimate, 1).c_str() : "-",
+                      std::isfinite(pt.reduction) ? sci(pt.reduction, 1).c_str() : "-",
                       pt.status == "ok" ? "" : " (NOT CONVERGED)");
           prevFe = lastFe;
           lastFe = static_cast<double>(pt.fevals);
@@ -897,7 +922,10 @@ int main(int argc, char** argv) {
         "difference per second times the span, in positions relative to the model size) finds it converged, i.e. "
         "the estimate is at most 10 RelTol. **not converged**: completed, but the estimate is larger; such runs are "
         "plotted with their measured error. The column *accuracy check* is that estimate (the *error* column is the "
-        "error measured against the reference, on its own scale).\n";
+        "error measured against the reference, on its own scale). The column *reduction estimate* is what every "
+        "reduced run of `simulate` prints beside it: its reduction error estimate (analysis/ReductionError.hpp; "
+        "every position, of the motion: a measure of its own, comparable with the validation report's true errors, "
+        "not with the *error* column's single response).\n";
   md << "- CVODE: " << solvers::Bdf::library()
      << " through solvers::Bdf (as `flexmb simulate --integrator bdf`): BDF, Newton with the dense direct linear "
         "solver, "
@@ -943,8 +971,8 @@ int main(int argc, char** argv) {
     md << "Evaluation counts instead of time: [" << svgFiles[cs.key + "_fevals"] << "](" << svgFiles[cs.key + "_fevals"]
        << ")\n\n";
     md << "| method | integrator | RelTol | status | fevals | steps (failed) | wall time [s] | runs | us/feval | error "
-          "| accuracy check |\n";
-    md << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+          "| accuracy check | reduction estimate |\n";
+    md << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const Point& p : points) {
       if (p.model != cs.key) continue;
       md << "| " << p.method << " | " << p.integrator << " | " << tolText(p.relTol) << " | ";
@@ -954,7 +982,7 @@ int main(int argc, char** argv) {
         md << p.status << ": " << mdEscape(p.note.size() > 170 ? p.note.substr(0, 167) + "..." : p.note);
       md << " | ";
       if (p.status == "skipped") {
-        md << "- | - | - | - | - | - | - |\n";
+        md << "- | - | - | - | - | - | - | - |\n";
         continue;
       }
       md << withThousands(p.fevals);
@@ -962,7 +990,8 @@ int main(int argc, char** argv) {
       md << " | " << withThousands(p.nsteps) << " (" << withThousands(p.nfailed) << ") | " << secText(p.wall) << " | "
          << p.runs << " | " << (p.fevals > 0 ? fmt("%.1f", p.wall / p.fevals * 1e6) : std::string("-")) << " | "
          << (p.completed() ? sci(p.error) : std::string("-")) << " | "
-         << (std::isfinite(p.estimate) ? sci(p.estimate, 1) : std::string("-")) << " |\n";
+         << (std::isfinite(p.estimate) ? sci(p.estimate, 1) : std::string("-")) << " | "
+         << (std::isfinite(p.reduction) ? sci(p.reduction, 1) : std::string("-")) << " |\n";
     }
     md << "\n";
   }
