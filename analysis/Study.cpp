@@ -1,5 +1,7 @@
 #include "analysis/Study.hpp"
 
+#include "analysis/BasisForTarget.hpp"
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -216,7 +218,9 @@ std::string StudyAnalyses::describe() const {
     };
     opt("t-end", o.tEnd), opt("reltol", o.relTol), opt("abstol", o.absTol), opt("max-step", o.maxStep);
     opt("intervals", o.intervals);
-    s << ", dynamics " << static_cast<int>(o.dynamics) << "\n";
+    s << ", dynamics " << static_cast<int>(o.dynamics);
+    if (reductionTarget) s << ", reduction target " << *reductionTarget;
+    s << "\n";
   }
   if (!stiffnessNodes.empty()) {
     s << "stiffness nodes:";
@@ -388,8 +392,19 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
       SimulationOptions o = *a.simulation;
       o.progress = false;
       o.interrupt = nullptr;
+      if (a.reductionTarget) {  // the variant's own basis for the target (none: the full model)
+        TargetOptions to;
+        to.target = *a.reductionTarget;
+        to.run = o;
+        const TargetResult chosen = basisForTarget(model, to);
+        if (chosen.met) o.basis = chosen.basis.V;
+        q.emplace_back("sim_basis_vectors", chosen.met ? static_cast<double>(chosen.basis.V.cols()) : kNaN);
+        if (!chosen.met) r.notes.push_back("simulate: " + chosen.note);
+      }
       r.trajectory = simulate(model, o);
       const core::Trajectory& tr = *r.trajectory;
+      if (a.reductionTarget)
+        q.emplace_back("sim_reduction_estimate", tr.reduction.estimated ? tr.reduction.estimate : kNaN);
       q.emplace_back("sim_t_end", tr.time.empty() ? kNaN : tr.time.back());
       q.emplace_back("sim_steps", static_cast<double>(tr.nsteps));
       q.emplace_back("sim_fevals", static_cast<double>(tr.nfevals));

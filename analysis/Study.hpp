@@ -61,6 +61,10 @@ struct StudyAnalyses {
   std::optional<Statics> statics;               // flexmb static
   std::optional<SweepOptions> sweep;            // flexmb sweep (onPoint unused)
   std::optional<SimulationOptions> simulation;  // flexmb simulate (single stage; progress and interrupt unused)
+  // simulate --target: each variant reduced with the smallest modal basis whose reduction error
+  // estimate meets this (analysis/BasisForTarget.hpp); quantities sim_basis_vectors and
+  // sim_reduction_estimate.
+  std::optional<double> reductionTarget;
   // Node labels whose tangent stiffness the static step reports (at the last equilibrium); empty:
   // every node that carries a load (XF, DELXF).
   std::vector<int> stiffnessNodes;

@@ -686,6 +686,7 @@ int runStudy(const std::vector<std::string>& args) {
   double tEnd = 0, relTol = 0, absTol = 0;
   int intervals = -1;
   std::string integrator = "ode45";
+  double target = NAN;  // --target (NaN: not given)
   SlurmOptions slurm;
   po::options_description pd("parameters");
   pd.add_options()("param", po::value(&params)->composing(),
@@ -715,6 +716,9 @@ int runStudy(const std::vector<std::string>& args) {
       "abstol", po::value(&absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
       "intervals", po::value(&intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
       "integrator", po::value(&integrator), "simulate: ode45 (default) or bdf")(
+      "target", po::value(&target)->notifier(finite("target")),
+      "simulate: reduce each variant with the smallest modal basis whose reduction error estimate meets this "
+      "target (0 < EPS < 1; columns sim_basis_vectors, sim_reduction_estimate)")(
       "derive", po::value(&derive)->composing(),
       "a derived quantity name=expression in the parameters and quantities, e.g. "
       "stress=6*max_bending/(w*t^2) (repeatable)");
@@ -790,6 +794,16 @@ int runStudy(const std::vector<std::string>& args) {
     if (intervals >= 0) o.intervals = intervals;
     o.keepStates = true;
     a.simulation = o;
+    if (!std::isnan(target)) {
+      if (!(target > 0 && target < 1)) {
+        std::cerr << "flexmb: --target must be between 0 and 1 (the reduction error relative to the motion)\n";
+        return kUsageError;
+      }
+      a.reductionTarget = target;
+    }
+  } else if (!std::isnan(target)) {
+    std::cerr << "flexmb: --target applies to --simulate\n";
+    return kUsageError;
   }
   a.stiffnessNodes = stiffness;
   for (const auto& dv : derive) {

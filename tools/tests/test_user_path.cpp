@@ -445,6 +445,15 @@ TEST_F(UserPath, AReducedRunSaysItsReductionErrorAndABasisMeetsATarget) {
   r = flexmb("simulate " + kData + "manipulator.dat --basis auto --format none -q");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r.err, "needs --target")) << r.err;
+  // A design study reduces each variant for the target and tables the basis and its estimate.
+  const std::string tpl = variant("manipulator.dat", "ESTIFF ([12])  5e3", "ESTIFF $1  {kp}", "manip_study.dat");
+  r = flexmb("study " + tpl + " --param kp=3e3:6e3:2 --simulate --target 1e-3 --out st -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string table = slurp(dir_ / "st" / "study_summary.csv");
+  EXPECT_TRUE(has(table, "sim_basis_vectors,sim_reduction_estimate")) << table;
+  EXPECT_TRUE(has(table, ",ok,18,4,")) << table;
+  r = flexmb("study " + tpl + " --param kp=3e3:6e3:2 --static --target 1e-3 --out st2 -q");
+  EXPECT_EQ(r.code, 2) << "--target without --simulate";
 }
 
 }  // namespace
