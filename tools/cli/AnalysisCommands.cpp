@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <iostream>
 #include <set>
+#include <sstream>
 
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
@@ -199,8 +200,11 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
-  std::string out, svg, html, vtk;
+  std::string out, svg, html, vtk, format = "both";
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
+      "format", po::value(&format),
+      "csv (the load steps' table), mat (SPACAR's <model>.sbd / .sbm, which SPACAR's scripts read), both (default, "
+      "as SPACAR writes its files) or none")(
       "ltv", po::bool_switch(&ltv),
       "SPACAR's mode 3 on a static file (`--mode 3`): also M0 and K0B = K0 + N0 + G0 over every kinematic degree "
       "of freedom, inputs included, per load step in <model>.ltv (mode 3 in the .sbd)")(
@@ -214,10 +218,20 @@ int runStatic(const std::vector<std::string>& args) {
       "also write a 3-D page that plays the load steps and the last one's mode shapes (default: beside the CSV)")(
       "vtk", po::value(&vtk)->implicit_value("<prefix>"),
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
-  if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--out "
-                             "file.csv] [--svg file.svg] [--html [file.html]] [--vtk [prefix]]"))
+  if (auto rc =
+          parseCommand(args, d, m,
+                       "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--format "
+                       "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--html [file.html]] [--vtk [prefix]]"))
     return *rc;
+  if (format != "csv" && format != "mat" && format != "both" && format != "none") {
+    std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
+    return kUsageError;
+  }
+  if (ltv && (format == "csv" || format == "none")) {
+    std::cerr << "flexmb: --ltv writes SPACAR's .ltv beside the .sbd: it needs --format mat or both\n";
+    return kUsageError;
+  }
+  const bool writeCsv = format == "csv" || format == "both", writeSpacar = format == "mat" || format == "both";
   core::Model model;
   if (!loadModelFor(m, model, false)) return kInputError;
   const long n = steps > 0 ? steps : std::max(1, model.settings.loadSteps);
@@ -257,6 +271,7 @@ int runStatic(const std::vector<std::string>& args) {
   files.setting("model", m.file);
   files.setting("load steps", std::to_string(n));
   files.setting("nev", std::to_string(nev));
+  files.setting("format", format);
   if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
 
   installInterruptHandler();
@@ -271,7 +286,14 @@ int runStatic(const std::vector<std::string>& args) {
   const analysis::StaticRun run = analysis::staticAnalysis(model, so);
   progress.finish();
   try {
-    std::ofstream csv(files.temporaryPath(csvPath));
+    // --format without csv: the rows go nowhere (a stream without a buffer), the screen is the same.
+    std::ofstream csvFile;
+    if (writeCsv) csvFile.open(files.temporaryPath(csvPath));
+    std::ostream noTable(nullptr);
+    std::ostream& csv = writeCsv ? static_cast<std::ostream&>(csvFile) : noTable;
+    // -q: the load steps are not listed (the final displacements and the files still are).
+    std::ostringstream quietSteps;
+    std::ostream& screen = m.quiet ? static_cast<std::ostream&>(quietSteps) : std::cout;
     csv << std::setprecision(17) << "load_step,initial_factor,load_factor";
     for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
     for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
@@ -279,13 +301,13 @@ int runStatic(const std::vector<std::string>& args) {
     csv << "\n";
     for (const auto& st : run.steps) {
       if (st.loadStep >= 0)
-        std::cout << "load step " << st.loadStep << " of " << run.loadSteps;
+        screen << "load step " << st.loadStep << " of " << run.loadSteps;
       else
-        std::cout << "initial loads ramp";
-      std::cout << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
-                << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
-                << "\n";
-      if (st.frequencies.omega.size()) printFrequencies(std::cout, st.frequencies.omega);
+        screen << "initial loads ramp";
+      screen << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
+             << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
+             << "\n";
+      if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
       csv << st.loadStep << "," << st.initialFactor << "," << st.loadFactor;
       for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
       for (int i = 0; i < nev; ++i) {  // every row as long as the header
@@ -293,10 +315,10 @@ int runStatic(const std::vector<std::string>& args) {
         if (i < st.frequencies.omega.size()) csv << st.frequencies.omega[i] / (2 * M_PI);
       }
       if (buckling > 0) {
-        std::cout << "  buckling load factors:";
-        for (Eigen::Index i = 0; i < st.buckling.size(); ++i) std::cout << " " << st.buckling[i];
-        if (st.buckling.size() == 0) std::cout << " none (K0 not positive definite or no compressive G0)";
-        std::cout << "\n";
+        screen << "  buckling load factors:";
+        for (Eigen::Index i = 0; i < st.buckling.size(); ++i) screen << " " << st.buckling[i];
+        if (st.buckling.size() == 0) screen << " none (K0 not positive definite or no compressive G0)";
+        screen << "\n";
         for (int i = 0; i < buckling; ++i) {
           csv << ",";  // empty where there is no factor
           if (i < st.buckling.size()) csv << st.buckling[i];
@@ -304,9 +326,11 @@ int runStatic(const std::vector<std::string>& args) {
       }
       csv << "\n";
     }
-    csv.flush();
-    if (!csv) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
-    csv.close();
+    if (writeCsv) {
+      csvFile.flush();
+      if (!csvFile) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
+      csvFile.close();
+    }
     printFinalDisplacements(std::cout, model, run);
     files.renameFiles();  // the load steps' CSV first: nothing after it can take it away
   } catch (const std::exception& e) {
@@ -315,7 +339,7 @@ int runStatic(const std::vector<std::string>& args) {
   }
   // SPACAR's <model>.sbd / .sbm beside the CSV (io/results.md; the steps reached), then the pictures:
   // each on its own (tryProduct).
-  bool complete = tryProduct(files, "SPACAR's .sbd/.sbm", [&] {
+  bool complete = !writeSpacar || tryProduct(files, "SPACAR's .sbd/.sbm", [&] {
     const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
     analysis::SpacarOutputOptions spo;
     spo.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics

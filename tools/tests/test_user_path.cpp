@@ -456,4 +456,24 @@ TEST_F(UserPath, AReducedRunSaysItsReductionErrorAndABasisMeetsATarget) {
   EXPECT_EQ(r.code, 2) << "--target without --simulate";
 }
 
+// Issue 38 item 4: static writes only what --format asks, and -q does not list the load steps.
+TEST_F(UserPath, StaticWritesWhatFormatAsksAndQuietIsQuiet) {
+  Result r = flexmb("static " + kData + "cantilever.dat -q --format csv --out c.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(has(r.out, "load step 1 of 1")) << r.out;
+  EXPECT_TRUE(has(r.out, "node    5:")) << "the final displacements stay\n" << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "c.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "cantilever.sbd")) << listing();
+  r = flexmb("static " + kData + "cantilever.dat --format mat --out m.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "load step 1 of 1")) << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "m.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "cantilever.sbd")) << listing();
+  EXPECT_TRUE(has(slurp(dir_ / "m_run.txt"), "format: mat"));
+  r = flexmb("static " + kData + "cantilever.dat --format pdf");
+  EXPECT_EQ(r.code, 2);
+  r = flexmb("static " + kData + "cantilever.dat --format csv --ltv");
+  EXPECT_EQ(r.code, 2);
+}
+
 }  // namespace
