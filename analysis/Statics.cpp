@@ -8,11 +8,51 @@
 
 #include "analysis/Interrupt.hpp"
 #include "core/ElementValidity.hpp"
+#include "core/elements/EulerParameters.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {
 
 namespace {
+// Statics has no time: the kinematics' "failed at t = 0" is said without it.
+std::string staticWording(std::string message) {
+  const std::string timed = "kinematics failed at t = 0: ";
+  for (auto at = message.find(timed); at != std::string::npos; at = message.find(timed))
+    message.replace(at, timed.size(), "the kinematics failed: ");
+  return message;
+}
+
+// The element whose end nodes turned most against each other since the initial configuration
+// (planar: the difference of the angles; spatial: the angle of the relative rotation).
+struct ElementBend {
+  int element = -1;
+  double angle = 0.0;
+};
+constexpr double kBendAdvice = 0.8;  // rad: beyond it, "refine the mesh" (beams follow about 1 rad)
+ElementBend largestBend(const core::Model& model, const Eigen::VectorXd& x) {
+  ElementBend worst;
+  for (size_t ei = 0; ei < model.elements.size(); ++ei) {
+    std::vector<const core::Node*> ends;
+    for (int ni : model.elements[ei].nodes) {
+      const core::Node& nd = model.nodes[static_cast<size_t>(ni)];
+      if (nd.kind == core::NodeKind::Orientation || nd.kind == core::NodeKind::EulerParameters) ends.push_back(&nd);
+    }
+    if (ends.size() != 2) continue;
+    double angle = 0.0;
+    const int p = ends[0]->firstCoord, q = ends[1]->firstCoord;
+    if (ends[0]->kind == core::NodeKind::Orientation) {
+      angle = std::abs((x[q] - x[p]) - (model.x0[q] - model.x0[p]));
+    } else {
+      using core::euler::rotation;
+      const Eigen::Matrix3d now = rotation(x.segment<4>(p)).transpose() * rotation(x.segment<4>(q));
+      const Eigen::Matrix3d then = rotation(model.x0.segment<4>(p)).transpose() * rotation(model.x0.segment<4>(q));
+      const double c = std::clamp(((then.transpose() * now).trace() - 1.0) / 2.0, -1.0, 1.0);
+      angle = std::acos(c);
+    }
+    if (angle > worst.angle) worst = {static_cast<int>(ei), angle};
+  }
+  return worst;
+}
 // Force scale of the residual test: a stiffness times a small motion of the model.
 double stiffnessForce(const core::Model& m, const Eigen::VectorXd& diagonalK) {
   return diagonalK.size() ? 1e-6 * std::max(m.lengthScale(), 1e-3) * diagonalK.cwiseAbs().maxCoeff() : 0.0;
@@ -204,6 +244,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
   const bool loadControl =
       std::none_of(model.inputX.begin(), model.inputX.end(), [](const core::Rheonomic& r) { return r.delta != 0.0; });
   const double minStep = std::ldexp(1.0, -6);
+  Eigen::VectorXd lastEquilibrium = model.x0;  // the configuration of the last converged (sub-)step
   auto interrupted = [&](int step) {
     if (!stopRequested(options.interrupt)) return false;
     run.completed = false;
@@ -253,6 +294,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
         if (!sparse) lastStable = res.stable;
         eta = trial;
         reached = p;
+        lastEquilibrium = lin.kinematics().x();
         ds = std::min(2 * ds, 1.0 - reached);
         continue;
       }
@@ -262,7 +304,20 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
         std::ostringstream msg;
         msg << "no equilibrium beyond load factor " << lr.increment;
         if (lr.initial != 1.0) msg << " (initial loads " << lr.initial << ")";
-        msg << " (step " << i << " of " << n << "): " << res.message;
+        std::string why = staticWording(res.message);
+        // An element bent through about a radian is past what one beam element follows: the mesh,
+        // not the load steps, is what to refine.
+        const ElementBend bend = largestBend(model, lastEquilibrium);
+        if (bend.angle > kBendAdvice) {
+          const std::string limitAdvice = "; a limit point is near: use smaller load steps";
+          if (const auto pos = why.find(limitAdvice); pos != std::string::npos) why.erase(pos, limitAdvice.size());
+        }
+        msg << " (step " << i << " of " << n << "): " << why;
+        if (bend.angle > kBendAdvice)
+          msg << "; " << model.elements[bend.element].type->keyword << " " << model.elements[bend.element].label
+              << " bends through " << std::round(bend.angle * 100) / 100
+              << " rad between its end nodes at the last equilibrium, more than one beam element follows (about 1 "
+                 "rad): refine the mesh (more elements along it), not the load steps";
         run.completed = false;
         run.stopReason = msg.str();
         return run;
@@ -312,7 +367,7 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
       run.steps.push_back(std::move(st));
     } catch (const std::exception& e) {
       run.completed = false;
-      run.stopReason = "at load factor " + std::to_string(reachedS) + ": " + e.what();
+      run.stopReason = "at load factor " + std::to_string(reachedS) + ": " + staticWording(e.what());
       return run;
     }
   }

@@ -476,4 +476,18 @@ TEST_F(UserPath, StaticWritesWhatFormatAsksAndQuietIsQuiet) {
   EXPECT_EQ(r.code, 2);
 }
 
+// Issue 38 item 5: a roll-up that stops because an element bends past what a beam element follows
+// names the element and advises a finer mesh, not smaller load steps; static messages have no time.
+TEST_F(UserPath, AnElementBentTooFarAsksForAFinerMesh) {
+  std::ofstream(dir_ / "roll.dat")
+      << "BEAM 1 1 2 3 4 0 1 0\nBEAM 2 3 4 5 6 0 1 0\nX 1 0 0 0\nX 3 0.5 0 0\nX 5 1 0 0\n"
+         "FIX 1\nFIX 2\nDYNE 1 1 2 3 4 5 6\nDYNE 2 1 2 3 4 5 6\nEND\nHALT\nEM 1 1\nEM 2 1\n"
+         "ESTIFF 1 1e6 1 1 1\nESTIFF 2 1e6 1 1 1\nDELXF 6 0 0 6.3\nITERSTEP 10 4\nEND\nEND\n";
+  const Result r = flexmb("static roll.dat --format none -q");
+  EXPECT_EQ(r.code, 3) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "BEAM 1 bends through") && has(r.err, "refine the mesh")) << r.err;
+  EXPECT_FALSE(has(r.err, "use smaller load steps")) << r.err;
+  EXPECT_FALSE(has(r.err, "t = 0")) << r.err;
+}
+
 }  // namespace
