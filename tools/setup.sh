@@ -8,10 +8,10 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev libarpack2-dev
           libboost-program-options-dev libgtest-dev libmuparser-dev libmatio-dev python3-scipy libsundials-dev)
 # A full build (no target named: the test suite) also needs: octave + liboctave-dev for the
-# Octave/MATLAB gateway (tools/octave) and its tests; calculix-ccx, the independent FE oracle of the
+# Octave/MATLAB gateway (tools/octave) and its tests, octave-control for getss's ss object; calculix-ccx, the independent FE oracle of the
 # spatial tests; clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes) for tools/fuzz; chromium
 # for the headless browser test of the HTML animation. The main job (named targets) skips them.
-(($#)) || packages+=(octave liboctave-dev calculix-ccx clang libclang-rt-14-dev chromium)
+(($#)) || packages+=(octave liboctave-dev octave-control calculix-ccx clang libclang-rt-14-dev chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -22,6 +22,24 @@ function test_spacar_helpers(src, flexmb)
   [A, B, C, D] = getss('ms.ltv', 1);
   assert(isequal(A, sys.a) && isequal(B, sys.b) && isequal(C, sys.c) && isequal(D, sys.d), 'getss: four outputs');
   assert(getfrsbf('ms.ltv', 'DFT') == 0, 'DFT of a model without feedthrough');
+  % With the control package (octave-control, which tools/setup.sh installs) loaded: an ss object of
+  % the same matrices and channel names; unloaded again, the struct SPACAR Light's uses need.
+  if ~isempty(pkg('list', 'control'))
+    pkg load control
+    obj = getss('ms');
+    assert(isa(obj, 'ss'), 'getss with the control package: a %s, not an ss object', class(obj));
+    [a2, b2, c2, d2] = ssdata(obj);
+    assert(isequal(a2, A) && isequal(b2, B) && isequal(c2, C) && isequal(d2, D), 'getss: the ss object''s matrices');
+    assert(isequal(obj.inname(:), sys.InputName(:)) && isequal(obj.outname(:), sys.OutputName(:)), ...
+           'getss: the ss object''s channel names');
+    poles = sort(pole(obj));
+    assert(norm(poles - sort(eig(A))) < 1e-9 * norm(poles), 'getss: the ss object''s poles');
+    pkg unload control
+    assert(isstruct(getss('ms')), 'getss after pkg unload control: not the struct');
+    fprintf('getss with the control package: an ss object, poles %s\n', mat2str(poles.', 6));
+  else
+    fprintf('NOTE: octave-control is not installed (tools/setup.sh installs it): getss''s ss object not tested\n');
+  end
   % What SPACAR Light does with it: modal damping from M0 and the mass-normalised modes, names.
   M0 = getfrsbf('ms.sbm', 'm0', r.tdef);
   K0 = getfrsbf('ms.sbm', 'k0', r.tdef);
