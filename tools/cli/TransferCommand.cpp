@@ -32,9 +32,11 @@ std::vector<std::string> stateNames(Eigen::Index m) {
 }
 
 // Magnitude over phase of H(i w) against the frequency in Hz.
-std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h) {
+std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h,
+                                const std::string& note) {
   io::Plot mag, ph;
   mag.title = title;
+  if (!note.empty()) mag.notes = {note};
   mag.x.label = "frequency [Hz]";
   mag.x.log = true;
   mag.y.label = "magnitude";
@@ -180,6 +182,13 @@ int runTransfer(const std::vector<std::string>& args) {
   if (run.completed && bode && ss.A.rows() > 400 && !forceBode) {
     std::cout << "  Bode diagrams not drawn for " << ss.A.rows() << " states (--bode draws them)\n";
   } else if (run.completed && bode) {
+    // No damping (A's velocity block is zero): the resonance peaks are infinite, the drawn ones are
+    // only as high as the frequency grid comes to them.
+    const Eigen::Index nq = ss.A.rows() / 2;
+    const bool undamped = nq > 0 && ss.A.bottomRightCorner(nq, nq).isZero(0.0);
+    const std::string note =
+        undamped ? "no damping in the model: the peaks are infinite at the eigenfrequencies (give EDAMP)" : "";
+    if (undamped) std::cout << "  note: " << note << "\n";
     complete &= tryProduct(files, "the Bode diagrams", [&] {
       const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
       const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
@@ -187,8 +196,9 @@ int runTransfer(const std::vector<std::string>& args) {
         for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
           const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
           const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
-          io::writeSvgStack(files.temporaryFor(name),
-                            bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h));
+          io::writeSvgStack(
+              files.temporaryFor(name),
+              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h, note));
         }
     });
   }

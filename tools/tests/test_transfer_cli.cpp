@@ -92,6 +92,20 @@ TEST_F(TransferCli, WritesTheStateSpaceModelAndBodeDiagrams) {
   ASSERT_EQ(run("--mode 9 ms.dat --out m9/ --no-bode", &out), 0) << out;
   EXPECT_EQ(slurp(dir_ / "m9/ms_A.csv"), slurp(dir_ / "ms_A.csv"));
   EXPECT_FALSE(fs::exists(dir_ / "m9/ms_bode_in1_out1.svg"));
+  EXPECT_EQ(svg.find("no damping"), std::string::npos) << "the damped model has no undamped note";
+}
+
+// Issue 35: an undamped model's Bode diagrams say that their peaks are infinite (give EDAMP), on
+// the screen and in the picture; the phase is continuous (unwrapped) through the resonance.
+TEST_F(TransferCli, AnUndampedModelsBodeDiagramSaysSo) {
+  std::string text = kMassSpring;
+  text.replace(text.find("EDAMP 1 2\n"), 10, "");
+  std::ofstream(dir_ / "ms.dat") << text;
+  std::string out;
+  ASSERT_EQ(run("transfer ms.dat", &out), 0) << out;
+  EXPECT_NE(out.find("no damping in the model: the peaks are infinite"), std::string::npos) << out;
+  const std::string svg = slurp(dir_ / "ms_bode_in1_out1.svg");
+  EXPECT_NE(svg.find("give EDAMP"), std::string::npos);
 }
 
 TEST_F(TransferCli, RefusesAModelWithoutATransferBlock) {
