@@ -167,11 +167,44 @@ std::vector<std::string> plottableQuantities(const std::vector<StudyRecord>& rec
   return out;
 }
 
+std::string quantityUnit(const std::string& q) {
+  auto starts = [&](const char* p) { return q.rfind(p, 0) == 0; };
+  auto ends = [&](const char* e) {
+    const std::string s(e);
+    return q.size() >= s.size() && q.compare(q.size() - s.size(), s.size(), s) == 0;
+  };
+  if (ends("_Hz")) return "Hz";
+  if (starts("k_node")) {  // k_node<n>_x|y|z: N/m; _rx|_ry|_rz|_angle: N m/rad
+    const auto u = q.rfind('_');
+    const std::string c = q.substr(u + 1);
+    return c == "x" || c == "y" || c == "z" ? "N/m" : "N m/rad";
+  }
+  if (q == "max_axial_force" || q == "sweep_max_load") return "N";
+  if (starts("max_bending_moment") || q == "max_torsion_moment") return "N m";
+  if (starts("max_stress") || starts("max_von_mises")) return "Pa";
+  if (q == "max_displacement" || q == "sim_max_displacement") return "m";
+  if (q == "sim_t_end") return "s";
+  return "";
+}
+
+namespace {
+// A positive range over more than two decades reads on a logarithmic axis.
+bool wideRange(const std::vector<double>& v) {
+  double lo = INFINITY, hi = 0.0;
+  for (double x : v) {
+    if (!(x > 0.0)) return false;
+    lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  return !v.empty() && hi > 100.0 * lo;
+}
+}  // namespace
+
 Plot studyPlot(const std::vector<StudyRecord>& records, const std::string& quantity, const std::string& parameter) {
   Plot plot;
   plot.title = quantity + " against " + parameter;
   plot.x.label = parameter;
-  plot.y.label = quantity;
+  const std::string unit = quantityUnit(quantity);
+  plot.y.label = unit.empty() ? quantity : quantity + " [" + unit + "]";
   const auto params = parameterColumns(records);
   // One series per combination of the other parameters (ordered by their values).
   std::map<std::vector<double>, std::vector<std::pair<double, double>>> groups;
@@ -202,6 +235,11 @@ Plot studyPlot(const std::vector<StudyRecord>& records, const std::string& quant
   }
   if (groups.size() > 12)
     plot.notes.push_back(std::to_string(groups.size()) + " lines: one per combination of the other parameters");
+  std::vector<double> xs, ys;
+  for (const auto& s : plot.series)
+    xs.insert(xs.end(), s.x.begin(), s.x.end()), ys.insert(ys.end(), s.y.begin(), s.y.end());
+  plot.x.log = wideRange(xs);
+  plot.y.log = wideRange(ys);
   return plot;
 }
 
@@ -241,12 +279,18 @@ std::string renderStudyReport(const StudyReport& report, const std::vector<Study
   const auto cols = quantityColumns(records);
   for (const auto& p : params) h << "<th>" << xmlEscape(p) << "</th>";
   h << "<th>status</th>";
-  for (const auto& q : cols) h << "<th>" << xmlEscape(q) << "</th>";
+  for (const auto& q : cols) {
+    const std::string unit = quantityUnit(q);
+    h << "<th>" << xmlEscape(unit.empty() ? q : q + " [" + unit + "]") << "</th>";
+  }
   h << "</tr>\n";
   for (const auto& r : records) {
     h << "<tr class=\"" << xmlEscape(r.status) << "\"><td>" << r.variant << "</td><td class=\"t\">" << xmlEscape(r.name)
       << "</td>";
-    for (const auto& p : params) h << "<td>" << cellOf(valueIn(r.parameters, p)) << "</td>";
+    for (const auto& p : params) {
+      const double v = valueIn(r.parameters, p);
+      h << "<td>" << (std::isfinite(v) ? shortNumber(v, 6) : "") << "</td>";
+    }
     h << "<td class=\"t\">" << xmlEscape(r.status) << "</td>";
     for (const auto& q : cols) {
       const double v = valueIn(r.quantities, q);

@@ -40,6 +40,11 @@ void writeStudyTable(std::ostream& out, const std::vector<StudyRecord>& records)
 
 // The plots of the report: `quantity` against `parameter`, one series per combination of the
 // other parameters' values (failed and missing variants left out).
+// The unit of a study quantity where its name says it ("Hz" for f1_Hz, "N/m" for k_node3_x, "N m/rad" for
+// k_node4_rz, "N", "N m", "Pa", "m", "s"); empty where it is a count or a ratio.
+std::string quantityUnit(const std::string& quantity);
+// Logarithmic axes where the values are positive and span more than two decades; the unit in the
+// quantity's axis label.
 Plot studyPlot(const std::vector<StudyRecord>& records, const std::string& quantity, const std::string& parameter);
 
 struct StudyReport {

@@ -156,3 +156,25 @@ TEST(StudyTable, VariantNames) {
   EXPECT_TRUE(isVariantName("thin-leaf_2.5"));
   for (const char* bad : {"", ".", "..", "-x", "a/b", "a b", "a,b"}) EXPECT_FALSE(isVariantName(bad)) << bad;
 }
+
+// Issue 35: units where the name says them, log axes for positive ranges over two decades, 6
+// significant digits in the report's table.
+TEST(StudySummary, UnitsLogAxesAndSixDigits) {
+  EXPECT_EQ(quantityUnit("f1_Hz"), "Hz");
+  EXPECT_EQ(quantityUnit("k_node3_x"), "N/m");
+  EXPECT_EQ(quantityUnit("k_node4_rz"), "N m/rad");
+  EXPECT_EQ(quantityUnit("max_bending_moment_y"), "N m");
+  EXPECT_EQ(quantityUnit("max_axial_force"), "N");
+  EXPECT_EQ(quantityUnit("buckling1"), "");
+  std::vector<StudyRecord> rs;
+  int n = 0;
+  for (double t : {1e-4, 1e-3, 1e-2, 1e-1}) rs.push_back({++n, "v", {{"t", t}}, "ok", "", {{"k_node3_x", 1 + t}}});
+  const Plot p = studyPlot(rs, "k_node3_x", "t");
+  EXPECT_TRUE(p.x.log) << "t spans three decades";
+  EXPECT_FALSE(p.y.log) << "k spans less than one";
+  EXPECT_EQ(p.y.label, "k_node3_x [N/m]");
+  rs.front().parameters = {{"t", 0.123456789}};
+  const std::string html = renderStudyReport({"s", {}, {}}, rs);
+  EXPECT_NE(html.find(">0.123457<"), std::string::npos) << html;
+  EXPECT_NE(html.find("k_node3_x [N/m]"), std::string::npos);
+}
