@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -139,4 +140,35 @@ TEST_F(TransferCli, Mode3OnAStaticFileWritesTheLtv) {
   EXPECT_EQ(rows[0][0], "load_step");
   EXPECT_EQ(rows[1][0], "0");
   EXPECT_EQ(rows[5][0], "4");
+}
+
+// Issue 35: the shipped pivot with a transfer block (moment about z in, rotation about z out): its
+// static gain is the compliance that `static` gives under a small moment on the same model (the
+// rotation from load step 0, gravity only, to load step 1, divided by the moment).
+TEST_F(TransferCli, ThePivotsStaticGainIsItsStaticCompliance) {
+  const std::string path = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_transfer.dat";
+  std::string out;
+  ASSERT_EQ(run("transfer '" + path + "' --no-bode", &out), 0) << out;
+  const auto at = out.find("static gain");
+  ASSERT_NE(at, std::string::npos) << out;
+  const double gain = std::stod(out.substr(out.find('\n', at) + 1));
+  // The same model with a moment instead of the transfer block.
+  std::string text = slurp(path);
+  const auto iter = text.find("\nITERSTEP");
+  text.replace(iter + 1, text.find('\n', iter + 1) - iter - 1, "ITERSTEP 10 1");
+  text.resize(text.find("END\nHALT\nINPUTF"));
+  const double moment = 1e-4;
+  text += "DELXF 4 0 0 " + std::to_string(moment) + "\nEND\nEND\n";
+  std::ofstream(dir_ / "moment.dat") << text;
+  ASSERT_EQ(run("static moment.dat --format csv --out m.csv -q", &out), 0) << out;
+  const auto rows = csv("m.csv");
+  ASSERT_EQ(rows.size(), 3u) << "header, load steps 0 and 1";
+  int l0 = -1;
+  for (size_t c = 0; c < rows[0].size(); ++c)
+    if (rows[0][c] == "node4.lambda0") l0 = static_cast<int>(c);
+  ASSERT_GE(l0, 0);
+  auto angle = [&](int r) { return 2.0 * std::atan2(std::stod(rows[r][l0 + 3]), std::stod(rows[r][l0])); };
+  const double compliance = (angle(2) - angle(1)) / moment;
+  std::printf("pivot: static gain %.8g rad/(N m), static compliance %.8g\n", gain, compliance);
+  EXPECT_NEAR(gain / compliance, 1.0, 1e-4);
 }
