@@ -28,6 +28,7 @@
 
 #include "analysis/BasisForTarget.hpp"
 #include "analysis/ReductionError.hpp"
+#include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
@@ -180,6 +181,15 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
           out << "spacar: target " << target << ": "
               << (tr.met ? "a modal basis of " + std::to_string(tr.basis.V.cols()) + " columns" : tr.note) << " ("
               << tr.tried.size() << " candidate runs, " << tr.seconds << " s)\n";
+        }
+        // The checks the command line makes before a run (analysis/RunSize.hpp): refused here too.
+        const analysis::RunSizeCheck size = analysis::checkRunSize(model, opt);
+        if (!size.warning.empty() && !silent)
+          mexWarnMsgIdAndTxt("flexmb:spacar:slow", "%s: %s", datFile.c_str(), size.warning.c_str());
+        if (!size.refusal.empty()) {
+          run.error = datFile + ": " + size.refusal;
+          run.errorId = "flexmb:spacar:input";
+          return;
         }
         core::Trajectory traj;
         const auto start = std::chrono::steady_clock::now();

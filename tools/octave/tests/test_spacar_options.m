@@ -66,6 +66,15 @@ function test_spacar_options(src, flexmb)
   err = max(max(abs(red.x(:, pos) - full.x(:, pos)))) / motion;
   fprintf('opts.target 1e-2 on the guidance: error %.3g of the motion\n', err);
   assert(err <= 1e-2, 'opts.target 1e-2: the reduced run is %g off', err);
+  % Issue 36: an oversized run is refused as on the command line (here: a maximum step that needs
+  % more than 1e9 steps), before anything runs.
+  try
+    spacar(-1, 'straight_guidance', struct('maxstep', 1e-12));
+    error('the oversized run was accepted');
+  catch err
+    assert(strcmp(err.identifier, 'flexmb:spacar:input') && ~isempty(strfind(err.message, 'steps (the limit is')), ...
+           '%s (%s)', err.message, err.identifier);
+  end
   for bad = {0, 1, -1, 'x'}
     try
       spacar(-1, 'straight_guidance', struct('target', bad{1}));
