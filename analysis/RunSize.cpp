@@ -59,7 +59,8 @@ RunSizeCheck checkRunSize(const core::Model& model, const SimulationOptions& opt
   const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
   std::ostringstream m;
   if (!(t1 > t0)) {
-    m << "the end time " << t1 << " is not after the start time " << t0 << " (TIMESTEP's end time or --t-end / opts.tend)";
+    m << "the end time " << t1 << " is not after the start time " << t0
+      << " (TIMESTEP's end time or --t-end / opts.tend)";
     c.refusal = m.str();
     return c;
   }
@@ -89,8 +90,7 @@ RunSizeCheck checkRunSize(const core::Model& model, const SimulationOptions& opt
   RunStiffness stiff;
   try {
     if (opt.integrator == Integrator::Ode45) stiff = highestFrequency(model, opt.basis);
-  } catch (const std::exception&) {
-  }
+  } catch (const std::exception&) {}
   if (stiff.omegaMax > 0) {
     const double steps = span * stiff.omegaMax / 3.3;
     // Warn when the stability limit, not the output or the accuracy, sets the step: many more steps

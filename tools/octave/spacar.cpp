@@ -134,6 +134,15 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     run.errorId = "flexmb:spacar:input";
     return;
   }
+  // Where name.sbd goes, probed before the analysis: a run whose results cannot be written would
+  // give the workspace nothing (the variables are read back from the files).
+  try {
+    io::OutputSet(name).checkWritable();
+  } catch (const std::exception& e) {
+    run.error = datFile + ": " + e.what();
+    run.errorId = "flexmb:spacar:output";
+    return;
+  }
   // Legal input that is probably a mistake (a load on a fixed coordinate, a node without X): said
   // here as on the command line.
   if (!silent)
