@@ -36,7 +36,7 @@ if ((full)); then
 else
   est_stress=0; est_bench=60
 fi
-est_report=15
+est_report=30  # flexmb validate: 29 s measured with the reduction error tables (2026-11-28)
 
 duration() {  # seconds -> "4 min 10 s", "45 s"
   local s=$1
