@@ -14,6 +14,10 @@ namespace {
 
 using core::Role;
 
+// Arrays of at least this many bytes are written compressed (smaller ones cost more to compress
+// than they save).
+constexpr std::size_t kCompressAbove = 32 * 1024;
+
 // One MAT v5 file; closed (and checked) by close(), closed silently on an exception.
 class MatWriter {
  public:
@@ -42,7 +46,11 @@ class MatWriter {
     double* ptr = data.empty() ? &dummy : data.data();
     matvar_t* v = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, p != 1 ? 3 : 2, dims, ptr, MAT_F_DONT_COPY_DATA);
     if (!v) throw std::runtime_error("cannot write '" + path_ + "': matio could not create variable '" + name + "'");
-    const int rc = Mat_VarWrite(mat_, v, MAT_COMPRESSION_NONE);
+    // Large arrays zlib-compressed (MAT v5's miCOMPRESSED, which MATLAB's and Octave's load and
+    // getfrsbf read as any other): the per-step matrices of a static run are mostly zeros (C0, N0,
+    // D0 without damping) and sparse patterns (a 64-element roll-up wrote 290 MB of .sbm uncompressed).
+    const bool large = data.size() * sizeof(double) >= kCompressAbove;
+    const int rc = Mat_VarWrite(mat_, v, large ? MAT_COMPRESSION_ZLIB : MAT_COMPRESSION_NONE);
     Mat_VarFree(v);
     if (rc != 0)
       throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");

@@ -46,6 +46,33 @@ function test_getfrsbf(src, flexmb)
   assert(isequal(size(getfrsbf(sbd, 'x')), [nx 1]), 'x with one step is a column');
   assert(isequal(size(getfrsbf(sbd, 'dx')), [nx ndof]), 'dx with one step is nx x ndof');
   assert(isequal(size(getfrsbf(sbd, 'bigd')), [ne nx]), 'bigd with one step');
+  % Large arrays are written zlib-compressed (issue 38: a 64-element roll-up's .sbm went from 290 MB
+  % to 34 MB): a chain of 24 PLBEAMs in 6 load steps, read back the same as the uncompressed ones.
+  n = 24;
+  t = '';
+  for e = 1:n
+    t = [t sprintf('PLBEAM %d %d %d %d %d\n', e, e, 100 + e, e + 1, 101 + e)];
+  end
+  for e = 1:n + 1
+    t = [t sprintf('X %d %.17g 0\n', e, (e - 1) / n)];
+  end
+  t = [t 'FIX 1\nFIX 101\n'];
+  for e = 1:n
+    t = [t sprintf('DYNE %d 1 2 3\n', e)];
+  end
+  t = [t 'END\nHALT\n'];
+  for e = 1:n
+    t = [t sprintf('EM %d 0.3 1e-7\nESTIFF %d 8e6 2.8\n', e, e)];
+  end
+  t = [t sprintf('DELXF %d 0 -1\nITERSTEP 10 5\nEND\nEND\n', n + 1)];
+  fid = fopen('chain.dat', 'w'); fprintf(fid, t); fclose(fid);
+  spacar(-10, 'chain');
+  m = 3 * n;
+  K = getfrsbf('chain.sbm', 'k0', 6);
+  assert(isequal(size(K), [m m]) && norm(K - K.', 1) < 1e-9 * norm(K, 1), 'compressed k0');
+  assert(norm(getfrsbf('chain.sbm', 'c0', 6), 1) == 0, 'compressed zero c0');
+  info = dir('chain.sbm');
+  assert(info.bytes < 6 * 6 * m^2 * 8 / 3, 'chain.sbm is %d bytes: not compressed', info.bytes);
   % Errors.
   assertError(@() getfrsbf(sbd, 'nosuch'), 'nosuch');
   assertError(@() getfrsbf(sbd, 'x', 2), 'step must be an integer from 1 to 1');
