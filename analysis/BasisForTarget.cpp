@@ -88,14 +88,14 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     while (chosen > 1 && meets(tryVectors(chosen - 1))) --chosen;
   } else {
     // Up: the next size to run is the smallest whose estimate, predicted from the last run's
-    // deflections, meets the target (at least one more vector); the sizes in between are not run.
+    // deflections, is within kJumpMargin of the target (at least one more vector); the sizes in
+    // between are not run.
     // The prediction assumes the larger basis moves as the smaller did, so the run decides.
     int failed = first;
     while (failed < available) {
       int next = failed + 1;
       while (next < available && predictReductionError(last, whole.V.leftCols(nl + next)) > kJumpMargin * o.target)
         ++next;
-      res.tried.back().predictedNext = next;
       if (meets(tryVectors(next))) {
         chosen = next;
         break;

@@ -37,7 +37,6 @@ struct TargetCandidate {
   double seconds = 0.0;  // the candidate's run and estimate
   bool completed = false;
   std::string stopReason;
-  int predictedNext = 0;  // scanning up: the size its deflections predicted to meet the target (run next)
 };
 
 struct TargetResult {

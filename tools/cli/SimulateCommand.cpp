@@ -148,7 +148,6 @@ std::optional<Eigen::MatrixXd> chooseBasis(const SimulateArgs& a, const core::Mo
   analysis::TargetOptions to;
   to.target = a.target;
   to.run = opt;
-  to.run.tEnd = opt.tEnd;
   if (!a.svdPath.empty()) {
     std::stringstream ss(a.svdPath);
     char c1 = 0, c2 = 0, c3 = 0;
