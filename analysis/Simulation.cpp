@@ -9,6 +9,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Interrupt.hpp"
+#include "analysis/ReducedOperators.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/ElementValidity.hpp"
@@ -218,6 +219,14 @@ class StageRun {
     }
     y0_ = from ? from->y : eom_.initialState();
     if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
+    if (opt.operators && opt.basis) {
+      traj_.operators.used = true;
+      if (opt.integrator == Integrator::Ode45 && !set_.bdf)
+        operators_.emplace(model, *opt.operators);
+      else
+        traj_.operators.notUsed = "the reduced operators serve ode45 only: Eq. 19 throughout";
+    }
+    eomEta_ = y0_.head(eom_.size());
   }
 
   core::Trajectory run(bool* interrupted) {
@@ -340,17 +349,46 @@ class StageRun {
       if (opt_.progress) progress_.update(t, eom_.evaluations(), accepted_);
     }
     userError_.clear();  // only the evaluation that ended the run counts
+    if (operators_) {
+      if (operators_->rhs(t, y, dy)) {
+        ++traj_.operators.evaluations;
+        return;
+      }
+      core::OperatorUse& use = traj_.operators;
+      if (use.fallbacks++ == 0) {
+        use.firstFallback = t;
+        use.where = operators_->whereOutside();
+      }
+    }
     try {
       if (anchored_)
         anchored_->rhs(t, y, dy);
       else
-        eom_.rhs(t, y, dy);
+        equationsOfMotion(t, y, dy);
     } catch (const core::KinematicsError& e) {
       throw solvers::RhsError(e.what());          // a trial state; retried with a smaller step
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
       userError_ = e.what();
       throw solvers::RhsAbort(e.what());
     }
+  }
+
+  // Eq. 19. After a stretch on the operators its Newton start may lie far back: on a failure it walks
+  // there from the last state it solved in eight steps before giving up.
+  void equationsOfMotion(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+    const int m = eom_.size();
+    try {
+      eom_.rhs(t, y, dy);
+    } catch (const core::KinematicsError&) {
+      if (!operators_) throw;
+      Eigen::VectorXd q;
+      for (int k = 1; k <= 8; ++k) {
+        eom_.dofs(eomEta_ + (k / 8.0) * (y.head(m) - eomEta_), q);
+        eom_.kinematics().solvePositions(t, q);
+      }
+      eom_.rhs(t, y, dy);
+    }
+    eomEta_ = y.head(m);
   }
 
   // An output time: the output quantities from the probe, checked (finite, every element valid).
@@ -430,6 +468,8 @@ class StageRun {
   core::EquationsOfMotion eom_, probe_;
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;
+  std::optional<OperatorDynamics> operators_;  // reduced operators, when given (ode45)
+  Eigen::VectorXd eomEta_;                     // where eom_ last solved (the fallback's start)
   ProgressLine progress_;
   std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -49,6 +50,7 @@ class StiffnessTest {
 const char* integratorName(Integrator i);
 std::optional<Integrator> parseIntegrator(const std::string& name);
 struct SimulationOptions;
+struct ReducedOperators;
 // The integrator and its settings in words (the run manifest), e.g. "ode45 (Dormand-Prince 5(4), ...)".
 std::string integratorDescription(const SimulationOptions& options);
 
@@ -61,6 +63,10 @@ struct SimulationOptions {
   std::optional<double> tEnd, relTol, absTol, maxStep;
   std::optional<int> intervals;          // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
+  // Reduced operators for the basis (analysis/ReducedOperators.hpp): ode45 evaluates them instead of
+  // Eq. 19 where the state lies in their trained range, and Eq. 19 elsewhere (Trajectory::operators
+  // says how often and from when). Null: Eq. 19 throughout. BDF and auto runs use Eq. 19.
+  std::shared_ptr<const ReducedOperators> operators;
   // How Eq. 13 is solved for the accelerations (core::DynamicsForm); reduced models always project.
   core::DynamicsForm dynamics = core::DynamicsForm::Automatic;
   bool progress = false;   // progress line on stderr for runs longer than a second

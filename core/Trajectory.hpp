@@ -38,6 +38,17 @@ struct ReductionEstimate {
   std::string note;       // why not estimated
 };
 
+// How a reduced run's right-hand side was evaluated (analysis/ReducedOperators.hpp): by the
+// precomputed operators, and by Eq. 19 (the full kinematics) where the state left their range.
+struct OperatorUse {
+  bool used = false;     // the run had operators
+  std::string notUsed;   // why a reduced run had none (or used Eq. 19 throughout)
+  long evaluations = 0;  // right-hand sides from the operators
+  long fallbacks = 0;    // right-hand sides from Eq. 19 outside the trained range
+  double firstFallback = std::numeric_limits<double>::quiet_NaN();  // time of the first
+  std::string where;                                                // the coordinate outside the range there
+};
+
 struct Trajectory {
   std::vector<double> time;
   std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
@@ -57,6 +68,7 @@ struct Trajectory {
   std::string stopReason;  // why the run stopped early (time and reason); empty when completed
   AccuracyEstimate accuracy;
   ReductionEstimate reduction;  // reduced runs (a basis) that keep their states
+  OperatorUse operators;        // reduced runs
 };
 
 }  // namespace flexmb::core

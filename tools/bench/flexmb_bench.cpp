@@ -18,6 +18,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -484,7 +485,8 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
 }  // namespace
 namespace flexmb::bench {
 void eigenFigures();
-}
+std::string operatorFigures(bool quick, const std::function<std::string(int)>& guidanceDat);
+}  // namespace flexmb::bench
 namespace {
 
 void usage() {
@@ -522,6 +524,12 @@ int main(int argc, char** argv) {
   }
   if (opt.only.empty() || opt.only == "eigen") flexmb::bench::eigenFigures();
   if (opt.only == "eigen") return 0;
+  std::string operatorMd;
+  if (opt.only.empty() || opt.only == "operators") operatorMd = flexmb::bench::operatorFigures(opt.quick, guidanceDat);
+  if (opt.only == "operators") {
+    std::printf("%s", operatorMd.c_str());
+    return 0;
+  }
   const auto benchStart = Clock::now();
   const std::string loadBefore = loadAverage();
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
@@ -1163,6 +1171,7 @@ int main(int argc, char** argv) {
     md << "\n**Skipped points** (predicted or measured to exceed the time limit):\n\n";
     for (const auto& s : skippedList) md << "- " << s << "\n";
   }
+  md << "\n" << operatorMd;
   md << "\nData: [workprecision.csv](workprecision.csv), [rhs_scaling.csv](rhs_scaling.csv).\n";
   md.close();
   std::printf("flexmb_bench: done in %s s; wrote %s/bench.md, workprecision.csv, rhs_scaling.csv and the SVGs\n",

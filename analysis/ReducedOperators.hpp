@@ -1,0 +1,119 @@
+#pragma once
+// Reduced operators (issue 33): the reduced model of Eq. 19 evaluated without the full model.
+// With q = V eta (Eq. 17) and V constant, Eq. 19 is Lagrange's equations of
+//   T = 1/2 etad^T Mr(eta) etad,   Mr = (F_q V)^T M (F_q V),
+//   U(eta) = elastic energy (sigma = S e + sigma0) - constant loads (XF, gravity) . x,
+// plus the time-dependent loads a_k(t) grad phi_k(eta) (XFT: phi = x_j; ESIGT: phi = -e_k;
+// EREF: phi = (S e)_k) and damping -Cr(eta) etad, Cr = (E_q V)^T S_d (E_q V). Each of Mr, Cr,
+// U, phi_k is fitted once as a Chebyshev polynomial in eta over a box (the trained range):
+//   Mr etadd = -grad U + sum_k a_k(t) grad phi_k - Cr etad - (dMr/dt etad - 1/2 grad(etad^T Mr etad)),
+// the last term being the velocity terms of the fitted Mr itself, so an undamped unforced reduced
+// run conserves T + U of the fitted model to the integrator's tolerance. An evaluation costs
+// O(terms x m^2), independent of the mesh. Derivation, assumptions and limits:
+// analysis/ReducedOperators.md.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/Model.hpp"
+#include "core/TimeFunction.hpp"
+#include "solvers/ChebyshevBasis.hpp"
+
+namespace flexmb::analysis {
+
+// A time-dependent load's generalised force a(t) grad phi(eta).
+struct OperatorLoad {
+  enum class Kind { NodalForce, Stress, Reference };  // XFT (x index), ESIGT (e index), EREF (e index)
+  Kind kind = Kind::NodalForce;
+  int index = 0;
+};
+const char* operatorLoadKeyword(OperatorLoad::Kind kind);  // "XFT", "ESIGT", "EREF"
+
+struct ReducedOperators {
+  solvers::ChebyshevBasis basis;  // the trained range is its box
+  // Each field uses the leading terms of the basis it needs (its coefficients' length).
+  Eigen::VectorXd potential;  // U: coefficients
+  Eigen::MatrixXd mass;       // Mr: m(m+1)/2 x its terms (packed upper triangle, row by row)
+  Eigen::MatrixXd damping;    // Cr, the same layout; empty without damping
+  std::vector<OperatorLoad> loads;
+  Eigen::MatrixXd loadFields;  // its terms x loads: phi_k
+  // What it was made for and how well it fits (held-out samples, relative to the largest value).
+  int dofs = 0;                  // rows of V
+  double basisChecksum = 0.0;    // basisChecksum(V)
+  double tolerance = 0.0;        // the fit target it was trained for
+  double forceError = 0.0;       // max |Q_fit - Q| / max |Q| over held-out configurations
+  double massError = 0.0;        // max |Mr_fit - Mr|_F / max |Mr|_F over them
+  int trainingSamples = 0, validationSamples = 0;
+  double trainingSeconds = 0.0;  // sampling, fitting and the range's pilot run
+  std::string range;             // where the box came from, in words
+
+  int size() const { return basis.variables(); }
+  // The terms an evaluation computes: the longest field.
+  int terms() const {
+    return static_cast<int>(std::max({potential.size(), mass.cols(), damping.cols(), loadFields.rows()}));
+  }
+};
+
+// A number that changes with any entry of V (order-sensitive); kept in the operator file.
+double basisChecksum(const Eigen::MatrixXd& V);
+
+// Why the model cannot have reduced operators (kinematic inputs, USERSIG, moments on spatial
+// nodes), or empty.
+std::string operatorsUnsupported(const core::Model& model);
+
+struct OperatorTrainingOptions {
+  // The trained range; empty: from a pilot reduced run (Eq. 19, ode45 at pilotRelTol over the
+  // model's time span), its eta range widened by `margin` of its width on each side.
+  Eigen::VectorXd lower, upper;
+  double pilotRelTol = 1e-2;
+  double margin = 0.15;
+  // Fit target (held-out, relative); degrees grow until met or maxTerms. NaN: 0.02 of the pilot
+  // run's reduction error estimate (within 1e-7..1e-3), 1e-6 with a given range.
+  double tolerance = std::numeric_limits<double>::quiet_NaN();
+  int maxTerms = 300;
+  int maxDegree = 14;
+  double slack = 1.0;  // the set's weights w_i = p_i + slack (room for products of variables)
+};
+
+// Throws std::invalid_argument for an unsupported model (operatorsUnsupported) and
+// std::runtime_error when the range's configurations cannot be solved.
+ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd& V,
+                                const OperatorTrainingOptions& options = {});
+
+// The right-hand side of the reduced model from its operators. Nothing is allocated per call.
+class OperatorDynamics {
+ public:
+  OperatorDynamics(const core::Model& model, const ReducedOperators& ops);
+  int size() const { return m_; }
+  const ReducedOperators& operators() const { return ops_; }
+  // dy/dt for y = [eta; etad]; false (dydt untouched) when eta is outside the trained range.
+  bool rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt);
+  // The coordinate outside the range at the last refused call ("eta_2 = 0.31 outside [-0.2, 0.3]").
+  std::string whereOutside() const;
+  // Mr(eta) and the generalised forces at (t, y) without the velocity terms (tests, checks).
+  void massMatrix(const Eigen::VectorXd& eta, Eigen::MatrixXd& M);
+  double potential(const Eigen::VectorXd& eta);
+  // T + U of the fitted model (time-dependent loads not included).
+  double energy(const Eigen::VectorXd& y);
+
+ private:
+  void evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, bool gradient);
+  void unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, Eigen::MatrixXd& S) const;
+
+  const ReducedOperators& ops_;
+  int m_, nPacked_;
+  std::vector<core::TimeFunctionPtr> loadFunctions_;
+  std::vector<double> loadSigns_;
+  solvers::ChebyshevBasis::Scratch scratch_;
+  int nU_, nM_, nC_, nL_;  // terms of each field
+  Eigen::VectorXd phi_, coef_, weights_, packed_, Mpacked_, force_, etadd_, a_;
+  Eigen::MatrixXd grad_, M_, Md_, C_, PD_, MD_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd lastEta_;
+  int lastOutside_ = -1;
+};
+
+}  // namespace flexmb::analysis

@@ -1,0 +1,253 @@
+// Reduced operators (issue 33): the fitted reduced model against Eq. 19 at states it was not trained
+// on, its derivatives against finite differences, energy conservation, and the fallback outside
+// the trained range.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "analysis/Reduction.hpp"
+#include "analysis/ReducedOperators.hpp"
+#include "analysis/ReductionError.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/Statics.hpp"
+#include "core/EquationsOfMotion.hpp"
+#include "core/Linearization.hpp"
+#include "io/DatReader.hpp"
+#include "solvers/ChebyshevBasis.hpp"
+#include "solvers/Ode45.hpp"
+
+using namespace flexmb;
+
+namespace {
+
+std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
+
+Eigen::MatrixXd modalBasis(const core::Model& m, int modes) {
+  analysis::ReductionOptions o;
+  o.method = "modal";
+  o.modes = modes;
+  return analysis::buildBasis(m, o).V;
+}
+
+// One trained guidance for the tests of this file (training costs a fraction of a second).
+struct Guidance {
+  core::Model model = io::readDatFile(dat("straight_guidance.dat"));
+  Eigen::MatrixXd V = modalBasis(model, 3);
+  analysis::ReducedOperators ops = analysis::trainOperators(model, V);
+};
+Guidance& guidance() {
+  static Guidance g;
+  return g;
+}
+
+}  // namespace
+
+TEST(ChebyshevBasis, FitsAPolynomialOfItsSetExactlyFromValuesOrGradients) {
+  const Eigen::Vector2d lo(-1.0, 0.5), hi(2.0, 0.9);
+  const solvers::ChebyshevBasis b(lo, hi, std::vector<int>{4, 2});
+  auto f = [](const Eigen::Vector2d& x) { return 1.0 + x[0] * x[0] * x[1] - 0.3 * std::pow(x[0], 4) + x[1] * x[1]; };
+  auto g = [](const Eigen::Vector2d& x) {
+    return Eigen::Vector2d(2 * x[0] * x[1] - 1.2 * std::pow(x[0], 3), x[0] * x[0] + 2 * x[1]);
+  };
+  const int n = 40;
+  Eigen::MatrixXd pts(n, 2), vals(n, 1), grads(2 * n, 1);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d x = b.arcsinePoint(solvers::haltonPoint(i + 1, 2));
+    pts.row(i) = x.transpose();
+    vals(i, 0) = f(x);
+    grads.block(2 * i, 0, 2, 1) = g(x);
+  }
+  const Eigen::MatrixXd cv = solvers::fitChebyshev(b, pts, vals, 1.0, Eigen::MatrixXd(), 0.0);
+  const Eigen::MatrixXd cg = solvers::fitChebyshev(b, pts, Eigen::MatrixXd(), 0.0, grads, 1.0);
+  solvers::ChebyshevBasis::Scratch s;
+  Eigen::VectorXd phi(b.size());
+  Eigen::MatrixXd grad(2, b.size());
+  const Eigen::Vector2d x(0.37, 0.61);
+  b.evaluate(x, s, phi, &grad);
+  EXPECT_NEAR(phi.dot(cv.col(0)), f(x), 1e-12);
+  EXPECT_LT((grad * cg.col(0) - g(x)).norm(), 1e-11);
+  // The analytic gradient of every term against central differences.
+  Eigen::VectorXd pp(b.size()), pm(b.size());
+  for (int j = 0; j < 2; ++j) {
+    const double h = 1e-6;
+    Eigen::Vector2d a = x, c = x;
+    a[j] += h;
+    c[j] -= h;
+    b.evaluate(a, s, pp, nullptr);
+    b.evaluate(c, s, pm, nullptr);
+    EXPECT_LT(((pp - pm) / (2 * h) - grad.row(j).transpose()).cwiseAbs().maxCoeff(), 1e-7);
+  }
+  EXPECT_EQ(b.outside(Eigen::Vector2d(2.1, 0.6)), 0);
+  EXPECT_EQ(b.outside(Eigen::Vector2d(1.0, 0.6)), -1);
+}
+
+TEST(ReducedOperators, MatchEquation19AtStatesOutsideTheTrainingSet) {
+  Guidance& g = guidance();
+  const analysis::ReducedOperators& ops = g.ops;
+  std::printf("guidance MODAL-3 operators: %d terms, held-out force error %.2e, mass error %.2e (target %.2e), %d + %d "
+              "samples, %.3f s; range: %s\n",
+              ops.terms(), ops.forceError, ops.massError, ops.tolerance, ops.trainingSamples, ops.validationSamples,
+              ops.trainingSeconds, ops.range.c_str());
+  EXPECT_LE(ops.forceError, ops.tolerance);
+  EXPECT_LE(ops.massError, ops.tolerance);
+  core::EquationsOfMotion eom(g.model, g.V);
+  eom.kinematics().setRelativeTolerance(1e-13);
+  analysis::OperatorDynamics od(g.model, ops);
+  const int m = ops.size();
+  double worst = 0.0;
+  for (int k = 0; k < 20; ++k) {
+    // Points of another sequence (shifted Halton) with velocities of the size the run has.
+    const Eigen::VectorXd u = solvers::haltonPoint(1000 + 7 * k, 2 * m);
+    Eigen::VectorXd y(2 * m);
+    for (int i = 0; i < m; ++i) {
+      const double lo = ops.basis.lower()[i], hi = ops.basis.upper()[i];
+      y[i] = lo + (0.1 + 0.8 * u[i]) * (hi - lo);
+      y[m + i] = (u[m + i] - 0.5) * 40.0 * (hi - lo);  // about the guidance's 10 Hz motion
+    }
+    const double t = 0.013 * k;  // the load varies with t
+    Eigen::VectorXd full(2 * m), fitted(2 * m);
+    eom.rhs(t, y, full);
+    ASSERT_TRUE(od.rhs(t, y, fitted));
+    worst = std::max(worst, (fitted.tail(m) - full.tail(m)).norm() / full.tail(m).norm());
+  }
+  std::printf("largest relative acceleration difference to Eq. 19 at 20 untrained states: %.2e\n", worst);
+  EXPECT_LT(worst, 10 * ops.tolerance);
+}
+
+TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) {
+  Guidance& g = guidance();
+  analysis::OperatorDynamics od(g.model, g.ops);
+  const int m = g.ops.size();
+  const Eigen::VectorXd mid = 0.5 * (g.ops.basis.lower() + g.ops.basis.upper());
+  const Eigen::VectorXd w = g.ops.basis.upper() - g.ops.basis.lower();
+  Eigen::VectorXd y(2 * m), dy(2 * m);
+  y.head(m) = mid + 0.21 * w;
+  y.tail(m).setZero();
+  // At rest and with the loads off (t after the pulse): M etadd = -grad U.
+  ASSERT_TRUE(od.rhs(0.15, y, dy));
+  Eigen::MatrixXd M;
+  od.massMatrix(y.head(m), M);
+  const Eigen::VectorXd force = M * dy.tail(m);
+  for (int j = 0; j < m; ++j) {
+    const double h = 1e-5 * w[j];
+    Eigen::VectorXd a = y.head(m), b = y.head(m);
+    a[j] += h;
+    b[j] -= h;
+    const double fd = -(od.potential(a) - od.potential(b)) / (2 * h);
+    EXPECT_NEAR(force[j], fd, 1e-6 * force.norm()) << j;
+  }
+  // Velocity terms: Lagrange's equations of T = 1/2 etad^T M etad, by differences of M along the
+  // motion: M etadd + dM/dt etad - 1/2 d/deta (etad^T M etad) = -grad U.
+  y.tail(m) = 30.0 * w.cwiseProduct(Eigen::VectorXd::LinSpaced(m, 1.0, -0.5));
+  ASSERT_TRUE(od.rhs(0.15, y, dy));
+  const Eigen::VectorXd etad = y.tail(m);
+  const double h = 1e-6;
+  Eigen::MatrixXd Mp, Mm;
+  od.massMatrix(y.head(m) + h * etad, Mp);
+  od.massMatrix(y.head(m) - h * etad, Mm);
+  const Eigen::VectorXd Mdot_etad = (Mp - Mm) * etad / (2 * h);
+  Eigen::VectorXd dT(m);
+  for (int j = 0; j < m; ++j) {
+    const double hj = 1e-5 * w[j];
+    Eigen::VectorXd a = y.head(m), b = y.head(m);
+    a[j] += hj;
+    b[j] -= hj;
+    od.massMatrix(a, Mp);
+    od.massMatrix(b, Mm);
+    dT[j] = 0.5 * etad.dot((Mp - Mm) * etad) / (2 * hj);
+  }
+  od.massMatrix(y.head(m), M);
+  const Eigen::VectorXd lhs = M * dy.tail(m) + Mdot_etad - dT;
+  EXPECT_LT((lhs - force).norm(), 1e-5 * (force.norm() + Mdot_etad.norm())) << lhs.transpose() << " | " << force.transpose();
+}
+
+TEST(ReducedOperators, ConserveEnergyOfAnUnforcedUndampedRun) {
+  core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  m.timeForces.clear();
+  {  // released from the static deflection under 40 N (as Dynamics.StraightGuidanceConserves...)
+    core::Model loaded = m;
+    loaded.f0[m.nodes[m.nodeByLabel.at(6)].firstCoord] = 40.0;
+    core::Linearization lin(loaded);
+    Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
+    ASSERT_EQ(analysis::equilibrium(lin, 0.0, 0.0, eta).status, solvers::StaticStatus::Converged);
+    for (size_t j = 0; j < m.dofs.size(); ++j) m.e0[m.dofs[j].index] = eta[j];
+  }
+  const Eigen::MatrixXd V = modalBasis(m, 3);
+  const analysis::ReducedOperators ops = analysis::trainOperators(m, V);
+  analysis::OperatorDynamics od(m, ops);
+  core::EquationsOfMotion eom(m, V);
+  const Eigen::VectorXd y0 = eom.initialState();
+  const double relTol = 1e-6;
+  solvers::Ode45Options o;
+  o.relTol = relTol;
+  o.absTol = Eigen::VectorXd::Constant(1, 1e-9);
+  const double e0 = od.energy(y0);
+  double drift = 0.0, scale = 0.0;
+  int refused = 0;
+  auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) {
+    if (!od.rhs(t, y, dy)) ++refused;
+  };
+  auto observe = [&](double, const Eigen::VectorXd& y) {
+    const Eigen::VectorXd eta = y.head(ops.size());
+    scale = std::max(scale, std::abs(od.potential(eta) - od.potential(y0.head(ops.size()))));
+    drift = std::max(drift, std::abs(od.energy(y) - e0));
+    return true;
+  };
+  const auto r = solvers::Ode45(o).integrate(f, {0.0, 0.5}, y0, observe);
+  ASSERT_EQ(r.status, solvers::OdeStatus::Success);
+  ASSERT_EQ(refused, 0);
+  std::printf("energy drift of the operator model over 0.5 s at RelTol %g: %.2e of the energy exchanged\n", relTol,
+              drift / scale);
+  EXPECT_LT(drift / scale, 10 * relTol);
+}
+
+TEST(ReducedOperators, RunFallsBackToEquation19OutsideTheTrainedRangeAndSaysWhen) {
+  Guidance& g = guidance();
+  // Operators trained on a third of the stroke: the run must leave the range and use Eq. 19.
+  analysis::OperatorTrainingOptions small;
+  small.lower = g.ops.basis.lower() / 3.0;
+  small.upper = g.ops.basis.upper() / 3.0;
+  auto ops = std::make_shared<analysis::ReducedOperators>(analysis::trainOperators(g.model, g.V, small));
+  analysis::SimulationOptions with, without;
+  with.basis = without.basis = g.V;
+  with.operators = ops;
+  with.reductionEstimate = without.reductionEstimate = false;
+  const core::Trajectory a = analysis::simulate(g.model, with), b = analysis::simulate(g.model, without);
+  ASSERT_TRUE(a.completed) << a.stopReason;
+  EXPECT_GT(a.operators.evaluations, 0);
+  EXPECT_GT(a.operators.fallbacks, 0);
+  EXPECT_GT(a.operators.firstFallback, 0.0);
+  EXPECT_NE(a.operators.where.find("outside the trained"), std::string::npos) << a.operators.where;
+  const double diff = analysis::positionErrorAgainst(g.model, a, b);
+  std::printf("fallback run: %ld operator evaluations, %ld by Eq. 19 from t = %g (%s); difference to Eq. 19 %.2e\n",
+              a.operators.evaluations, a.operators.fallbacks, a.operators.firstFallback, a.operators.where.c_str(),
+              diff);
+  EXPECT_LT(diff, 1e-3);
+}
+
+TEST(ReducedOperators, AddAtMostATenthOfTheReductionError) {
+  Guidance& g = guidance();
+  analysis::SimulationOptions with, without, full;
+  with.basis = without.basis = g.V;
+  with.operators = std::make_shared<analysis::ReducedOperators>(g.ops);
+  with.reductionEstimate = without.reductionEstimate = full.reductionEstimate = false;
+  with.relTol = without.relTol = 1e-6;
+  full.relTol = 1e-7;
+  const core::Trajectory a = analysis::simulate(g.model, with), b = analysis::simulate(g.model, without);
+  const core::Trajectory ref = analysis::simulate(g.model, full);
+  ASSERT_TRUE(a.completed && b.completed && ref.completed);
+  EXPECT_EQ(a.operators.fallbacks, 0);
+  const double added = analysis::positionErrorAgainst(g.model, a, b);
+  const double reduction = analysis::positionErrorAgainst(g.model, b, ref);
+  std::printf("MODAL-3 at RelTol 1e-6: reduction error %.2e, operators add %.2e (of the motion)\n", reduction, added);
+  EXPECT_LT(added, 0.1 * reduction);
+}
+
+TEST(ReducedOperators, RefuseModelsWhoseKinematicsDependOnTime) {
+  const core::Model m = io::readDatFile(dat("slider_crank_s95.dat"));
+  if (m.inputX.empty() && m.inputE.empty()) GTEST_SKIP() << "slider crank without kinematic inputs";
+  EXPECT_NE(analysis::operatorsUnsupported(m), "");
+  EXPECT_THROW(analysis::trainOperators(m, Eigen::MatrixXd::Identity(m.numDofs(), m.numDofs())),
+               std::invalid_argument);
+}
