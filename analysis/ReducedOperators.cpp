@@ -5,10 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
+#include <numeric>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/SVD>
 #include "analysis/Simulation.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/GeometricTransferFunctions.hpp"
@@ -23,9 +27,9 @@ namespace {
 int packedSize(int m) { return m * (m + 1) / 2; }
 
 // The operators' fit tolerance as a share of the pilot's reduction error estimate.
-constexpr double kToleranceShare = 0.02;
-// A coordinate whose axis scan needs this degree or more counts as large (solvers::ChebyshevBasis groups).
-constexpr int kLargeDegree = 5;
+constexpr double kToleranceShare = 0.03;
+// Held-out configurations that judge the fits.
+constexpr int kHeldOut = 80;
 
 // Row-by-row upper triangle: (0,0) (0,1) .. (0,m-1) (1,1) ..
 void packSymmetric(const Eigen::MatrixXd& A, Eigen::Ref<Eigen::VectorXd> v) {
@@ -44,11 +48,13 @@ struct OperatorSample {
   Eigen::MatrixXd loadGrad;   // m x loads
 };
 
-// Solves the full kinematics at q = V eta and projects mass, damping and loads (Eq. 19 at rest).
+// Solves the full kinematics at q = q0 + W zeta and projects mass, damping and loads on W (Eq. 19
+// at rest): with W = V R, the quantities of the operators' own coordinates zeta.
 class OperatorSampler {
  public:
-  OperatorSampler(const core::Model& model, const Eigen::MatrixXd& V, const std::vector<OperatorLoad>& loads)
-      : model_(model), V_(V), loads_(loads), workspace_(model), gtf_(workspace_.kinematics()) {
+  OperatorSampler(const core::Model& model, const Eigen::MatrixXd& W, const Eigen::VectorXd& q0,
+                  const std::vector<OperatorLoad>& loads)
+      : model_(model), V_(W), q0_(q0), loads_(loads), workspace_(model), gtf_(workspace_.kinematics()) {
     gtf_.setRelativeTolerance(1e-12);
     start_ = gtf_.x();
   }
@@ -56,7 +62,7 @@ class OperatorSampler {
   // False when the kinematics do not converge at eta (a configuration the mechanism cannot take).
   bool sample(const Eigen::VectorXd& eta, OperatorSample& s) {
     const int m = static_cast<int>(V_.cols());
-    const Eigen::VectorXd q = V_ * eta;
+    const Eigen::VectorXd q = q0_ + V_ * eta;
     try {
       gtf_.solvePositions(model_.settings.t0, q);
     } catch (const core::KinematicsError&) {
@@ -144,7 +150,8 @@ class OperatorSampler {
   }
 
   const core::Model& model_;
-  const Eigen::MatrixXd& V_;
+  const Eigen::MatrixXd V_;
+  const Eigen::VectorXd q0_;
   const std::vector<OperatorLoad>& loads_;
   core::Workspace workspace_;
   core::GeometricTransferFunctions gtf_;
@@ -162,10 +169,11 @@ std::vector<OperatorLoad> timeLoads(const core::Model& model) {
   return loads;
 }
 
-// The eta range of a pilot reduced run (Eq. 19), widened by margin of its width on each side, and
-// the pilot's reduction error estimate (NaN when it has none).
+// The range of a pilot reduced run (Eq. 19): the frame zeta = R^T (eta - c) of its states'
+// principal directions (c their mean), and the box of zeta it covers widened by margin of its width
+// on each side. Returns the pilot's reduction error estimate (NaN when it has none).
 double pilotRange(const core::Model& model, const Eigen::MatrixXd& V, const OperatorTrainingOptions& o,
-                  Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
+                  Eigen::VectorXd& centre, Eigen::MatrixXd& R, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
   SimulationOptions so;
   so.basis = V;
   so.relTol = o.pilotRelTol;
@@ -175,17 +183,21 @@ double pilotRange(const core::Model& model, const Eigen::MatrixXd& V, const Oper
   const core::ReducedCoordinates coords(model.numDofs(), V);
   const int m = static_cast<int>(V.cols());
   Eigen::VectorXd q(model.numDofs());
+  Eigen::MatrixXd etas(static_cast<int>(run.states.size()), m);
   for (size_t k = 0; k < run.states.size(); ++k) {
     const core::StateOutputs& s = run.states[k];
     for (int j = 0; j < model.numDofs(); ++j) {
       const auto& d = model.dofs[j];
       q[j] = d.isDeformation ? s.e[d.index] : s.x[d.index];
     }
-    const Eigen::VectorXd eta = coords.fromFull(q);
-    if (k == 0) lo = hi = eta;
-    lo = lo.cwiseMin(eta);
-    hi = hi.cwiseMax(eta);
+    etas.row(static_cast<int>(k)) = coords.fromFull(q).transpose();
   }
+  centre = etas.colwise().mean().transpose();
+  const Eigen::MatrixXd centred = etas.rowwise() - centre.transpose();
+  R = Eigen::JacobiSVD<Eigen::MatrixXd>(centred, Eigen::ComputeFullV).matrixV();
+  const Eigen::MatrixXd zetas = centred * R;
+  lo = zetas.colwise().minCoeff().transpose();
+  hi = zetas.colwise().maxCoeff().transpose();
   const Eigen::VectorXd width = hi - lo;
   const double widest = width.maxCoeff();
   for (int i = 0; i < m; ++i) {
@@ -197,165 +209,312 @@ double pilotRange(const core::Model& model, const Eigen::MatrixXd& V, const Oper
 }
 
 // The data groups the operators fit, each measured against its own largest value: the force
-// (grad U, so U needs one degree more), the mass, the damping and the load fields' gradients.
+// (grad U), the mass, the damping and the load fields' gradients.
 enum Group { kForce, kMass, kDamping, kLoads, kGroups };
 
-// Degree of variable i: the Chebyshev coefficients of each group along the axis through the box's
-// centre fall below tolerance x that group's largest from this degree on.
-std::vector<int> axisDegrees(OperatorSampler& sampler, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
-                             const OperatorTrainingOptions& o) {
-  const int m = static_cast<int>(lo.size()), n = 2 * o.maxDegree + 1;
-  const Eigen::VectorXd centre = 0.5 * (lo + hi);
-  std::vector<int> degrees(m, 2);
-  for (int i = 0; i < m; ++i) {
-    Eigen::VectorXd a = Eigen::VectorXd::Constant(1, lo[i]), b = Eigen::VectorXd::Constant(1, hi[i]);
-    const solvers::ChebyshevBasis line(a, b, std::vector<int>{o.maxDegree});
-    Eigen::MatrixXd points(n, 1), data;
-    std::vector<Eigen::VectorXd> rows;
-    std::vector<int> group;
-    int k = 0;
-    for (int j = 0; j < n; ++j) {
-      Eigen::VectorXd eta = centre;
-      eta[i] = 0.5 * (lo[i] + hi[i]) - 0.5 * (hi[i] - lo[i]) * std::cos(M_PI * (j + 0.5) / n);
-      OperatorSample s;
-      if (!sampler.sample(eta, s)) continue;
-      points(k++, 0) = eta[i];
-      Eigen::VectorXd r(s.force.size() + s.mass.size() + s.damping.size() + s.loadGrad.size());
-      r << s.force, s.mass, s.damping, Eigen::Map<const Eigen::VectorXd>(s.loadGrad.data(), s.loadGrad.size());
-      rows.push_back(r);
-      if (group.empty()) {
-        group.insert(group.end(), s.force.size(), kForce);
-        group.insert(group.end(), s.mass.size(), kMass);
-        group.insert(group.end(), s.damping.size(), kDamping);
-        group.insert(group.end(), s.loadGrad.size(), kLoads);
+// Samples at which the fields are fitted, and held-out ones at which the fits are judged.
+struct Samples {
+  std::vector<OperatorSample> train, check;
+  double scale[kGroups] = {0, 0, 0, 0};  // each group's largest norm over both
+  void rescale() {
+    for (const auto* list : {&train, &check})
+      for (const OperatorSample& d : *list) {
+        scale[kForce] = std::max(scale[kForce], d.force.norm());
+        scale[kMass] = std::max(scale[kMass], d.mass.norm());
+        scale[kDamping] = std::max(scale[kDamping], d.damping.norm());
+        for (int k = 0; k < d.loadGrad.cols(); ++k) scale[kLoads] = std::max(scale[kLoads], d.loadGrad.col(k).norm());
       }
-    }
-    if (k < o.maxDegree + 2) throw std::runtime_error("too few configurations solve along the range's axes");
-    points.conservativeResize(k, 1);
-    data.resize(k, rows.front().size());
-    for (int j = 0; j < k; ++j) data.row(j) = rows[j].transpose();
-    const Eigen::MatrixXd c = solvers::fitChebyshev(line, points, data, 1.0, Eigen::MatrixXd(), 0.0);
-    double scale[kGroups] = {0, 0, 0, 0};
-    for (int col = 0; col < c.cols(); ++col) scale[group[col]] = std::max(scale[group[col]], c.col(col).cwiseAbs().maxCoeff());
-    int need = 1;
-    if (std::getenv("FLEXMB_DEBUG_OPS"))
-      for (int d = 0; d <= o.maxDegree; ++d) {
-        double mx[kGroups] = {0, 0, 0, 0};
-        for (int col = 0; col < c.cols(); ++col) mx[group[col]] = std::max(mx[group[col]], std::abs(c(d, col)));
-        std::fprintf(stderr, "axis %d degree %d: force %.2e mass %.2e loads %.2e\n", i, d, mx[kForce] / scale[kForce],
-                     mx[kMass] / scale[kMass], mx[kLoads] / std::max(1e-300, scale[kLoads]));
-      }
-    for (int d = 0; d <= o.maxDegree; ++d)
-      for (int col = 0; col < c.cols(); ++col) {
-        const int g = group[col];
-        // Force and load gradients are gradients of U and phi: those need one degree more.
-        if (scale[g] > 0.0 && std::abs(c(d, col)) > o.tolerance * scale[g])
-          need = std::max(need, g == kForce || g == kLoads ? d + 1 : d);
-      }
-    degrees[i] = std::min(o.maxDegree, std::max(need, 2));
   }
-  return degrees;
-}
-
-// The fits of one set of samples: each field on the fewest leading terms (by weighted degree) that
-// meet the tolerance on the held-out samples, else on all of them.
-struct FieldFit {
-  Eigen::MatrixXd coef;  // terms x columns
-  double error = 0.0;
 };
 
-}  // namespace
+// One group's least-squares system at the training samples: value rows (mass, damping, load
+// values) and/or gradient rows (force, load gradients), one column per term of the basis.
+struct GroupSystem {
+  Eigen::MatrixXd A, b;
+};
+GroupSystem groupSystem(const solvers::ChebyshevBasis& basis, const std::vector<OperatorSample>& train, Group g) {
+  const int m = basis.variables(), P = basis.size(), n = static_cast<int>(train.size());
+  const bool values = g != kForce, gradients = g == kForce || g == kLoads;
+  const int cols = g == kForce   ? 1
+                   : g == kLoads ? static_cast<int>(train.front().loadGrad.cols())
+                   : g == kMass  ? static_cast<int>(train.front().mass.size())
+                                 : static_cast<int>(train.front().damping.size());
+  GroupSystem sys;
+  sys.A.resize((values ? n : 0) + (gradients ? n * m : 0), P);
+  sys.b.resize(sys.A.rows(), cols);
+  solvers::ChebyshevBasis::Scratch scratch;
+  Eigen::VectorXd phi(P);
+  Eigen::MatrixXd grad(m, P);
+  int r = 0;
+  for (const OperatorSample& d : train) {
+    basis.evaluate(d.eta, scratch, phi, gradients ? &grad : nullptr);
+    if (values) {
+      sys.A.row(r) = phi.transpose();
+      sys.b.row(r++) = g == kMass      ? d.mass.transpose()
+                       : g == kDamping ? d.damping.transpose()
+                                       : d.loadValue.transpose();
+    }
+    if (gradients) {
+      sys.A.middleRows(r, m) = grad;
+      if (g == kForce)
+        sys.b.middleRows(r, m) = -d.force;
+      else
+        sys.b.middleRows(r, m) = d.loadGrad;
+      r += m;
+    }
+  }
+  return sys;
+}
 
-namespace {
+// Coefficients on the first `count` terms (the constant term left out of a gradient-only fit).
+Eigen::MatrixXd solveGroup(const GroupSystem& sys, int count, Group g) {
+  const int skip = g == kForce ? 1 : 0;  // term 0 is the constant: no gradient
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(count, sys.b.cols());
+  c.bottomRows(count - skip) = sys.A.middleCols(skip, count - skip).colPivHouseholderQr().solve(sys.b);
+  return c;
+}
 
-// Held-out error of a field: gradients (force, loads) or values (mass, damping), each sample's
-// error norm over the largest norm of the data.
-double heldOutError(const solvers::ChebyshevBasis& basis, const std::vector<OperatorSample>& pool, int first,
-                    const Eigen::MatrixXd& coef, Group g, double scale) {
+// Held-out error of a group's fit: each sample's error norm over the group's largest norm.
+double heldOutError(const solvers::ChebyshevBasis& basis, const Samples& s, const Eigen::MatrixXd& coef, Group g) {
   const int m = basis.variables(), P = static_cast<int>(coef.rows());
   solvers::ChebyshevBasis::Scratch scratch;
   Eigen::VectorXd phi(basis.size());
   Eigen::MatrixXd grad(m, basis.size());
   double worst = 0.0;
-  for (size_t s = first; s < pool.size(); ++s) {
-    const OperatorSample& d = pool[s];
+  for (const OperatorSample& d : s.check) {
     basis.evaluate(d.eta, scratch, phi, &grad, P);
     double e = 0.0;
     if (g == kForce)
       e = (-grad.leftCols(P) * coef.col(0) - d.force).norm();
     else if (g == kLoads)
-      for (int k = 0; k < coef.cols(); ++k) e = std::max(e, (grad.leftCols(P) * coef.col(k) - d.loadGrad.col(k)).norm());
+      for (int k = 0; k < coef.cols(); ++k)
+        e = std::max(e, (grad.leftCols(P) * coef.col(k) - d.loadGrad.col(k)).norm());
     else
       e = (coef.transpose() * phi.head(P) - (g == kMass ? d.mass : d.damping)).norm();
     worst = std::max(worst, e);
   }
-  return scale > 0.0 ? worst / scale : worst;
+  return s.scale[g] > 0.0 ? worst / s.scale[g] : worst;
 }
 
-FieldFit fitField(const solvers::ChebyshevBasis& basis, const std::vector<OperatorSample>& pool, int n, Group g,
-                  double tolerance) {
-  const int m = basis.variables();
-  double scale = 0.0;
-  for (const OperatorSample& d : pool) {
-    if (g == kForce) scale = std::max(scale, d.force.norm());
-    if (g == kMass) scale = std::max(scale, d.mass.norm());
-    if (g == kDamping) scale = std::max(scale, d.damping.norm());
-    if (g == kLoads)
-      for (int k = 0; k < d.loadGrad.cols(); ++k) scale = std::max(scale, d.loadGrad.col(k).norm());
-  }
-  const bool gradients = g == kForce || g == kLoads;
-  const int cols = g == kForce ? 1 : g == kLoads ? static_cast<int>(pool.front().loadGrad.cols())
-                                 : g == kMass    ? static_cast<int>(pool.front().mass.size())
-                                                 : static_cast<int>(pool.front().damping.size());
-  Eigen::MatrixXd pts(n, m), vals(n, cols), grads(gradients ? n * m : 0, cols);
-  for (int s = 0; s < n; ++s) {
-    const OperatorSample& d = pool[s];
-    pts.row(s) = d.eta.transpose();
-    if (g == kForce) grads.block(s * m, 0, m, 1) = -d.force;
-    if (g == kLoads) {
-      vals.row(s) = d.loadValue.transpose();
-      grads.block(s * m, 0, m, cols) = d.loadGrad;
-    }
-    if (g == kMass) vals.row(s) = d.mass.transpose();
-    if (g == kDamping) vals.row(s) = d.damping.transpose();
-  }
+// A group's fit on the fewest leading terms of the set that meet the tolerance (every leading
+// part of an adaptive set is itself a lower set), else on all of them.
+struct FieldFit {
+  Eigen::MatrixXd coef;  // terms x columns
+  double error = 0.0;
+};
+FieldFit fitGroup(const solvers::ChebyshevBasis& basis, const Samples& s, Group g, double tolerance) {
+  const GroupSystem sys = groupSystem(basis, s.train, g);
   FieldFit best;
   best.error = std::numeric_limits<double>::infinity();
-  int lastCount = 0;
-  for (double level : {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0}) {
-    const int count = level < 1.0 ? basis.termsUpTo(level) : basis.size();
-    if (count <= lastCount || count < 2) continue;
-    lastCount = count;
-    const Eigen::MatrixXd coef =
-        g == kForce ? solvers::fitChebyshev(basis, pts, Eigen::MatrixXd(), 0.0, grads, 1.0, count)
-        : g == kLoads ? solvers::fitChebyshev(basis, pts, vals, 1.0, grads, 1.0, count)
-                      : solvers::fitChebyshev(basis, pts, vals, 1.0, Eigen::MatrixXd(), 0.0, count);
-    const double e = heldOutError(basis, pool, n, coef, g, scale);
-    if (e < best.error) best = {coef, e};
+  int last = 0;
+  for (double share : {0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0}) {
+    const int count = std::max(2, static_cast<int>(std::ceil(share * basis.size())));
+    if (count <= last || count > basis.size()) continue;
+    last = count;
+    const Eigen::MatrixXd c = solveGroup(sys, count, g);
+    const double e = heldOutError(basis, s, c, g);
+    if (e < best.error) best = {c, e};
     if (e <= tolerance) break;
   }
   return best;
 }
 
-}  // namespace
-
-const char* operatorLoadKeyword(OperatorLoad::Kind kind) {
-  switch (kind) {
-    case OperatorLoad::Kind::Stress:
-      return "ESIGT";
-    case OperatorLoad::Kind::Reference:
-      return "EREF";
-    case OperatorLoad::Kind::NodalForce:
-      break;
-  }
-  return "XFT";
+// The groups a model's operators have.
+std::vector<Group> groupsOf(const Samples& s) {
+  std::vector<Group> g{kForce, kMass};
+  if (s.check.front().damping.size()) g.push_back(kDamping);
+  if (s.check.front().loadGrad.cols()) g.push_back(kLoads);
+  return g;
 }
+
+// The polynomial terms, chosen greedily as a lower set (adaptive least squares in the manner of
+// Chkifa, Cohen, Migliorati, Nobile & Tempone, ESAIM: M2AN 49, 2015): from {0, e_i}, each step fits
+// every group on the set, scores each term of its margin (the terms whose predecessors are all in
+// the set) by how much of the normalised residual it alone would remove, and adds the best ones,
+// until the held-out errors meet the tolerance or the set reaches maxTerms. The samples grow with
+// the set (three training rows per term). Returns the exponents in the order they were added.
+std::vector<std::vector<int>> adaptiveTerms(Samples& s, const std::function<void(int)>& growTraining,
+                                            const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                                            const OperatorTrainingOptions& o) {
+  const int m = static_cast<int>(lo.size());
+  std::vector<std::vector<int>> terms(1, std::vector<int>(m, 0));
+  std::set<std::vector<int>> in(terms.begin(), terms.end());
+  for (int i = 0; i < m; ++i) {
+    std::vector<int> k(m, 0);
+    k[i] = 1;
+    terms.push_back(k);
+    in.insert(k);
+  }
+  const std::vector<Group> groups = groupsOf(s);
+  auto toBasis = [&](const std::vector<std::vector<int>>& list) {
+    Eigen::MatrixXi e(static_cast<int>(list.size()), m);
+    for (size_t p = 0; p < list.size(); ++p)
+      for (int i = 0; i < m; ++i) e(static_cast<int>(p), i) = list[p][i];
+    return solvers::ChebyshevBasis(lo, hi, e);
+  };
+  for (int step = 0; step < 200; ++step) {
+    const int L = static_cast<int>(terms.size());
+    // The margin.
+    std::vector<std::vector<int>> margin;
+    std::set<std::vector<int>> seen;
+    for (const auto& k : terms)
+      for (int i = 0; i < m; ++i) {
+        std::vector<int> c = k;
+        if (++c[i] > o.maxDegree || in.count(c) || seen.count(c)) continue;
+        bool admissible = true;
+        for (int j = 0; j < m && admissible; ++j) {
+          if (c[j] == 0) continue;
+          std::vector<int> below = c;
+          --below[j];
+          admissible = in.count(below) > 0;
+        }
+        if (admissible) {
+          margin.push_back(c);
+          seen.insert(c);
+        }
+      }
+    std::vector<std::vector<int>> all = terms;
+    all.insert(all.end(), margin.begin(), margin.end());
+    const int want = 3 * L + 40;
+    if (static_cast<int>(s.train.size()) < want) growTraining(want - static_cast<int>(s.train.size()));
+    if (static_cast<int>(s.train.size()) < L + 10) break;  // configurations do not solve: keep what fits
+    s.rescale();
+    const solvers::ChebyshevBasis basis = toBasis(all), current = toBasis(terms);
+    // Fit the set, judge it, score the margin against the residuals.
+    bool met = true;
+    Eigen::VectorXd score = Eigen::VectorXd::Zero(static_cast<int>(margin.size()));
+    for (Group g : groups) {
+      const GroupSystem sys = groupSystem(basis, s.train, g);
+      const Eigen::MatrixXd c = solveGroup(sys, L, g);
+      met = met && heldOutError(current, s, c, g) <= o.tolerance;
+      const Eigen::MatrixXd residual = sys.b - sys.A.leftCols(L) * c;
+      const double scale = s.scale[g] > 0.0 ? s.scale[g] : 1.0;
+      for (int j = 0; j < score.size(); ++j) {
+        const auto a = sys.A.col(L + j);
+        const double an = a.norm();
+        if (an > 0.0) score[j] += (a.transpose() * residual).squaredNorm() / (an * an * scale * scale);
+      }
+    }
+    if (std::getenv("FLEXMB_DEBUG_OPS"))
+      std::fprintf(stderr, "step %d: %d terms, margin %zu\n", step, L, margin.size());
+    if (met || L >= o.maxTerms || margin.empty()) break;
+    // Add the best-scoring margin terms (at least one, at most a quarter of the set).
+    std::vector<int> order(margin.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return score[a] > score[b]; });
+    const double top = score[order.front()];
+    const int most = std::max(2, L / 4);
+    for (int r = 0; r < static_cast<int>(order.size()) && r < most && L + r < o.maxTerms; ++r) {
+      if (r > 0 && score[order[r]] < 0.1 * top) break;
+      terms.push_back(margin[order[r]]);
+      in.insert(margin[order[r]]);
+    }
+  }
+  return terms;
+}
+
+// One evaluation of the operators and of Eq. 19 at the range's centre (median of a few dozen):
+// what a run saves per evaluation, so that a front end can prefer Eq. 19 where operators cost more.
+void timeOneEvaluation(const core::Model& model, const Eigen::MatrixXd& V, ReducedOperators& ops) {
+  using Clock = std::chrono::steady_clock;
+  OperatorDynamics od(model, ops);
+  core::EquationsOfMotion eom(model, V);
+  const int m = ops.size();
+  Eigen::VectorXd y(2 * m), dy(2 * m);
+  y << ops.centre + ops.rotation * (0.5 * (ops.lower + ops.upper)), Eigen::VectorXd::Zero(m);
+  const double t = model.settings.t0;
+  auto median = [](const std::function<void()>& call) {
+    std::vector<double> s;
+    for (int k = 0; k < 41; ++k) {
+      const auto t0 = Clock::now();
+      call();
+      s.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    std::nth_element(s.begin(), s.begin() + 20, s.end());
+    return s[20];
+  };
+  try {
+    ops.equation19Seconds = median([&] { eom.rhs(t, y, dy); });
+  } catch (const core::KinematicsError&) {
+    ops.equation19Seconds = 0.0;  // not measured
+  }
+  ops.operatorSeconds = median([&] { od.rhs(t, y, dy); });
+}
+
+}  // namespace
 
 double basisChecksum(const Eigen::MatrixXd& V) {
   double s = 0.0;
   for (int j = 0; j < V.cols(); ++j)
     for (int i = 0; i < V.rows(); ++i) s += V(i, j) * (1.0 + 0.37 * i + 0.61 * j * j);
   return s;
+}
+
+std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V, const ReducedOperators& ops) {
+  std::ostringstream s;
+  if (ops.dofs != model.numDofs()) {
+    s << "they were made for a model with " << ops.dofs << " degrees of freedom, this one has " << model.numDofs();
+    return s.str();
+  }
+  if (ops.size() != V.cols()) {
+    s << "they were made for a basis of " << ops.size() << " columns, this one has " << V.cols();
+    return s.str();
+  }
+  const double sum = basisChecksum(V);
+  if (std::abs(sum - ops.basisChecksum) > 1e-12 * (std::abs(sum) + V.cwiseAbs().sum()))
+    return "they were made for another basis of the same size (its entries differ): run flexmb reduce again";
+  if (const std::string why = operatorsUnsupported(model); !why.empty()) return why;
+  const std::vector<OperatorLoad> mine = timeLoads(model);
+  auto same = [](const OperatorLoad& a, const OperatorLoad& b) { return a.kind == b.kind && a.index == b.index; };
+  for (const OperatorLoad& l : ops.loads)
+    if (std::none_of(mine.begin(), mine.end(), [&](const OperatorLoad& k) { return same(k, l); })) {
+      s << "they have a time-dependent " << operatorLoadKeyword(l.kind) << " load (index " << l.index + 1
+        << ") the model does not have";
+      return s.str();
+    }
+  for (const OperatorLoad& l : mine)
+    if (std::none_of(ops.loads.begin(), ops.loads.end(), [&](const OperatorLoad& k) { return same(k, l); })) {
+      s << "the model has a time-dependent " << operatorLoadKeyword(l.kind) << " load (index " << l.index + 1
+        << ") they do not have";
+      return s.str();
+    }
+  // The physics: accelerations at the range's centre, at rest and at t0, against Eq. 19's.
+  const int m = ops.size();
+  Eigen::VectorXd y(2 * m), a(2 * m), b(2 * m);
+  y << ops.centre + ops.rotation * (0.5 * (ops.lower + ops.upper)), Eigen::VectorXd::Zero(m);
+  OperatorDynamics od(model, ops);
+  core::EquationsOfMotion eom(model, V);
+  try {
+    eom.rhs(model.settings.t0, y, b);
+  } catch (const core::KinematicsError& e) {
+    return std::string("the kinematics fail at the centre of their range: ") + e.what();
+  }
+  if (!od.rhs(model.settings.t0, y, a)) return "their own range does not hold its centre";
+  const double diff = (a.tail(m) - b.tail(m)).norm() / std::max(b.tail(m).norm(), 1e-300);
+  const double allowed = std::max(20.0 * std::max(ops.forceError, ops.massError), 1e-6);
+  if (b.tail(m).norm() > 0.0 && diff > allowed) {
+    s << "at the centre of their range their accelerations differ from Eq. 19's by " << solvers::shortest(diff)
+      << " (relative; their fit allows " << solvers::shortest(allowed)
+      << "): the model's mass, stiffness or loads changed since they were made";
+    return s.str();
+  }
+  return "";
+}
+
+std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops) {
+  std::ostringstream s;
+  if (!use.notUsed.empty()) return "Eq. 19 (" + use.notUsed + ")";
+  char fit[32];
+  std::snprintf(fit, sizeof fit, "%.2g", std::max(ops.forceError, ops.massError));
+  s << "reduced operators for " << use.evaluations << " evaluations (" << ops.terms() << " terms, fit " << fit
+    << " of the largest force or mass in their range)";
+  if (use.fallbacks)
+    s << "; Eq. 19 for " << use.fallbacks
+      << " evaluations outside their range, the first at t = " << solvers::shortest(use.firstFallback) << " s ("
+      << use.where << ")";
+  else
+    s << "; the run stayed in their range";
+  return s.str();
 }
 
 std::string operatorsUnsupported(const core::Model& model) {
@@ -366,8 +525,7 @@ std::string operatorsUnsupported(const core::Model& model) {
   return "";
 }
 
-ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd& V,
-                                const OperatorTrainingOptions& o) {
+ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd& V, const OperatorTrainingOptions& o) {
   const std::string why = operatorsUnsupported(model);
   if (!why.empty()) throw std::invalid_argument("no reduced operators: " + why);
   const auto started = std::chrono::steady_clock::now();
@@ -377,13 +535,15 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
   ops.basisChecksum = basisChecksum(V);
   ops.loads = timeLoads(model);
   Eigen::VectorXd lo = o.lower, hi = o.upper;
+  ops.centre = Eigen::VectorXd::Zero(m);
+  ops.rotation = Eigen::MatrixXd::Identity(m, m);
   OperatorTrainingOptions opt = o;
   if (lo.size() == 0) {
-    const double estimate = pilotRange(model, V, o, lo, hi);
+    const double estimate = pilotRange(model, V, o, ops.centre, ops.rotation, lo, hi);
     std::ostringstream r;
-    r << "pilot run of Eq. 19 (ode45, RelTol " << solvers::shortest(o.pilotRelTol) << ") to t = "
-      << solvers::shortest(model.settings.tEnd) << " s, widened " << solvers::shortest(100 * o.margin)
-      << "% each side";
+    r << "pilot run of Eq. 19 (ode45, RelTol " << solvers::shortest(o.pilotRelTol)
+      << ") to t = " << solvers::shortest(model.settings.tEnd) << " s, its principal directions, widened "
+      << solvers::shortest(100 * o.margin) << "% each side";
     // Fit to a small share of the reduction error the basis has anyway (issue 33: the operators may add
     // at most 10% of it; the estimate is 1.4-3x the true error).
     if (std::isnan(opt.tolerance)) {
@@ -400,17 +560,15 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
     if (std::isnan(opt.tolerance)) opt.tolerance = 1e-6;
   }
   ops.tolerance = opt.tolerance;
-  OperatorSampler sampler(model, V, ops.loads);
-  std::vector<int> degrees = axisDegrees(sampler, lo, hi, opt);
+  OperatorSampler sampler(model, V * ops.rotation, V * ops.centre, ops.loads);
 
   // Samples from the arcsine density (Halton), chained nearest-first so that Newton starts close.
-  std::vector<OperatorSample> pool;
   long next = 1;
-  auto grow = [&](int count) {
+  auto draw = [&](int count, std::vector<OperatorSample>& into) {
     std::vector<Eigen::VectorXd> pts;
     const solvers::ChebyshevBasis box(lo, hi, std::vector<int>(m, 1));
     for (int i = 0; i < count; ++i) pts.push_back(box.arcsinePoint(solvers::haltonPoint(next++, m)));
-    Eigen::VectorXd at = pool.empty() ? Eigen::VectorXd(0.5 * (lo + hi)) : pool.back().eta;
+    Eigen::VectorXd at = into.empty() ? Eigen::VectorXd(0.5 * (lo + hi)) : into.back().eta;
     const Eigen::VectorXd w = (hi - lo).cwiseInverse();
     while (!pts.empty()) {
       size_t best = 0;
@@ -422,60 +580,42 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
       at = pts[best];
       pts.erase(pts.begin() + static_cast<long>(best));
       OperatorSample s;
-      if (sampler.sample(at, s)) pool.push_back(std::move(s));
+      if (sampler.sample(at, s)) into.push_back(std::move(s));
     }
   };
-  const bool damped = sampler.hasDamping();
-  const int nl = static_cast<int>(ops.loads.size());
-  double bestError = std::numeric_limits<double>::infinity();
-  // Large coordinates (those the axis scan finds strongly nonlinear) enter every product with the
-  // small ones at their full degree; where that set is larger than maxTerms, one weighted set.
-  std::vector<int> groups(m, 1);
-  for (int i = 0; i < m; ++i)
-    if (degrees[i] >= kLargeDegree) groups[i] = 0;
-  if (solvers::ChebyshevBasis(lo, hi, degrees, o.slack, groups).size() > o.maxTerms) groups.clear();
-  for (int round = 0; round < 4; ++round) {
-    // Rounds widen the products of variables (slack).
-    const solvers::ChebyshevBasis basis(lo, hi, degrees, o.slack + round, groups);
-    if (basis.size() > o.maxTerms && round > 0) break;
-    const int P = basis.size();
-    const int want = 3 * P + 40, validation = std::max(60, P / 2);
-    if (static_cast<int>(pool.size()) < want + validation) grow(want + validation - static_cast<int>(pool.size()));
-    if (static_cast<int>(pool.size()) < (want + validation) / 2)
-      throw std::runtime_error("fewer than half of the configurations in the operators' range solve");
-    const int n = static_cast<int>(pool.size()) - validation;
-    ReducedOperators trial = ops;
-    trial.basis = basis;
-    const FieldFit force = fitField(basis, pool, n, kForce, opt.tolerance);
-    const FieldFit mass = fitField(basis, pool, n, kMass, opt.tolerance);
-    trial.potential = force.coef.col(0);
-    trial.mass = mass.coef.transpose();
-    trial.forceError = force.error;
-    trial.massError = mass.error;
-    if (damped) {
-      const FieldFit d = fitField(basis, pool, n, kDamping, opt.tolerance);
-      trial.damping = d.coef.transpose();
-      trial.massError = std::max(trial.massError, d.error);
-    }
-    if (nl) {
-      const FieldFit l = fitField(basis, pool, n, kLoads, opt.tolerance);
-      trial.loadFields = l.coef;
-      trial.forceError = std::max(trial.forceError, l.error);
-    } else {
-      trial.loadFields.resize(0, 0);
-    }
-    trial.trainingSamples = n;
-    trial.validationSamples = validation;
-    const double error = std::max(trial.forceError, trial.massError);
-    if (std::getenv("FLEXMB_DEBUG_OPS"))
-      std::fprintf(stderr, "round %d: %d terms, force %.2e mass %.2e (target %.2e)\n", round, P, trial.forceError,
-                   trial.massError, opt.tolerance);
-    if (error < bestError) {
-      ops = std::move(trial);
-      bestError = error;
-    }
-    if (error <= opt.tolerance) break;
+  Samples samples;
+  draw(kHeldOut, samples.check);
+  if (static_cast<int>(samples.check.size()) < kHeldOut / 2)
+    throw std::runtime_error("fewer than half of the configurations in the operators' range solve");
+  const std::vector<std::vector<int>> terms = adaptiveTerms(
+      samples, [&](int count) { draw(count, samples.train); }, lo, hi, opt);
+  Eigen::MatrixXi exponents(static_cast<int>(terms.size()), m);
+  for (size_t p = 0; p < terms.size(); ++p)
+    for (int i = 0; i < m; ++i) exponents(static_cast<int>(p), i) = terms[p][i];
+  const solvers::ChebyshevBasis basis(lo, hi, exponents);
+  ops.lower = lo;
+  ops.upper = hi;
+  ops.exponents = exponents;
+  samples.rescale();
+  const FieldFit force = fitGroup(basis, samples, kForce, opt.tolerance);
+  const FieldFit mass = fitGroup(basis, samples, kMass, opt.tolerance);
+  ops.potential = force.coef.col(0);
+  ops.mass = mass.coef.transpose();
+  ops.forceError = force.error;
+  ops.massError = mass.error;
+  if (sampler.hasDamping()) {
+    const FieldFit d = fitGroup(basis, samples, kDamping, opt.tolerance);
+    ops.damping = d.coef.transpose();
+    ops.massError = std::max(ops.massError, d.error);
   }
+  if (!ops.loads.empty()) {
+    const FieldFit l = fitGroup(basis, samples, kLoads, opt.tolerance);
+    ops.loadFields = l.coef;
+    ops.forceError = std::max(ops.forceError, l.error);
+  }
+  ops.trainingSamples = static_cast<int>(samples.train.size());
+  ops.validationSamples = static_cast<int>(samples.check.size());
+  timeOneEvaluation(model, V, ops);
   ops.trainingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return ops;
 }
@@ -483,6 +623,7 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
 OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperators& ops)
     : ops_(ops),
       m_(ops.size()),
+      basis_(ops.lower, ops.upper, ops.exponents),
       nPacked_(packedSize(ops.size())),
       nU_(static_cast<int>(ops.potential.size())),
       nM_(static_cast<int>(ops.mass.cols())),
@@ -493,7 +634,8 @@ OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperat
     const std::vector<core::TimeLoad>* list = l.kind == OperatorLoad::Kind::NodalForce ? &model.timeForces
                                               : l.kind == OperatorLoad::Kind::Stress   ? &model.timeStresses
                                                                                        : &model.references;
-    const auto it = std::find_if(list->begin(), list->end(), [&](const core::TimeLoad& t) { return t.index == l.index; });
+    const auto it =
+        std::find_if(list->begin(), list->end(), [&](const core::TimeLoad& t) { return t.index == l.index; });
     if (it == list->end())
       throw std::invalid_argument(std::string("the operators have a ") + operatorLoadKeyword(l.kind) +
                                   " load the model does not have");
@@ -515,10 +657,12 @@ OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperat
   MD_.resize(nPacked_, 2);
   C_.resize(m_, m_);
   lastEta_.resize(m_);
+  zeta_.resize(m_);
+  zetad_.resize(m_);
 }
 
 void OperatorDynamics::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, bool gradient) {
-  ops_.basis.evaluate(eta, scratch_, phi_, gradient ? &grad_ : nullptr, static_cast<int>(phi_.size()));
+  basis_.evaluate(eta, scratch_, phi_, gradient ? &grad_ : nullptr, static_cast<int>(phi_.size()));
 }
 
 void OperatorDynamics::unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, Eigen::MatrixXd& S) const {
@@ -528,9 +672,12 @@ void OperatorDynamics::unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, E
 }
 
 bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
-  const auto eta = y.head(m_);
-  const auto etad = y.tail(m_);
-  lastOutside_ = ops_.basis.outside(eta);
+  // The operators' own coordinates zeta = R^T (eta - c) (the pilot's principal directions).
+  zeta_.noalias() = ops_.rotation.transpose() * (y.head(m_) - ops_.centre);
+  zetad_.noalias() = ops_.rotation.transpose() * y.tail(m_);
+  const Eigen::VectorXd& eta = zeta_;
+  const Eigen::VectorXd& etad = zetad_;
+  lastOutside_ = basis_.outside(eta);
   if (lastOutside_ >= 0) {
     lastEta_ = eta;
     return false;
@@ -567,8 +714,8 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
   etadd_ = force_;
   llt_.solveInPlace(etadd_);
   dydt.resize(2 * m_);
-  dydt.head(m_) = etad;
-  dydt.tail(m_) = etadd_;
+  dydt.head(m_) = y.tail(m_);
+  dydt.tail(m_).noalias() = ops_.rotation * etadd_;
   return true;
 }
 
@@ -580,26 +727,27 @@ std::string OperatorDynamics::whereOutside() const {
     return s.str();
   }
   const int i = lastOutside_;
-  s << "eta_" << i + 1 << " = " << solvers::shortest(lastEta_[i]) << " outside the trained ["
-    << solvers::shortest(ops_.basis.lower()[i]) << ", " << solvers::shortest(ops_.basis.upper()[i]) << "]";
+  s << "coordinate " << i + 1 << " of the operators' frame (zeta = R^T (eta - c)) = " << solvers::shortest(lastEta_[i])
+    << " outside the trained [" << solvers::shortest(ops_.lower[i]) << ", " << solvers::shortest(ops_.upper[i]) << "]";
   return s.str();
 }
 
 void OperatorDynamics::massMatrix(const Eigen::VectorXd& eta, Eigen::MatrixXd& M) {
-  evaluate(eta, false);
+  evaluate(ops_.rotation.transpose() * (eta - ops_.centre), false);
   Mpacked_.noalias() = ops_.mass * phi_.head(nM_);
-  M.resize(m_, m_);
-  unpack(Mpacked_, M);
+  unpack(Mpacked_, M_);
+  M.noalias() = ops_.rotation * M_ * ops_.rotation.transpose();  // Mr in eta: R Mzeta R^T
 }
 
 double OperatorDynamics::potential(const Eigen::VectorXd& eta) {
-  evaluate(eta, false);
+  evaluate(ops_.rotation.transpose() * (eta - ops_.centre), false);
   return ops_.potential.dot(phi_.head(nU_));
 }
 
 double OperatorDynamics::energy(const Eigen::VectorXd& y) {
-  massMatrix(y.head(m_), M_);
-  return 0.5 * y.tail(m_).dot(M_ * y.tail(m_)) + ops_.potential.dot(phi_.head(nU_));
+  Eigen::MatrixXd M;
+  massMatrix(y.head(m_), M);
+  return 0.5 * y.tail(m_).dot(M * y.tail(m_)) + ops_.potential.dot(phi_.head(nU_));
 }
 
 }  // namespace flexmb::analysis

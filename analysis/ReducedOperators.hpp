@@ -19,43 +19,15 @@
 #include <vector>
 
 #include "core/Model.hpp"
+#include "core/ReducedOperators.hpp"
 #include "core/TimeFunction.hpp"
+#include "core/Trajectory.hpp"
 #include "solvers/ChebyshevBasis.hpp"
 
 namespace flexmb::analysis {
 
-// A time-dependent load's generalised force a(t) grad phi(eta).
-struct OperatorLoad {
-  enum class Kind { NodalForce, Stress, Reference };  // XFT (x index), ESIGT (e index), EREF (e index)
-  Kind kind = Kind::NodalForce;
-  int index = 0;
-};
-const char* operatorLoadKeyword(OperatorLoad::Kind kind);  // "XFT", "ESIGT", "EREF"
-
-struct ReducedOperators {
-  solvers::ChebyshevBasis basis;  // the trained range is its box
-  // Each field uses the leading terms of the basis it needs (its coefficients' length).
-  Eigen::VectorXd potential;  // U: coefficients
-  Eigen::MatrixXd mass;       // Mr: m(m+1)/2 x its terms (packed upper triangle, row by row)
-  Eigen::MatrixXd damping;    // Cr, the same layout; empty without damping
-  std::vector<OperatorLoad> loads;
-  Eigen::MatrixXd loadFields;  // its terms x loads: phi_k
-  // What it was made for and how well it fits (held-out samples, relative to the largest value).
-  int dofs = 0;                  // rows of V
-  double basisChecksum = 0.0;    // basisChecksum(V)
-  double tolerance = 0.0;        // the fit target it was trained for
-  double forceError = 0.0;       // max |Q_fit - Q| / max |Q| over held-out configurations
-  double massError = 0.0;        // max |Mr_fit - Mr|_F / max |Mr|_F over them
-  int trainingSamples = 0, validationSamples = 0;
-  double trainingSeconds = 0.0;  // sampling, fitting and the range's pilot run
-  std::string range;             // where the box came from, in words
-
-  int size() const { return basis.variables(); }
-  // The terms an evaluation computes: the longest field.
-  int terms() const {
-    return static_cast<int>(std::max({potential.size(), mass.cols(), damping.cols(), loadFields.rows()}));
-  }
-};
+using core::OperatorLoad;
+using core::ReducedOperators;
 
 // A number that changes with any entry of V (order-sensitive); kept in the operator file.
 double basisChecksum(const Eigen::MatrixXd& V);
@@ -63,6 +35,15 @@ double basisChecksum(const Eigen::MatrixXd& V);
 // Why the model cannot have reduced operators (kinematic inputs, USERSIG, moments on spatial
 // nodes), or empty.
 std::string operatorsUnsupported(const core::Model& model);
+
+// What keeps operators from serving this model and basis (the first difference found: degrees of
+// freedom, basis columns or entries, time-dependent loads, and at the range's centre the
+// accelerations against Eq. 19's beyond what the fit allows), or empty.
+std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V, const ReducedOperators& ops);
+
+// "reduced operators: 763 evaluations (63 terms, ...); Eq. 19 for 12 from t = ... (where)" for the
+// screen and the manifest.
+std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops);
 
 struct OperatorTrainingOptions {
   // The trained range; empty: from a pilot reduced run (Eq. 19, ode45 at pilotRelTol over the
@@ -104,7 +85,9 @@ class OperatorDynamics {
   void unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, Eigen::MatrixXd& S) const;
 
   const ReducedOperators& ops_;
-  int m_, nPacked_;
+  int m_;
+  solvers::ChebyshevBasis basis_;  // the operators' terms on their box
+  int nPacked_;
   std::vector<core::TimeFunctionPtr> loadFunctions_;
   std::vector<double> loadSigns_;
   solvers::ChebyshevBasis::Scratch scratch_;
@@ -112,7 +95,7 @@ class OperatorDynamics {
   Eigen::VectorXd phi_, coef_, weights_, packed_, Mpacked_, force_, etadd_, a_;
   Eigen::MatrixXd grad_, M_, Md_, C_, PD_, MD_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::VectorXd lastEta_;
+  Eigen::VectorXd lastEta_, zeta_, zetad_;
   int lastOutside_ = -1;
 };
 

@@ -11,6 +11,7 @@
 
 #include "core/EquationsOfMotion.hpp"
 #include "core/Model.hpp"
+#include "core/ReducedOperators.hpp"
 #include "core/Trajectory.hpp"
 #include "solvers/Ode45.hpp"
 
@@ -50,7 +51,6 @@ class StiffnessTest {
 const char* integratorName(Integrator i);
 std::optional<Integrator> parseIntegrator(const std::string& name);
 struct SimulationOptions;
-struct ReducedOperators;
 // The integrator and its settings in words (the run manifest), e.g. "ode45 (Dormand-Prince 5(4), ...)".
 std::string integratorDescription(const SimulationOptions& options);
 
@@ -66,7 +66,7 @@ struct SimulationOptions {
   // Reduced operators for the basis (analysis/ReducedOperators.hpp): ode45 evaluates them instead of
   // Eq. 19 where the state lies in their trained range, and Eq. 19 elsewhere (Trajectory::operators
   // says how often and from when). Null: Eq. 19 throughout. BDF and auto runs use Eq. 19.
-  std::shared_ptr<const ReducedOperators> operators;
+  std::shared_ptr<const core::ReducedOperators> operators;
   // How Eq. 13 is solved for the accelerations (core::DynamicsForm); reduced models always project.
   core::DynamicsForm dynamics = core::DynamicsForm::Automatic;
   bool progress = false;   // progress line on stderr for runs longer than a second

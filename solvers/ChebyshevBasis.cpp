@@ -112,8 +112,8 @@ int ChebyshevBasis::outside(const Eigen::Ref<const Eigen::VectorXd>& eta, double
   return -1;
 }
 
-void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s,
-                              Eigen::Ref<Eigen::VectorXd> phi, Eigen::MatrixXd* gradT, int count) const {
+void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
+                              Eigen::MatrixXd* gradT, int count) const {
   const int m = variables(), P = count < 0 ? size() : std::min(count, size()), n = maxDegree_ + 1;
   if (s.T.rows() != n || s.T.cols() != m) {
     s.T.resize(n, m);  // column i: T_0..T_p of variable i (contiguous)
@@ -139,15 +139,24 @@ void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scra
   }
   double* grad = gradT ? gradT->data() : nullptr;
   switch (m) {  // fixed-size loops for the usual reduced sizes
-    case 1: return termsKernel<1>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 2: return termsKernel<2>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 3: return termsKernel<3>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 4: return termsKernel<4>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 5: return termsKernel<5>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 6: return termsKernel<6>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 7: return termsKernel<7>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    case 8: return termsKernel<8>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
-    default: break;
+    case 1:
+      return termsKernel<1>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 2:
+      return termsKernel<2>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 3:
+      return termsKernel<3>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 4:
+      return termsKernel<4>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 5:
+      return termsKernel<5>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 6:
+      return termsKernel<6>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 7:
+      return termsKernel<7>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    case 8:
+      return termsKernel<8>(offsets_.data(), P, s.T.data(), s.dT.data(), phi.data(), grad);
+    default:
+      break;
   }
   const int* off = offsets_.data();
   double* left = s.left.data();
@@ -174,9 +183,9 @@ Eigen::VectorXd ChebyshevBasis::arcsinePoint(const Eigen::Ref<const Eigen::Vecto
 }
 
 Eigen::VectorXd haltonPoint(long i, int m) {
-  static const int primes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73,
-                               79, 83, 89, 97, 101, 103, 107, 109, 113, 127, 131, 137, 139, 149, 151, 157, 163,
-                               167, 173, 179, 181, 191, 193, 197, 199, 211, 223, 227, 229};
+  static const int primes[] = {2,   3,   5,   7,   11,  13,  17,  19,  23,  29,  31,  37,  41,  43,  47,  53,  59,
+                               61,  67,  71,  73,  79,  83,  89,  97,  101, 103, 107, 109, 113, 127, 131, 137, 139,
+                               149, 151, 157, 163, 167, 173, 179, 181, 191, 193, 197, 199, 211, 223, 227, 229};
   constexpr int kPrimes = sizeof(primes) / sizeof(primes[0]);
   if (m > kPrimes) throw std::invalid_argument("haltonPoint: at most 50 dimensions");
   Eigen::VectorXd u(m);
@@ -192,8 +201,7 @@ Eigen::VectorXd haltonPoint(long i, int m) {
 }
 
 Eigen::MatrixXd fitChebyshev(const ChebyshevBasis& basis, const Eigen::MatrixXd& points, const Eigen::MatrixXd& values,
-                             double valuesWeight, const Eigen::MatrixXd& gradients, double gradientWeight,
-                             int count) {
+                             double valuesWeight, const Eigen::MatrixXd& gradients, double gradientWeight, int count) {
   const int n = static_cast<int>(points.rows()), m = basis.variables();
   const int P = count < 0 ? basis.size() : std::min(count, basis.size());
   const bool useValues = valuesWeight > 0.0, useGradients = gradientWeight > 0.0;

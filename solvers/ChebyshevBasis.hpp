@@ -64,8 +64,8 @@ class ChebyshevBasis {
 // The i-th point (i >= 1) of the Halton sequence in m dimensions (bases: the first m primes).
 Eigen::VectorXd haltonPoint(long i, int m);
 
-// Least-squares coefficients (count x k; the first `count` terms, all when count < 0) so that sum_p c_p phi_p matches `values` (n x k) at the
-// `points` (n x m) and, with gradients (n*m x k; row s*m + j: d/d eta_j at point s), their
+// Least-squares coefficients (count x k; the first `count` terms, all when count < 0) so that sum_p c_p phi_p matches
+// `values` (n x k) at the `points` (n x m) and, with gradients (n*m x k; row s*m + j: d/d eta_j at point s), their
 // gradients too (weight `gradientWeight` per gradient row). With valuesWeight = 0 only gradients are
 // fitted and the constant term is 0. Column-pivoting QR; throws std::invalid_argument on sizes.
 Eigen::MatrixXd fitChebyshev(const ChebyshevBasis& basis, const Eigen::MatrixXd& points, const Eigen::MatrixXd& values,

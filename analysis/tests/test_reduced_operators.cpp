@@ -6,14 +6,15 @@
 #include <cmath>
 #include <string>
 
-#include "analysis/Reduction.hpp"
 #include "analysis/ReducedOperators.hpp"
+#include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Linearization.hpp"
 #include "io/DatReader.hpp"
+#include "io/OperatorFile.hpp"
 #include "solvers/ChebyshevBasis.hpp"
 #include "solvers/Ode45.hpp"
 
@@ -85,10 +86,11 @@ TEST(ChebyshevBasis, FitsAPolynomialOfItsSetExactlyFromValuesOrGradients) {
 TEST(ReducedOperators, MatchEquation19AtStatesOutsideTheTrainingSet) {
   Guidance& g = guidance();
   const analysis::ReducedOperators& ops = g.ops;
-  std::printf("guidance MODAL-3 operators: %d terms, held-out force error %.2e, mass error %.2e (target %.2e), %d + %d "
-              "samples, %.3f s; range: %s\n",
-              ops.terms(), ops.forceError, ops.massError, ops.tolerance, ops.trainingSamples, ops.validationSamples,
-              ops.trainingSeconds, ops.range.c_str());
+  std::printf(
+      "guidance MODAL-3 operators: %d terms, held-out force error %.2e, mass error %.2e (target %.2e), %d + %d "
+      "samples, %.3f s; range: %s\n",
+      ops.terms(), ops.forceError, ops.massError, ops.tolerance, ops.trainingSamples, ops.validationSamples,
+      ops.trainingSeconds, ops.range.c_str());
   EXPECT_LE(ops.forceError, ops.tolerance);
   EXPECT_LE(ops.massError, ops.tolerance);
   core::EquationsOfMotion eom(g.model, g.V);
@@ -100,11 +102,13 @@ TEST(ReducedOperators, MatchEquation19AtStatesOutsideTheTrainingSet) {
     // Points of another sequence (shifted Halton) with velocities of the size the run has.
     const Eigen::VectorXd u = solvers::haltonPoint(1000 + 7 * k, 2 * m);
     Eigen::VectorXd y(2 * m);
+    Eigen::VectorXd zeta(m), zetad(m);  // in the operators' frame and box
     for (int i = 0; i < m; ++i) {
-      const double lo = ops.basis.lower()[i], hi = ops.basis.upper()[i];
-      y[i] = lo + (0.1 + 0.8 * u[i]) * (hi - lo);
-      y[m + i] = (u[m + i] - 0.5) * 40.0 * (hi - lo);  // about the guidance's 10 Hz motion
+      const double lo = ops.lower[i], hi = ops.upper[i];
+      zeta[i] = lo + (0.1 + 0.8 * u[i]) * (hi - lo);
+      zetad[i] = (u[m + i] - 0.5) * 40.0 * (hi - lo);  // about the guidance's 10 Hz motion
     }
+    y << ops.centre + ops.rotation * zeta, ops.rotation * zetad;
     const double t = 0.013 * k;  // the load varies with t
     Eigen::VectorXd full(2 * m), fitted(2 * m);
     eom.rhs(t, y, full);
@@ -119,8 +123,9 @@ TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) 
   Guidance& g = guidance();
   analysis::OperatorDynamics od(g.model, g.ops);
   const int m = g.ops.size();
-  const Eigen::VectorXd mid = 0.5 * (g.ops.basis.lower() + g.ops.basis.upper());
-  const Eigen::VectorXd w = g.ops.basis.upper() - g.ops.basis.lower();
+  // Directions and sizes in eta of the operators' box (its frame is the pilot's principal axes).
+  const Eigen::VectorXd mid = g.ops.centre + g.ops.rotation * (0.5 * (g.ops.lower + g.ops.upper));
+  const Eigen::VectorXd w = (g.ops.rotation * (g.ops.upper - g.ops.lower).asDiagonal()).cwiseAbs().rowwise().maxCoeff();
   Eigen::VectorXd y(2 * m), dy(2 * m);
   y.head(m) = mid + 0.21 * w;
   y.tail(m).setZero();
@@ -159,7 +164,8 @@ TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) 
   }
   od.massMatrix(y.head(m), M);
   const Eigen::VectorXd lhs = M * dy.tail(m) + Mdot_etad - dT;
-  EXPECT_LT((lhs - force).norm(), 1e-5 * (force.norm() + Mdot_etad.norm())) << lhs.transpose() << " | " << force.transpose();
+  EXPECT_LT((lhs - force).norm(), 1e-5 * (force.norm() + Mdot_etad.norm()))
+      << lhs.transpose() << " | " << force.transpose();
 }
 
 TEST(ReducedOperators, ConserveEnergyOfAnUnforcedUndampedRun) {
@@ -206,8 +212,10 @@ TEST(ReducedOperators, RunFallsBackToEquation19OutsideTheTrainedRangeAndSaysWhen
   Guidance& g = guidance();
   // Operators trained on a third of the stroke: the run must leave the range and use Eq. 19.
   analysis::OperatorTrainingOptions small;
-  small.lower = g.ops.basis.lower() / 3.0;
-  small.upper = g.ops.basis.upper() / 3.0;
+  const Eigen::VectorXd mid = g.ops.centre + g.ops.rotation * (0.5 * (g.ops.lower + g.ops.upper));
+  const Eigen::VectorXd half = (g.ops.rotation * (g.ops.upper - g.ops.lower).asDiagonal()).cwiseAbs().rowwise().sum();
+  small.lower = mid - half / 6.0;
+  small.upper = mid + half / 6.0;
   auto ops = std::make_shared<analysis::ReducedOperators>(analysis::trainOperators(g.model, g.V, small));
   analysis::SimulationOptions with, without;
   with.basis = without.basis = g.V;
@@ -248,6 +256,41 @@ TEST(ReducedOperators, RefuseModelsWhoseKinematicsDependOnTime) {
   const core::Model m = io::readDatFile(dat("slider_crank_s95.dat"));
   if (m.inputX.empty() && m.inputE.empty()) GTEST_SKIP() << "slider crank without kinematic inputs";
   EXPECT_NE(analysis::operatorsUnsupported(m), "");
-  EXPECT_THROW(analysis::trainOperators(m, Eigen::MatrixXd::Identity(m.numDofs(), m.numDofs())),
-               std::invalid_argument);
+  EXPECT_THROW(analysis::trainOperators(m, Eigen::MatrixXd::Identity(m.numDofs(), m.numDofs())), std::invalid_argument);
+}
+
+TEST(ReducedOperators, FileReadsBackBitwiseAndRefusesDamage) {
+  const analysis::ReducedOperators& ops = guidance().ops;
+  const std::string text = io::formatOperators(ops);
+  const core::ReducedOperators back = io::parseOperators(text, "m3.operators");
+  EXPECT_EQ(io::formatOperators(back), text);
+  EXPECT_EQ(back.mass, ops.mass);
+  EXPECT_EQ(back.exponents, ops.exponents);
+  EXPECT_EQ(back.loads.size(), ops.loads.size());
+  // Damage: a ragged row, a non-number, a missing block, a block too short.
+  auto damaged = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const size_t at = t.find(from);
+    if (at == std::string::npos) return std::string("pattern not found: ") + from;
+    t.replace(at, from.size(), to);
+    try {
+      io::parseOperators(t, "m3.operators");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(damaged("matrix lower 3 1\n", "matrix lower 3 1\n1,").find("m3.operators:"), std::string::npos);
+  EXPECT_NE(damaged("matrix lower 3 1\n", "matrix lower 3 1\nx").find("not a finite number"), std::string::npos);
+  EXPECT_NE(damaged("matrix mass", "matrix mess").find("unknown block"), std::string::npos);
+  EXPECT_NE(damaged("matrix upper 3 1", "matrix upper 4 1").find("m3.operators:"), std::string::npos);
+  EXPECT_NE(damaged("# flexmb reduced operators", "# flexmb basis").find("not a flexmb operator file"),
+            std::string::npos);
+  // Against the model and basis: another basis, another model.
+  EXPECT_EQ(analysis::operatorsMismatch(guidance().model, guidance().V, ops), "");
+  EXPECT_NE(analysis::operatorsMismatch(guidance().model, 2.0 * guidance().V, ops).find("another basis"),
+            std::string::npos);
+  core::Model other = guidance().model;
+  other.timeForces.clear();
+  EXPECT_NE(analysis::operatorsMismatch(other, guidance().V, ops).find("XFT"), std::string::npos);
 }

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/Reduction.hpp"
 #include "analysis/ReducedOperators.hpp"
+#include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
 #include "core/EquationsOfMotion.hpp"
@@ -129,9 +129,10 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
      << "Reduced runs with Eq. 19 (the full kinematics at every evaluation) against the same basis with the "
         "precomputed reduced operators (analysis/ReducedOperators.md: Chebyshev polynomials in eta for the reduced "
         "mass matrix, potential and load fields, fitted at configurations of a trained range). ode45, RelTol "
-     << f("%g", relTol) << ", AbsTol 1e-3 RelTol. *rhs*: median time of one evaluation at the state half-way "
-                           "through the run; the full model's at its own state there. *run*: set-up and "
-                           "integration, states at the output times, median of "
+     << f("%g", relTol)
+     << ", AbsTol 1e-3 RelTol. *rhs*: median time of one evaluation at the state half-way "
+        "through the run; the full model's at its own state there. *run*: set-up and "
+        "integration, states at the output times, median of "
      << repeat
      << " runs. *error*: largest position deviation over all positions and output times from a full reference "
         "(ode45, RelTol "
@@ -158,11 +159,11 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
     auto ops = std::make_shared<const analysis::ReducedOperators>(analysis::trainOperators(model, V));
     const double training = since(t0);
     {
-      const Eigen::VectorXi deg = ops->basis.exponents().colwise().maxCoeff().transpose();
-      std::printf("[operators] %s %s: degrees", c.model.c_str(), c.label.c_str());
+      const Eigen::VectorXi deg = ops->exponents.colwise().maxCoeff().transpose();
+      std::printf("[operators] %s %s: degrees in the frame of principal directions", c.model.c_str(), c.label.c_str());
       for (int i = 0; i < deg.size(); ++i) std::printf(" %d", deg[i]);
       std::printf(", range");
-      for (int i = 0; i < deg.size(); ++i) std::printf(" [%.3g, %.3g]", ops->basis.lower()[i], ops->basis.upper()[i]);
+      for (int i = 0; i < deg.size(); ++i) std::printf(" [%.3g, %.3g]", ops->lower[i], ops->upper[i]);
       std::printf("\n");
     }
     const core::Trajectory eq19 = keptRun(model, V, nullptr, relTol), fitted = keptRun(model, V, ops, relTol);
@@ -197,12 +198,13 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
         training / fullRun.wall, rhsFull * 1e6, rhs19 * 1e6, rhsOps * 1e6, inside ? "" : " (state outside the range)",
         rhsOps / rhsFull, run19.wall * 1e3, runOps.wall * 1e3, runOps.operatorEvals, runOps.fallbacks,
         run19.wall / runOps.wall, e19, eOps);
-    md << "| " << c.model << " | " << c.label << " | " << ops->terms() << " | " << f("%.1e", ops->forceError)
-       << " / " << f("%.1e", ops->massError) << " | " << f("%.3f", training) << " (" << f("%.3f", training / fullRun.wall)
+    md << "| " << c.model << " | " << c.label << " | " << ops->terms() << " | " << f("%.1e", ops->forceError) << " / "
+       << f("%.1e", ops->massError) << " | " << f("%.3f", training) << " (" << f("%.3f", training / fullRun.wall)
        << ") | " << f("%.2f", rhsFull * 1e6) << " | " << f("%.2f", rhs19 * 1e6) << " | " << f("%.2f", rhsOps * 1e6)
        << " | " << f("%.3f", rhsOps / rhsFull) << " | " << f("%.2f", run19.wall * 1e3) << " | "
-       << f("%.2f", runOps.wall * 1e3) << (runOps.fallbacks ? " (" + std::to_string(runOps.fallbacks) + " by Eq. 19)" : "")
-       << " | " << f("%.1f", run19.wall / runOps.wall) << " | " << f("%.2e", e19) << " | " << f("%.2e", eOps) << " |\n";
+       << f("%.2f", runOps.wall * 1e3)
+       << (runOps.fallbacks ? " (" + std::to_string(runOps.fallbacks) + " by Eq. 19)" : "") << " | "
+       << f("%.1f", run19.wall / runOps.wall) << " | " << f("%.2e", e19) << " | " << f("%.2e", eOps) << " |\n";
   }
   md << "\nMesh independence: the straight guidance with n PLBEAM elements per flexure (as the rhs-scaling table), "
         "MODAL-3 of each mesh, one evaluation at t = 0.05 s, eta = 0, etad = 1e-3 (full: q = 0, qd = 1e-3).\n\n"
@@ -222,9 +224,10 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
     const double rhsFull = perCall([&] { eomF.rhs(0.05, yF, dy); }, budget);
     const double rhs19 = perCall([&] { eomR.rhs(0.05, yR, dy); }, budget);
     const double rhsOps = perCall([&] { od.rhs(0.05, yR, dy); }, budget);
-    std::printf("[operators] mesh n = %d (%d DOF): %d terms, training %.3f s; rhs full %.2f us, Eq. 19 %.2f us, "
-                "operators %.2f us\n",
-                n, m.numDofs(), ops.terms(), training, rhsFull * 1e6, rhs19 * 1e6, rhsOps * 1e6);
+    std::printf(
+        "[operators] mesh n = %d (%d DOF): %d terms, training %.3f s; rhs full %.2f us, Eq. 19 %.2f us, "
+        "operators %.2f us\n",
+        n, m.numDofs(), ops.terms(), training, rhsFull * 1e6, rhs19 * 1e6, rhsOps * 1e6);
     md << "| " << n << " | " << m.numDofs() << " | " << ops.terms() << " | " << f("%.3f", training) << " | "
        << f("%.2f", rhsFull * 1e6) << " | " << f("%.2f", rhs19 * 1e6) << " | " << f("%.2f", rhsOps * 1e6) << " |\n";
   }

@@ -6,8 +6,10 @@
 #include <sstream>
 
 #include "analysis/BasisForTarget.hpp"
+#include "analysis/ReducedOperators.hpp"
 #include "analysis/Reduction.hpp"
 #include "io/BasisFile.hpp"
+#include "io/OperatorFile.hpp"
 #include "io/OutputFile.hpp"
 #include "solvers/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
@@ -38,6 +40,7 @@ int runReduce(const std::vector<std::string>& args) {
   analysis::ReductionOptions o;
   std::string out, large;
   double target = NAN;  // not given
+  bool noOperators = false;
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
       "modes", po::value(&o.modes)->default_value(3)->notifier(atLeast("modes", 1)), "r: modes per configuration")(
       "normalise", po::value(&o.normalise)->default_value("mass"),
@@ -59,7 +62,11 @@ int runReduce(const std::vector<std::string>& args) {
       "target", po::value(&target)->notifier(finite("target")),
       "choose the basis size from an error target EPS (0 < EPS < 1): the smallest basis of --method whose reduced run "
       "over the model's TIMESTEP span has a reduction error estimate of at most EPS (largest position deviation "
-      "relative to the motion); --modes / --count are chosen");
+      "relative to the motion); --modes / --count are chosen")(
+      "no-operators", po::bool_switch(&noOperators),
+      "do not build the reduced operators (basis.operators beside the basis: the reduced model's mass, potential and "
+      "loads as polynomials in eta over the range of a pilot run, so that `simulate --basis` evaluates it without the "
+      "full kinematics; analysis/ReducedOperators.md)");
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
     return *rc;
@@ -162,8 +169,37 @@ int runReduce(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kNumericalFailure;
   }
+  // The reduced operators beside the basis: their failure leaves the basis written, and says why.
+  std::optional<core::ReducedOperators> ops;
+  std::string opsNote;
+  const std::string opsPath = io::operatorPathFor(out);
+  if (noOperators) {
+    opsNote = "not built (--no-operators)";
+  } else if (const std::string why = analysis::operatorsUnsupported(model); !why.empty()) {
+    opsNote = "not built: " + why;
+  } else {
+    try {
+      Progress progress("operators", !m.quiet);
+      ops = analysis::trainOperators(model, r.V);
+      progress.finish();
+      std::ostringstream t;
+      t << ops->terms() << " terms, fit " << solvers::shortest(std::round(ops->forceError * 1e4) / 1e4) << " (force) / "
+        << solvers::shortest(std::round(ops->massError * 1e6) / 1e6) << " (mass) of their largest in the range, target "
+        << solvers::shortest(std::round(ops->tolerance * 1e6) / 1e6) << "; one evaluation "
+        << solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) << " us against "
+        << solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) << " us for Eq. 19; trained in "
+        << solvers::shortest(std::round(ops->trainingSeconds * 1e3) / 1e3) << " s (" << ops->trainingSamples << " + "
+        << ops->validationSamples << " configurations); range: " << ops->range;
+      opsNote = t.str();
+    } catch (const std::exception& e) {
+      opsNote = std::string("not built: ") + e.what();
+      if (!m.quiet) std::cerr << "flexmb: warning: reduced operators " << opsNote << "; the basis is written\n";
+    }
+  }
+  files.setting("reduced operators", ops ? opsPath + ": " + opsNote : opsNote);
   try {
     io::writeBasis(files.temporaryPath(out), r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});
+    if (ops) io::writeOperators(files.temporaryPath(opsPath), *ops);
     std::string kept;
     for (int i : r.large) kept += (kept.empty() ? "" : ",") + std::to_string(i + 1);
     files.setting("identity columns (--large, 1-based)", kept.empty() ? std::string("none") : kept);
@@ -174,6 +210,10 @@ int runReduce(const std::vector<std::string>& args) {
   }
   std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.large.size()
             << " identity columns) written to " << out << "\n";
+  if (ops)
+    std::cout << "reduced operators written to " << opsPath << ": " << opsNote << "\n";
+  else
+    std::cout << "reduced operators " << opsNote << "\n";
   std::cout << "wrote " << files.manifestPath() << "\n";
   if (r.scaledSingularValues.size()) {
     std::cout << "scaled singular values:";

@@ -15,12 +15,14 @@
 #include "analysis/BasisForTarget.hpp"
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/Modes.hpp"
+#include "analysis/ReducedOperators.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "io/DatReader.hpp"
+#include "io/OperatorFile.hpp"
 #include "io/OutputFile.hpp"
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
@@ -40,7 +42,7 @@ struct SimulateArgs {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
   std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
-  bool matrices = false, vtk = false, html = false, noAccuracyCheck = false;
+  bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
   std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
   analysis::Integrator chosen = analysis::Integrator::Ode45;
@@ -79,6 +81,9 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "target", po::value(&a.target)->notifier(finite("target")),
       "the reduction error target EPS (0 < EPS < 1, largest position deviation relative to the motion): chooses the "
       "basis with --basis auto; with a basis file, the estimate above it is a warning (else above 10 RelTol)")(
+      "full-kinematics", po::bool_switch(&a.fullKinematics),
+      "with --basis FILE: Eq. 19 (the full kinematics at every evaluation) even where FILE's reduced operators "
+      "(FILE.operators, written by flexmb reduce) hold, to compare the two on the same basis")(
       "svd-path", po::value(&a.svdPath),
       "--basis auto: an SVD-modal basis over NODE,COMP,FROM,TO (10 equilibria, 3 modes each) instead of a modal one")(
       "dynamics", po::value(&a.dynamics),
@@ -498,6 +503,39 @@ int runSimulate(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kInputError;
   }
+  // The basis file's reduced operators (flexmb reduce writes them beside it), unless Eq. 19 is asked for.
+  std::string operatorNote;
+  if (opt.basis && a.basisFile != "auto") {
+    const std::string path = io::operatorPathFor(a.basisFile);
+    if (a.fullKinematics) {
+      operatorNote = "Eq. 19 (--full-kinematics)";
+    } else if (!std::filesystem::exists(path)) {
+      operatorNote = "Eq. 19 (no reduced operators beside the basis: flexmb reduce writes " + path + ")";
+    } else {
+      try {
+        auto ops = std::make_shared<core::ReducedOperators>(io::readOperators(path));
+        if (const std::string why = analysis::operatorsMismatch(model, *opt.basis, *ops); !why.empty()) {
+          std::cerr << "flexmb: " << path << " does not fit " << a.m.file << " with " << a.basisFile << ": " << why
+                    << " (flexmb reduce builds them anew; --full-kinematics runs without them)\n";
+          return kInputError;
+        }
+        if (ops->equation19Seconds > 0.0 && ops->operatorSeconds >= ops->equation19Seconds)
+          operatorNote =
+              "Eq. 19 (the reduced operators in " + path + " cost " +
+              solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
+              solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) + " us: too many terms for this basis)";
+        else
+          opt.operators = ops;
+      } catch (const std::exception& e) {
+        std::cerr << "flexmb: " << e.what() << "\n";
+        return kInputError;
+      }
+    }
+  } else if (a.basisFile == "auto") {
+    operatorNote = "Eq. 19 (--basis auto builds no reduced operators)";
+  }
+  if (a.fullKinematics && a.basisFile.empty() && !a.m.quiet)
+    std::cerr << "flexmb: note: --full-kinematics applies to reduced runs (--basis): the full model has no other\n";
   if (auto rc = refuseOversizedRun(model, opt, a.m.quiet)) return *rc;
 
   // Output location checked before the analysis (and before choosing a basis).
@@ -543,6 +581,12 @@ int runSimulate(const std::vector<std::string>& args) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << analysis::formatStatistics(traj, opt.integrator);
+  if (opt.basis) {  // which reduced dynamics ran
+    const std::string text =
+        opt.operators ? analysis::describeOperatorUse(traj.operators, *opt.operators) : operatorNote;
+    std::cout << "reduced dynamics: " << text << "\n";
+    files.setting("reduced dynamics", text);
+  }
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
   if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
   if (!std::isnan(traj.switchedAt)) {

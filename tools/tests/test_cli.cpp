@@ -572,3 +572,42 @@ TEST_F(Cli, TutorialModels) {
 }
 
 }  // namespace
+
+// Reduced operators (issue 33): reduce writes them beside the basis, simulate uses them and says so,
+// --full-kinematics compares on the same basis, and operators that do not fit are refused naming
+// what differs.
+TEST_F(Cli, ReducedOperatorsServeTheBasisAndAreRefusedWhenTheyDoNotFit) {
+  const std::string model = kData + "straight_guidance.dat";
+  Result r = flexmb("reduce " + model + " --modes 3 --out m3.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("reduced operators written to m3.operators"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(dir_ / "m3.operators"));
+  r = flexmb("simulate " + model + " --basis m3.csv --format none --no-accuracy-check");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("reduced dynamics: reduced operators for"), std::string::npos) << r.out;
+  EXPECT_NE(slurp(dir_ / "straight_guidance_m3_run.txt").find("reduced dynamics: reduced operators"),
+            std::string::npos);
+  r = flexmb("simulate " + model + " --basis m3.csv --format none --no-accuracy-check --full-kinematics");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("reduced dynamics: Eq. 19 (--full-kinematics)"), std::string::npos) << r.out;
+  // Another stiffness: the same DOFs and basis, other physics.
+  const std::string stiffer = variant("straight_guidance.dat", "6\\.3e6  0\\.525", "6.3e6  0.6", "stiffer.dat");
+  r = flexmb("simulate " + stiffer + " --basis m3.csv --format none");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.err.find("m3.operators does not fit stiffer.dat"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("accelerations differ from Eq. 19"), std::string::npos) << r.err;
+  // Another basis of the same size beside the old operators.
+  ASSERT_EQ(flexmb("reduce " + model + " --modes 3 --normalise unit --no-operators --out u.csv").code, 0);
+  fs::copy_file(dir_ / "m3.operators", dir_ / "u.operators");
+  r = flexmb("simulate " + model + " --basis u.csv --format none");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("made for another basis"), std::string::npos) << r.err;
+  // A damaged file: named with its line.
+  std::string text = slurp(dir_ / "m3.operators");
+  text.replace(text.find("matrix potential"), 16, "matrix potentail");
+  std::ofstream(dir_ / "m3.operators") << text;
+  r = flexmb("simulate " + model + " --basis m3.csv --format none");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("m3.operators:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown block 'potentail'"), std::string::npos) << r.err;
+}
