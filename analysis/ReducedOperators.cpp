@@ -441,6 +441,28 @@ void timeOneEvaluation(const core::Model& model, const Eigen::MatrixXd& V, Reduc
   ops.operatorSeconds = median([&] { od.rhs(t, y, dy); });
 }
 
+// The mass terms in one pass (a column of packed coefficients A_p each): Mr = sum A_p phi_p,
+// dMr/dt = sum A_p dphi_p/dt, and per term coef_p = A_p . w (w: packed 1/2 etad etad^T, so that
+// coef_p = 1/2 etad^T Mr_p etad). M: the number of reduced coordinates when fixed.
+template <int M>
+void massPass(const double* mass, const double* grad, const double* phi, const double* etad, const double* w, int terms,
+              double* Mp, double* Mdp, double* coef, int mRuntime = M) {
+  const int m = M == Eigen::Dynamic ? mRuntime : M, packed = m * (m + 1) / 2;
+  for (int j = 0; j < packed; ++j) Mp[j] = Mdp[j] = 0.0;
+  for (int p = 0; p < terms; ++p, mass += packed, grad += m) {
+    double rate = 0.0;
+    for (int i = 0; i < m; ++i) rate += grad[i] * etad[i];
+    const double value = phi[p];
+    double quadratic = 0.0;
+    for (int j = 0; j < packed; ++j) {
+      Mp[j] += mass[j] * value;
+      Mdp[j] += mass[j] * rate;
+      quadratic += mass[j] * w[j];
+    }
+    coef[p] = quadratic;
+  }
+}
+
 }  // namespace
 
 double basisChecksum(const Eigen::MatrixXd& V) {
@@ -653,12 +675,12 @@ OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperat
   a_.resize(static_cast<int>(ops.loads.size()));
   M_.resize(m_, m_);
   Md_.resize(m_, m_);
-  PD_.resize(nM_, 2);
   MD_.resize(nPacked_, 2);
   C_.resize(m_, m_);
   lastEta_.resize(m_);
   zeta_.resize(m_);
   zetad_.resize(m_);
+  shifted_.resize(m_);
 }
 
 void OperatorDynamics::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, bool gradient) {
@@ -673,7 +695,8 @@ void OperatorDynamics::unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, E
 
 bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
   // The operators' own coordinates zeta = R^T (eta - c) (the pilot's principal directions).
-  zeta_.noalias() = ops_.rotation.transpose() * (y.head(m_) - ops_.centre);
+  shifted_ = y.head(m_) - ops_.centre;
+  zeta_.noalias() = ops_.rotation.transpose() * shifted_;
   zetad_.noalias() = ops_.rotation.transpose() * y.tail(m_);
   const Eigen::VectorXd& eta = zeta_;
   const Eigen::VectorXd& etad = zetad_;
@@ -683,22 +706,56 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
     return false;
   }
   evaluate(eta, true);
-  // Mr and dMr/dt from one product: [phi, d phi/dt] of the mass terms.
-  PD_.col(0) = phi_.head(nM_);
-  PD_.col(1).noalias() = grad_.leftCols(nM_).transpose() * etad;
-  MD_.noalias() = ops_.mass * PD_;
-  unpack(MD_.col(0), M_);
-  unpack(MD_.col(1), Md_);
-  // Generalised force: -grad U + sum_k a_k(t) grad phi_k + 1/2 grad(etad^T Mr etad) in one product
-  // with the gradient table; then the rest of the velocity terms, - dMr/dt etad.
+  // One pass over the mass terms (a column of packed coefficients each): Mr, dMr/dt and, per term,
+  // 1/2 etad^T Mr_p etad, whose gradient is the velocity terms' -1/2 grad(etad^T Mr etad).
   int k = 0;
   for (int a = 0; a < m_; ++a)
     for (int b = a; b < m_; ++b) weights_[k++] = (a == b ? 0.5 : 1.0) * etad[a] * etad[b];
-  coef_.head(nM_).noalias() = ops_.mass.transpose() * weights_;
-  coef_.tail(coef_.size() - nM_).setZero();
+  double* Mp = MD_.col(0).data();
+  double* Mdp = MD_.col(1).data();
+  switch (m_) {  // fixed-length inner loops for the usual reduced sizes
+    case 1:
+      massPass<1>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    case 2:
+      massPass<2>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    case 3:
+      massPass<3>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    case 4:
+      massPass<4>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    case 5:
+      massPass<5>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    case 6:
+      massPass<6>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                  coef_.data());
+      break;
+    default:
+      massPass<Eigen::Dynamic>(ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
+                               coef_.data(), m_);
+  }
+  std::fill(coef_.data() + nM_, coef_.data() + coef_.size(), 0.0);
+  unpack(MD_.col(0), M_);
+  unpack(MD_.col(1), Md_);
+  // Generalised force: -grad U + sum_k a_k(t) grad phi_k + 1/2 grad(etad^T Mr etad) in one pass
+  // over the gradient table; then the rest of the velocity terms, - dMr/dt etad.
   coef_.head(nU_) -= ops_.potential;
   for (int l = 0; l < a_.size(); ++l) coef_.head(nL_).noalias() += loadFunctions_[l]->value(t) * ops_.loadFields.col(l);
-  force_.noalias() = grad_ * coef_;
+  force_.setZero();
+  const int P = static_cast<int>(coef_.size());
+  for (int p = 0; p < P; ++p) {
+    const double c = coef_[p];
+    const double* g = grad_.data() + static_cast<long>(p) * m_;
+    for (int i = 0; i < m_; ++i) force_[i] += g[i] * c;
+  }
   force_.noalias() -= Md_ * etad;
   if (nC_) {
     packed_.noalias() = ops_.damping * phi_.head(nC_);

@@ -93,9 +93,9 @@ class OperatorDynamics {
   solvers::ChebyshevBasis::Scratch scratch_;
   int nU_, nM_, nC_, nL_;  // terms of each field
   Eigen::VectorXd phi_, coef_, weights_, packed_, Mpacked_, force_, etadd_, a_;
-  Eigen::MatrixXd grad_, M_, Md_, C_, PD_, MD_;
+  Eigen::MatrixXd grad_, M_, Md_, C_, MD_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::VectorXd lastEta_, zeta_, zetad_;
+  Eigen::VectorXd lastEta_, zeta_, zetad_, shifted_;
   int lastOutside_ = -1;
 };
 

@@ -35,11 +35,11 @@ struct ReducedOperators {
   std::vector<OperatorLoad> loads;
   Eigen::MatrixXd loadFields;  // its terms x loads: phi_k
   // What it was made for and how well it fits (held-out samples, relative to the largest value).
-  int dofs = 0;                  // rows of V
-  double basisChecksum = 0.0;    // analysis::basisChecksum(V)
-  double tolerance = 0.0;        // the fit target it was trained for
-  double forceError = 0.0;       // max |Q_fit - Q| / max |Q| over held-out configurations
-  double massError = 0.0;        // max |Mr_fit - Mr|_F / max |Mr|_F over them
+  int dofs = 0;                // rows of V
+  double basisChecksum = 0.0;  // analysis::basisChecksum(V)
+  double tolerance = 0.0;      // the fit target it was trained for
+  double forceError = 0.0;     // max |Q_fit - Q| / max |Q| over held-out configurations
+  double massError = 0.0;      // max |Mr_fit - Mr|_F / max |Mr|_F over them
   int trainingSamples = 0, validationSamples = 0;
   double trainingSeconds = 0.0;  // sampling, fitting and the range's pilot run
   // One evaluation, measured at training at the range's centre: operators and Eq. 19 (seconds).

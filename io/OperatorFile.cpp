@@ -1,15 +1,15 @@
 #include "io/OperatorFile.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <algorithm>
 #include <map>
-#include <type_traits>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
+#include <type_traits>
 
 #include "solvers/NumberText.hpp"
 
@@ -111,7 +111,11 @@ std::string formatOperators(const core::ReducedOperators& o) {
     if (c == '\n' || c == '\r') c = ' ';
   key("range", range);
   for (const auto& l : o.loads)
-    out.append("load ").append(core::operatorLoadKeyword(l.kind)).append(" ").append(std::to_string(l.index)).append("\n");
+    out.append("load ")
+        .append(core::operatorLoadKeyword(l.kind))
+        .append(" ")
+        .append(std::to_string(l.index))
+        .append("\n");
   appendBlock(out, "matrix", "centre", o.centre);
   appendBlock(out, "matrix", "rotation", o.rotation);
   appendBlock(out, "matrix", "lower", o.lower);
@@ -127,7 +131,8 @@ std::string formatOperators(const core::ReducedOperators& o) {
 core::ReducedOperators parseOperators(const std::string& text, const std::string& name) {
   Parser p(text, name);
   std::string s;
-  if (!p.next(s) || s != kMagic) p.fail("not a flexmb operator file (the first line must be '" + std::string(kMagic) + "')");
+  if (!p.next(s) || s != kMagic)
+    p.fail("not a flexmb operator file (the first line must be '" + std::string(kMagic) + "')");
   core::ReducedOperators o;
   std::map<std::string, Eigen::MatrixXd> blocks;
   Eigen::MatrixXd exponents;
@@ -142,17 +147,28 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
         continue;
       }
       const double x = p.number(v);
-      if (k == "dofs") o.dofs = static_cast<int>(x);
-      else if (k == "basis checksum") o.basisChecksum = x;
-      else if (k == "tolerance") o.tolerance = x;
-      else if (k == "force error") o.forceError = x;
-      else if (k == "mass error") o.massError = x;
-      else if (k == "training samples") o.trainingSamples = static_cast<int>(x);
-      else if (k == "validation samples") o.validationSamples = static_cast<int>(x);
-      else if (k == "training seconds") o.trainingSeconds = x;
-      else if (k == "operator seconds") o.operatorSeconds = x;
-      else if (k == "equation 19 seconds") o.equation19Seconds = x;
-      else p.fail("unknown header key '" + k + "'");
+      if (k == "dofs")
+        o.dofs = static_cast<int>(x);
+      else if (k == "basis checksum")
+        o.basisChecksum = x;
+      else if (k == "tolerance")
+        o.tolerance = x;
+      else if (k == "force error")
+        o.forceError = x;
+      else if (k == "mass error")
+        o.massError = x;
+      else if (k == "training samples")
+        o.trainingSamples = static_cast<int>(x);
+      else if (k == "validation samples")
+        o.validationSamples = static_cast<int>(x);
+      else if (k == "training seconds")
+        o.trainingSeconds = x;
+      else if (k == "operator seconds")
+        o.operatorSeconds = x;
+      else if (k == "equation 19 seconds")
+        o.equation19Seconds = x;
+      else
+        p.fail("unknown header key '" + k + "'");
       continue;
     }
     std::istringstream w(s);
@@ -163,17 +179,21 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
       if (!(w >> index) || index < 0) p.fail("load without a non-negative index");
       core::OperatorLoad l;
       l.index = static_cast<int>(index);
-      if (what == "XFT") l.kind = core::OperatorLoad::Kind::NodalForce;
-      else if (what == "ESIGT") l.kind = core::OperatorLoad::Kind::Stress;
-      else if (what == "EREF") l.kind = core::OperatorLoad::Kind::Reference;
-      else p.fail("unknown load '" + what + "' (XFT, ESIGT or EREF)");
+      if (what == "XFT")
+        l.kind = core::OperatorLoad::Kind::NodalForce;
+      else if (what == "ESIGT")
+        l.kind = core::OperatorLoad::Kind::Stress;
+      else if (what == "EREF")
+        l.kind = core::OperatorLoad::Kind::Reference;
+      else
+        p.fail("unknown load '" + what + "' (XFT, ESIGT or EREF)");
       o.loads.push_back(l);
       continue;
     }
     long rows = -1, cols = -1;
     if ((kind != "matrix" && kind != "ints") || !(w >> rows >> cols)) p.fail("expected 'matrix NAME ROWS COLS'");
-    static const char* known[] = {"centre", "rotation", "lower", "upper", "exponents", "potential", "mass", "damping",
-                                  "loadFields"};
+    static const char* known[] = {"centre",    "rotation", "lower",   "upper",     "exponents",
+                                  "potential", "mass",     "damping", "loadFields"};
     if (std::find(std::begin(known), std::end(known), what) == std::end(known)) p.fail("unknown block '" + what + "'");
     if (blocks.count(what)) p.fail("block '" + what + "' given twice");
     blocks[what] = p.block(rows, cols);

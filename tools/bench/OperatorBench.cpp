@@ -134,15 +134,16 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
         "through the run; the full model's at its own state there. *run*: set-up and "
         "integration, states at the output times, median of "
      << repeat
-     << " runs. *error*: largest position deviation over all positions and output times from a full reference "
+     << " runs. *simulate uses*: what `simulate --basis` chooses from the two evaluations timed at training. *error*: "
+        "largest position deviation over all positions and output times from a full reference "
         "(ode45, RelTol "
      << f("%g", refTol)
      << "), relative to the motion (the reduction error estimate's measure). *training*: the operators' pilot run, "
         "sampling and fitting, as a share of one full run at RelTol 1e-3.\n\n"
      << "| model | basis | terms | held-out fit error (force / mass) | training [s] (of a full run) | rhs full [us] | "
         "rhs Eq. 19 [us] | rhs operators [us] | operators / full | run Eq. 19 [ms] | run operators [ms] | speed-up | "
-        "error Eq. 19 | error operators |\n"
-     << "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        "error Eq. 19 | error operators | simulate uses |\n"
+     << "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   std::string lastModel;
   core::Trajectory reference;
   Timed fullRun;
