@@ -16,7 +16,7 @@
 namespace flexmb::io {
 namespace {
 
-constexpr std::string_view kMagic = "# flexmb reduced operators";
+constexpr std::string_view kOperatorMagic = "# flexmb reduced operators";
 
 template <class M>
 void appendBlock(std::string& out, const char* kind, const char* name, const M& A) {
@@ -34,16 +34,16 @@ void appendBlock(std::string& out, const char* kind, const char* name, const M& 
   }
 }
 
-std::string quoted(std::string_view f) {
+std::string quotedField(std::string_view f) {
   std::string q = "'";
   q.append(f.substr(0, 40));
   q.append("'");
   return q;
 }
 
-class Parser {
+class OperatorParser {
  public:
-  Parser(const std::string& text, const std::string& name) : in_(text), name_(name) {}
+  OperatorParser(const std::string& text, const std::string& name) : in_(text), name_(name) {}
   [[noreturn]] void fail(const std::string& why) const {
     throw std::runtime_error(name_ + ":" + std::to_string(line_) + ": " + why);
   }
@@ -59,7 +59,7 @@ class Parser {
     double v = 0.0;
     const auto r = std::from_chars(f.data(), f.data() + f.size(), v);
     if (f.empty() || r.ec != std::errc() || r.ptr != f.data() + f.size() || !std::isfinite(v))
-      fail(quoted(f) + " is not a finite number");
+      fail(quotedField(f) + " is not a finite number");
     return v;
   }
   // `rows` lines of `cols` comma-separated numbers.
@@ -91,7 +91,7 @@ class Parser {
 }  // namespace
 
 std::string formatOperators(const core::ReducedOperators& o) {
-  std::string out(kMagic);
+  std::string out(kOperatorMagic);
   out += "\n";
   auto key = [&](const char* k, const std::string& v) {
     out.append("# ").append(k).append(": ").append(v).append("\n");
@@ -129,10 +129,10 @@ std::string formatOperators(const core::ReducedOperators& o) {
 }
 
 core::ReducedOperators parseOperators(const std::string& text, const std::string& name) {
-  Parser p(text, name);
+  OperatorParser p(text, name);
   std::string s;
-  if (!p.next(s) || s != kMagic)
-    p.fail("not a flexmb operator file (the first line must be '" + std::string(kMagic) + "')");
+  if (!p.next(s) || s != kOperatorMagic)
+    p.fail("not a flexmb operator file (the first line must be '" + std::string(kOperatorMagic) + "')");
   core::ReducedOperators o;
   std::map<std::string, Eigen::MatrixXd> blocks;
   Eigen::MatrixXd exponents;
