@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -9,6 +10,7 @@
 #include "analysis/Interrupt.hpp"
 #include "core/ElementValidity.hpp"
 #include "core/elements/EulerParameters.hpp"
+#include "io/ResultWriter.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {
@@ -372,6 +374,26 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
     }
   }
   return run;
+}
+
+io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling) {
+  Eigen::Index nev = 0;
+  for (const auto& st : run.steps) nev = std::max(nev, st.frequencies.omega.size());
+  io::CsvTable t;
+  t.columns = {"load_step", "initial_factor", "load_factor"};
+  for (const auto& name : io::coordinateColumnNames(model)) t.columns.push_back(name);
+  for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("f", i + 1, "_Hz"));
+  for (int i = 0; i < buckling; ++i) t.columns.push_back(io::numberedColumn("buckling", i + 1, ""));
+  const double empty = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& st : run.steps) {
+    std::vector<double> row{static_cast<double>(st.loadStep), st.initialFactor, st.loadFactor};
+    for (int i = 0; i < model.nx; ++i) row.push_back(st.x[i]);
+    for (Eigen::Index i = 0; i < nev; ++i)
+      row.push_back(i < st.frequencies.omega.size() ? st.frequencies.omega[i] / (2 * M_PI) : empty);
+    for (int i = 0; i < buckling; ++i) row.push_back(i < st.buckling.size() ? st.buckling[i] : empty);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 }  // namespace flexmb::analysis

@@ -27,6 +27,7 @@
 
 #include "analysis/Modes.hpp"
 #include "core/Linearization.hpp"
+#include "io/CsvTable.hpp"
 #include "solvers/StaticEquilibrium.hpp"
 
 namespace flexmb::analysis {
@@ -80,6 +81,10 @@ struct StaticOptions {
   const std::atomic<int>* interruptSignal = nullptr;
 };
 StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options);
+// The load steps as a table, the one every front end writes (`flexmb static`, the study): load_step,
+// initial_factor, load_factor, every nodal coordinate, f1_Hz... (as many as any step has) and
+// buckling1..buckling<buckling>; a step with fewer has empty cells.
+io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling);
 // The same with the options as arguments; onStep(i, n): progress, called before load step i of n.
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,
                          const std::function<void(int, int)>& onStep = {},

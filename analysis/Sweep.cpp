@@ -1,8 +1,11 @@
 #include "analysis/Sweep.hpp"
 
+#include "io/ResultWriter.hpp"
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -224,6 +227,27 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
     }
   }
   return res;
+}
+
+io::CsvTable sweepTable(const core::Model& model, const SweepResult& r) {
+  Eigen::Index nev = 0;
+  for (const auto& p : r.points) nev = std::max({nev, p.omegaSorted.size(), p.omega.size()});
+  io::CsvTable t;
+  t.columns = {"value", "load"};
+  for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("f", i + 1, "_Hz"));
+  for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("tracked", i + 1, "_Hz"));
+  for (const auto& name : io::coordinateColumnNames(model)) t.columns.push_back(name);
+  const double empty = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& p : r.points) {
+    std::vector<double> row{p.value, p.load};
+    for (Eigen::Index i = 0; i < nev; ++i)
+      row.push_back(i < p.omegaSorted.size() ? p.omegaSorted[i] / (2 * M_PI) : empty);
+    for (Eigen::Index i = 0; i < nev; ++i) row.push_back(i < p.omega.size() ? p.omega[i] / (2 * M_PI) : empty);
+    for (Eigen::Index i = 0; i < p.x.size(); ++i) row.push_back(p.x[i]);
+    for (Eigen::Index i = p.x.size(); i < model.nx; ++i) row.push_back(empty);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
 }
 
 }  // namespace flexmb::analysis

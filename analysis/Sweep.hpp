@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/Model.hpp"
+#include "io/CsvTable.hpp"
 
 namespace flexmb::analysis {
 
@@ -57,4 +58,8 @@ struct SweepResult {
 };
 
 SweepResult sweep(const core::Model& model, const SweepOptions& options);
+// The sweep as a table, the one every front end writes (`flexmb sweep`, the study): value, load,
+// f1_Hz... ascending, tracked1_Hz... in tracked order (as many as any point has), every nodal
+// coordinate.
+io::CsvTable sweepTable(const core::Model& model, const SweepResult& result);
 }  // namespace flexmb::analysis

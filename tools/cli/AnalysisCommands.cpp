@@ -19,6 +19,7 @@
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
+#include "io/TextOutput.hpp"
 #include "solvers/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
@@ -286,19 +287,9 @@ int runStatic(const std::vector<std::string>& args) {
   const analysis::StaticRun run = analysis::staticAnalysis(model, so);
   progress.finish();
   try {
-    // --format without csv: the rows go nowhere (a stream without a buffer), the screen is the same.
-    std::ofstream csvFile;
-    if (writeCsv) csvFile.open(files.temporaryPath(csvPath));
-    std::ostream noTable(nullptr);
-    std::ostream& csv = writeCsv ? static_cast<std::ostream&>(csvFile) : noTable;
     // -q: the load steps are not listed (the final displacements and the files still are).
     std::ostringstream quietSteps;
     std::ostream& screen = m.quiet ? static_cast<std::ostream&>(quietSteps) : std::cout;
-    csv << std::setprecision(17) << "load_step,initial_factor,load_factor";
-    for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
-    for (int i = 0; i < nev; ++i) csv << ",f" << i + 1 << "_Hz";
-    for (int i = 0; i < buckling; ++i) csv << ",buckling" << i + 1;
-    csv << "\n";
     for (const auto& st : run.steps) {
       if (st.loadStep >= 0)
         screen << "load step " << st.loadStep << " of " << run.loadSteps;
@@ -308,29 +299,16 @@ int runStatic(const std::vector<std::string>& args) {
              << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
              << "\n";
       if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
-      csv << st.loadStep << "," << st.initialFactor << "," << st.loadFactor;
-      for (int i = 0; i < model.nx; ++i) csv << "," << st.x[i];
-      for (int i = 0; i < nev; ++i) {  // every row as long as the header
-        csv << ",";
-        if (i < st.frequencies.omega.size()) csv << st.frequencies.omega[i] / (2 * M_PI);
-      }
       if (buckling > 0) {
         screen << "  buckling load factors:";
         for (Eigen::Index i = 0; i < st.buckling.size(); ++i) screen << " " << st.buckling[i];
         if (st.buckling.size() == 0) screen << " none (K0 not positive definite or no compressive G0)";
         screen << "\n";
-        for (int i = 0; i < buckling; ++i) {
-          csv << ",";  // empty where there is no factor
-          if (i < st.buckling.size()) csv << st.buckling[i];
-        }
       }
-      csv << "\n";
     }
-    if (writeCsv) {
-      csvFile.flush();
-      if (!csvFile) throw std::runtime_error("cannot write '" + csvPath + "': write failed");
-      csvFile.close();
-    }
+    // The table every front end writes for a static run (analysis::staticTable).
+    if (writeCsv)
+      io::writeTextFile(files.temporaryPath(csvPath), io::formatCsv(analysis::staticTable(model, run, buckling)));
     printFinalDisplacements(std::cout, model, run);
     files.renameFiles();  // the load steps' CSV first: nothing after it can take it away
   } catch (const std::exception& e) {
@@ -466,12 +444,6 @@ int runSweep(const std::vector<std::string>& args) {
   }
   progress.finish();
   try {
-    std::ofstream csv(files.temporaryFor(".csv"));
-    csv << std::setprecision(12) << "value,load";
-    for (int i = 0; i < o.nev; ++i) csv << ",f" << i + 1 << "_Hz";
-    for (int i = 0; i < o.nev; ++i) csv << ",tracked" << i + 1 << "_Hz";
-    for (const auto& name : io::coordinateColumnNames(model)) csv << "," << name;
-    csv << "\n";
     io::Plot plot;
     plot.title = "Eigenfrequencies against " + r.prescribed;
     plot.x.label = "prescribed coordinate";
@@ -480,28 +452,16 @@ int runSweep(const std::vector<std::string>& args) {
     for (int i = 0; i < o.nev; ++i) plot.series[i].label = "f" + std::to_string(i + 1);
     std::cout << "  value          load           frequencies [Hz]\n";
     for (const auto& p : r.points) {
-      csv << p.value << "," << p.load;
       std::cout << "  " << std::setw(12) << p.value << "  " << std::setw(12) << p.load << " ";
-      for (int i = 0; i < o.nev; ++i) {
-        csv << ",";
-        if (i >= p.omegaSorted.size()) continue;
-        csv << p.omegaSorted[i] / (2 * M_PI);
+      for (int i = 0; i < o.nev && i < p.omegaSorted.size(); ++i) {
         std::cout << "  " << std::setw(10) << p.omegaSorted[i] / (2 * M_PI);
         plot.series[i].x.push_back(p.value);
         plot.series[i].y.push_back(p.omegaSorted[i] / (2 * M_PI));
       }
-      for (int i = 0; i < o.nev; ++i) {
-        csv << ",";
-        if (i < p.omega.size()) csv << p.omega[i] / (2 * M_PI);
-      }
-      csv << std::setprecision(17);
-      for (Eigen::Index i = 0; i < p.x.size(); ++i) csv << "," << p.x[i];
-      csv << std::setprecision(12) << "\n";
       std::cout << "\n";
     }
-    csv.flush();
-    if (!csv) throw std::runtime_error("cannot write '" + prefix + ".csv': write failed");
-    csv.close();
+    // The table every front end writes for a sweep (analysis::sweepTable).
+    io::writeTextFile(files.temporaryFor(".csv"), io::formatCsv(analysis::sweepTable(model, r)));
     if (!r.points.empty()) io::writeSvg(files.temporaryFor(".svg"), plot);
     files.renameFiles();
     std::cout << "wrote " << prefix << ".csv" << (r.points.empty() ? "" : " and " + prefix + ".svg") << " ("

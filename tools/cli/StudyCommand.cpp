@@ -105,56 +105,14 @@ void writeModes(io::OutputSet& files, const analysis::Frequencies& fr) {
   writeChecked(f, files.prefix() + "_modes.csv");
 }
 
-// The columns of `flexmb static`'s CSV.
+// `flexmb static`'s table (analysis::staticTable): the same bytes as the command line writes.
 void writeStatic(io::OutputSet& files, const core::Model& model, const analysis::StaticRun& run, int buckling) {
-  Eigen::Index nev = 0;
-  for (const auto& st : run.steps) nev = std::max(nev, st.frequencies.omega.size());
-  std::ofstream f(files.temporaryFor("_static.csv"));
-  f << std::setprecision(17) << "load_factor";
-  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
-  for (Eigen::Index i = 0; i < nev; ++i) f << ",f" << i + 1 << "_Hz";
-  for (int i = 0; i < buckling; ++i) f << ",buckling" << i + 1;
-  f << "\n";
-  for (const auto& st : run.steps) {
-    f << st.loadFactor;
-    for (int i = 0; i < model.nx; ++i) f << "," << st.x[i];
-    for (Eigen::Index i = 0; i < nev; ++i) {
-      f << ",";
-      if (i < st.frequencies.omega.size()) f << st.frequencies.omega[i] / (2 * M_PI);
-    }
-    for (int i = 0; i < buckling; ++i) {
-      f << ",";
-      if (i < st.buckling.size()) f << st.buckling[i];
-    }
-    f << "\n";
-  }
-  writeChecked(f, files.prefix() + "_static.csv");
+  writeText(files, "_static.csv", io::formatCsv(analysis::staticTable(model, run, buckling)));
 }
 
-// The columns of `flexmb sweep`'s CSV.
+// `flexmb sweep`'s table (analysis::sweepTable).
 void writeSweep(io::OutputSet& files, const core::Model& model, const analysis::SweepResult& r) {
-  Eigen::Index nev = 0;
-  for (const auto& p : r.points) nev = std::max(nev, p.omegaSorted.size());
-  std::ofstream f(files.temporaryFor("_sweep.csv"));
-  f << std::setprecision(17) << "value,load";
-  for (Eigen::Index i = 0; i < nev; ++i) f << ",f" << i + 1 << "_Hz";
-  for (Eigen::Index i = 0; i < nev; ++i) f << ",tracked" << i + 1 << "_Hz";
-  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
-  f << "\n";
-  for (const auto& p : r.points) {
-    f << p.value << "," << p.load;
-    for (Eigen::Index i = 0; i < nev; ++i) {
-      f << ",";
-      if (i < p.omegaSorted.size()) f << p.omegaSorted[i] / (2 * M_PI);
-    }
-    for (Eigen::Index i = 0; i < nev; ++i) {
-      f << ",";
-      if (i < p.omega.size()) f << p.omega[i] / (2 * M_PI);
-    }
-    for (Eigen::Index i = 0; i < p.x.size(); ++i) f << "," << p.x[i];
-    f << "\n";
-  }
-  writeChecked(f, files.prefix() + "_sweep.csv");
+  writeText(files, "_sweep.csv", io::formatCsv(analysis::sweepTable(model, r)));
 }
 
 void writeSimulation(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj) {
