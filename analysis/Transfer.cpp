@@ -287,7 +287,17 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
   return r;
 }
 
+namespace {
+// H at s = shift w + i w (shift 0: the frequency response).
+std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::VectorXd& omega, double shift);
+}  // namespace
+
 std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega) {
+  return responsesAt(ss, omega, 0.0);
+}
+
+namespace {
+std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::VectorXd& omega, double shift) {
   // A = Q H Q^T (Hessenberg, once for every pair): each frequency is then one O(n^2) Hessenberg
   // elimination shared by all inputs.
   const Eigen::Index n = ss.A.rows(), ni = ss.B.cols(), no = ss.C.rows();
@@ -304,7 +314,7 @@ std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eig
   const Eigen::MatrixXcd c = (ss.C * Qm).cast<std::complex<double>>();
   Eigen::MatrixXcd T(n, n), z(n, ni);
   for (Eigen::Index k = 0; k < omega.size(); ++k) {
-    const std::complex<double> s(0.0, omega[k]);
+    const std::complex<double> s(shift * omega[k], omega[k]);
     T = -H.cast<std::complex<double>>();
     T.diagonal().array() += s;
     z = b;
@@ -329,6 +339,7 @@ std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eig
   }
   return h;
 }
+}  // namespace
 
 Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega) {
   StateSpace one;
@@ -337,6 +348,40 @@ Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, 
   one.C = ss.C.row(output);
   one.D = ss.D.block(output, input, 1, 1);
   return frequencyResponses(one, omega)[0];
+}
+
+bool undamped(const StateSpace& ss) {
+  const Eigen::Index m = ss.A.rows() / 2;
+  return m > 0 && ss.A.bottomRightCorner(m, m).isZero(0.0);
+}
+
+Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega,
+                          const Eigen::VectorXcd& h) {
+  // Undamped: H is real and flips sign at poles and zeros, where unwrapping cannot tell +180 from
+  // -180. Just right of the imaginary axis (s = 1e-6 w + i w: a damping ratio of 5e-7) the sign of
+  // Im H is that of the lightly damped model, so the phase falls through poles and rises through
+  // zeros as a lightly damped model's does.
+  Eigen::VectorXcd shifted;
+  if (undamped(ss)) {
+    StateSpace one;
+    one.A = ss.A;
+    one.B = ss.B.col(input);
+    one.C = ss.C.row(output);
+    one.D = ss.D.block(output, input, 1, 1);
+    shifted = responsesAt(one, omega, 1e-6)[0];
+  }
+  const Eigen::VectorXcd& z = shifted.size() ? shifted : h;
+  Eigen::VectorXd phase(omega.size());
+  double unwrap = 0.0, last = 0.0;
+  for (Eigen::Index k = 0; k < omega.size(); ++k) {
+    const double a = std::arg(z[k]) * 180.0 / M_PI;
+    if (k > 0) {
+      while (a + unwrap - last > 180.0) unwrap -= 360.0;
+      while (a + unwrap - last < -180.0) unwrap += 360.0;
+    }
+    last = phase[k] = a + unwrap;
+  }
+  return phase;
 }
 
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {

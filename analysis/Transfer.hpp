@@ -63,6 +63,16 @@ Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, 
 // inputs): element i * outputs + o is H_oi.
 std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega);
 
+// The phase in degrees of H_{output,input}(i w) (h: frequencyResponse's), continuous along the
+// frequencies: unwrapped (no jump over 180 degrees between neighbours). For an undamped model (A's
+// damping block zero) H is real and flips sign at poles and zeros, where unwrapping cannot tell
+// +180 from -180: its phase is taken just right of the imaginary axis (s = 1e-6 w + i w), where it
+// falls through poles and rises through zeros as a lightly damped model's does.
+Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega,
+                          const Eigen::VectorXcd& h);
+// True when the model has no damping (A's damping block is zero).
+bool undamped(const StateSpace& ss);
+
 // Angular frequencies for a Bode plot: 400 log-spaced points two decades around the poles' range
 // (from their imaginary parts; 1..1e3 rad/s without poles).
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss);

@@ -227,3 +227,32 @@ TEST(Transfer, KinematicDofMatricesHoldTheInputs) {
   EXPECT_LT((km.M0 - M).norm(), 1e-12) << km.M0;
   EXPECT_LT((km.K0B - K).norm(), 1e-9) << km.K0B;
 }
+
+// Undamped Bode phase (issue 35): H(i w) is real and flips sign at poles and zeros; the phase falls
+// 180 degrees at each pole and rises 180 at each zero, so a collocated pair (force in, its own
+// displacement out: poles and zeros alternate) stays between 0 and -180 degrees instead of
+// climbing by 360 at every flip the unwrapping guessed the wrong way.
+TEST(Transfer, UndampedBodePhaseFallsAtPolesAndRisesAtZeros) {
+  const int n = 4, tip = 2 * n + 1;
+  const std::string block = "INPUTF 1 " + std::to_string(tip) + " 3\nOUTX 1 " + std::to_string(tip) + " 3\n";
+  const analysis::TransferRun run =
+      analysis::transferAnalysis(io::readDatString(prestressedCantilever(n, "", block), "pc.dat"));
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  ASSERT_TRUE(analysis::undamped(run.model));
+  const Eigen::VectorXd omega = analysis::bodeFrequencies(run.model);
+  const Eigen::VectorXcd h = analysis::frequencyResponse(run.model, 0, 0, omega);
+  const Eigen::VectorXd phase = analysis::bodePhase(run.model, 0, 0, omega, h);
+  int falls = 0, rises = 0;
+  for (Eigen::Index k = 0; k < phase.size(); ++k) {
+    EXPECT_TRUE(phase[k] <= 1e-3 && phase[k] >= -180.0 - 1e-3) << "at " << omega[k] << " rad/s: " << phase[k];
+    // The phase says H's sign (near 0: positive, near -180: negative).
+    EXPECT_EQ(h[k].real() >= 0.0, phase[k] > -90.0) << omega[k];
+    if (k == 0) continue;
+    if (phase[k] < phase[k - 1] - 90.0) ++falls;
+    if (phase[k] > phase[k - 1] + 90.0) ++rises;
+  }
+  EXPECT_NEAR(phase[0], 0.0, 1e-3);  // positive static compliance
+  EXPECT_GE(falls, 2);               // the grid spans several eigenfrequencies
+  EXPECT_GE(rises, 1);
+  EXPECT_LE(falls - rises, 1);
+}

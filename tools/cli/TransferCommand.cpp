@@ -33,7 +33,7 @@ std::vector<std::string> stateNames(Eigen::Index m) {
 
 // Magnitude over phase of H(i w) against the frequency in Hz.
 std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h,
-                                const std::string& note) {
+                                const Eigen::VectorXd& phase, const std::string& note) {
   io::Plot mag, ph;
   mag.title = title;
   if (!note.empty()) mag.notes = {note};
@@ -45,18 +45,11 @@ std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd&
   ph.y.label = "phase [deg]";
   mag.height = ph.height = 300;
   io::Series m, p;
-  double unwrap = 0.0, last = 0.0;
   for (Eigen::Index k = 0; k < omega.size(); ++k) {
     m.x.push_back(omega[k] / kTwoPi);
     m.y.push_back(std::abs(h[k]));
-    double a = std::arg(h[k]) * 180.0 / M_PI;
-    if (k > 0) {  // continuous phase
-      while (a + unwrap - last > 180.0) unwrap -= 360.0;
-      while (a + unwrap - last < -180.0) unwrap += 360.0;
-    }
-    last = a + unwrap;
     p.x.push_back(omega[k] / kTwoPi);
-    p.y.push_back(last);
+    p.y.push_back(phase[k]);  // analysis::bodePhase
   }
   mag.series = {m};
   ph.series = {p};
@@ -184,10 +177,10 @@ int runTransfer(const std::vector<std::string>& args) {
   } else if (run.completed && bode) {
     // No damping (A's velocity block is zero): the resonance peaks are infinite, the drawn ones are
     // only as high as the frequency grid comes to them.
-    const Eigen::Index nq = ss.A.rows() / 2;
-    const bool undamped = nq > 0 && ss.A.bottomRightCorner(nq, nq).isZero(0.0);
-    const std::string note =
-        undamped ? "no damping in the model: the peaks are infinite at the eigenfrequencies (give EDAMP)" : "";
+    const bool undamped = analysis::undamped(ss);
+    const std::string note = undamped ? "no damping in the model: the peaks are infinite at the eigenfrequencies "
+                                        "(give EDAMP); the phase is a lightly damped model's"
+                                      : "";
     if (undamped) std::cout << "  note: " << note << "\n";
     complete &= tryProduct(files, "the Bode diagrams", [&] {
       const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
@@ -198,7 +191,8 @@ int runTransfer(const std::vector<std::string>& args) {
           const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
           io::writeSvgStack(
               files.temporaryFor(name),
-              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h, note));
+              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h,
+                        analysis::bodePhase(ss, static_cast<int>(i), static_cast<int>(o), omega, h), note));
         }
     });
   }
