@@ -463,6 +463,15 @@ void massPass(const double* mass, const double* grad, const double* phi, const d
   }
 }
 
+// Mr x = f by a fixed-size Cholesky; false when Mr is not positive definite.
+template <int M>
+bool solveFixed(const Eigen::MatrixXd& Mr, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
+  const Eigen::LLT<Eigen::Matrix<double, M, M>> llt(Mr);
+  if (llt.info() != Eigen::Success) return false;
+  x = llt.solve(Eigen::Matrix<double, M, 1>(f));
+  return true;
+}
+
 }  // namespace
 
 double basisChecksum(const Eigen::MatrixXd& V) {
@@ -762,14 +771,40 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
     unpack(packed_, C_);
     force_.noalias() -= C_ * etad;
   }
-  llt_.compute(M_);
-  if (llt_.info() != Eigen::Success) {
+  bool definite = false;
+  switch (m_) {  // fixed-size Cholesky for the usual reduced sizes
+    case 1:
+      definite = M_(0, 0) > 0.0;
+      etadd_[0] = force_[0] / M_(0, 0);
+      break;
+    case 2:
+      definite = solveFixed<2>(M_, force_, etadd_);
+      break;
+    case 3:
+      definite = solveFixed<3>(M_, force_, etadd_);
+      break;
+    case 4:
+      definite = solveFixed<4>(M_, force_, etadd_);
+      break;
+    case 5:
+      definite = solveFixed<5>(M_, force_, etadd_);
+      break;
+    case 6:
+      definite = solveFixed<6>(M_, force_, etadd_);
+      break;
+    default:
+      llt_.compute(M_);
+      definite = llt_.info() == Eigen::Success;
+      if (definite) {
+        etadd_ = force_;
+        llt_.solveInPlace(etadd_);
+      }
+  }
+  if (!definite) {
     lastEta_ = eta;
     lastOutside_ = m_;  // not positive definite: treated as outside the range
     return false;
   }
-  etadd_ = force_;
-  llt_.solveInPlace(etadd_);
   dydt.resize(2 * m_);
   dydt.head(m_) = y.tail(m_);
   dydt.tail(m_).noalias() = ops_.rotation * etadd_;
