@@ -147,4 +147,12 @@ HighestMode highestMode(const core::Model& model, const std::optional<Eigen::Mat
   return h;
 }
 
+io::CsvTable modesTable(const Frequencies& fr) {
+  io::CsvTable t;
+  t.columns = {"mode", "f_Hz", "omega_rad_s"};
+  for (Eigen::Index i = 0; i < fr.omega.size(); ++i)
+    t.rows.push_back({static_cast<double>(i + 1), fr.omega[i] / (2 * M_PI), fr.omega[i]});
+  return t;
+}
+
 }  // namespace flexmb::analysis

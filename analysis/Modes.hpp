@@ -9,6 +9,7 @@
 
 #include "core/Linearization.hpp"
 #include "core/Model.hpp"
+#include "io/CsvTable.hpp"
 #include "solvers/ReductionBasis.hpp"
 
 namespace flexmb::analysis {
@@ -55,6 +56,9 @@ struct InitialModes {
   Frequencies frequencies;        // ascending; modes in eta
 };
 InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev);
+// The frequencies as a table, the one every front end writes (`flexmb modes`, the study): mode,
+// f_Hz, omega_rad_s.
+io::CsvTable modesTable(const Frequencies& frequencies);
 
 // The lowest nev modes of Eq. 21's q_s subproblem of a full model: the coordinates p.large held at
 // zero (the reduction bases' eigenproblem). modes in q with zero rows at p.large; omega as the

@@ -123,6 +123,8 @@ int runModes(const std::vector<std::string>& args) {
     const std::string temp = files.temporaryPrefix();
     for (const auto& p : io::writeSpacarResults(temp, model, sr))
       files.adopt(p, files.prefix() + p.substr(temp.size()));
+    // The frequencies' table every front end writes (analysis::modesTable).
+    io::writeTextFile(files.temporaryFor("_modes.csv"), io::formatCsv(analysis::modesTable(fr)));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
     sayRemovedStale(files.removedStale());
   } catch (const std::exception& e) {

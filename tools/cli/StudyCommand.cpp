@@ -97,12 +97,9 @@ void writeText(io::OutputSet& files, const std::string& suffix, const std::strin
   writeChecked(f, files.prefix() + suffix);
 }
 
+// `flexmb modes`'s table (analysis::modesTable).
 void writeModes(io::OutputSet& files, const analysis::Frequencies& fr) {
-  std::ofstream f(files.temporaryFor("_modes.csv"));
-  f << std::setprecision(17) << "mode,f_Hz,omega_rad_s\n";
-  for (Eigen::Index i = 0; i < fr.omega.size(); ++i)
-    f << i + 1 << "," << fr.omega[i] / (2 * M_PI) << "," << fr.omega[i] << "\n";
-  writeChecked(f, files.prefix() + "_modes.csv");
+  writeText(files, "_modes.csv", io::formatCsv(analysis::modesTable(fr)));
 }
 
 // `flexmb static`'s table (analysis::staticTable): the same bytes as the command line writes.

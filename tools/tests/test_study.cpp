@@ -408,18 +408,20 @@ TEST_F(StudyCli, SlurmScriptsRunByHandGiveTheSameTable) {
   EXPECT_NE(none.err.find("sbatch failed"), std::string::npos) << none.err;
 }
 
-// One analysis, one table (issue 36): a study variant's static and sweep CSVs are the bytes
-// `flexmb static` and `flexmb sweep` write for the same model and options.
+// One analysis, one table (issue 36): a study variant's modes, static and sweep CSVs are the bytes
+// `flexmb modes`, `flexmb static` and `flexmb sweep` write for the same model and options.
 TEST_F(StudyCli, VariantTablesAreTheCommandLinesBytes) {
   const Result r = run("flexmb study " + kPivot +
-                       " --param t=0.2e-3:0.3e-3:2 --static --buckling --sweep-node 4 --sweep-comp 3 --sweep-from -0.1 "
-                       "--sweep-to 0.1 --sweep-steps 5 --jobs 1 --out s -q");
+                       " --param t=0.2e-3:0.3e-3:2 --modes --static --buckling --sweep-node 4 --sweep-comp 3 "
+                       "--sweep-from -0.1 --sweep-to 0.1 --sweep-steps 5 --jobs 1 --out s -q");
   ASSERT_EQ(r.code, 0) << r.err;
   const fs::path v = dir_ / "s" / "variants" / "v0002";
   const std::string model = (v / "cross_spring_pivot_study.dat").string();
   ASSERT_EQ(run("flexmb static " + model + " --buckling --format csv --out st.csv -q").code, 0);
   ASSERT_EQ(run("flexmb sweep " + model + " --node 4 --comp 3 --from -0.1 --to 0.1 --steps 5 --nev 6 --out sw -q").code,
             0);
+  ASSERT_EQ(run("flexmb modes " + model + " --out md -q").code, 0);
+  EXPECT_EQ(slurp(dir_ / "md_modes.csv"), slurp(v / "cross_spring_pivot_study_modes.csv"));
   const std::string staticCli = slurp(dir_ / "st.csv"), sweepCli = slurp(dir_ / "sw.csv");
   EXPECT_EQ(staticCli.rfind("load_step,initial_factor,load_factor,", 0), 0u) << staticCli.substr(0, 80);
   EXPECT_EQ(staticCli, slurp(v / "cross_spring_pivot_study_static.csv"));
