@@ -176,7 +176,7 @@ double pilotRange(const core::Model& model, const Eigen::MatrixXd& V, const Oper
                   Eigen::VectorXd& centre, Eigen::MatrixXd& R, Eigen::VectorXd& lo, Eigen::VectorXd& hi) {
   SimulationOptions so;
   so.basis = V;
-  so.relTol = o.pilotRelTol;
+  if (!std::isnan(o.pilotRelTol)) so.relTol = o.pilotRelTol;
   so.intervals = 0;  // every step's state (Refine output)
   const core::Trajectory run = simulate(model, so);
   if (!run.completed) throw std::runtime_error("the pilot run for the operators' range stopped: " + run.stopReason);
@@ -572,7 +572,8 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
   if (lo.size() == 0) {
     const double estimate = pilotRange(model, V, o, ops.centre, ops.rotation, lo, hi);
     std::ostringstream r;
-    r << "pilot run of Eq. 19 (ode45, RelTol " << solvers::shortest(o.pilotRelTol)
+    r << "pilot run of Eq. 19 (ode45, RelTol "
+      << solvers::shortest(std::isnan(o.pilotRelTol) ? model.settings.relTol : o.pilotRelTol)
       << ") to t = " << solvers::shortest(model.settings.tEnd) << " s, its principal directions, widened "
       << solvers::shortest(100 * o.margin) << "% each side";
     // Fit to a small share of the reduction error the basis has anyway (issue 33: the operators may add

@@ -182,13 +182,16 @@ int runReduce(const std::vector<std::string>& args) {
       Progress progress("operators", !m.quiet);
       ops = analysis::trainOperators(model, r.V);
       progress.finish();
+      auto g2 = [](double v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.2g", v);
+        return std::string(b);
+      };
       std::ostringstream t;
-      t << ops->terms() << " terms, fit " << solvers::shortest(std::round(ops->forceError * 1e4) / 1e4) << " (force) / "
-        << solvers::shortest(std::round(ops->massError * 1e6) / 1e6) << " (mass) of their largest in the range, target "
-        << solvers::shortest(std::round(ops->tolerance * 1e6) / 1e6) << "; one evaluation "
-        << solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) << " us against "
-        << solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) << " us for Eq. 19; trained in "
-        << solvers::shortest(std::round(ops->trainingSeconds * 1e3) / 1e3) << " s (" << ops->trainingSamples << " + "
+      t << ops->terms() << " terms, fit " << g2(ops->forceError) << " (force) / " << g2(ops->massError)
+        << " (mass) of their largest in the range, target " << g2(ops->tolerance) << "; one evaluation "
+        << g2(ops->operatorSeconds * 1e6) << " us against " << g2(ops->equation19Seconds * 1e6)
+        << " us for Eq. 19; trained in " << g2(ops->trainingSeconds) << " s (" << ops->trainingSamples << " + "
         << ops->validationSamples << " configurations); range: " << ops->range;
       opsNote = t.str();
     } catch (const std::exception& e) {

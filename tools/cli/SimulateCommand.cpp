@@ -509,6 +509,8 @@ int runSimulate(const std::vector<std::string>& args) {
     const std::string path = io::operatorPathFor(a.basisFile);
     if (a.fullKinematics) {
       operatorNote = "Eq. 19 (--full-kinematics)";
+    } else if (const std::string unsupported = analysis::operatorsUnsupported(model); !unsupported.empty()) {
+      operatorNote = "Eq. 19 (no reduced operators: " + unsupported + ")";
     } else if (!std::filesystem::exists(path)) {
       operatorNote = "Eq. 19 (no reduced operators beside the basis: flexmb reduce writes " + path + ")";
     } else {
