@@ -338,7 +338,7 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
   }
 
   MatFile mf;
-  mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  mf.mat = Mat_CreateVer(path.c_str(), kMatHeader, MAT_FT_MAT5);
   if (!mf.mat) throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
 
   const std::size_t nt = traj.time.size();
@@ -419,7 +419,7 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
     probe.close();
   }
   MatFile mf;
-  mf.mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  mf.mat = Mat_CreateVer(path.c_str(), kMatHeader, MAT_FT_MAT5);
   if (!mf.mat) throw std::runtime_error("cannot write '" + path + "': matio could not create the MAT file");
   std::vector<double> data(time.begin(), time.end());
   writeMatVar(mf.mat, path, "time", nt, 1, data);

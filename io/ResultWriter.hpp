@@ -18,6 +18,10 @@
 
 namespace flexmb::io {
 
+// The MAT-file header text of every MAT file flexmb writes: fixed, so that the same results give
+// the same bytes whichever front end wrote them (matio's default holds the time of writing).
+inline constexpr const char* kMatHeader = "MATLAB 5.0 MAT-file, Platform: flexmb, Created by: flexmb";
+
 // Column names of the nodal coordinates (size nx): "node3.x", "node3.y", "node103.angle".
 std::vector<std::string> coordinateColumnNames(const core::Model& model);
 // Column names of the deformations (size ne): "PLBEAM5.e1_elongation", "PLBEAM5.e2_bending_p", ...

@@ -1,5 +1,7 @@
 #include "io/SpacarResults.hpp"
 
+#include "io/ResultWriter.hpp"
+
 #include <matio.h>
 
 #include <algorithm>
@@ -29,7 +31,7 @@ class MatWriter {
       throw std::runtime_error("cannot open '" + path_ +
                                "' for writing: " + (errno ? std::strerror(errno) : "unknown error"));
     std::fclose(f);
-    mat_ = Mat_CreateVer(path_.c_str(), nullptr, MAT_FT_MAT5);
+    mat_ = Mat_CreateVer(path_.c_str(), kMatHeader, MAT_FT_MAT5);
     if (!mat_) throw std::runtime_error("cannot write '" + path_ + "': matio could not create the MAT file");
   }
   ~MatWriter() {

@@ -57,18 +57,26 @@ struct Timed {
   double wall = NAN;
   long fevals = 0, operatorEvals = 0, fallbacks = 0;
 };
+// simulate's options for these runs: AbsTol 1e-3 RelTol, no reduction estimate.
+analysis::SimulationOptions runOptions(const std::optional<Eigen::MatrixXd>& V,
+                                       std::shared_ptr<const analysis::ReducedOperators> ops, double relTol,
+                                       bool keepStates) {
+  analysis::SimulationOptions o;
+  o.basis = V;
+  o.operators = std::move(ops);
+  o.relTol = relTol;
+  o.absTol = 1e-3 * relTol;
+  o.keepStates = keepStates;
+  o.reductionEstimate = false;
+  return o;
+}
+
 Timed timeRun(const core::Model& model, const std::optional<Eigen::MatrixXd>& V,
               std::shared_ptr<const analysis::ReducedOperators> ops, double relTol, int repeat) {
   Timed t;
   std::vector<double> walls;
   for (int k = 0; k < repeat; ++k) {
-    analysis::SimulationOptions o;
-    o.basis = V;
-    o.operators = ops;
-    o.relTol = relTol;
-    o.absTol = 1e-3 * relTol;
-    o.keepStates = false;
-    o.reductionEstimate = false;
+    const analysis::SimulationOptions o = runOptions(V, ops, relTol, false);
     const auto w0 = Clock::now();
     const core::Trajectory r = analysis::simulate(model, o);
     walls.push_back(since(w0));
@@ -82,13 +90,7 @@ Timed timeRun(const core::Model& model, const std::optional<Eigen::MatrixXd>& V,
 
 core::Trajectory keptRun(const core::Model& model, const std::optional<Eigen::MatrixXd>& V,
                          std::shared_ptr<const analysis::ReducedOperators> ops, double relTol) {
-  analysis::SimulationOptions o;
-  o.basis = V;
-  o.operators = ops;
-  o.relTol = relTol;
-  o.absTol = 1e-3 * relTol;
-  o.reductionEstimate = false;
-  return analysis::simulate(model, o);
+  return analysis::simulate(model, runOptions(V, std::move(ops), relTol, true));
 }
 
 struct Case {

@@ -408,12 +408,14 @@ TEST_F(StudyCli, SlurmScriptsRunByHandGiveTheSameTable) {
   EXPECT_NE(none.err.find("sbatch failed"), std::string::npos) << none.err;
 }
 
-// One analysis, one table (issue 36): a study variant's modes, static and sweep CSVs are the bytes
-// `flexmb modes`, `flexmb static` and `flexmb sweep` write for the same model and options.
+// One analysis, one set of files (issue 36): a study variant's modes, static, sweep and simulate
+// files are the bytes `flexmb modes`, `static`, `sweep` and `simulate` write for the same model and
+// options (the MAT files too: their header holds no time of writing).
 TEST_F(StudyCli, VariantTablesAreTheCommandLinesBytes) {
   const Result r = run("flexmb study " + kPivot +
                        " --param t=0.2e-3:0.3e-3:2 --modes --static --buckling --sweep-node 4 --sweep-comp 3 "
-                       "--sweep-from -0.1 --sweep-to 0.1 --sweep-steps 5 --jobs 1 --out s -q");
+                       "--sweep-from -0.1 --sweep-to 0.1 --sweep-steps 5 --simulate --t-end 0.002 --intervals 4 "
+                       "--jobs 1 --out s -q");
   ASSERT_EQ(r.code, 0) << r.err;
   const fs::path v = dir_ / "s" / "variants" / "v0002";
   const std::string model = (v / "cross_spring_pivot_study.dat").string();
@@ -421,6 +423,10 @@ TEST_F(StudyCli, VariantTablesAreTheCommandLinesBytes) {
   ASSERT_EQ(run("flexmb sweep " + model + " --node 4 --comp 3 --from -0.1 --to 0.1 --steps 5 --nev 6 --out sw -q").code,
             0);
   ASSERT_EQ(run("flexmb modes " + model + " --out md -q").code, 0);
+  ASSERT_EQ(run("flexmb simulate " + model + " --t-end 0.002 --intervals 4 --out sim -q").code, 0);
+  for (const char* f :
+       {"_x.csv", "_xd.csv", "_xdd.csv", "_e.csv", "_ed.csv", "_edd.csv", "_sig.csv", "_rot.csv", ".mat"})
+    EXPECT_EQ(slurp(dir_ / ("sim" + std::string(f))), slurp(v / ("cross_spring_pivot_study" + std::string(f)))) << f;
   EXPECT_EQ(slurp(dir_ / "md_modes.csv"), slurp(v / "cross_spring_pivot_study_modes.csv"));
   const std::string staticCli = slurp(dir_ / "st.csv"), sweepCli = slurp(dir_ / "sw.csv");
   EXPECT_EQ(staticCli.rfind("load_step,initial_factor,load_factor,", 0), 0u) << staticCli.substr(0, 80);
