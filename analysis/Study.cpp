@@ -1,5 +1,7 @@
 #include "analysis/Study.hpp"
 
+#include "analysis/RunSize.hpp"
+
 #include "analysis/BasisForTarget.hpp"
 
 #include <Eigen/LU>
@@ -401,6 +403,10 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
         q.emplace_back("sim_basis_vectors", chosen.met ? static_cast<double>(chosen.basis.V.cols()) : kNaN);
         if (!chosen.met) r.notes.push_back("simulate: " + chosen.note);
       }
+      // The checks every front end makes before a run (analysis/RunSize.hpp): a variant that cannot
+      // finish or fit fails with the reason instead of holding its worker.
+      if (const RunSizeCheck size = checkRunSize(model, o); !size.refusal.empty())
+        throw std::runtime_error(size.refusal);
       r.trajectory = simulate(model, o);
       const core::Trajectory& tr = *r.trajectory;
       if (a.reductionTarget)

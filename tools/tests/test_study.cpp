@@ -433,3 +433,14 @@ TEST_F(StudyCli, VariantTablesAreTheCommandLinesBytes) {
   EXPECT_EQ(staticCli, slurp(v / "cross_spring_pivot_study_static.csv"));
   EXPECT_EQ(sweepCli, slurp(v / "cross_spring_pivot_study_sweep.csv"));
 }
+
+// The checks before a run are the command line's (analysis/RunSize.hpp): a variant whose simulation
+// could not fit fails at once with the reason, the others run.
+TEST_F(StudyCli, OversizedSimulationIsRefusedLikeTheCommandLine) {
+  const Result r = run("flexmb study " + kPivot +
+                       " --param t=0.2e-3:0.3e-3:2 --modes --simulate --t-end 0.002 --intervals 1000000000 --jobs 1 "
+                       "--out s -q");
+  const std::string table = slurp(dir_ / "s" / "study_summary.csv");
+  EXPECT_NE(table.find("intervals"), std::string::npos) << table << r.err;
+  EXPECT_EQ(table.find(",ok,"), std::string::npos) << table;
+}
