@@ -59,6 +59,8 @@ int runShow(const std::vector<std::string>& args) {
   core::Model model;
   if (!loadModel(m, model)) return kInputError;
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_model.svg";
+  // A name without an extension gets `.svg`: a browser or viewer does not open a bare name.
+  if (!std::filesystem::path(out).has_extension()) out += ".svg";
   if (html == "<model>_model.html") html = std::filesystem::path(m.file).stem().string() + "_model.html";
   // The output folder is checked before the work, as every command does (README: exit codes).
   if (const auto folder = std::filesystem::path(out).parent_path();

@@ -135,6 +135,11 @@ TEST(VisualCli, ShowDrawsTheModelWithNumbersAndRoles) {
   EXPECT_EQ(
       run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "no/such/folder.svg").string()).first, 1);
   EXPECT_EQ(run(kFlexmb + " show --help").first, 0);
+  // --out without an extension: the picture gets `.svg` (issue 35).
+  const auto [rc3, out3] = run(kFlexmb + " show " + kData + "manipulator.dat --out " + (dir.path / "bare").string());
+  EXPECT_EQ(rc3, 0) << out3;
+  EXPECT_TRUE(fs::exists(dir.path / "bare.svg")) << out3;
+  EXPECT_FALSE(fs::exists(dir.path / "bare"));
 }
 
 TEST(VisualCli, ModesStaticAndSweepDrawTheirShapes) {
