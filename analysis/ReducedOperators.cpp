@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -395,8 +394,6 @@ std::vector<std::vector<int>> adaptiveTerms(Samples& s, const std::function<void
         if (an > 0.0) score[j] += (a.transpose() * residual).squaredNorm() / (an * an * scale * scale);
       }
     }
-    if (std::getenv("FLEXMB_DEBUG_OPS"))
-      std::fprintf(stderr, "step %d: %d terms, margin %zu\n", step, L, margin.size());
     if (met || L >= o.maxTerms || margin.empty()) break;
     // Add the best-scoring margin terms (at least one, at most a quarter of the set).
     std::vector<int> order(margin.size());

@@ -46,8 +46,9 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops);
 
 struct OperatorTrainingOptions {
-  // The trained range; empty: from a pilot reduced run (Eq. 19, ode45 at pilotRelTol over the
-  // model's time span), its eta range widened by `margin` of its width on each side.
+  // The trained range (in eta; the frame is then the identity); empty: from a pilot reduced run
+  // (Eq. 19, ode45 at pilotRelTol over the model's time span), in the frame of its states'
+  // principal directions, widened by `margin` of its width on each side.
   Eigen::VectorXd lower, upper;
   // NaN: the model's own (ERROR). 1e-2 by default: measured, the model's 1e-3 gave the manipulator
   // 147 terms instead of 92 (a wider range) and did not keep the portal's 1e-8 motion in range
@@ -55,12 +56,12 @@ struct OperatorTrainingOptions {
   // fall back to Eq. 19).
   double pilotRelTol = 1e-2;
   double margin = 0.15;
-  // Fit target (held-out, relative); degrees grow until met or maxTerms. NaN: 0.02 of the pilot
-  // run's reduction error estimate (within 1e-7..1e-3), 1e-6 with a given range.
+  // Fit target (held-out, relative); the adaptive set grows until it is met or has maxTerms terms
+  // of at most maxDegree per variable. NaN: 0.03 of the pilot run's reduction error estimate
+  // (within 1e-7..1e-3), 1e-6 with a given range.
   double tolerance = std::numeric_limits<double>::quiet_NaN();
   int maxTerms = 300;
   int maxDegree = 14;
-  double slack = 1.0;  // the set's weights w_i = p_i + slack (room for products of variables)
 };
 
 // Throws std::invalid_argument for an unsupported model (operatorsUnsupported) and

@@ -388,7 +388,7 @@ class StageRun {
       }
       eom_.rhs(t, y, dy);
     }
-    eomEta_ = y.head(m);
+    if (operators_) eomEta_ = y.head(m);  // only a run with operators walks back
   }
 
   // An output time: the output quantities from the probe, checked (finite, every element valid).

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <numeric>
 #include <stdexcept>
 
 namespace flexmb::solvers {
@@ -39,51 +38,32 @@ void termsKernel(const int* off, int P, const double* T, const double* dT, doubl
 
 }  // namespace
 
-ChebyshevBasis::ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, const std::vector<int>& degrees, double slack,
-                               const std::vector<int>& groups)
+ChebyshevBasis::ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, const std::vector<int>& degrees)
     : lo_(std::move(lo)), hi_(std::move(hi)) {
   checkBox(lo_, hi_);
   const int m = variables();
   if (static_cast<int>(degrees.size()) != m) throw std::invalid_argument("ChebyshevBasis: one degree per variable");
-  if (!groups.empty() && static_cast<int>(groups.size()) != m)
-    throw std::invalid_argument("ChebyshevBasis: one group per variable");
-  const int nGroups = groups.empty() ? 1 : *std::max_element(groups.begin(), groups.end()) + 1;
-  auto groupOf = [&](int i) { return groups.empty() ? 0 : groups[i]; };
-  std::vector<std::pair<double, std::vector<int>>> terms;
+  std::vector<std::vector<int>> terms;
   std::vector<int> k(m, 0);
-  std::vector<double> used(nGroups, 0.0);
-  // Depth-first over k with k_i <= p_i and sum k_i / w_i <= 1 per group (degree 0 stays at 0).
-  std::function<void(int)> add = [&](int i) {
+  // Depth-first over k with sum k_i / p_i <= 1 (a variable of degree 0 stays at 0).
+  std::function<void(int, double)> add = [&](int i, double used) {
     if (i == m) {
-      terms.emplace_back(*std::max_element(used.begin(), used.end()), k);
+      terms.push_back(k);
       return;
     }
-    const int g = groupOf(i);
-    const double before = used[g];
     for (int d = 0; d <= degrees[i]; ++d) {
-      const double share = degrees[i] > 0 ? d / (degrees[i] + slack) : 0.0;
-      if (before + share > 1.0 + 1e-12) break;
+      const double share = degrees[i] > 0 ? static_cast<double>(d) / degrees[i] : 0.0;
+      if (used + share > 1.0 + 1e-12) break;
       k[i] = d;
-      used[g] = before + share;
-      add(i + 1);
+      add(i + 1, used + share);
     }
     k[i] = 0;
-    used[g] = before;
   };
-  add(0);
-  std::stable_sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) {
-    if (a.first != b.first) return a.first < b.first;
-    return std::accumulate(a.second.begin(), a.second.end(), 0) < std::accumulate(b.second.begin(), b.second.end(), 0);
-  });
+  add(0, 0.0);
   exponents_.resize(static_cast<int>(terms.size()), m);
-  for (size_t p = 0; p < terms.size(); ++p) {
-    level_.push_back(terms[p].first);
-    for (int i = 0; i < m; ++i) exponents_(static_cast<int>(p), i) = terms[p].second[i];
-  }
-  maxDegree_ = exponents_.size() ? exponents_.maxCoeff() : 0;
-  offsets_.assign(exponents_.size(), 0);
-  for (int p = 0; p < size(); ++p)
-    for (int i = 0; i < m; ++i) offsets_[p * m + i] = exponents_(p, i) + i * (maxDegree_ + 1);
+  for (size_t p = 0; p < terms.size(); ++p)
+    for (int i = 0; i < m; ++i) exponents_(static_cast<int>(p), i) = terms[p][i];
+  setOffsets();
 }
 
 ChebyshevBasis::ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, Eigen::MatrixXi exponents)
@@ -91,17 +71,15 @@ ChebyshevBasis::ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, Eigen::Ma
   checkBox(lo_, hi_);
   if (exponents_.cols() != variables() || exponents_.rows() == 0 || exponents_.minCoeff() < 0)
     throw std::invalid_argument("ChebyshevBasis: exponents do not fit the box");
-  maxDegree_ = exponents_.maxCoeff();
+  setOffsets();
+}
+
+void ChebyshevBasis::setOffsets() {
   const int m = variables();
+  maxDegree_ = exponents_.size() ? exponents_.maxCoeff() : 0;
   offsets_.assign(exponents_.size(), 0);
   for (int p = 0; p < size(); ++p)
     for (int i = 0; i < m; ++i) offsets_[p * m + i] = exponents_(p, i) + i * (maxDegree_ + 1);
-}
-
-int ChebyshevBasis::termsUpTo(double level) const {
-  int n = 0;
-  while (n < size() && this->level(n) <= level + 1e-12) ++n;
-  return n;
 }
 
 int ChebyshevBasis::outside(const Eigen::Ref<const Eigen::VectorXd>& eta, double slack) const {

@@ -1,10 +1,8 @@
 #pragma once
 // Polynomials in m variables on a box lo <= eta <= hi: sums of products of Chebyshev polynomials
-// T_k(xi_i), xi_i = (2 eta_i - lo_i - hi_i) / (hi_i - lo_i), over the weighted total-degree set
-// {k : k_i <= p_i, sum_i k_i / w_i <= 1} (p_i: the degree in variable i, w_i >= p_i its weight:
-// w_i > p_i leaves room for products with the other variables). Terms are ordered by their
-// weighted degree sum_i k_i / w_i, so that every prefix is itself a lower set: a smooth field can
-// use fewer terms than a rough one on the same evaluation. The reduced operators
+// T_k(xi_i), xi_i = (2 eta_i - lo_i - hi_i) / (hi_i - lo_i), over a set of exponent rows (the
+// reduced operators choose theirs adaptively, analysis/ReducedOperators.cpp; the anisotropic
+// total-degree set {k : sum_i k_i / p_i <= 1} is the simple alternative). The reduced operators
 // (analysis/ReducedOperators.hpp) are coefficient vectors on one such basis, so an evaluation costs
 // O(terms x m) whatever the mesh. Fitting is weighted-free least squares on values and/or
 // gradients; samples drawn from the arcsine (Chebyshev) density keep it well conditioned
@@ -23,12 +21,9 @@ class ChebyshevBasis {
   };
 
   ChebyshevBasis() = default;
-  // The set of `degrees` (each >= 0; lo < hi componentwise) with weights w_i = degrees_i + slack.
-  // With `groups` (a group number per variable) the condition holds per group, and the set is the
-  // product of the groups' sets: e.g. every power of a large coordinate times every monomial of the
-  // small ones. A term's level is then its largest group share.
-  ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, const std::vector<int>& degrees, double slack = 0.0,
-                 const std::vector<int>& groups = {});
+  // The anisotropic total-degree set {k : sum_i k_i / p_i <= 1} of `degrees` p_i (each >= 0; lo < hi
+  // componentwise).
+  ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, const std::vector<int>& degrees);
   // An explicit set (rows of `exponents`: one term's k_1..k_m), e.g. read back from a file.
   ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, Eigen::MatrixXi exponents);
 
@@ -40,11 +35,6 @@ class ChebyshevBasis {
   // The first variable outside the box (tolerance: `slack` of its width), or -1.
   int outside(const Eigen::Ref<const Eigen::VectorXd>& eta, double slack = 0.0) const;
 
-  // The weighted degree of term p (ascending in p; 0 for a set read back from a file).
-  double level(int p) const { return p < static_cast<int>(level_.size()) ? level_[p] : 0.0; }
-  // The number of leading terms with weighted degree at most `level`.
-  int termsUpTo(double level) const;
-
   // phi_p(eta) for the first `count` terms (all: count < 0), and, when gradT is given, their
   // gradients as columns: gradT(j, p) = d phi_p / d eta_j (m x size()).
   void evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
@@ -54,10 +44,11 @@ class ChebyshevBasis {
   Eigen::VectorXd arcsinePoint(const Eigen::Ref<const Eigen::VectorXd>& u) const;
 
  private:
+  void setOffsets();  // maxDegree_ and offsets_ from exponents_
+
   Eigen::VectorXd lo_, hi_;
   Eigen::MatrixXi exponents_;
   std::vector<int> offsets_;  // per term, k_i + i (p_max + 1): its entries in the tables (column i: variable i)
-  std::vector<double> level_;
   int maxDegree_ = 0;
 };
 
