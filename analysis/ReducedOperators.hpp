@@ -41,6 +41,12 @@ std::string operatorsUnsupported(const core::Model& model);
 // accelerations against Eq. 19's beyond what the fit allows), or empty.
 std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V, const ReducedOperators& ops);
 
+// Whether an evaluation of the operators, as timed at training, costs less than one of Eq. 19
+// (what `simulate --basis` uses).
+inline bool operatorsCheaper(const ReducedOperators& ops) {
+  return !(ops.equation19Seconds > 0.0 && ops.operatorSeconds >= ops.equation19Seconds);
+}
+
 // "reduced operators: 763 evaluations (63 terms, ...); Eq. 19 for 12 from t = ... (where)" for the
 // screen and the manifest.
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops);

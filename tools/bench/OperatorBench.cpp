@@ -142,7 +142,8 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
      << f("%g", refTol)
      << "), relative to the motion (the reduction error estimate's measure). *training*: the operators' pilot run, "
         "sampling and fitting, as a share of one full run at RelTol 1e-3.\n\n"
-     << "| model | basis | terms | held-out fit error (force / mass) | training [s] (of a full run) | rhs full [us] | "
+     << "| model | basis | terms (all / Mr) | held-out fit error (force / mass) | training [s] (of a full run) | rhs "
+        "full [us] | "
         "rhs Eq. 19 [us] | rhs operators [us] | operators / full | run Eq. 19 [ms] | run operators [ms] | speed-up | "
         "error Eq. 19 | error operators | simulate uses |\n"
      << "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
@@ -194,20 +195,22 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
     const double rhsOps = perCall([&] { inside = od.rhs(t, yR, dy) && inside; }, budget);
     const Timed run19 = timeRun(model, V, nullptr, relTol, repeat), runOps = timeRun(model, V, ops, relTol, repeat);
     std::printf(
-        "[operators] %s %s: %d terms (fit %.1e / %.1e), training %.3f s (%.3f of a full run); rhs full %.2f us, Eq. "
+        "[operators] %s %s: %d terms (%ld for Mr) (fit %.1e / %.1e), training %.3f s (%.3f of a full run); rhs full "
+        "%.2f us, Eq. "
         "19 %.2f us, operators %.2f us%s (%.3f of full); run Eq. 19 %.2f ms, operators %.2f ms (%ld operator "
         "evaluations, %ld by Eq. 19): x%.1f; error Eq. 19 %.2e, operators %.2e\n",
-        c.model.c_str(), c.label.c_str(), ops->terms(), ops->forceError, ops->massError, training,
-        training / fullRun.wall, rhsFull * 1e6, rhs19 * 1e6, rhsOps * 1e6, inside ? "" : " (state outside the range)",
-        rhsOps / rhsFull, run19.wall * 1e3, runOps.wall * 1e3, runOps.operatorEvals, runOps.fallbacks,
-        run19.wall / runOps.wall, e19, eOps);
-    md << "| " << c.model << " | " << c.label << " | " << ops->terms() << " | " << f("%.1e", ops->forceError) << " / "
-       << f("%.1e", ops->massError) << " | " << f("%.3f", training) << " (" << f("%.3f", training / fullRun.wall)
-       << ") | " << f("%.2f", rhsFull * 1e6) << " | " << f("%.2f", rhs19 * 1e6) << " | " << f("%.2f", rhsOps * 1e6)
-       << " | " << f("%.3f", rhsOps / rhsFull) << " | " << f("%.2f", run19.wall * 1e3) << " | "
-       << f("%.2f", runOps.wall * 1e3)
+        c.model.c_str(), c.label.c_str(), ops->terms(), static_cast<long>(ops->mass.cols()), ops->forceError,
+        ops->massError, training, training / fullRun.wall, rhsFull * 1e6, rhs19 * 1e6, rhsOps * 1e6,
+        inside ? "" : " (state outside the range)", rhsOps / rhsFull, run19.wall * 1e3, runOps.wall * 1e3,
+        runOps.operatorEvals, runOps.fallbacks, run19.wall / runOps.wall, e19, eOps);
+    md << "| " << c.model << " | " << c.label << " | " << ops->terms() << " / " << ops->mass.cols() << " | "
+       << f("%.1e", ops->forceError) << " / " << f("%.1e", ops->massError) << " | " << f("%.3f", training) << " ("
+       << f("%.3f", training / fullRun.wall) << ") | " << f("%.2f", rhsFull * 1e6) << " | " << f("%.2f", rhs19 * 1e6)
+       << " | " << f("%.2f", rhsOps * 1e6) << " | " << f("%.3f", rhsOps / rhsFull) << " | "
+       << f("%.2f", run19.wall * 1e3) << " | " << f("%.2f", runOps.wall * 1e3)
        << (runOps.fallbacks ? " (" + std::to_string(runOps.fallbacks) + " by Eq. 19)" : "") << " | "
-       << f("%.1f", run19.wall / runOps.wall) << " | " << f("%.2e", e19) << " | " << f("%.2e", eOps) << " |\n";
+       << f("%.1f", run19.wall / runOps.wall) << " | " << f("%.2e", e19) << " | " << f("%.2e", eOps) << " | "
+       << (analysis::operatorsCheaper(*ops) ? "operators" : "Eq. 19") << " |\n";
   }
   md << "\nMesh independence: the straight guidance with n PLBEAM elements per flexure (as the rhs-scaling table), "
         "MODAL-3 of each mesh, one evaluation at t = 0.05 s, eta = 0, etad = 1e-3 (full: q = 0, qd = 1e-3).\n\n"

@@ -521,7 +521,7 @@ int runSimulate(const std::vector<std::string>& args) {
                     << " (flexmb reduce builds them anew; --full-kinematics runs without them)\n";
           return kInputError;
         }
-        if (ops->equation19Seconds > 0.0 && ops->operatorSeconds >= ops->equation19Seconds)
+        if (!analysis::operatorsCheaper(*ops))
           operatorNote =
               "Eq. 19 (the reduced operators in " + path + " cost " +
               solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
