@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -17,6 +18,7 @@
 #include "core/GeometricTransferFunctions.hpp"
 #include "core/ReducedCoordinates.hpp"
 #include "core/Workspace.hpp"
+#include "io/OperatorFile.hpp"
 #include "solvers/NumberText.hpp"
 
 namespace flexmb::analysis {
@@ -680,6 +682,36 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
   timeOneEvaluation(model, V, ops);
   ops.trainingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return ops;
+}
+
+OperatorChoice chooseOperators(const core::Model& model, const std::string& modelFile, const Eigen::MatrixXd& V,
+                               const std::string& basisFile, bool fullKinematics) {
+  OperatorChoice c;
+  const std::string path = io::operatorPathFor(basisFile);
+  if (fullKinematics) {
+    c.note = "Eq. 19 (--full-kinematics)";
+  } else if (const std::string unsupported = operatorsUnsupported(model); !unsupported.empty()) {
+    c.note = "Eq. 19 (no reduced operators: " + unsupported + ")";
+  } else if (!std::filesystem::exists(path)) {
+    c.note = "Eq. 19 (no reduced operators beside the basis: flexmb reduce writes " + path + ")";
+  } else {
+    try {
+      auto ops = std::make_shared<const ReducedOperators>(io::readOperators(path));
+      if (const std::string why = operatorsMismatch(model, V, *ops); !why.empty())
+        c.refusal = path + " does not fit " + modelFile + " with " + basisFile + ": " + why +
+                    " (flexmb reduce builds them anew; --full-kinematics runs without them)";
+      else if (!operatorsCheaper(*ops))
+        c.note = "Eq. 19 (the reduced operators in " + path + " cost " +
+                 solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
+                 solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) +
+                 " us: too many terms for this basis)";
+      else
+        c.operators = std::move(ops);
+    } catch (const std::exception& e) {
+      c.refusal = e.what();
+    }
+  }
+  return c;
 }
 
 OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperators& ops)

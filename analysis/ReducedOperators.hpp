@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,18 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
 inline bool operatorsCheaper(const ReducedOperators& ops) {
   return !(ops.equation19Seconds > 0.0 && ops.operatorSeconds >= ops.equation19Seconds);
 }
+
+// Which reduced dynamics a run on the basis in `basisFile` uses: the operators beside it
+// (io::operatorPathFor) where they fit the model and the basis and cost less than Eq. 19, else Eq. 19
+// with the reason in `note`. Operators that are there but do not fit, or cannot be read, give a
+// `refusal` (the run must not start: they are not silently replaced).
+struct OperatorChoice {
+  std::shared_ptr<const ReducedOperators> operators;  // null: Eq. 19
+  std::string note;                                   // "Eq. 19 (why)" without operators
+  std::string refusal;
+};
+OperatorChoice chooseOperators(const core::Model& model, const std::string& modelFile, const Eigen::MatrixXd& V,
+                               const std::string& basisFile, bool fullKinematics);
 
 // "reduced operators: 763 evaluations (63 terms, ...); Eq. 19 for 12 from t = ... (where)" for the
 // screen and the manifest.

@@ -17,6 +17,7 @@
 #include "analysis/Modes.hpp"
 #include "analysis/ReducedOperators.hpp"
 #include "analysis/ReductionError.hpp"
+#include "analysis/RunNotes.hpp"
 #include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
@@ -506,33 +507,14 @@ int runSimulate(const std::vector<std::string>& args) {
   // The basis file's reduced operators (flexmb reduce writes them beside it), unless Eq. 19 is asked for.
   std::string operatorNote;
   if (opt.basis && a.basisFile != "auto") {
-    const std::string path = io::operatorPathFor(a.basisFile);
-    if (a.fullKinematics) {
-      operatorNote = "Eq. 19 (--full-kinematics)";
-    } else if (const std::string unsupported = analysis::operatorsUnsupported(model); !unsupported.empty()) {
-      operatorNote = "Eq. 19 (no reduced operators: " + unsupported + ")";
-    } else if (!std::filesystem::exists(path)) {
-      operatorNote = "Eq. 19 (no reduced operators beside the basis: flexmb reduce writes " + path + ")";
-    } else {
-      try {
-        auto ops = std::make_shared<core::ReducedOperators>(io::readOperators(path));
-        if (const std::string why = analysis::operatorsMismatch(model, *opt.basis, *ops); !why.empty()) {
-          std::cerr << "flexmb: " << path << " does not fit " << a.m.file << " with " << a.basisFile << ": " << why
-                    << " (flexmb reduce builds them anew; --full-kinematics runs without them)\n";
-          return kInputError;
-        }
-        if (!analysis::operatorsCheaper(*ops))
-          operatorNote =
-              "Eq. 19 (the reduced operators in " + path + " cost " +
-              solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
-              solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) + " us: too many terms for this basis)";
-        else
-          opt.operators = ops;
-      } catch (const std::exception& e) {
-        std::cerr << "flexmb: " << e.what() << "\n";
-        return kInputError;
-      }
+    const analysis::OperatorChoice choice =
+        analysis::chooseOperators(model, a.m.file, *opt.basis, a.basisFile, a.fullKinematics);
+    if (!choice.refusal.empty()) {
+      std::cerr << "flexmb: " << choice.refusal << "\n";
+      return kInputError;
     }
+    opt.operators = choice.operators;
+    operatorNote = choice.note;
   } else if (a.basisFile == "auto") {
     operatorNote = "Eq. 19 (--basis auto builds no reduced operators)";
   }
@@ -590,42 +572,22 @@ int runSimulate(const std::vector<std::string>& args) {
     files.setting("reduced dynamics", text);
   }
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
-  if (!traj.completed) std::cerr << "flexmb: simulation stopped early: " << traj.stopReason << "\n";
-  if (!std::isnan(traj.switchedAt)) {
-    std::ostringstream sw;
-    sw << "ode45 until t = " << traj.switchedAt << " s, where its step was bound by stability (|lambda| about "
-       << traj.stiffLambda << " 1/s); bdf from there on";
-    files.setting("auto switch", sw.str());
-    if (!a.m.quiet) std::cerr << "flexmb: note: " << sw.str() << "\n";
-  }
-  // A reduced run's accuracy check measures the integration error only (its windows run with the
-  // same basis); the reduction error is estimated apart, and both are named for what they measure.
-  const std::string integration = opt.basis ? "integration " : "";
-  if (traj.completed && opt.accuracyCheck) {
-    const std::string text = analysis::describeAccuracy(traj.accuracy);
-    files.setting(integration + "accuracy", text);
-    if (!traj.accuracy.checked)  // the run stands; the check that could not run says why
-      std::cout << integration << "accuracy " << text << "\n";
-    else
-      std::cout << integration << "accuracy check: " << text << "\n";
-    if (!traj.accuracy.converged())
-      std::fprintf(stderr,
-                   "flexmb: warning: the result is not converged: a tighter tolerance changes it by about %.2g of "
-                   "the model size over the run (more than 10 RelTol): tighten --reltol and --abstol and compare\n",
-                   traj.accuracy.estimate);
-  }
-  if (opt.basis && !traj.states.empty()) {
-    const core::ReductionEstimate& re = traj.reduction;
-    const std::string text = analysis::describeReductionError(re);
-    std::cout << "reduction error estimate: " << text << "\n";
-    files.setting("reduction error estimate", text);
-    const double limit = !std::isnan(a.target) ? a.target : 10.0 * opt.relTol.value_or(model.settings.relTol);
-    if (re.estimated && re.estimate > limit)
-      std::fprintf(stderr,
-                   "flexmb: warning: the reduction error estimate %.2g is larger than %s (%.2g): the basis "
-                   "leaves out deflections the full model has; a larger basis (flexmb reduce --target) or the full "
-                   "model is more accurate\n",
-                   re.estimate, !std::isnan(a.target) ? "the target" : "10 RelTol", limit);
+  for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, a.target)) {
+    if (!n.setting.empty()) files.setting(n.setting, n.value);
+    switch (n.kind) {
+      case analysis::RunNote::Kind::Result:
+        std::cout << n.text << "\n";
+        break;
+      case analysis::RunNote::Kind::Note:
+        if (!a.m.quiet) std::cerr << "flexmb: note: " << n.text << "\n";
+        break;
+      case analysis::RunNote::Kind::Warning:
+        std::cerr << "flexmb: warning: " << n.text << "\n";
+        break;
+      case analysis::RunNote::Kind::Stopped:
+        std::cerr << "flexmb: " << n.text << "\n";
+        break;
+    }
   }
 
   std::vector<std::string> report;

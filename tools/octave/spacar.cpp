@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "analysis/BasisForTarget.hpp"
-#include "analysis/ReductionError.hpp"
+#include "analysis/RunNotes.hpp"
 #include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
@@ -222,12 +222,15 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         } else {
           out << "spacar: wall time " << wall << " s\n";
         }
-        if (opt.basis && traj.reduction.estimated)
-          out << "spacar: reduction error estimate: " << analysis::describeReductionError(traj.reduction) << "\n";
-        if (!std::isnan(traj.switchedAt))
-          out << "spacar: auto: ode45's step was bound by stability at t = " << traj.switchedAt << " s (|lambda| about "
-              << traj.stiffLambda << " 1/s): bdf from there on\n";
-        else if (opt.integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
+        // What the command line says after a run (analysis/RunNotes.hpp); a stop is the error below.
+        for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, target)) {
+          if (n.kind == analysis::RunNote::Kind::Result || n.kind == analysis::RunNote::Kind::Note)
+            out << "spacar: " << n.text << "\n";
+          else if (n.kind == analysis::RunNote::Kind::Warning && !silent)
+            mexWarnMsgIdAndTxt("flexmb:spacar:accuracy", "%s: %s", datFile.c_str(), n.text.c_str());
+        }
+        if (std::isnan(traj.switchedAt) && opt.integrator == analysis::Integrator::Ode45 &&
+            traj.stiffBoundSteps >= 1000)
           out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
               << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda
               << " 1/s): spacar(" << mode << ", '" << name << "', struct('integrator', 'auto')) or 'bdf' would be "

@@ -1,0 +1,65 @@
+#include "analysis/RunNotes.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "analysis/AccuracyCheck.hpp"
+#include "analysis/ReductionError.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+
+std::string twoDigits(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2g", v);
+  return b;
+}
+
+}  // namespace
+
+std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions& opt, const core::Trajectory& traj,
+                              double target) {
+  using Kind = RunNote::Kind;
+  std::vector<RunNote> notes;
+  if (!traj.completed) notes.push_back({Kind::Stopped, "simulation stopped early: " + traj.stopReason, "", ""});
+  if (!std::isnan(traj.switchedAt)) {
+    std::ostringstream sw;
+    sw << "ode45 until t = " << traj.switchedAt << " s, where its step was bound by stability (|lambda| about "
+       << traj.stiffLambda << " 1/s); bdf from there on";
+    notes.push_back({Kind::Note, sw.str(), "auto switch", sw.str()});
+  }
+  // A reduced run's accuracy check measures the integration error only (its windows run with the
+  // same basis); the reduction error is estimated apart, and both are named for what they measure.
+  const std::string integration = opt.basis ? "integration " : "";
+  if (traj.completed && opt.accuracyCheck) {
+    const std::string text = describeAccuracy(traj.accuracy);
+    // A check that could not run says why; the run stands.
+    notes.push_back({Kind::Result, integration + (traj.accuracy.checked ? "accuracy check: " : "accuracy ") + text,
+                     integration + "accuracy", text});
+    if (!traj.accuracy.converged())
+      notes.push_back({Kind::Warning,
+                       "the result is not converged: a tighter tolerance changes it by about " +
+                           twoDigits(traj.accuracy.estimate) +
+                           " of the model size over the run (more than 10 RelTol): tighten --reltol and --abstol and "
+                           "compare",
+                       "", ""});
+  }
+  if (opt.basis && !traj.states.empty()) {
+    const core::ReductionEstimate& re = traj.reduction;
+    const std::string text = describeReductionError(re);
+    notes.push_back({Kind::Result, "reduction error estimate: " + text, "reduction error estimate", text});
+    const double limit = !std::isnan(target) ? target : 10.0 * opt.relTol.value_or(model.settings.relTol);
+    if (re.estimated && re.estimate > limit)
+      notes.push_back({Kind::Warning,
+                       "the reduction error estimate " + twoDigits(re.estimate) + " is larger than " +
+                           (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + twoDigits(limit) +
+                           "): the basis leaves out deflections the full model has; a larger basis (flexmb reduce "
+                           "--target) or the full model is more accurate",
+                       "", ""});
+  }
+  return notes;
+}
+
+}  // namespace flexmb::analysis
