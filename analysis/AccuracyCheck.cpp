@@ -126,11 +126,7 @@ core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationO
 
 std::string describeAccuracy(const core::AccuracyEstimate& a) {
   using solvers::shortest;
-  auto sig = [](double v) {  // 2 significant digits
-    char b[32];
-    std::snprintf(b, sizeof b, "%.2g", v);
-    return std::string(b);
-  };
+  auto sig = [](double v) { return solvers::significant(v, 2); };
   if (!a.checked) return "not checked: " + (a.note.empty() ? std::string("no reason recorded") : a.note);
   return std::string(a.converged() ? "converged" : "NOT CONVERGED") + ": estimated error " + sig(a.estimate) +
          " (of the model size; angles in rad), limit " + sig(a.limit) + " = 10 RelTol; " + std::to_string(a.windows) +

@@ -547,8 +547,7 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops) {
   std::ostringstream s;
   if (!use.notUsed.empty()) return "Eq. 19 (" + use.notUsed + ")";
-  char fit[32];
-  std::snprintf(fit, sizeof fit, "%.2g", std::max(ops.forceError, ops.massError));
+  const std::string fit = solvers::significant(std::max(ops.forceError, ops.massError), 2);
   s << "reduced operators for " << use.evaluations << " evaluations (" << ops.terms() << " terms, fit " << fit
     << " of the largest force or mass in their range)";
   if (use.fallbacks)

@@ -61,15 +61,12 @@ struct ErrorScale {
 ErrorScale errorScaleOf(const core::Model& model, double motion) {
   const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
   ErrorScale s;
-  char b[32];
   if (motion >= 1e-3 * L) {
     s.value = motion;
-    std::snprintf(b, sizeof b, "%.3g", motion);
-    s.text = "of the motion (" + std::string(b) + " m)";
+    s.text = "of the motion (" + solvers::significant(motion, 3) + " m)";
   } else {
     s.value = L;
-    std::snprintf(b, sizeof b, "%.3g", L);
-    s.text = "of the model size (" + std::string(b) + " m; the motion is smaller)";
+    s.text = "of the model size (" + solvers::significant(L, 3) + " m; the motion is smaller)";
   }
   return s;
 }
@@ -201,11 +198,8 @@ double positionErrorAgainst(const core::Model& model, const core::Trajectory& a,
 
 std::string describeReductionError(const ReductionErrorEstimate& e) {
   if (!e.estimated) return "not estimated: " + e.note;
-  char b[64];
-  std::snprintf(b, sizeof b, "%.2g", e.estimate);
-  char t[32];
-  std::snprintf(t, sizeof t, "%.3g", e.atTime);
-  return std::string(b) + " " + e.scaleText + ", largest at t = " + t + " s (twice the quasi-static deflection " +
+  return solvers::significant(e.estimate, 2) + " " + e.scaleText +
+         ", largest at t = " + solvers::significant(e.atTime, 3) + " s (twice the quasi-static deflection " +
          "outside the basis under the full model's residual of Eq. 13 at the reduced states, at " +
          std::to_string(e.samples) + " output times, " + solvers::shortest(std::round(e.seconds * 1e4) / 1e4) + " s)";
 }

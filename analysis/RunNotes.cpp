@@ -1,23 +1,13 @@
 #include "analysis/RunNotes.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/ReductionError.hpp"
+#include "solvers/NumberText.hpp"
 
 namespace flexmb::analysis {
-
-namespace {
-
-std::string twoDigits(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2g", v);
-  return b;
-}
-
-}  // namespace
 
 std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions& opt, const core::Trajectory& traj,
                               double target) {
@@ -41,7 +31,7 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
     if (!traj.accuracy.converged())
       notes.push_back({Kind::Warning,
                        "the result is not converged: a tighter tolerance changes it by about " +
-                           twoDigits(traj.accuracy.estimate) +
+                           solvers::significant(traj.accuracy.estimate, 2) +
                            " of the model size over the run (more than 10 RelTol): tighten --reltol and --abstol and "
                            "compare",
                        "", ""});
@@ -53,8 +43,8 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
     const double limit = !std::isnan(target) ? target : 10.0 * opt.relTol.value_or(model.settings.relTol);
     if (re.estimated && re.estimate > limit)
       notes.push_back({Kind::Warning,
-                       "the reduction error estimate " + twoDigits(re.estimate) + " is larger than " +
-                           (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + twoDigits(limit) +
+                       "the reduction error estimate " + solvers::significant(re.estimate, 2) + " is larger than " +
+                           (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + solvers::significant(limit, 2) +
                            "): the basis leaves out deflections the full model has; a larger basis (flexmb reduce "
                            "--target) or the full model is more accurate",
                        "", ""});

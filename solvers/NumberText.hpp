@@ -31,4 +31,11 @@ inline std::string g17(double v) {
   return s;
 }
 
+// `digits` significant digits, like printf's %.<digits>g (messages: "about 3.9e-06").
+inline std::string significant(double v, int digits) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, digits);
+  return std::string(buf, r.ptr);
+}
+
 }  // namespace flexmb::solvers

@@ -182,11 +182,7 @@ int runReduce(const std::vector<std::string>& args) {
       Progress progress("operators", !m.quiet);
       ops = analysis::trainOperators(model, r.V);
       progress.finish();
-      auto g2 = [](double v) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.2g", v);
-        return std::string(b);
-      };
+      auto g2 = [](double v) { return solvers::significant(v, 2); };
       std::ostringstream t;
       t << ops->terms() << " terms, fit " << g2(ops->forceError) << " (force) / " << g2(ops->massError)
         << " (mass) of their largest in the range, target " << g2(ops->tolerance) << "; one evaluation "

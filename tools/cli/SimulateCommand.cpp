@@ -166,10 +166,8 @@ std::optional<Eigen::MatrixXd> chooseBasis(const SimulateArgs& a, const core::Mo
   const analysis::TargetResult tr = analysis::basisForTarget(model, to);
   std::ostringstream tried;
   for (const auto& c : tr.tried) {
-    char e[32];
-    std::snprintf(e, sizeof e, "%.2g", c.estimate.estimate);
     tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
-          << " vectors: " << (c.estimate.estimated ? e : "not estimated");
+          << " vectors: " << (c.estimate.estimated ? solvers::significant(c.estimate.estimate, 2) : "not estimated");
   }
   const std::string how = "target " + solvers::shortest(a.target) + ", " + to.basis.method + "; tried " + tried.str() +
                           "; choosing took " + solvers::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
@@ -223,9 +221,8 @@ std::string integrationText(const core::Model& model, const analysis::Simulation
                   shortest(opt.absTol.value_or(model.settings.absTol)) + ", max step ";
   if (h > 0) return s + shortest(std::min(h, t1 - t0)) + " s";
   // A derived number: in 15 digits (0.1 x 0.07 is 0.007000000000000001 in its shortest exact form).
-  char tenth[32];
-  std::snprintf(tenth, sizeof tenth, "%.15g", 0.1 * (t1 - t0));
-  return s + tenth + " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
+  return s + solvers::significant(0.1 * (t1 - t0), 15) +
+         " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
 }
 
 // The run manifest's settings.
