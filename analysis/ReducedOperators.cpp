@@ -544,6 +544,17 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
   return "";
 }
 
+std::string describeOperators(const ReducedOperators& ops) {
+  auto g2 = [](double v) { return solvers::significant(v, 2); };
+  std::ostringstream t;
+  t << ops.terms() << " terms, fit " << g2(ops.forceError) << " (force) / " << g2(ops.massError)
+    << " (mass) of their largest in the range, target " << g2(ops.tolerance) << "; one evaluation "
+    << g2(ops.operatorSeconds * 1e6) << " us against " << g2(ops.equation19Seconds * 1e6)
+    << " us for Eq. 19; trained in " << g2(ops.trainingSeconds) << " s (" << ops.trainingSamples << " + "
+    << ops.validationSamples << " configurations); range: " << ops.range;
+  return t.str();
+}
+
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops) {
   std::ostringstream s;
   if (!use.notUsed.empty()) return "Eq. 19 (" + use.notUsed + ")";

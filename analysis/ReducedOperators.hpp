@@ -60,6 +60,10 @@ struct OperatorChoice {
 OperatorChoice chooseOperators(const core::Model& model, const std::string& modelFile, const Eigen::MatrixXd& V,
                                const std::string& basisFile, bool fullKinematics);
 
+// "63 terms, fit 5.4e-04 (force) / 4.5e-04 (mass) of their largest in the range, target ...; one
+// evaluation ... us against ... us for Eq. 19; trained in ... s (...); range: ..." (reduce's report).
+std::string describeOperators(const ReducedOperators& ops);
+
 // "reduced operators: 763 evaluations (63 terms, ...); Eq. 19 for 12 from t = ... (where)" for the
 // screen and the manifest.
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops);

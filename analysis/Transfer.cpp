@@ -384,6 +384,36 @@ Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eig
   return phase;
 }
 
+std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss) {
+  const Eigen::Index n = ss.A.rows(), ni = ss.B.cols();
+  // Static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input). A is
+  // [0 I; A21 A22] over (dq, dqd): with x = A^-1 B, x2 = B1 and A21 x1 = B2 - A22 B1, so only
+  // A21 = -M^-1 K is factorised. The whole A is far worse conditioned (its I block beside
+  // M^-1 K's largest entries, e.g. BEAMW's tiny warping masses) and its rcond would say singular.
+  const Eigen::Index nq = n / 2;
+  Eigen::MatrixXd x;
+  bool solved = false;
+  if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) && ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
+    // Rows equilibrated first: M^-1 scales them by the inverse masses (BEAMW's warping masses are
+    // ~1e-15), which alone would make the condition estimate say singular.
+    const Eigen::VectorXd rowScale =
+        ss.A.bottomLeftCorner(nq, nq).rowwise().lpNorm<Eigen::Infinity>().cwiseMax(1e-300).cwiseInverse();
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(rowScale.asDiagonal() * ss.A.bottomLeftCorner(nq, nq));
+    if (lu.rcond() > 1e-14) {
+      x.resize(n, ni);
+      x.bottomRows(nq) = ss.B.topRows(nq);
+      x.topRows(nq) =
+          lu.solve(rowScale.asDiagonal() * (ss.B.bottomRows(nq) - ss.A.bottomRightCorner(nq, nq) * ss.B.topRows(nq)));
+      solved = true;
+    }
+  } else {
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A);
+    if (lu.rcond() > 1e-14) x = lu.solve(ss.B), solved = true;
+  }
+  if (!solved) return std::nullopt;
+  return Eigen::MatrixXd(ss.D - ss.C * x);
+}
+
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
   const Eigen::Index m = ss.A.rows() / 2;
   double lo = 1.0, hi = 1e3;

@@ -22,6 +22,7 @@
 // 0..nsteps; SPACAR Light writes no loads besides gravity in mode 9).
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,10 @@ Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eig
                           const Eigen::VectorXcd& h);
 // True when the model has no damping (A's damping block is zero).
 bool undamped(const StateSpace& ss);
+
+// The static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input); none
+// when A is singular (a free motion without stiffness).
+std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss);
 
 // Angular frequencies for a Bode plot: 400 log-spaced points two decades around the poles' range
 // (from their imaginary parts; 1..1e3 rad/s without poles).

@@ -196,6 +196,50 @@ void printFinalDisplacements(std::ostream& o, const core::Model& model, const an
     o << "\n";
   }
 }
+// Each load step: its factors, Newton iterations, frequencies and buckling load factors.
+void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int buckling) {
+  for (const auto& st : run.steps) {
+    if (st.loadStep >= 0)
+      screen << "load step " << st.loadStep << " of " << run.loadSteps;
+    else
+      screen << "initial loads ramp";
+    screen << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
+           << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
+           << "\n";
+    if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
+    if (buckling > 0) {
+      screen << "  buckling load factors:";
+      for (Eigen::Index i = 0; i < st.buckling.size(); ++i) screen << " " << st.buckling[i];
+      if (st.buckling.size() == 0) screen << " none (K0 not positive definite or no compressive G0)";
+      screen << "\n";
+    }
+  }
+}
+
+// The pictures of a static run asked for (--svg, --html, --vtk), each on its own (tryProduct): false
+// when one failed.
+bool writeStaticPictures(io::OutputSet& files, const std::string& svg, const std::string& html, const std::string& vtk,
+                         const core::Model& model, const std::string& modelFile, const analysis::StaticRun& run) {
+  bool complete = true;
+  if (!svg.empty())
+    complete &= tryProduct(files, "the figure " + svg, [&] {
+      if (!writeStaticFigure(svg, model, modelFile, run)) throw ProductFailed("see above");
+      files.record(svg);
+    });
+  if (!html.empty())
+    complete &= tryProduct(files, "the page " + html, [&] {
+      if (!writeStaticPage(html, model, modelFile, run)) throw ProductFailed("see above");
+      files.record(html);
+    });
+  if (!vtk.empty())
+    complete &= tryProduct(files, "the VTK series " + vtk, [&] {
+      if (!writeStaticVtk(vtk, model, run)) throw ProductFailed("see above");
+      files.record(vtk + ".pvd");
+      files.record(vtk + "_vtu");
+    });
+  return complete;
+}
+
 }  // namespace
 
 int runStatic(const std::vector<std::string>& args) {
@@ -292,22 +336,7 @@ int runStatic(const std::vector<std::string>& args) {
     // -q: the load steps are not listed (the final displacements and the files still are).
     std::ostringstream quietSteps;
     std::ostream& screen = m.quiet ? static_cast<std::ostream&>(quietSteps) : std::cout;
-    for (const auto& st : run.steps) {
-      if (st.loadStep >= 0)
-        screen << "load step " << st.loadStep << " of " << run.loadSteps;
-      else
-        screen << "initial loads ramp";
-      screen << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
-             << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
-             << "\n";
-      if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
-      if (buckling > 0) {
-        screen << "  buckling load factors:";
-        for (Eigen::Index i = 0; i < st.buckling.size(); ++i) screen << " " << st.buckling[i];
-        if (st.buckling.size() == 0) screen << " none (K0 not positive definite or no compressive G0)";
-        screen << "\n";
-      }
-    }
+    printStaticSteps(screen, run, buckling);
     // The table every front end writes for a static run (analysis::staticTable).
     if (writeCsv)
       io::writeTextFile(files.temporaryPath(csvPath), io::formatCsv(analysis::staticTable(model, run, buckling)));
@@ -336,22 +365,7 @@ int runStatic(const std::vector<std::string>& args) {
     complete = false;
   }
   sayRemovedStale(files.removedStale());
-  if (!svg.empty())
-    complete &= tryProduct(files, "the figure " + svg, [&] {
-      if (!writeStaticFigure(svg, model, m.file, run)) throw ProductFailed("see above");
-      files.record(svg);
-    });
-  if (!html.empty())
-    complete &= tryProduct(files, "the page " + html, [&] {
-      if (!writeStaticPage(html, model, m.file, run)) throw ProductFailed("see above");
-      files.record(html);
-    });
-  if (!vtk.empty())
-    complete &= tryProduct(files, "the VTK series " + vtk, [&] {
-      if (!writeStaticVtk(vtk, model, run)) throw ProductFailed("see above");
-      files.record(vtk + ".pvd");
-      files.record(vtk + "_vtu");
-    });
+  complete &= writeStaticPictures(files, svg, html, vtk, model, m.file, run);
   try {
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";

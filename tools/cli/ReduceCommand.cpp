@@ -32,6 +32,80 @@ void printCandidates(std::ostream& out, const analysis::TargetResult& tr) {
     out << line;
   }
 }
+// --large: 1-based degree-of-freedom indices separated by commas, into o.large (0-based).
+std::optional<int> parseLarge(const std::string& large, analysis::ReductionOptions& o) {
+  if (large.empty()) return std::nullopt;
+  {
+    std::vector<int> idx;
+    std::stringstream ss(large);
+    std::string tok;
+    while (std::getline(ss, tok, ',')) {
+      size_t used = 0;
+      int v = -1;
+      try {
+        v = std::stoi(tok, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used == 0 || used != tok.size() || v < 0) {
+        std::cerr << "flexmb: --large: '" << tok << "' is not an index (1-based integers separated by commas)\n";
+        return kUsageError;
+      }
+      if (v == 0) {
+        std::cerr << "flexmb: --large: the indices are 1-based, as every number in flexmb (degree of freedom 1 is "
+                     "the first in `flexmb check`'s list); 0 is not one (earlier flexmb versions read them 0-based: "
+                     "add 1)\n";
+        return kUsageError;
+      }
+      idx.push_back(v - 1);
+    }
+    o.large = idx;
+  }
+  return std::nullopt;
+}
+
+// The basis's method and parameters in the run manifest.
+void describeReduction(io::OutputSet& files, const analysis::ReductionOptions& o) {
+  files.setting("method", o.method);
+  if (o.method == "modal") {
+    files.setting("modes", std::to_string(o.modes));
+    files.setting("normalise", o.normalise);
+  } else {
+    files.setting("modes per configuration", std::to_string(o.modes));
+    files.setting("path", "node " + std::to_string(o.node) + " component " + std::to_string(o.component) + " from " +
+                              solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
+                              std::to_string(o.configs) + " configurations");
+    files.setting("weight", o.weight);
+    if (o.count > 0)
+      files.setting("count", std::to_string(o.count));
+    else
+      files.setting("threshold", o.threshold);
+  }
+}
+
+// The reduced operators for the basis V, or why there are none (`note`); a failure to train them
+// is a warning: the basis is written all the same.
+std::optional<core::ReducedOperators> operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators,
+                                                   bool quiet, std::string& opsNote) {
+  std::optional<core::ReducedOperators> ops;
+  if (noOperators) {
+    opsNote = "not built (--no-operators)";
+  } else if (const std::string why = analysis::operatorsUnsupported(model); !why.empty()) {
+    opsNote = "not built: " + why;
+  } else {
+    try {
+      Progress progress("operators", !quiet);
+      ops = analysis::trainOperators(model, V);
+      progress.finish();
+      opsNote = analysis::describeOperators(*ops);
+    } catch (const std::exception& e) {
+      opsNote = std::string("not built: ") + e.what();
+      if (!quiet) std::cerr << "flexmb: warning: reduced operators " << opsNote << "; the basis is written\n";
+    }
+  }
+  return ops;
+}
+
 }  // namespace
 
 int runReduce(const std::vector<std::string>& args) {
@@ -78,32 +152,7 @@ int runReduce(const std::vector<std::string>& args) {
     std::cerr << "flexmb: --configs " << o.configs << " is too many (limit 100000)\n";
     return kUsageError;
   }
-  if (!large.empty()) {
-    std::vector<int> idx;
-    std::stringstream ss(large);
-    std::string tok;
-    while (std::getline(ss, tok, ',')) {
-      size_t used = 0;
-      int v = -1;
-      try {
-        v = std::stoi(tok, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used == 0 || used != tok.size() || v < 0) {
-        std::cerr << "flexmb: --large: '" << tok << "' is not an index (1-based integers separated by commas)\n";
-        return kUsageError;
-      }
-      if (v == 0) {
-        std::cerr << "flexmb: --large: the indices are 1-based, as every number in flexmb (degree of freedom 1 is "
-                     "the first in `flexmb check`'s list); 0 is not one (earlier flexmb versions read them 0-based: "
-                     "add 1)\n";
-        return kUsageError;
-      }
-      idx.push_back(v - 1);
-    }
-    o.large = idx;
-  }
+  if (auto rc = parseLarge(large, o)) return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
   if (o.large)
@@ -123,21 +172,7 @@ int runReduce(const std::vector<std::string>& args) {
   }
   files.setting("command", "reduce");
   files.setting("model", m.file);
-  files.setting("method", o.method);
-  if (o.method == "modal") {
-    files.setting("modes", std::to_string(o.modes));
-    files.setting("normalise", o.normalise);
-  } else {
-    files.setting("modes per configuration", std::to_string(o.modes));
-    files.setting("path", "node " + std::to_string(o.node) + " component " + std::to_string(o.component) + " from " +
-                              solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
-                              std::to_string(o.configs) + " configurations");
-    files.setting("weight", o.weight);
-    if (o.count > 0)
-      files.setting("count", std::to_string(o.count));
-    else
-      files.setting("threshold", o.threshold);
-  }
+  describeReduction(files, o);
   analysis::ReductionResult r;
   try {
     Progress progress("reduce", !m.quiet);
@@ -170,31 +205,9 @@ int runReduce(const std::vector<std::string>& args) {
     return kNumericalFailure;
   }
   // The reduced operators beside the basis: their failure leaves the basis written, and says why.
-  std::optional<core::ReducedOperators> ops;
   std::string opsNote;
   const std::string opsPath = io::operatorPathFor(out);
-  if (noOperators) {
-    opsNote = "not built (--no-operators)";
-  } else if (const std::string why = analysis::operatorsUnsupported(model); !why.empty()) {
-    opsNote = "not built: " + why;
-  } else {
-    try {
-      Progress progress("operators", !m.quiet);
-      ops = analysis::trainOperators(model, r.V);
-      progress.finish();
-      auto g2 = [](double v) { return solvers::significant(v, 2); };
-      std::ostringstream t;
-      t << ops->terms() << " terms, fit " << g2(ops->forceError) << " (force) / " << g2(ops->massError)
-        << " (mass) of their largest in the range, target " << g2(ops->tolerance) << "; one evaluation "
-        << g2(ops->operatorSeconds * 1e6) << " us against " << g2(ops->equation19Seconds * 1e6)
-        << " us for Eq. 19; trained in " << g2(ops->trainingSeconds) << " s (" << ops->trainingSamples << " + "
-        << ops->validationSamples << " configurations); range: " << ops->range;
-      opsNote = t.str();
-    } catch (const std::exception& e) {
-      opsNote = std::string("not built: ") + e.what();
-      if (!m.quiet) std::cerr << "flexmb: warning: reduced operators " << opsNote << "; the basis is written\n";
-    }
-  }
+  const std::optional<core::ReducedOperators> ops = operatorsFor(model, r.V, noOperators, m.quiet, opsNote);
   files.setting("reduced operators", ops ? opsPath + ": " + opsNote : opsNote);
   try {
     io::writeBasis(files.temporaryPath(out), r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});

@@ -625,103 +625,101 @@ int availableCores() {
   return std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN));
 }
 
-}  // namespace
-
-int runStudy(const std::vector<std::string>& args) {
-  if (!args.empty() && args[0] == "collect") return runCollect({args.begin() + 1, args.end()});
+// The study's command line.
+struct StudyArgs {
   ModelOptions m;
-  po::options_description d = commonModelOptions(m);
   std::vector<std::string> params, derive, plot;
   std::string table, out;
   bool check = false, modes = false, statics = false, simulate = false, rerunFailed = false;
   int nev = 6, steps = 0, buckling = 0, jobs = 0, task = -1, of = 0;
   std::vector<int> stiffness;
   analysis::SweepOptions sw;
-  sw.node = 0;
   double tEnd = 0, relTol = 0, absTol = 0;
   int intervals = -1;
   std::string integrator = "ode45";
   double target = NAN;  // --target (NaN: not given)
   SlurmOptions slurm;
+  StudyArgs() { sw.node = 0; }
+};
+
+std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArgs& sa) {
+  po::options_description d = commonModelOptions(sa.m);
   po::options_description pd("parameters");
-  pd.add_options()("param", po::value(&params)->composing(),
+  pd.add_options()("param", po::value(&sa.params)->composing(),
                    "a grid axis: name=from:to:count, name=v1,v2,... or name=value (repeatable: every combination)")(
-      "table", po::value(&table),
+      "table", po::value(&sa.table),
       "CSV of parameter values: one column per parameter (and optionally `name`), a row "
       "per variant (combined with every --param grid point)");
   po::options_description ad("analyses (chosen once for the study; default --modes --static)");
-  ad.add_options()("check", po::bool_switch(&check),
+  ad.add_options()("check", po::bool_switch(&sa.check),
                    "the kinematic rank check (a variant that is not well posed fails)")(
-      "modes", po::bool_switch(&modes), "eigenfrequencies in the initial configuration (flexmb modes)")(
-      "static", po::bool_switch(&statics), "static load steps (flexmb static) with frequencies in each equilibrium")(
-      "nev", po::value(&nev)->notifier(atLeast("nev", 1)), "eigenfrequencies (modes, static, sweep; default 6)")(
-      "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "static load steps (default: the file's ITERSTEP)")(
-      "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 1)),
+      "modes", po::bool_switch(&sa.modes), "eigenfrequencies in the initial configuration (flexmb modes)")(
+      "static", po::bool_switch(&sa.statics), "static load steps (flexmb static) with frequencies in each equilibrium")(
+      "nev", po::value(&sa.nev)->notifier(atLeast("nev", 1)), "eigenfrequencies (modes, static, sweep; default 6)")(
+      "steps", po::value(&sa.steps)->notifier(atLeast("steps", 1)), "static load steps (default: the file's ITERSTEP)")(
+      "buckling", po::value(&sa.buckling)->implicit_value(3)->notifier(atLeast("buckling", 1)),
       "buckling load factors in each equilibrium (default 3 when given; implies --static)")(
-      "stiffness", po::value(&stiffness)->composing(),
+      "stiffness", po::value(&sa.stiffness)->composing(),
       "node label whose tangent stiffness the static step reports (repeatable; default: the loaded nodes)")(
-      "sweep-node", po::value(&sw.node), "sweep: node label of the prescribed coordinate (runs flexmb sweep)")(
-      "sweep-comp", po::value(&sw.component)->default_value(1)->notifier(atLeast("sweep-comp", 1)),
-      "sweep: its component")("sweep-from", po::value(&sw.from)->notifier(finite("sweep-from")), "sweep: first value")(
-      "sweep-to", po::value(&sw.to)->notifier(finite("sweep-to")), "sweep: last value")(
-      "sweep-steps", po::value(&sw.steps)->default_value(10)->notifier(atLeast("sweep-steps", 1)),
-      "sweep: configurations")("simulate", po::bool_switch(&simulate), "forward dynamics (flexmb simulate)")(
-      "t-end", po::value(&tEnd)->notifier(positive("t-end")), "simulate: end time")(
-      "reltol", po::value(&relTol)->notifier(positive("reltol")), "simulate: relative tolerance")(
-      "abstol", po::value(&absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
-      "intervals", po::value(&intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
-      "integrator", po::value(&integrator), "simulate: ode45 (default) or bdf")(
-      "target", po::value(&target)->notifier(finite("target")),
+      "sweep-node", po::value(&sa.sw.node), "sweep: node label of the prescribed coordinate (runs flexmb sweep)")(
+      "sweep-comp", po::value(&sa.sw.component)->default_value(1)->notifier(atLeast("sweep-comp", 1)),
+      "sweep: its component")("sweep-from", po::value(&sa.sw.from)->notifier(finite("sweep-from")),
+                              "sweep: first value")("sweep-to", po::value(&sa.sw.to)->notifier(finite("sweep-to")),
+                                                    "sweep: last value")(
+      "sweep-steps", po::value(&sa.sw.steps)->default_value(10)->notifier(atLeast("sweep-steps", 1)),
+      "sweep: configurations")("simulate", po::bool_switch(&sa.simulate), "forward dynamics (flexmb simulate)")(
+      "t-end", po::value(&sa.tEnd)->notifier(positive("t-end")), "simulate: end time")(
+      "reltol", po::value(&sa.relTol)->notifier(positive("reltol")), "simulate: relative tolerance")(
+      "abstol", po::value(&sa.absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
+      "intervals", po::value(&sa.intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
+      "integrator", po::value(&sa.integrator), "simulate: ode45 (default) or bdf")(
+      "target", po::value(&sa.target)->notifier(finite("target")),
       "simulate: reduce each variant with the smallest modal basis whose reduction error estimate meets this "
       "target (0 < EPS < 1; columns sim_basis_vectors, sim_reduction_estimate)")(
-      "derive", po::value(&derive)->composing(),
+      "derive", po::value(&sa.derive)->composing(),
       "a derived quantity name=expression in the parameters and quantities, e.g. "
       "stress=6*max_bending/(w*t^2) (repeatable)");
   po::options_description rd("running");
-  rd.add_options()("out", po::value(&out), "the study folder (default: <template>_study)")(
-      "jobs,j", po::value(&jobs)->notifier(atLeast("jobs", 1)), "variants at once (default: every core)")(
-      "task", po::value(&task)->notifier(atLeast("task", 0)), "run only task i's share: variants i, i+n, i+2n, ...")(
-      "of", po::value(&of)->notifier(atLeast("of", 1)), "the number of tasks n (with --task)")(
-      "rerun-failed", po::bool_switch(&rerunFailed), "run failed variants again (finished ones are skipped)")(
-      "plot", po::value<std::string>()->notifier([&](const std::string& v) { plot = splitList(v, ','); }),
+  rd.add_options()("out", po::value(&sa.out), "the study folder (default: <template>_study)")(
+      "jobs,j", po::value(&sa.jobs)->notifier(atLeast("jobs", 1)), "variants at once (default: every core)")(
+      "task", po::value(&sa.task)->notifier(atLeast("task", 0)), "run only task i's share: variants i, i+n, i+2n, ...")(
+      "of", po::value(&sa.of)->notifier(atLeast("of", 1)), "the number of tasks n (with --task)")(
+      "rerun-failed", po::bool_switch(&sa.rerunFailed), "run failed variants again (finished ones are skipped)")(
+      "plot", po::value<std::string>()->notifier([&](const std::string& v) { sa.plot = splitList(v, ','); }),
       "quantities to plot in the report, comma-separated (default: every quantity)");
   po::options_description sd("Slurm");
-  addSlurmOptions(sd, slurm);
+  addSlurmOptions(sd, sa.slurm);
   d.add(pd).add(ad).add(rd).add(sd);
-  if (auto rc = parseCommand(args, d, m, kUsage)) return *rc;
-  if ((task >= 0) != (of > 0)) {
+  if (auto rc = parseCommand(args, d, sa.m, kUsage)) return *rc;
+  if ((sa.task >= 0) != (sa.of > 0)) {
     std::cerr << "flexmb: --task and --of go together (task i of n, 0 <= i < n)\n";
     return kUsageError;
   }
-  if (task >= of && of > 0) {
-    std::cerr << "flexmb: --task " << task << " --of " << of << ": the task is a number from 0 to " << of - 1 << "\n";
+  if (sa.task >= sa.of && sa.of > 0) {
+    std::cerr << "flexmb: --task " << sa.task << " --of " << sa.of << ": the task is a number from 0 to " << sa.of - 1
+              << "\n";
     return kUsageError;
   }
-  if (slurm.submit && task >= 0) {
+  if (sa.slurm.submit && sa.task >= 0) {
     std::cerr << "flexmb: --slurm writes the tasks itself; leave out --task and --of\n";
     return kUsageError;
   }
-  if (slurm.dryRun && !slurm.submit) {
+  if (sa.slurm.dryRun && !sa.slurm.submit) {
     std::cerr << "flexmb: --dry-run goes with --slurm (it writes the scripts without submitting them)\n";
     return kUsageError;
   }
-  const bool sweepAsked = sw.node != 0;
-  Study s;
-  s.templatePath = m.file;
-  s.stem = studyStem(m.file);
-  s.quiet = m.quiet;
-  s.plot = plot;
-  if (m.dialect == "95" || m.dialect == "spacar95") s.readOptions.dialect = core::Dialect::Spacar95;
-  if (m.dialect == "2013" || m.dialect == "spacar2013") s.readOptions.dialect = core::Dialect::Spacar2013;
-  if (m.elongation == "plain") s.readOptions.elongation = core::ElongationDefinition::Plain;
-  if (m.elongation == "corrected") s.readOptions.elongation = core::ElongationDefinition::BendingCorrected;
-  // The analyses.
-  analysis::StudyAnalyses& a = s.analyses;
-  a.check = check;
-  if (buckling > 0) statics = true;
-  if (!check && !modes && !statics && !sweepAsked && !simulate) modes = statics = true;
-  if (modes) a.modes = nev;
-  if (statics) a.statics = analysis::StudyAnalyses::Statics{nev, steps, buckling};
+  return std::nullopt;
+}
+
+// The analyses every variant runs, from the command line (a usage error: its exit code).
+std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, StudyArgs& sa,
+                                       analysis::StudyAnalyses& a) {
+  const bool sweepAsked = sa.sw.node != 0;
+  a.check = sa.check;
+  if (sa.buckling > 0) sa.statics = true;
+  if (!sa.check && !sa.modes && !sa.statics && !sweepAsked && !sa.simulate) sa.modes = sa.statics = true;
+  if (sa.modes) a.modes = sa.nev;
+  if (sa.statics) a.statics = analysis::StudyAnalyses::Statics{sa.nev, sa.steps, sa.buckling};
   if (sweepAsked) {
     const auto given = [&](const char* o) {
       for (const auto& x : args)
@@ -732,36 +730,36 @@ int runStudy(const std::vector<std::string>& args) {
       std::cerr << "flexmb: --sweep-node needs --sweep-from and --sweep-to\n";
       return kUsageError;
     }
-    sw.nev = nev;
-    a.sweep = sw;
+    sa.sw.nev = sa.nev;
+    a.sweep = sa.sw;
   }
-  if (simulate) {
+  if (sa.simulate) {
     analysis::SimulationOptions o;
-    const auto in = analysis::parseIntegrator(integrator);
+    const auto in = analysis::parseIntegrator(sa.integrator);
     if (!in) {
-      std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << integrator << "'\n";
+      std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << sa.integrator << "'\n";
       return kUsageError;
     }
     o.integrator = *in;
-    if (tEnd > 0) o.tEnd = tEnd;
-    if (relTol > 0) o.relTol = relTol;
-    if (absTol > 0) o.absTol = absTol;
-    if (intervals >= 0) o.intervals = intervals;
+    if (sa.tEnd > 0) o.tEnd = sa.tEnd;
+    if (sa.relTol > 0) o.relTol = sa.relTol;
+    if (sa.absTol > 0) o.absTol = sa.absTol;
+    if (sa.intervals >= 0) o.intervals = sa.intervals;
     o.keepStates = true;
     a.simulation = o;
-    if (!std::isnan(target)) {
-      if (!(target > 0 && target < 1)) {
+    if (!std::isnan(sa.target)) {
+      if (!(sa.target > 0 && sa.target < 1)) {
         std::cerr << "flexmb: --target must be between 0 and 1 (the reduction error relative to the motion)\n";
         return kUsageError;
       }
-      a.reductionTarget = target;
+      a.reductionTarget = sa.target;
     }
-  } else if (!std::isnan(target)) {
+  } else if (!std::isnan(sa.target)) {
     std::cerr << "flexmb: --target applies to --simulate\n";
     return kUsageError;
   }
-  a.stiffnessNodes = stiffness;
-  for (const auto& dv : derive) {
+  a.stiffnessNodes = sa.stiffness;
+  for (const auto& dv : sa.derive) {
     const auto eq = dv.find('=');
     const std::string name = eq == std::string::npos ? "" : dv.substr(0, eq);
     if (!io::isParameterName(name) || eq + 1 >= dv.size()) {
@@ -771,13 +769,18 @@ int runStudy(const std::vector<std::string>& args) {
     }
     a.derived.emplace_back(name, dv.substr(eq + 1));
   }
+  return std::nullopt;
+}
+
+// The template, its variants and the study folder with its description (an exit code on failure).
+std::optional<int> prepareStudy(const std::vector<std::string>& args, const StudyArgs& sa, Study& s) {
   // The template and the variants.
   try {
-    s.model = io::ModelTemplate::fromFile(m.file);
+    s.model = io::ModelTemplate::fromFile(sa.m.file);
     std::vector<io::ParameterAxis> grid;
-    for (const auto& p : params) grid.push_back(io::parseParameterAxis(p));
+    for (const auto& p : sa.params) grid.push_back(io::parseParameterAxis(p));
     std::optional<io::ParameterTable> t;
-    if (!table.empty()) t = io::readParameterTable(table);
+    if (!sa.table.empty()) t = io::readParameterTable(sa.table);
     s.variants = analysis::expandVariants(t ? &*t : nullptr, grid);
     std::vector<std::string> names;
     for (const auto& [n, v] : s.variants.front().values) names.push_back(n);
@@ -790,9 +793,9 @@ int runStudy(const std::vector<std::string>& args) {
     return kInputError;
   }
   for (const auto& v : s.variants)
-    s.fingerprints.push_back(analysis::variantFingerprint(s.model->text(), v.values, a, FLEXMB_VERSION));
+    s.fingerprints.push_back(analysis::variantFingerprint(s.model->text(), v.values, s.analyses, FLEXMB_VERSION));
   // The study folder.
-  s.dir = out.empty() ? s.stem + (s.stem.size() >= 6 && s.stem.ends_with("_study") ? "" : "_study") : out;
+  s.dir = sa.out.empty() ? s.stem + (s.stem.size() >= 6 && s.stem.ends_with("_study") ? "" : "_study") : sa.out;
   while (s.dir.size() > 1 && s.dir.back() == '/') s.dir.pop_back();
   {
     std::error_code ec;
@@ -811,28 +814,31 @@ int runStudy(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (slurm.submit) return submitStudy(slurm, args, s.dir, static_cast<int>(s.variants.size()), m.quiet);
+  return std::nullopt;
+}
 
+// The variants of this task that have not finished, run in a pool; then the table and report.
+int runPendingVariants(const StudyArgs& sa, Study& s) {
   // What is left to run (resume).
-  const std::vector<int> share = task >= 0 ? analysis::taskShare(static_cast<int>(s.variants.size()), task, of)
-                                           : analysis::taskShare(static_cast<int>(s.variants.size()), 0, 1);
+  const std::vector<int> share = sa.task >= 0 ? analysis::taskShare(static_cast<int>(s.variants.size()), sa.task, sa.of)
+                                              : analysis::taskShare(static_cast<int>(s.variants.size()), 0, 1);
   std::vector<int> pending;
   int done = 0, stale = 0;
   for (int k : share) {
     const auto state =
         analysis::variantState(s.prefix(k) + "_run.txt", s.fingerprints[k], s.prefix(k) + "_summary.csv");
     if (state == analysis::VariantState::Finished ||
-        (state == analysis::VariantState::FinishedFailed && !rerunFailed)) {
+        (state == analysis::VariantState::FinishedFailed && !sa.rerunFailed)) {
       ++done;
       continue;
     }
     if (state == analysis::VariantState::Stale) ++stale;
     pending.push_back(k);
   }
-  if (jobs == 0) jobs = availableCores();
-  if (!m.quiet) {
-    std::cout << "study: " << s.variants.size() << " variants of " << m.file;
-    if (task >= 0) std::cout << ", task " << task << " of " << of << ": " << share.size() << " of them";
+  const int jobs = sa.jobs > 0 ? sa.jobs : availableCores();
+  if (!sa.m.quiet) {
+    std::cout << "study: " << s.variants.size() << " variants of " << sa.m.file;
+    if (sa.task >= 0) std::cout << ", task " << sa.task << " of " << sa.of << ": " << share.size() << " of them";
     std::cout << "\n";
     if (done > 0) std::cout << "  " << done << " finished before (skipped), " << pending.size() << " to run\n";
     if (stale > 0)
@@ -841,7 +847,7 @@ int runStudy(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   const PoolReport rep = runPool(s, pending, std::min<int>(jobs, std::max<size_t>(1, pending.size())));
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!m.quiet && rep.finished > 0) {
+  if (!sa.m.quiet && rep.finished > 0) {
     std::cout << "  ran " << rep.finished << " variants in " << std::setprecision(3) << wall << " s with "
               << std::min<int>(jobs, pending.size()) << " job(s): " << rep.finished - rep.failed << " ok, "
               << rep.failed << " failed; their analyses took " << rep.analysisSeconds << " s";
@@ -853,8 +859,8 @@ int runStudy(const std::vector<std::string>& args) {
   if (rep.interrupted) {
     std::cerr << "flexmb: interrupted: " << done + rep.finished << " of " << share.size()
               << " variants finished; the same command resumes\n";
-    // The variants finished so far in the table and report (marked incomplete), as after a run.
-    if (task < 0) collect(s.dir, s.plot, m.quiet);
+    // The variants finished so far in the sa.table and report (marked incomplete), as after a run.
+    if (sa.task < 0) collect(s.dir, s.plot, sa.m.quiet);
     return interruptedExitCode();
   }
   if (rep.busy > 0) std::cerr << "flexmb: " << rep.busy << " variants were being run by another process (skipped)\n";
@@ -862,13 +868,34 @@ int runStudy(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << rep.writeFailed << " variants could not be written (see above)\n";
     return kWriteFailed;
   }
-  if (task >= 0) {
-    if (!m.quiet)
-      std::cout << "task " << task << " of " << of << " done; when every task is: flexmb study collect " << s.dir
+  if (sa.task >= 0) {
+    if (!sa.m.quiet)
+      std::cout << "task " << sa.task << " of " << sa.of << " done; when every task is: flexmb study collect " << s.dir
                 << "\n";
     return kOk;
   }
-  return collect(s.dir, s.plot, m.quiet);
+  return collect(s.dir, s.plot, sa.m.quiet);
+}
+
+}  // namespace
+
+int runStudy(const std::vector<std::string>& args) {
+  if (!args.empty() && args[0] == "collect") return runCollect({args.begin() + 1, args.end()});
+  StudyArgs sa;
+  if (auto rc = parseStudyArgs(args, sa)) return *rc;
+  Study s;
+  s.templatePath = sa.m.file;
+  s.stem = studyStem(sa.m.file);
+  s.quiet = sa.m.quiet;
+  s.plot = sa.plot;
+  if (sa.m.dialect == "95" || sa.m.dialect == "spacar95") s.readOptions.dialect = core::Dialect::Spacar95;
+  if (sa.m.dialect == "2013" || sa.m.dialect == "spacar2013") s.readOptions.dialect = core::Dialect::Spacar2013;
+  if (sa.m.elongation == "plain") s.readOptions.elongation = core::ElongationDefinition::Plain;
+  if (sa.m.elongation == "corrected") s.readOptions.elongation = core::ElongationDefinition::BendingCorrected;
+  if (auto rc = chooseStudyAnalyses(args, sa, s.analyses)) return *rc;
+  if (auto rc = prepareStudy(args, sa, s)) return *rc;
+  if (sa.slurm.submit) return submitStudy(sa.slurm, args, s.dir, static_cast<int>(s.variants.size()), sa.m.quiet);
+  return runPendingVariants(sa, s);
 }
 
 }  // namespace flexmb::cli

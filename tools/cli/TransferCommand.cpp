@@ -55,6 +55,20 @@ std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd&
   ph.series = {p};
   return {mag, ph};
 }
+// One Bode diagram (magnitude over phase) per input-output pair: <prefix>_bode_in<i>_out<o>.svg.
+void writeBodeDiagrams(io::OutputSet& files, const analysis::StateSpace& ss, const std::string& modelFile,
+                       const std::string& note) {
+  const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
+  const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
+  for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
+    for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
+      const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
+      const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
+      io::writeSvgStack(files.temporaryFor(name),
+                        bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + modelFile + ")", omega, h,
+                                  analysis::bodePhase(ss, static_cast<int>(i), static_cast<int>(o), omega, h), note));
+    }
+}
 }  // namespace
 
 int runTransfer(const std::vector<std::string>& args) {
@@ -114,36 +128,11 @@ int runTransfer(const std::vector<std::string>& args) {
               << " states (dq, dqd in the order of M0), " << ni << " inputs, " << no << " outputs\n";
     for (Eigen::Index k = 0; k < ni; ++k) std::cout << "  input " << k + 1 << ": " << ss.inputNames[k] << "\n";
     for (Eigen::Index k = 0; k < no; ++k) std::cout << "  output " << k + 1 << ": " << ss.outputNames[k] << "\n";
-    // Static gain -C A^-1 B + D: the compliance of the equilibrium (outputs per unit input). A is
-    // [0 I; A21 A22] over (dq, dqd): with x = A^-1 B, x2 = B1 and A21 x1 = B2 - A22 B1, so only
-    // A21 = -M^-1 K is factorised. The whole A is far worse conditioned (its I block beside
-    // M^-1 K's largest entries, e.g. BEAMW's tiny warping masses) and its rcond would say singular.
-    const Eigen::Index nq = n / 2;
-    Eigen::MatrixXd x;
-    bool solved = false;
-    if (n % 2 == 0 && ss.A.topLeftCorner(nq, nq).isZero(0.0) && ss.A.topRightCorner(nq, nq).isIdentity(0.0)) {
-      // Rows equilibrated first: M^-1 scales them by the inverse masses (BEAMW's warping masses are
-      // ~1e-15), which alone would make the condition estimate say singular.
-      const Eigen::VectorXd rowScale =
-          ss.A.bottomLeftCorner(nq, nq).rowwise().lpNorm<Eigen::Infinity>().cwiseMax(1e-300).cwiseInverse();
-      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(rowScale.asDiagonal() * ss.A.bottomLeftCorner(nq, nq));
-      if (lu.rcond() > 1e-14) {
-        x.resize(n, ni);
-        x.bottomRows(nq) = ss.B.topRows(nq);
-        x.topRows(nq) =
-            lu.solve(rowScale.asDiagonal() * (ss.B.bottomRows(nq) - ss.A.bottomRightCorner(nq, nq) * ss.B.topRows(nq)));
-        solved = true;
-      }
-    } else {
-      const Eigen::PartialPivLU<Eigen::MatrixXd> lu(ss.A);
-      if (lu.rcond() > 1e-14) x = lu.solve(ss.B), solved = true;
-    }
-    if (solved) {
-      const Eigen::MatrixXd G = ss.D - ss.C * x;
+    if (const std::optional<Eigen::MatrixXd> G = analysis::staticGain(ss)) {
       std::cout << "  static gain -C A^-1 B + D (rows: outputs, columns: inputs):\n" << std::setprecision(8);
       for (Eigen::Index r = 0; r < no; ++r) {
         std::cout << "   ";
-        for (Eigen::Index c = 0; c < ni; ++c) std::cout << " " << std::setw(15) << G(r, c);
+        for (Eigen::Index c = 0; c < ni; ++c) std::cout << " " << std::setw(15) << (*G)(r, c);
         std::cout << "\n";
       }
     } else {
@@ -182,19 +171,7 @@ int runTransfer(const std::vector<std::string>& args) {
                                         "(give EDAMP); the phase is a lightly damped model's"
                                       : "";
     if (undamped) std::cout << "  note: " << note << "\n";
-    complete &= tryProduct(files, "the Bode diagrams", [&] {
-      const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
-      const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
-      for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
-        for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
-          const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
-          const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
-          io::writeSvgStack(
-              files.temporaryFor(name),
-              bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + m.file + ")", omega, h,
-                        analysis::bodePhase(ss, static_cast<int>(i), static_cast<int>(o), omega, h), note));
-        }
-    });
+    complete &= tryProduct(files, "the Bode diagrams", [&] { writeBodeDiagrams(files, ss, m.file, note); });
   }
   try {
     for (const auto& p : files.commit(run.completed ? "complete" : "stopped: " + run.stopReason))

@@ -122,6 +122,83 @@ void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
 }
 
+// Modes 1, 3 (with TIMESTEP) and 4: the run (reduced with opts.target), what it says in `out`, and
+// SPACAR's results from it. False (run.error set) when the run is refused before it starts.
+bool runDynamics(int mode, bool silent, const std::string& name, const std::string& datFile, const core::Model& model,
+                 const octave_gateway::MatlabUserFunctions& user, const analysis::SimulationOptions& simOptions,
+                 double target, std::ostringstream& out, io::SpacarResults& results, bool& interrupted,
+                 std::string& afterRun, Run& run) {
+  analysis::SimulationOptions opt = simOptions;
+  if (!std::isnan(target)) {  // opts.target: a reduced run with the basis chosen for it
+    analysis::TargetOptions to;
+    to.target = target;
+    to.run = opt;
+    const analysis::TargetResult tr = analysis::basisForTarget(model, to);
+    if (tr.met) opt.basis = tr.basis.V;
+    out << "spacar: target " << target << ": "
+        << (tr.met ? "a modal basis of " + std::to_string(tr.basis.V.cols()) + " columns" : tr.note) << " ("
+        << tr.tried.size() << " candidate runs, " << tr.seconds << " s)\n";
+  }
+  // The checks the command line makes before a run (analysis/RunSize.hpp): refused here too.
+  const analysis::RunSizeCheck size = analysis::checkRunSize(model, opt);
+  if (!size.warning.empty() && !silent)
+    mexWarnMsgIdAndTxt("flexmb:spacar:slow", "%s: %s", datFile.c_str(), size.warning.c_str());
+  if (!size.refusal.empty()) {
+    run.error = datFile + ": " + size.refusal;
+    run.errorId = "flexmb:spacar:input";
+    return false;
+  }
+  core::Trajectory traj;
+  const auto start = std::chrono::steady_clock::now();
+  {
+    octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
+    opt.interrupt = watch.flag();
+    traj = analysis::simulate(model, opt);
+    interrupted = watch.interrupted();
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
+      << " failed attempts, " << traj.nfevals << " function evaluations ("
+      << (traj.integrator == "ode45+bdf" ? "auto: ode45, then bdf" : traj.integrator) << ")\n";
+  // Where the time goes: the interpreter (user functions) against flexmb itself.
+  if (user.active()) {
+    const double inUser = user.stressCalls().seconds + user.inputCalls().seconds;
+    out << "spacar: wall time " << wall << " s: " << user.timing() << "; flexmb " << wall - inUser << " s";
+    if (traj.nfevals > 0)
+      out << " (" << 1e3 * (wall - inUser) / static_cast<double>(traj.nfevals) << " ms per evaluation)";
+    out << "\n";
+  } else {
+    out << "spacar: wall time " << wall << " s\n";
+  }
+  // What the command line says after a run (analysis/RunNotes.hpp); a stop is the error below.
+  for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, target)) {
+    if (n.kind == analysis::RunNote::Kind::Result || n.kind == analysis::RunNote::Kind::Note)
+      out << "spacar: " << n.text << "\n";
+    else if (n.kind == analysis::RunNote::Kind::Warning && !silent)
+      mexWarnMsgIdAndTxt("flexmb:spacar:accuracy", "%s: %s", datFile.c_str(), n.text.c_str());
+  }
+  if (std::isnan(traj.switchedAt) && opt.integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
+    out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
+        << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda << " 1/s): spacar("
+        << mode << ", '" << name << "', struct('integrator', 'auto')) or 'bdf' would be "
+        << "faster\n";
+  analysis::SpacarOutputOptions so;
+  so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+  // The trajectory stands whatever happens after it: a failing linearisation (modes 3, 4) or
+  // derived quantity leaves the states written, with the reason as the error after them.
+  try {
+    std::optional<analysis::TrajectoryModes> tm;
+    if (mode != 1 && !traj.time.empty())
+      tm = analysis::trajectoryModes(model, traj, std::min(6, model.numDofs()), std::nullopt, true);
+    results = analysis::spacarFromTrajectory(model, traj, tm ? &*tm : nullptr, mode, so);
+  } catch (const std::exception& e) {
+    afterRun = std::string("the run's results are written, but ") +
+               (mode != 1 ? "the linearisation along it" : "its derived quantities") + " failed: " + e.what();
+    results = analysis::spacarFromTrajectory(model, traj, nullptr, 1, analysis::SpacarOutputOptions());
+  }
+  return true;
+}
+
 void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
                Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
@@ -179,78 +256,11 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         }
         [[fallthrough]];
       case 1:
-      case 4: {
-        analysis::SimulationOptions opt = simOptions;
-        if (!std::isnan(target)) {  // opts.target: a reduced run with the basis chosen for it
-          analysis::TargetOptions to;
-          to.target = target;
-          to.run = opt;
-          const analysis::TargetResult tr = analysis::basisForTarget(model, to);
-          if (tr.met) opt.basis = tr.basis.V;
-          out << "spacar: target " << target << ": "
-              << (tr.met ? "a modal basis of " + std::to_string(tr.basis.V.cols()) + " columns" : tr.note) << " ("
-              << tr.tried.size() << " candidate runs, " << tr.seconds << " s)\n";
-        }
-        // The checks the command line makes before a run (analysis/RunSize.hpp): refused here too.
-        const analysis::RunSizeCheck size = analysis::checkRunSize(model, opt);
-        if (!size.warning.empty() && !silent)
-          mexWarnMsgIdAndTxt("flexmb:spacar:slow", "%s: %s", datFile.c_str(), size.warning.c_str());
-        if (!size.refusal.empty()) {
-          run.error = datFile + ": " + size.refusal;
-          run.errorId = "flexmb:spacar:input";
+      case 4:
+        if (!runDynamics(mode, silent, name, datFile, model, *user, simOptions, target, out, results, interrupted,
+                         afterRun, run))
           return;
-        }
-        core::Trajectory traj;
-        const auto start = std::chrono::steady_clock::now();
-        {
-          octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
-          opt.interrupt = watch.flag();
-          traj = analysis::simulate(model, opt);
-          interrupted = watch.interrupted();
-        }
-        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
-            << " failed attempts, " << traj.nfevals << " function evaluations ("
-            << (traj.integrator == "ode45+bdf" ? "auto: ode45, then bdf" : traj.integrator) << ")\n";
-        // Where the time goes: the interpreter (user functions) against flexmb itself.
-        if (user->active()) {
-          const double inUser = user->stressCalls().seconds + user->inputCalls().seconds;
-          out << "spacar: wall time " << wall << " s: " << user->timing() << "; flexmb " << wall - inUser << " s";
-          if (traj.nfevals > 0)
-            out << " (" << 1e3 * (wall - inUser) / static_cast<double>(traj.nfevals) << " ms per evaluation)";
-          out << "\n";
-        } else {
-          out << "spacar: wall time " << wall << " s\n";
-        }
-        // What the command line says after a run (analysis/RunNotes.hpp); a stop is the error below.
-        for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, target)) {
-          if (n.kind == analysis::RunNote::Kind::Result || n.kind == analysis::RunNote::Kind::Note)
-            out << "spacar: " << n.text << "\n";
-          else if (n.kind == analysis::RunNote::Kind::Warning && !silent)
-            mexWarnMsgIdAndTxt("flexmb:spacar:accuracy", "%s: %s", datFile.c_str(), n.text.c_str());
-        }
-        if (std::isnan(traj.switchedAt) && opt.integrator == analysis::Integrator::Ode45 &&
-            traj.stiffBoundSteps >= 1000)
-          out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
-              << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda
-              << " 1/s): spacar(" << mode << ", '" << name << "', struct('integrator', 'auto')) or 'bdf' would be "
-              << "faster\n";
-        analysis::SpacarOutputOptions so;
-        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-        // The trajectory stands whatever happens after it: a failing linearisation (modes 3, 4) or
-        // derived quantity leaves the states written, with the reason as the error after them.
-        try {
-          std::optional<analysis::TrajectoryModes> tm;
-          if (mode != 1 && !traj.time.empty())
-            tm = analysis::trajectoryModes(model, traj, std::min(6, model.numDofs()), std::nullopt, true);
-          results = analysis::spacarFromTrajectory(model, traj, tm ? &*tm : nullptr, mode, so);
-        } catch (const std::exception& e) {
-          afterRun = std::string("the run's results are written, but ") +
-                     (mode != 1 ? "the linearisation along it" : "its derived quantities") + " failed: " + e.what();
-          results = analysis::spacarFromTrajectory(model, traj, nullptr, 1, analysis::SpacarOutputOptions());
-        }
         break;
-      }
       case 10: {
         const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
         out << "spacar: static analysis, " << st.steps.size() << " load steps\n";
