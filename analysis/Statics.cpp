@@ -219,6 +219,30 @@ StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps, const
   return staticAnalysis(model, o);
 }
 
+// Why a load step stops where halving no longer finds an equilibrium (Newton's message in statics'
+// words), with the mesh to refine where an element bent through about a radian.
+std::string noEquilibriumBeyond(const core::Model& model, const LoadPoint& lr, int i, int n, const std::string& newton,
+                                const Eigen::VectorXd& lastEquilibrium) {
+  std::ostringstream msg;
+  msg << "no equilibrium beyond load factor " << lr.increment;
+  if (lr.initial != 1.0) msg << " (initial loads " << lr.initial << ")";
+  std::string why = staticWording(newton);
+  // An element bent through about a radian is past what one beam element follows: the mesh,
+  // not the load steps, is what to refine.
+  const ElementBend bend = largestBend(model, lastEquilibrium);
+  if (bend.angle > kBendAdvice) {
+    const std::string limitAdvice = "; a limit point is near: use smaller load steps";
+    if (const auto pos = why.find(limitAdvice); pos != std::string::npos) why.erase(pos, limitAdvice.size());
+  }
+  msg << " (step " << i << " of " << n << "): " << why;
+  if (bend.angle > kBendAdvice)
+    msg << "; " << model.elements[bend.element].type->keyword << " " << model.elements[bend.element].label
+        << " bends through " << std::round(bend.angle * 100) / 100
+        << " rad between its end nodes at the last equilibrium, more than one beam element follows (about 1 "
+           "rad): refine the mesh (more elements along it), not the load steps";
+  return msg.str();
+}
+
 StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options) {
   const int nev = options.nev, loadSteps = options.loadSteps, buckling = options.buckling;
   const auto& onStep = options.onStep;
@@ -302,26 +326,8 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
       }
       ds *= 0.5;
       if (ds < minStep) {
-        const LoadPoint lr = at(reached);
-        std::ostringstream msg;
-        msg << "no equilibrium beyond load factor " << lr.increment;
-        if (lr.initial != 1.0) msg << " (initial loads " << lr.initial << ")";
-        std::string why = staticWording(res.message);
-        // An element bent through about a radian is past what one beam element follows: the mesh,
-        // not the load steps, is what to refine.
-        const ElementBend bend = largestBend(model, lastEquilibrium);
-        if (bend.angle > kBendAdvice) {
-          const std::string limitAdvice = "; a limit point is near: use smaller load steps";
-          if (const auto pos = why.find(limitAdvice); pos != std::string::npos) why.erase(pos, limitAdvice.size());
-        }
-        msg << " (step " << i << " of " << n << "): " << why;
-        if (bend.angle > kBendAdvice)
-          msg << "; " << model.elements[bend.element].type->keyword << " " << model.elements[bend.element].label
-              << " bends through " << std::round(bend.angle * 100) / 100
-              << " rad between its end nodes at the last equilibrium, more than one beam element follows (about 1 "
-                 "rad): refine the mesh (more elements along it), not the load steps";
         run.completed = false;
-        run.stopReason = msg.str();
+        run.stopReason = noEquilibriumBeyond(model, at(reached), i, n, res.message, lastEquilibrium);
         return run;
       }
     }

@@ -19,8 +19,11 @@
 
 namespace flexmb::analysis {
 
-SweepResult sweep(const core::Model& model, const SweepOptions& o) {
-  SweepResult res;
+namespace {
+
+// The coordinate a sweep prescribes (a node's component, or an orientation node's rotation about a
+// global axis) and its name; throws std::invalid_argument for one that does not exist or cannot move.
+core::PrescribedQuantity sweptQuantity(const core::Model& model, const SweepOptions& o, std::string& coord) {
   auto it = model.nodeByLabel.find(o.node);
   if (it == model.nodeByLabel.end())
     throw std::invalid_argument("sweep: node " + std::to_string(o.node) + " does not exist");
@@ -44,6 +47,70 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   if (!movable)
     throw std::invalid_argument("sweep: " + model.coordName(k) + " is " + core::roleName(model.xRole[k]) +
                                 ", it cannot be prescribed");
+  static const char* const kAxes[] = {"x", "y", "z"};
+  coord = rotation
+              ? "the rotation of node " + std::to_string(o.node) + " about global " + kAxes[o.component - 1] + " (rad)"
+              : model.coordName(k);
+  return pq;
+}
+
+// Orders the modes of `pt` (unit columns) as the previous point's they continue (MAC tracking).
+void followModes(const Eigen::MatrixXd& previousModes, Eigen::MatrixXd& modesQ, SweepPoint& pt) {
+  const std::vector<int> perm = solvers::trackModes(previousModes, modesQ);
+  Eigen::MatrixXd sorted(modesQ.rows(), modesQ.cols());
+  Eigen::VectorXd w(pt.omega.size());
+  for (size_t j = 0; j < perm.size(); ++j) {  // current mode j continues previous mode perm[j]
+    sorted.col(perm[j]) = modesQ.col(j);
+    w[perm[j]] = pt.omega[j];
+  }
+  modesQ = sorted;
+  pt.omega = w;
+}
+
+// Why the sweep stops where no sub-step finds an equilibrium. "Turns" only where the path does: the
+// bordered tangent singular (a limit point, where the coordinate cannot go further, or a branch
+// point). Else Newton itself failed on a regular path.
+std::string pathEnds(const std::string& coord, double v, const std::string& err, double rcond, double h) {
+  std::ostringstream s;
+  s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
+  if (rcond < 1e-13)
+    s << "; the equilibrium path turns or branches here (its tangent is singular: condition estimate " << rcond
+      << "), so the sweep stops";
+  else
+    s << "; the path is regular here (tangent condition estimate " << rcond << ") but no equilibrium was found "
+      << "even in sub-steps of " << h << ", so the sweep stops (a coordinate the mechanism cannot follow "
+      << "by itself? prescribe one it can)";
+  return s.str();
+}
+
+// The equilibrium at prescribed value v (load P on it) with its modes, in the order of the previous
+// point's (`previousModes`, unit columns over q; updated).
+SweepPoint sweepPoint(core::Linearization& lin, double v, double P, const Eigen::VectorXd& eta, const Frequencies& fr,
+                      Eigen::MatrixXd& previousModes) {
+  SweepPoint pt;
+  pt.value = v;
+  pt.load = P;
+  pt.eta = eta;
+  lin.dofs(eta, pt.q);
+  pt.x = lin.kinematics().x();
+  Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
+  pt.modesAscending = modesQ;
+  for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
+  pt.omega = fr.omega;
+  pt.omegaSorted = fr.omega;
+  if (previousModes.size() && previousModes.cols() == modesQ.cols()) followModes(previousModes, modesQ, pt);
+  pt.modes = modesQ;
+  previousModes = modesQ;
+  return pt;
+}
+
+}  // namespace
+
+SweepResult sweep(const core::Model& model, const SweepOptions& o) {
+  SweepResult res;
+  std::string coord;
+  const core::PrescribedQuantity pq = sweptQuantity(model, o, coord);
+  const int k = pq.coord;
   if (o.steps < 1) throw std::invalid_argument("sweep: steps must be at least 1");
 
   std::optional<solvers::Partition> held;
@@ -59,10 +126,6 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
   Eigen::VectorXd eta = Eigen::VectorXd::Zero(lin.size());
   double P = 0.0;
   const double start = pq.value(model.x0);
-  static const char* const kAxes[] = {"x", "y", "z"};
-  const std::string coord =
-      rotation ? "the rotation of node " + std::to_string(o.node) + " about global " + kAxes[o.component - 1] + " (rad)"
-               : model.coordName(k);
   res.prescribed = coord;
   std::vector<double> values;
   for (int i = 0; i < o.steps; ++i)
@@ -129,18 +192,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         P = PHere;
         if (xHere.size() == model.nx) lin.kinematics().setConfiguration(xHere);
         if (h <= minIncrement * (1 + 1e-9) || v == current) {
-          // "Turns" only where the path does: the bordered tangent singular (a limit point, where the
-          // coordinate cannot go further, or a branch point). Else Newton itself failed on a regular path.
-          std::ostringstream s;
-          s << "with the prescribed coordinate " << coord << " at " << v << ": " << err;
-          if (rcond < 1e-13)
-            s << "; the equilibrium path turns or branches here (its tangent is singular: condition estimate " << rcond
-              << "), so the sweep stops";
-          else
-            s << "; the path is regular here (tangent condition estimate " << rcond << ") but no equilibrium was found "
-              << "even in sub-steps of " << h << ", so the sweep stops (a coordinate the mechanism cannot follow "
-              << "by itself? prescribe one it can)";
-          return s.str();
+          return pathEnds(coord, v, err, rcond, h);
         }
         h = std::max(0.5 * h, minIncrement);
         continue;
@@ -193,31 +245,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         return res;
       }
       const Frequencies fr = held ? subproblemModes(*held, sys, o.nev) : naturalFrequencies(lin, sys, o.nev);
-      SweepPoint pt;
-      pt.value = v;
-      pt.load = P;
-      pt.eta = eta;
-      lin.dofs(eta, pt.q);
-      pt.x = lin.kinematics().x();
-      Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
-      pt.modesAscending = modesQ;
-      for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
-      pt.omega = fr.omega;
-      pt.omegaSorted = fr.omega;
-      if (previousModes.size() && previousModes.cols() == modesQ.cols()) {
-        const std::vector<int> perm = solvers::trackModes(previousModes, modesQ);
-        Eigen::MatrixXd sorted(modesQ.rows(), modesQ.cols());
-        Eigen::VectorXd w(pt.omega.size());
-        for (size_t j = 0; j < perm.size(); ++j) {  // current mode j continues previous mode perm[j]
-          sorted.col(perm[j]) = modesQ.col(j);
-          w[perm[j]] = pt.omega[j];
-        }
-        modesQ = sorted;
-        pt.omega = w;
-      }
-      pt.modes = modesQ;
-      previousModes = modesQ;
-      res.points.push_back(std::move(pt));
+      res.points.push_back(sweepPoint(lin, v, P, eta, fr, previousModes));
     } catch (const std::exception& e) {
       std::ostringstream s;
       s << "with the prescribed coordinate " << coord << " at " << v << ": " << e.what();

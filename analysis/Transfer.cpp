@@ -65,14 +65,8 @@ Weighted weights(const core::TransferChannel& c, const Eigen::VectorXd& x, doubl
   }
   return r;
 }
-}  // namespace
-
-StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
-  if (model.transferInputs.empty() || model.transferOutputs.empty())
-    throw std::invalid_argument(
-        "the transfer function needs at least one input (INPUTF, INX) and one output (OUTX, OUTXP, OUTF) in the "
-        "transfer block after the second END HALT");
-  // Known coordinates that become degrees of freedom: INX inputs, OUTF supports.
+// Known coordinates that become degrees of freedom: INX inputs, OUTF supports.
+std::vector<int> transferKnownCoordinates(const core::Model& model) {
   std::vector<int> known;
   auto addKnown = [&](int j) {
     if ((model.xRole[j] == core::Role::Fixed || model.xRole[j] == core::Role::Input) &&
@@ -84,6 +78,97 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   for (const auto& c : model.transferOutputs)
     if (c.kind == Kind::NodalForce)
       for (int k = 0; k < (c.axis ? 4 : 1); ++k) addKnown(c.coord + k);
+  return known;
+}
+
+// What the output rows need of the linearisation: the augmented model's matrices and where the
+// model's degrees of freedom (qi) and the inputs' channels are in them.
+struct TransferBlocks {
+  int m;
+  const std::vector<int>& qi;
+  const Eigen::MatrixXd &F, &Kt, &Ct;
+  const core::LinearizedSystem& s;
+  const DofPlaces& at;
+  const std::vector<int>& motionChannel;
+  const std::vector<std::pair<int, Eigen::VectorXd>>& forceLoads;
+  Eigen::RowVectorXd block(const Eigen::MatrixXd& X, int row) const {  // X(row, q) as a row vector
+    Eigen::RowVectorXd r(m);
+    for (int k = 0; k < m; ++k) r[k] = X(row, qi[k]);
+    return r;
+  }
+};
+
+// The rows of C and D: OUTX / OUTXP from the first-order transfer F (plus an INX input's direct
+// motion of the output), OUTF from the balance along the output coordinates.
+void outputRows(const core::Model& model, const StaticStep& step, const TransferBlocks& t, StateSpace& ss) {
+  const int m = t.m, no = static_cast<int>(model.transferOutputs.size()), ni = static_cast<int>(ss.B.cols());
+  const Eigen::MatrixXd &Kt = t.Kt, &Ct = t.Ct, &F = t.F;
+  const core::LinearizedSystem& s = t.s;
+  const DofPlaces& at = t.at;
+  const std::vector<int>& motionChannel = t.motionChannel;
+  auto block = [&](const Eigen::MatrixXd& X, int row) { return t.block(X, row); };
+  ss.C = Eigen::MatrixXd::Zero(no, 2 * m);
+  ss.D = Eigen::MatrixXd::Zero(no, ni);
+  for (int r = 0; r < no; ++r) {
+    const auto& c = model.transferOutputs[r];
+    ss.outputNames.push_back(channelName(model, c));
+    if (c.kind == Kind::Coordinate || c.kind == Kind::Velocity) {
+      const Weighted w = weights(c, step.x, 2.0);
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
+      for (std::size_t i = 0; i < w.coords.size(); ++i) row += w.w[i] * block(F, w.coords[i]);
+      (c.kind == Kind::Coordinate ? ss.C.block(r, 0, 1, m) : ss.C.block(r, m, 1, m)) = row;
+      // Direct motion of the output by an INX input: its position (OUTX) or velocity (OUTXP) channel.
+      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
+        if (motionChannel[k] < 0) continue;
+        const int u = at.x[model.transferInputs[k].coord];
+        double d = 0.0;
+        for (std::size_t i = 0; i < w.coords.size(); ++i) d += w.w[i] * F(w.coords[i], u);
+        ss.D(r, motionChannel[k] + (c.kind == Kind::Coordinate ? 0 : 1)) += d;
+      }
+    } else {  // OUTF: fxt_j = f_j - Q_j
+      const Weighted w = weights(c, step.x, 0.5);
+      Eigen::RowVectorXd rk = Eigen::RowVectorXd::Zero(m), rc = rk, rm = rk;
+      std::vector<double> wk(w.coords.size());
+      for (std::size_t i = 0; i < w.coords.size(); ++i) {
+        const int j = at.x[w.coords[i]];
+        if (j < 0) continue;  // a calculable Euler parameter: its force is the applied one (none)
+        rk += w.w[i] * block(Kt, j), rc += w.w[i] * block(Ct, j), rm += w.w[i] * block(s.M, j);
+      }
+      ss.C.block(r, 0, 1, m) = rk + rm * ss.A.bottomLeftCorner(m, m);
+      ss.C.block(r, m, 1, m) = rc + rm * ss.A.bottomRightCorner(m, m);
+      ss.D.row(r) = rm * ss.B.bottomRows(m);
+      // The row of a known coordinate j in the augmented model is the balance of everything that
+      // does work along it: the support force plus the applied loads there. A force input acts
+      // along j when j moves its point (in the augmented model a support coordinate carries the
+      // structure beyond it: a base displacement moves every point), so its share is subtracted.
+      for (const auto& [col, bAug] : t.forceLoads)
+        for (std::size_t i = 0; i < w.coords.size(); ++i) {
+          const int j = at.x[w.coords[i]];
+          if (j >= 0) ss.D(r, col) -= w.w[i] * bAug[j];
+        }
+      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
+        if (motionChannel[k] < 0) continue;
+        const int u = at.x[model.transferInputs[k].coord];
+        for (std::size_t i = 0; i < w.coords.size(); ++i) {
+          const int j = at.x[w.coords[i]];
+          if (j < 0) continue;
+          ss.D(r, motionChannel[k]) += w.w[i] * Kt(j, u);
+          ss.D(r, motionChannel[k] + 1) += w.w[i] * Ct(j, u);
+          ss.D(r, motionChannel[k] + 2) += w.w[i] * s.M(j, u);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
+  if (model.transferInputs.empty() || model.transferOutputs.empty())
+    throw std::invalid_argument(
+        "the transfer function needs at least one input (INPUTF, INX) and one output (OUTX, OUTXP, OUTF) in the "
+        "transfer block after the second END HALT");
+  const std::vector<int> known = transferKnownCoordinates(model);
   const core::Model aug = withKnownAsDofs(model, known, {});
   // Without known coordinates the statics' own linearisation of the step is the one needed (its
   // four projections cost O(nx m^2) each): only F is computed here.
@@ -198,65 +283,14 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
       ss.inputNames.push_back(channelName(model, c, " (acceleration)"));
     }
   }
-  const int ni = static_cast<int>(loads.size()), no = static_cast<int>(model.transferOutputs.size());
+  const int ni = static_cast<int>(loads.size());
   Eigen::MatrixXd Q(m, ni);
   for (int k = 0; k < ni; ++k) Q.col(k) = loads[k];
   ss.B = Eigen::MatrixXd::Zero(2 * m, ni);
   solveMass(Q, Y);
   ss.B.bottomRows(m) = Y;
 
-  ss.C = Eigen::MatrixXd::Zero(no, 2 * m);
-  ss.D = Eigen::MatrixXd::Zero(no, ni);
-  for (int r = 0; r < no; ++r) {
-    const auto& c = model.transferOutputs[r];
-    ss.outputNames.push_back(channelName(model, c));
-    if (c.kind == Kind::Coordinate || c.kind == Kind::Velocity) {
-      const Weighted w = weights(c, step.x, 2.0);
-      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
-      for (std::size_t i = 0; i < w.coords.size(); ++i) row += w.w[i] * block(p.F, w.coords[i]);
-      (c.kind == Kind::Coordinate ? ss.C.block(r, 0, 1, m) : ss.C.block(r, m, 1, m)) = row;
-      // Direct motion of the output by an INX input: its position (OUTX) or velocity (OUTXP) channel.
-      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
-        if (motionChannel[k] < 0) continue;
-        const int u = at.x[model.transferInputs[k].coord];
-        double d = 0.0;
-        for (std::size_t i = 0; i < w.coords.size(); ++i) d += w.w[i] * p.F(w.coords[i], u);
-        ss.D(r, motionChannel[k] + (c.kind == Kind::Coordinate ? 0 : 1)) += d;
-      }
-    } else {  // OUTF: fxt_j = f_j - Q_j
-      const Weighted w = weights(c, step.x, 0.5);
-      Eigen::RowVectorXd rk = Eigen::RowVectorXd::Zero(m), rc = rk, rm = rk;
-      std::vector<double> wk(w.coords.size());
-      for (std::size_t i = 0; i < w.coords.size(); ++i) {
-        const int j = at.x[w.coords[i]];
-        if (j < 0) continue;  // a calculable Euler parameter: its force is the applied one (none)
-        rk += w.w[i] * block(Kt, j), rc += w.w[i] * block(Ct, j), rm += w.w[i] * block(s.M, j);
-      }
-      ss.C.block(r, 0, 1, m) = rk + rm * ss.A.bottomLeftCorner(m, m);
-      ss.C.block(r, m, 1, m) = rc + rm * ss.A.bottomRightCorner(m, m);
-      ss.D.row(r) = rm * ss.B.bottomRows(m);
-      // The row of a known coordinate j in the augmented model is the balance of everything that
-      // does work along it: the support force plus the applied loads there. A force input acts
-      // along j when j moves its point (in the augmented model a support coordinate carries the
-      // structure beyond it: a base displacement moves every point), so its share is subtracted.
-      for (const auto& [col, bAug] : forceLoads)
-        for (std::size_t i = 0; i < w.coords.size(); ++i) {
-          const int j = at.x[w.coords[i]];
-          if (j >= 0) ss.D(r, col) -= w.w[i] * bAug[j];
-        }
-      for (std::size_t k = 0; k < model.transferInputs.size(); ++k) {
-        if (motionChannel[k] < 0) continue;
-        const int u = at.x[model.transferInputs[k].coord];
-        for (std::size_t i = 0; i < w.coords.size(); ++i) {
-          const int j = at.x[w.coords[i]];
-          if (j < 0) continue;
-          ss.D(r, motionChannel[k]) += w.w[i] * Kt(j, u);
-          ss.D(r, motionChannel[k] + 1) += w.w[i] * Ct(j, u);
-          ss.D(r, motionChannel[k] + 2) += w.w[i] * s.M(j, u);
-        }
-      }
-    }
-  }
+  outputRows(model, step, TransferBlocks{m, qi, p.F, Kt, Ct, s, at, motionChannel, forceLoads}, ss);
   return ss;
 }
 
