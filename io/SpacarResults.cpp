@@ -274,14 +274,21 @@ Eigen::MatrixXd spacarElementPrestress(const core::Model& model, Eigen::Index ro
   return S;
 }
 
-std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
-  const SpacarLayout L = spacarLayout(model);
-  const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
-  if (r.steps.size() != nt)
-    throw std::invalid_argument("SPACAR results '" + base + "': " + std::to_string(nt) + " times, " +
-                                std::to_string(r.steps.size()) + " steps");
-  bool hasDx = nt > 0, hasD = nt > 0, hasFx = true, hasSys = false;
+namespace {
+
+// What the results hold (checked: sizes and finite values; std::invalid_argument naming the first
+// that is not as it should be).
+struct SpacarContents {
+  bool hasDx = false, hasD = false, hasFx = true, hasSys = false, hasK0B = false;
   std::size_t m = 0, nev = 0;
+};
+SpacarContents checkSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r,
+                                  const SpacarLayout& L) {
+  const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
+  SpacarContents c;
+  bool &hasDx = c.hasDx, &hasD = c.hasD, &hasFx = c.hasFx, &hasSys = c.hasSys, &hasK0B = c.hasK0B;
+  std::size_t &m = c.m, &nev = c.nev;
+  hasDx = hasD = nt > 0;
   for (std::size_t k = 0; k < nt; ++k) {
     const SpacarStep& s = r.steps[k];
     auto check = [&](const char* name, const Eigen::MatrixXd& v, std::size_t rows, std::size_t cols) {
@@ -318,7 +325,7 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     if (s.modex.size()) check("modex", s.modex, nx, s.freq.size());
   }
 
-  bool hasK0B = nt > 0;
+  hasK0B = nt > 0;
   for (const auto& st : r.steps) hasK0B = hasK0B && st.K0B.size() > 0;
   if (r.stateSpace) {
     const SpacarStateSpace& ss = *r.stateSpace;
@@ -334,137 +341,164 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
     if (ss.inputNames.size() != static_cast<std::size_t>(ni) || ss.outputNames.size() != static_cast<std::size_t>(no))
       throw std::invalid_argument("SPACAR results '" + base + "': one name per state-space input and output expected");
   }
-  auto writeStateSpace = [&](MatWriter& w) {
-    const SpacarStateSpace& ss = *r.stateSpace;
-    w.matrix("A", ss.A);
-    w.matrix("B", ss.B);
-    w.matrix("C", ss.C);
-    w.matrix("D", ss.D);
-    w.scalar("DFT", ss.D.size() && !ss.D.isZero(0.0) ? 1.0 : 0.0);
-  };
+  return c;
+}
 
-  std::vector<std::string> written;
-  {
-    const std::string path = base + ".sbd";
-    MatWriter w(path);
-    // Counts.
-    w.scalar("mode", r.mode);
-    w.scalar("nx", static_cast<double>(nx));
-    w.scalar("ne", static_cast<double>(ne));
-    w.write("nxp", 1, 4, {double(L.nxp[0]), double(L.nxp[1]), double(L.nxp[2]), double(L.nxp[3])});
-    w.write("nep", 1, 4, {double(L.nep[0]), double(L.nep[1]), double(L.nep[2]), double(L.nep[3])});
-    w.scalar("ndof", L.ndof());
-    w.scalar("nddof", L.nddof());
-    w.scalar("tdef", static_cast<double>(nt));
-    const SpacarTopology T = spacarTopology(model, L);
-    const Eigen::MatrixXd &lnp = T.lnp, &ln = T.ln, &le = T.le, &it = T.it, &rl0 = T.rl0;
-    w.matrix("lnp", lnp);
-    w.matrix("ln", ln);
-    w.matrix("le", le);
-    w.matrix("it", it);
-    w.matrix("rl0", rl0);
-    w.matrix("rxyz", spacarElementTriads(model, le.rows(), 0));
-    w.matrix("rxyzq", spacarElementTriads(model, le.rows(), 1));
-    w.matrix("estiff", spacarElementConstants(model, ElementConstant::Stiffness, le.rows()));
-    w.matrix("stif", spacarElementConstants(model, ElementConstant::Stiffness, le.rows(), 6));
-    w.matrix("edamp", spacarElementConstants(model, ElementConstant::Damping, le.rows()));
-    w.matrix("em", spacarElementConstants(model, ElementConstant::Mass, le.rows()));
-    w.matrix("esig", spacarElementPrestress(model, le.rows()));
-    w.matrix("x0", L.sortX(model.x0));
-    // Per step: one row per stored step.
-    w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
-    auto rows = [&](const char* name, Eigen::VectorXd SpacarStep::*member, std::size_t n) {
-      std::vector<double> data(nt * n);
-      for (std::size_t k = 0; k < nt; ++k)
-        for (std::size_t j = 0; j < n; ++j) data[j * nt + k] = (r.steps[k].*member)[j];
-      w.write(name, nt, n, std::move(data));
-    };
-    rows("x", &SpacarStep::x, nx), rows("xd", &SpacarStep::xd, nx), rows("xdd", &SpacarStep::xdd, nx);
-    rows("e", &SpacarStep::e, ne), rows("ed", &SpacarStep::ed, ne), rows("edd", &SpacarStep::edd, ne);
-    rows("sig", &SpacarStep::sig, ne), rows("fxt", &SpacarStep::fxt, nx);
-    if (hasFx) rows("fx", &SpacarStep::fx, nx), rows("fxgrav", &SpacarStep::fxgrav, nx);
-    auto pages = [&](const char* name, Eigen::MatrixXd SpacarStep::*member, std::size_t a, std::size_t b) {
-      std::vector<double> data;
-      data.reserve(a * b * nt);
+void writeSpacarStateSpace(MatWriter& w, const SpacarStateSpace& ss) {
+  w.matrix("A", ss.A);
+  w.matrix("B", ss.B);
+  w.matrix("C", ss.C);
+  w.matrix("D", ss.D);
+  w.scalar("DFT", ss.D.size() && !ss.D.isZero(0.0) ? 1.0 : 0.0);
+}
+
+// <base>.sbd: counts, topology, element constants and the per-step x, e, sig, ... (and dx, bigd).
+void writeSbd(const std::string& path, const core::Model& model, const SpacarResults& r, const SpacarLayout& L,
+              const SpacarContents& c) {
+  const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
+  const bool hasFx = c.hasFx, hasDx = c.hasDx, hasD = c.hasD;
+  MatWriter w(path);
+  // Counts.
+  w.scalar("mode", r.mode);
+  w.scalar("nx", static_cast<double>(nx));
+  w.scalar("ne", static_cast<double>(ne));
+  w.write("nxp", 1, 4, {double(L.nxp[0]), double(L.nxp[1]), double(L.nxp[2]), double(L.nxp[3])});
+  w.write("nep", 1, 4, {double(L.nep[0]), double(L.nep[1]), double(L.nep[2]), double(L.nep[3])});
+  w.scalar("ndof", L.ndof());
+  w.scalar("nddof", L.nddof());
+  w.scalar("tdef", static_cast<double>(nt));
+  const SpacarTopology T = spacarTopology(model, L);
+  const Eigen::MatrixXd &lnp = T.lnp, &ln = T.ln, &le = T.le, &it = T.it, &rl0 = T.rl0;
+  w.matrix("lnp", lnp);
+  w.matrix("ln", ln);
+  w.matrix("le", le);
+  w.matrix("it", it);
+  w.matrix("rl0", rl0);
+  w.matrix("rxyz", spacarElementTriads(model, le.rows(), 0));
+  w.matrix("rxyzq", spacarElementTriads(model, le.rows(), 1));
+  w.matrix("estiff", spacarElementConstants(model, ElementConstant::Stiffness, le.rows()));
+  w.matrix("stif", spacarElementConstants(model, ElementConstant::Stiffness, le.rows(), 6));
+  w.matrix("edamp", spacarElementConstants(model, ElementConstant::Damping, le.rows()));
+  w.matrix("em", spacarElementConstants(model, ElementConstant::Mass, le.rows()));
+  w.matrix("esig", spacarElementPrestress(model, le.rows()));
+  w.matrix("x0", L.sortX(model.x0));
+  // Per step: one row per stored step.
+  w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
+  auto rows = [&](const char* name, Eigen::VectorXd SpacarStep::*member, std::size_t n) {
+    std::vector<double> data(nt * n);
+    for (std::size_t k = 0; k < nt; ++k)
+      for (std::size_t j = 0; j < n; ++j) data[j * nt + k] = (r.steps[k].*member)[j];
+    w.write(name, nt, n, std::move(data));
+  };
+  rows("x", &SpacarStep::x, nx), rows("xd", &SpacarStep::xd, nx), rows("xdd", &SpacarStep::xdd, nx);
+  rows("e", &SpacarStep::e, ne), rows("ed", &SpacarStep::ed, ne), rows("edd", &SpacarStep::edd, ne);
+  rows("sig", &SpacarStep::sig, ne), rows("fxt", &SpacarStep::fxt, nx);
+  if (hasFx) rows("fx", &SpacarStep::fx, nx), rows("fxgrav", &SpacarStep::fxgrav, nx);
+  auto pages = [&](const char* name, Eigen::MatrixXd SpacarStep::*member, std::size_t a, std::size_t b) {
+    std::vector<double> data;
+    data.reserve(a * b * nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      const Eigen::MatrixXd& A = r.steps[k].*member;
+      data.insert(data.end(), A.data(), A.data() + A.size());
+    }
+    w.write(name, a, b, std::move(data), nt);
+  };
+  if (hasDx) pages("dx", &SpacarStep::dx, nx, L.ndof());
+  if (hasD) pages("bigd", &SpacarStep::bigd, ne, nx);
+  w.scalar("nsteps", static_cast<double>(r.nsteps));
+  w.scalar("nfailed", static_cast<double>(r.nfailed));
+  w.scalar("nfevals", static_cast<double>(r.nfevals));
+  w.close();
+}
+
+// <base>.sbm: the linearised matrices, frequencies and modes per step (and the state-space model).
+void writeSbm(const std::string& path, const core::Model& model, const SpacarResults& r, const SpacarContents& c) {
+  const std::size_t nt = r.time.size(), nx = model.nx, m = c.m, nev = c.nev;
+  MatWriter w(path);
+  w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
+  w.scalar("tdef", static_cast<double>(nt));
+  if (c.hasSys) {
+    for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0},
+                                {"K0", &SpacarStep::K0},
+                                {"G0", &SpacarStep::G0},
+                                {"C0", &SpacarStep::C0},
+                                {"D0", &SpacarStep::D0},
+                                {"N0", &SpacarStep::N0}}) {
+      std::vector<double> data(m * m * nt, 0.0);
       for (std::size_t k = 0; k < nt; ++k) {
         const Eigen::MatrixXd& A = r.steps[k].*member;
-        data.insert(data.end(), A.data(), A.data() + A.size());
+        if (A.size()) std::copy(A.data(), A.data() + A.size(), data.begin() + static_cast<std::ptrdiff_t>(k * m * m));
       }
-      w.write(name, a, b, std::move(data), nt);
-    };
-    if (hasDx) pages("dx", &SpacarStep::dx, nx, L.ndof());
-    if (hasD) pages("bigd", &SpacarStep::bigd, ne, nx);
-    w.scalar("nsteps", static_cast<double>(r.nsteps));
-    w.scalar("nfailed", static_cast<double>(r.nfailed));
-    w.scalar("nfevals", static_cast<double>(r.nfevals));
-    w.close();
-    written.push_back(path);
+      w.write(name, m, m, std::move(data), nt);
+    }
   }
-  if (hasSys || nev > 0) {
-    const std::string path = base + ".sbm";
-    MatWriter w(path);
+  std::vector<double> f(nt * nev, 0.0);
+  for (std::size_t k = 0; k < nt; ++k)
+    for (Eigen::Index i = 0; i < r.steps[k].freq.size(); ++i) f[i * nt + k] = r.steps[k].freq[i];
+  w.write("freq", nt, nev, std::move(f));
+  std::size_t mq = 0;
+  bool hasModes = nt > 0;
+  for (const auto& s : r.steps) {
+    hasModes = hasModes && s.modeq.size() > 0 && static_cast<std::size_t>(s.modeq.cols()) == nev;
+    mq = std::max<std::size_t>(mq, s.modeq.rows());
+  }
+  if (hasModes) {
+    std::vector<double> q, xm;
+    for (const auto& s : r.steps) {
+      q.insert(q.end(), s.modeq.data(), s.modeq.data() + s.modeq.size());
+      xm.insert(xm.end(), s.modex.data(), s.modex.data() + s.modex.size());
+    }
+    if (q.size() == mq * nev * nt) w.write("modeq", mq, nev, std::move(q), nt);
+    if (xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
+  }
+  if (r.stateSpace) writeSpacarStateSpace(w, *r.stateSpace);
+  w.close();
+}
+
+// <base>.ltv: the transfer function's state-space model, or M0 and K0B over every kinematic degree
+// of freedom per step (mode 3 on a static file).
+void writeLtv(const std::string& path, const SpacarResults& r, const SpacarLayout& L) {
+  const std::size_t nt = r.time.size();
+  MatWriter w(path);
+  if (r.stateSpace) {
+    // One step: the state-space model of the last load step (getss reads step 1).
+    w.scalar("tdef", 1.0);
+    writeSpacarStateSpace(w, *r.stateSpace);
+    w.text("inputnames", r.stateSpace->inputNames);
+    w.text("outputnames", r.stateSpace->outputNames);
+  } else {
     w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
     w.scalar("tdef", static_cast<double>(nt));
-    if (hasSys) {
-      for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0},
-                                  {"K0", &SpacarStep::K0},
-                                  {"G0", &SpacarStep::G0},
-                                  {"C0", &SpacarStep::C0},
-                                  {"D0", &SpacarStep::D0},
-                                  {"N0", &SpacarStep::N0}}) {
-        std::vector<double> data(m * m * nt, 0.0);
-        for (std::size_t k = 0; k < nt; ++k) {
-          const Eigen::MatrixXd& A = r.steps[k].*member;
-          if (A.size()) std::copy(A.data(), A.data() + A.size(), data.begin() + static_cast<std::ptrdiff_t>(k * m * m));
-        }
-        w.write(name, m, m, std::move(data), nt);
-      }
+    const std::size_t n = L.ndof();
+    for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0all}, {"K0B", &SpacarStep::K0B}}) {
+      std::vector<double> data;
+      data.reserve(n * n * nt);
+      for (const auto& st : r.steps) data.insert(data.end(), (st.*member).data(), (st.*member).data() + n * n);
+      w.write(name, n, n, std::move(data), nt);
     }
-    std::vector<double> f(nt * nev, 0.0);
-    for (std::size_t k = 0; k < nt; ++k)
-      for (Eigen::Index i = 0; i < r.steps[k].freq.size(); ++i) f[i * nt + k] = r.steps[k].freq[i];
-    w.write("freq", nt, nev, std::move(f));
-    std::size_t mq = 0;
-    bool hasModes = nt > 0;
-    for (const auto& s : r.steps) {
-      hasModes = hasModes && s.modeq.size() > 0 && static_cast<std::size_t>(s.modeq.cols()) == nev;
-      mq = std::max<std::size_t>(mq, s.modeq.rows());
-    }
-    if (hasModes) {
-      std::vector<double> q, xm;
-      for (const auto& s : r.steps) {
-        q.insert(q.end(), s.modeq.data(), s.modeq.data() + s.modeq.size());
-        xm.insert(xm.end(), s.modex.data(), s.modex.data() + s.modex.size());
-      }
-      if (q.size() == mq * nev * nt) w.write("modeq", mq, nev, std::move(q), nt);
-      if (xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
-    }
-    if (r.stateSpace) writeStateSpace(w);
-    w.close();
-    written.push_back(path);
   }
-  if (r.stateSpace || hasK0B) {
-    const std::string path = base + ".ltv";
-    MatWriter w(path);
-    if (r.stateSpace) {
-      // One step: the state-space model of the last load step (getss reads step 1).
-      w.scalar("tdef", 1.0);
-      writeStateSpace(w);
-      w.text("inputnames", r.stateSpace->inputNames);
-      w.text("outputnames", r.stateSpace->outputNames);
-    } else {
-      w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
-      w.scalar("tdef", static_cast<double>(nt));
-      const std::size_t n = L.ndof();
-      for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0all}, {"K0B", &SpacarStep::K0B}}) {
-        std::vector<double> data;
-        data.reserve(n * n * nt);
-        for (const auto& st : r.steps) data.insert(data.end(), (st.*member).data(), (st.*member).data() + n * n);
-        w.write(name, n, n, std::move(data), nt);
-      }
-    }
-    w.close();
-    written.push_back(path);
+  w.close();
+}
+
+}  // namespace
+
+std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
+  const SpacarLayout L = spacarLayout(model);
+  const std::size_t nt = r.time.size();
+  if (r.steps.size() != nt)
+    throw std::invalid_argument("SPACAR results '" + base + "': " + std::to_string(nt) + " times, " +
+                                std::to_string(r.steps.size()) + " steps");
+  const SpacarContents c = checkSpacarResults(base, model, r, L);
+  std::vector<std::string> written;
+  writeSbd(base + ".sbd", model, r, L, c);
+  written.push_back(base + ".sbd");
+  if (c.hasSys || c.nev > 0) {
+    writeSbm(base + ".sbm", model, r, c);
+    written.push_back(base + ".sbm");
+  }
+  if (r.stateSpace || c.hasK0B) {
+    writeLtv(base + ".ltv", r, L);
+    written.push_back(base + ".ltv");
   }
   return written;
 }
