@@ -54,18 +54,10 @@ std::string restartUnsupportedReason(const Model& m) {
   return {};
 }
 
-std::string restartText(const Model& m, double t, const core::StateOutputs& state) {
-  if (const std::string why = restartUnsupportedReason(m); !why.empty()) throw std::invalid_argument(why);
-  if (state.x.size() != m.nx || state.xd.size() != m.nx || state.e.size() != m.ne || state.ed.size() != m.ne)
-    throw std::invalid_argument("restart state: the state does not match the model's sizes");
-  if (!std::isfinite(t)) throw std::invalid_argument("restart state: the time is not finite");
-  Writer w{m, m.dialect == core::Dialect::Spacar95, {}};
-  const auto& set = m.settings;
-  w.comment("flexmb restart state of " + m.sourceFile + " at t = " + num(t));
-  w.comment("(the configuration, deformations and input rates where the run ended; reading this file");
-  w.comment("continues the run for one more period)");
+namespace {
 
-  // Elements and the current coordinates.
+// The elements, the coordinates where the run ended and the roles.
+void restartTopology(Writer& w, const Model& m, const core::StateOutputs& state) {
   for (const auto& el : m.elements) {
     std::string s = el.type->keyword + " " + std::to_string(el.label);
     // Appended piecewise here and below: `" " + std::string` inside `+=` trips GCC 12's -Wrestrict
@@ -103,8 +95,10 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     w.line("END");
     w.line("HALT");
   }
+}
 
-  // Reference lengths: the undeformed geometry stays the original one.
+// Reference lengths (the undeformed geometry stays the original one), inertia, stiffness, damping.
+void restartProperties(Writer& w, const Model& m) {
   for (const auto& el : m.elements)
     if (el.impl && el.impl->referenceLength() > 0.0)
       w.line("LENGTH0 " + std::to_string(el.label) + " " + num(el.impl->referenceLength()));
@@ -132,8 +126,10 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     if (el.hasStiffness) params("ESTIFF", el.stiffnessParams);
     if (el.hasDamping) params(w.s95 ? "EDAMPP" : "EDAMP", el.dampingParams);
   }
+}
 
-  // Loads.
+// Constant and time-dependent loads, gravity, prestress.
+void restartLoads(Writer& w, const Model& m) {
   for (const auto& n : m.nodes) {
     bool any = false, anyDel = false;
     std::string f, d;
@@ -162,8 +158,10 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
   for (const auto& tl : m.timeForces) w.line("XFT " + w.xId(tl.index) + " " + quoted(tl.f));
   for (const auto& tl : m.timeStresses) w.line("ESIGT " + w.eId(tl.index) + " " + quoted(tl.f));
   for (const auto& tl : m.references) w.line("EREF " + w.eId(tl.index) + " " + quoted(tl.f));
+}
 
-  // Inputs at the current time: value (in XY/BETA for coordinates), rate and acceleration.
+// The inputs at time t: value (in XY/BETA for coordinates), rate and acceleration.
+void restartInputs(Writer& w, const Model& m, double t) {
   for (const auto& r : m.inputX) {
     if (r.fx) {
       w.line("INPUTXT " + w.xId(r.index) + " " + quoted(r.fx) + " " + quoted(r.fv) + " " + quoted(r.fa));
@@ -194,6 +192,10 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
       w.line("INPUTE " + w.eId(r.index) + " " + num(x) + " " + num(v) + " " + num(a));
     }
   }
+}
+
+// Rates (and, SPACAR95, accelerations) of DYNX coordinates, and the deformations where the run ended.
+void restartRates(Writer& w, const Model& m, const core::StateOutputs& state) {
   // Rates (and, SPACAR95, accelerations) of DYNX coordinates.
   const bool accelerations = state.xdd.size() == m.nx && state.edd.size() == m.ne;
   for (const auto& d : m.dofs) {
@@ -220,8 +222,11 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
              (role == Role::Dynamic ? " " + num(state.ed[di]) : std::string()));
     }
   }
+}
 
-  // Time and settings.
+// The time and the settings: the next period from t.
+void restartSettings(Writer& w, const Model& m, double t) {
+  const auto& set = m.settings;
   w.line("TIME " + num(t));
   const double period = set.tEnd - set.t0;
   if (w.s95)
@@ -245,6 +250,26 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
     w.line("END");
     w.line("END");
   }
+}
+
+}  // namespace
+
+std::string restartText(const Model& m, double t, const core::StateOutputs& state) {
+  if (const std::string why = restartUnsupportedReason(m); !why.empty()) throw std::invalid_argument(why);
+  if (state.x.size() != m.nx || state.xd.size() != m.nx || state.e.size() != m.ne || state.ed.size() != m.ne)
+    throw std::invalid_argument("restart state: the state does not match the model's sizes");
+  if (!std::isfinite(t)) throw std::invalid_argument("restart state: the time is not finite");
+  Writer w{m, m.dialect == core::Dialect::Spacar95, {}};
+  w.comment("flexmb restart state of " + m.sourceFile + " at t = " + num(t));
+  w.comment("(the configuration, deformations and input rates where the run ended; reading this file");
+  w.comment("continues the run for one more period)");
+
+  restartTopology(w, m, state);
+  restartProperties(w, m);
+  restartLoads(w, m);
+  restartInputs(w, m, t);
+  restartRates(w, m, state);
+  restartSettings(w, m, t);
   return w.out;
 }
 

@@ -339,6 +339,69 @@ std::vector<double> logTicks(double lo, double hi, int maxTicks) {
   return linearTicks(lo, hi, maxTicks);
 }
 
+namespace {
+
+// One series' lines (cut where a point is not finite, clipped to the area) and markers.
+void appendSeries(std::string& o, const Series& s, std::size_t si, const AxisMap& xm, const AxisMap& ym,
+                  const Rect& clip) {
+  const std::string color = seriesColor(s, si);
+  std::vector<std::vector<Pt>> runs(1);
+  std::vector<Pt> points;
+  for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+    const Pt p{xm.px(s.x[i]), ym.px(s.y[i])};
+    if (std::isfinite(p.x) && std::isfinite(p.y)) {
+      runs.back().push_back(p);
+      points.push_back(p);
+    } else if (!runs.back().empty()) {
+      runs.emplace_back();
+    }
+  }
+  o += "<g class=\"series\" clip-path=\"url(#flexmb-plot-area)\">\n";
+  if (s.line) {
+    std::vector<std::vector<Pt>> visible;
+    for (const auto& run : runs)
+      if (!run.empty()) clipRun(run, clip, visible);
+    for (const auto& run : visible) {
+      o += "<polyline " + strokeStyle(color, s.dashed) + " points=\"";
+      for (std::size_t i = 0; i < run.size(); ++i) {
+        if (i > 0) o += ' ';
+        o += fixed2(run[i].x) + "," + fixed2(run[i].y);
+      }
+      o += "\"/>\n";
+    }
+  }
+  if (s.markers) {
+    o += "<g class=\"markers\" fill=\"" + color + "\" stroke=\"none\">\n";
+    for (const Pt& p : points)
+      if (clip.inside(p, 5)) o += marker(static_cast<int>(si), p) + "\n";
+    o += "</g>\n";
+  }
+  o += "</g>\n";
+}
+
+// The legend right of the plot area: one row per labelled series.
+void appendLegend(std::string& o, const Plot& plot, const std::vector<std::size_t>& legendItems, double legendW,
+                  const Rect& area) {
+  const double x0 = area.x1 + 12, y0 = area.y0;
+  o += "<g class=\"legend\">\n<rect x=\"" + fixed2(x0) + "\" y=\"" + fixed2(y0) + "\" width=\"" + fixed2(legendW) +
+       "\" height=\"" + fixed2(10 + 16.0 * static_cast<double>(legendItems.size())) +
+       "\" fill=\"white\" stroke=\"#bbbbbb\" stroke-width=\"1\"/>\n";
+  for (std::size_t r = 0; r < legendItems.size(); ++r) {
+    const std::size_t si = legendItems[r];
+    const Series& s = plot.series[si];
+    const std::string color = seriesColor(s, si);
+    const double y = y0 + 13 + 16.0 * static_cast<double>(r);
+    if (s.line)
+      o += "<line x1=\"" + fixed2(x0 + 8) + "\" y1=\"" + fixed2(y) + "\" x2=\"" + fixed2(x0 + 34) + "\" y2=\"" +
+           fixed2(y) + "\" " + strokeStyle(color, s.dashed) + "/>\n";
+    if (s.markers) o += "<g fill=\"" + color + "\">" + marker(static_cast<int>(si), {x0 + 21, y}) + "</g>\n";
+    o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + xmlEscape(s.label) + "</text>\n";
+  }
+  o += "</g>\n";
+}
+
+}  // namespace
+
 std::string renderSvg(const Plot& plot) {
   const double W = std::max(plot.width, 240), H = std::max(plot.height, 180);
 
@@ -451,42 +514,7 @@ std::string renderSvg(const Plot& plot) {
       o += vline(x, " stroke=\"#808080\" stroke-width=\"1\" stroke-dasharray=\"5 4\"");
   }
   o += "</g>\n";
-  for (std::size_t si = 0; si < plot.series.size(); ++si) {
-    const Series& s = plot.series[si];
-    const std::string color = seriesColor(s, si);
-    std::vector<std::vector<Pt>> runs(1);
-    std::vector<Pt> points;
-    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
-      const Pt p{xm.px(s.x[i]), ym.px(s.y[i])};
-      if (std::isfinite(p.x) && std::isfinite(p.y)) {
-        runs.back().push_back(p);
-        points.push_back(p);
-      } else if (!runs.back().empty()) {
-        runs.emplace_back();
-      }
-    }
-    o += "<g class=\"series\" clip-path=\"url(#flexmb-plot-area)\">\n";
-    if (s.line) {
-      std::vector<std::vector<Pt>> visible;
-      for (const auto& run : runs)
-        if (!run.empty()) clipRun(run, clip, visible);
-      for (const auto& run : visible) {
-        o += "<polyline " + strokeStyle(color, s.dashed) + " points=\"";
-        for (std::size_t i = 0; i < run.size(); ++i) {
-          if (i > 0) o += ' ';
-          o += fixed2(run[i].x) + "," + fixed2(run[i].y);
-        }
-        o += "\"/>\n";
-      }
-    }
-    if (s.markers) {
-      o += "<g class=\"markers\" fill=\"" + color + "\" stroke=\"none\">\n";
-      for (const Pt& p : points)
-        if (clip.inside(p, 5)) o += marker(static_cast<int>(si), p) + "\n";
-      o += "</g>\n";
-    }
-    o += "</g>\n";
-  }
+  for (std::size_t si = 0; si < plot.series.size(); ++si) appendSeries(o, plot.series[si], si, xm, ym, clip);
   if (noData)
     o += "<text class=\"no-data\" x=\"" + fixed2((area.x0 + area.x1) / 2) + "\" y=\"" +
          fixed2((area.y0 + area.y1) / 2) +
@@ -495,25 +523,7 @@ std::string renderSvg(const Plot& plot) {
        fixed2(area.x1 - area.x0) + "\" height=\"" + fixed2(area.y1 - area.y0) +
        "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
 
-  // Legend, right of the plot area.
-  if (!legendItems.empty()) {
-    const double x0 = area.x1 + 12, y0 = area.y0;
-    o += "<g class=\"legend\">\n<rect x=\"" + fixed2(x0) + "\" y=\"" + fixed2(y0) + "\" width=\"" + fixed2(legendW) +
-         "\" height=\"" + fixed2(10 + 16.0 * static_cast<double>(legendItems.size())) +
-         "\" fill=\"white\" stroke=\"#bbbbbb\" stroke-width=\"1\"/>\n";
-    for (std::size_t r = 0; r < legendItems.size(); ++r) {
-      const std::size_t si = legendItems[r];
-      const Series& s = plot.series[si];
-      const std::string color = seriesColor(s, si);
-      const double y = y0 + 13 + 16.0 * static_cast<double>(r);
-      if (s.line)
-        o += "<line x1=\"" + fixed2(x0 + 8) + "\" y1=\"" + fixed2(y) + "\" x2=\"" + fixed2(x0 + 34) + "\" y2=\"" +
-             fixed2(y) + "\" " + strokeStyle(color, s.dashed) + "/>\n";
-      if (s.markers) o += "<g fill=\"" + color + "\">" + marker(static_cast<int>(si), {x0 + 21, y}) + "</g>\n";
-      o += "<text x=\"" + fixed2(x0 + 40) + "\" y=\"" + fixed2(y + 4) + "\">" + xmlEscape(s.label) + "</text>\n";
-    }
-    o += "</g>\n";
-  }
+  if (!legendItems.empty()) appendLegend(o, plot, legendItems, legendW, area);  // right of the plot area
   o += "</svg>\n";
   return o;
 }
