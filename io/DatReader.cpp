@@ -203,6 +203,10 @@ class Reader {
   }
 
   void scan();
+  // The keyword that starts a line (its upper-case name in `name`); fails naming the line.
+  const KeywordInfo* lineKeyword(const std::vector<Token>& tokens, int lineNo, std::string& name) const;
+  // VISUALIZATION after the end of the input (SPACAR Light writes it after END END), from `pos`.
+  void findVisualizationAfterEnd(size_t pos, int lineNo);
   core::Dialect detect() const;
   std::vector<AnalysisStage> build(const ReadOptions& options);
 
@@ -212,6 +216,9 @@ class Reader {
   void checkArgs(const Statement& s, const std::vector<ArgSpec>& layout) const;
   std::optional<std::string> layoutError(const Statement& s, const std::vector<ArgSpec>& layout) const;
   void apply(const Statement& s, core::ModelBuilder& b, bool spacar95);
+  // The run settings' statements (TIMESTEP, ERROR, ITERSTEP, ..., USERSIG): true when s was one.
+  bool applySetting(const Statement& s, core::ModelBuilder& b, bool spacar95);
+  void checkLayout(const Statement& s, bool spacar95) const;
 
   int integer(const Statement& s, size_t k) const;
   double real(const Statement& s, size_t k) const;
@@ -268,6 +275,53 @@ bool Reader::lexLine(std::string_view line, int lineNo, std::vector<Token>& toke
   return !tokens.empty();
 }
 
+const KeywordInfo* Reader::lineKeyword(const std::vector<Token>& tokens, int lineNo, std::string& name) const {
+  const Token& first = tokens.front();
+  if (first.quoted) fail(lineNo, "", "expected a keyword at the start of the line, found " + showToken(first));
+  const std::string& word = first.text;
+  if (!std::isalpha(static_cast<unsigned char>(word[0]))) {
+    std::string msg = "expected a keyword at the start of the line, found " + show(word);
+    if (word[0] == '*') msg += " (a '*' comment must start in column 1)";
+    fail(lineNo, "", msg);
+  }
+  for (char ch : word)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
+      fail(lineNo, "",
+           "invalid keyword " + show(word) +
+               " (a keyword is letters and digits, followed by blank-separated "
+               "arguments)" +
+               (word.find(',') != std::string::npos ? commaHint(word) : ""));
+  name = upper(word);
+  const std::vector<const KeywordInfo*> infos = findKeywords(name);
+  if (infos.empty()) {
+    const std::string suggestion = suggestKeyword(name);
+    const std::string hint = suggestion.empty() ? "" : "; did you mean " + suggestion + "?";
+    if (name.size() > kMaxKeywordLength)
+      fail(lineNo, "", "keyword " + show(word) + " is longer than 8 characters" + hint);
+    fail(lineNo, "", "unknown keyword " + show(word) + hint);
+  }
+  return infos.front();
+}
+
+// SPACAR reads nothing after the end of the input, but SPACAR Light writes its VISUALIZATION
+// section (cross-sections, colours; pictures only) after END END: it is found there too.
+void Reader::findVisualizationAfterEnd(size_t pos, int lineNo) {
+  while (visualizationAt_ == std::string_view::npos && pos < text_.size()) {
+    size_t nl = text_.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text_.size();
+    std::string_view line = text_.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++lineNo;
+    const size_t b = line.find_first_not_of(" \t\r");
+    if (b == std::string_view::npos) continue;
+    const size_t e = line.find_first_of(" \t\r", b);
+    if (upper(std::string(line.substr(b, e == std::string_view::npos ? line.size() - b : e - b))) == "VISUALIZATION") {
+      visualizationAt_ = std::min(pos, text_.size());
+      visualizationLine_ = lineNo + 1;
+    }
+  }
+}
+
 void Reader::scan() {
   // Block state: the first block is open from the start; after an END no block is open until the
   // next ordinary keyword opens one.
@@ -292,32 +346,9 @@ void Reader::scan() {
     lastLine_ = lineNo;
     if (!lexLine(line, lineNo, tokens)) continue;
 
-    const Token& first = tokens.front();
-    if (first.quoted) fail(lineNo, "", "expected a keyword at the start of the line, found " + showToken(first));
-    const std::string& word = first.text;
-    if (!std::isalpha(static_cast<unsigned char>(word[0]))) {
-      std::string msg = "expected a keyword at the start of the line, found " + show(word);
-      if (word[0] == '*') msg += " (a '*' comment must start in column 1)";
-      fail(lineNo, "", msg);
-    }
-    for (char ch : word)
-      if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_')
-        fail(lineNo, "",
-             "invalid keyword " + show(word) +
-                 " (a keyword is letters and digits, followed by blank-separated "
-                 "arguments)" +
-                 (word.find(',') != std::string::npos ? commaHint(word) : ""));
-    const std::string name = upper(word);
-    const std::vector<const KeywordInfo*> infos = findKeywords(name);
-    if (infos.empty()) {
-      const std::string suggestion = suggestKeyword(name);
-      const std::string hint = suggestion.empty() ? "" : "; did you mean " + suggestion + "?";
-      if (name.size() > kMaxKeywordLength)
-        fail(lineNo, "", "keyword " + show(word) + " is longer than 8 characters" + hint);
-      fail(lineNo, "", "unknown keyword " + show(word) + hint);
-    }
+    std::string name;
+    const KeywordInfo* info = lineKeyword(tokens, lineNo, name);
     any = true;
-    const KeywordInfo* info = infos.front();
 
     // After END HALT closing a later block: a mode-9 transfer block (INPUTF, OUTX, ...) up to its
     // END is recorded and reported; anything else ends the input there, as before.
@@ -416,22 +447,7 @@ void Reader::scan() {
     st.info = info;  // provisional (dialect detection); resolve() picks the block's entry
     statements_.push_back(std::move(st));
   }
-  // SPACAR reads nothing after the end of the input, but SPACAR Light writes its VISUALIZATION
-  // section (cross-sections, colours; pictures only) after END END: it is found there too.
-  while (visualizationAt_ == std::string_view::npos && pos < text_.size()) {
-    size_t nl = text_.find('\n', pos);
-    if (nl == std::string_view::npos) nl = text_.size();
-    std::string_view line = text_.substr(pos, nl - pos);
-    pos = nl + 1;
-    ++lineNo;
-    const size_t b = line.find_first_not_of(" \t\r");
-    if (b == std::string_view::npos) continue;
-    const size_t e = line.find_first_of(" \t\r", b);
-    if (upper(std::string(line.substr(b, e == std::string_view::npos ? line.size() - b : e - b))) == "VISUALIZATION") {
-      visualizationAt_ = std::min(pos, text_.size());
-      visualizationLine_ = lineNo + 1;
-    }
-  }
+  findVisualizationAfterEnd(pos, lineNo);
   if (!any) {
     if (lastLine_ == 0) fail(0, "", "the file is empty");
     fail(0, "", "the file holds no statements (only comments or blank lines)");
@@ -591,21 +607,27 @@ core::TimeFunctionPtr Reader::function(const Statement& s, size_t k, const std::
   }
 }
 
-void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
+// EM, ESTIFF, EDAMP or ESIG with the element number alone: oopspa's writer gives every element
+// such a line, also those without the property, and SPACAR runs those files. Nothing is set
+// (ModelBuilder::noValues: a note naming the lines; the element must exist). Anything else that
+// is short falls through to the layout's error. EMASS and EDAMPP (SPACAR95) stay strict.
+// True when s was such a line.
+bool propertyWithoutValues(const Statement& s, core::ModelBuilder& b) {
   const KeywordInfo& info = *s.info;
-  const auto& layout = info.layout(spacar95);
-  // EM, ESTIFF, EDAMP or ESIG with the element number alone: oopspa's writer gives every element
-  // such a line, also those without the property, and SPACAR runs those files. Nothing is set
-  // (ModelBuilder::noValues: a note naming the lines; the element must exist). Anything else that
-  // is short falls through to the layout's error. EMASS and EDAMPP (SPACAR95) stay strict.
   if (s.args.size() == 1 && !s.args[0].quoted &&
       (info.name == "EM" || info.name == "ESTIFF" || info.name == "EDAMP" || info.name == "ESIG")) {
     long long element = 0;
     if (parseWhole(s.args[0].text, element) == NumParse::Ok && element > 0) {
       b.noValues(info.name, static_cast<int>(element), s.line);
-      return;
+      return true;
     }
   }
+  return false;
+}
+
+void Reader::checkLayout(const Statement& s, bool spacar95) const {
+  const KeywordInfo& info = *s.info;
+  const auto& layout = info.layout(spacar95);
   if (info.action == Action::TimeStep) {
     if (auto err = layoutError(s, layout)) {
       std::string msg = *err;
@@ -618,6 +640,87 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
   } else {
     checkArgs(s, layout);
   }
+}
+
+bool Reader::applySetting(const Statement& s, core::ModelBuilder& b, bool spacar95) {
+  const int line = s.line;
+  auto positive = [&](double v, const std::string& what) {
+    if (!(v > 0.0)) {
+      std::ostringstream o;
+      o << what << " must be positive, found " << v;
+      fail(line, s.keyword, o.str());
+    }
+    return v;
+  };
+  core::AnalysisSettings& set = b.settings();
+  switch (s.info->action) {
+    case Action::OutLevel:
+      set.outputLevel = integer(s, 0);
+      if (s.args.size() > 1) set.transferFunctionLevel = integer(s, 1);
+      break;
+    case Action::Ignored:
+      b.addNote(s.keyword + " (line " + std::to_string(line) +
+                "): SPACAR95 run setting, accepted and ignored by flexmb");
+      break;
+    case Action::TimeStep:
+      if (spacar95) {  // a period from the current time; the end time is fixed at the block's END
+        set.outputIntervals = integer(s, 0);
+        period_ = positive(real(s, 1), "the TIMESTEP period");
+      } else {
+        set.tEnd = real(s, 0);
+        set.outputIntervals = integer(s, 1);
+      }
+      set.timestepGiven = true;
+      timestepLine_ = line;
+      break;
+    case Action::EpsInt:
+      set.relTol = set.absTol = positive(real(s, 0), "the integration tolerance");
+      break;
+    case Action::ErrorTol:
+      set.absTol = positive(real(s, 0), "the absolute tolerance");
+      set.relTol = positive(real(s, 1), "the relative tolerance");
+      break;
+    case Action::HMax:
+      set.hmax = positive(real(s, 0), "the maximum step size");
+      break;
+    case Action::EpsKin:
+      set.kinematicTol = positive(real(s, 0), "the kinematic tolerance");
+      set.kinematicTolGiven = true;
+      break;
+    case Action::MaxIterat:
+      set.maxIterations = integer(s, 0);
+      break;
+    case Action::IterStep:
+      set.maxIterations = integer(s, 0);
+      set.loadSteps = integer(s, 1);
+      if (auto tol = optReal(s, 2)) {
+        set.kinematicTol = positive(*tol, "the tolerance");
+        set.kinematicTolGiven = true;
+      }
+      // Fields 4 and 5 (control fields) are read and not used; field 6: initial-load steps.
+      set.initialLoadSteps = s.args.size() > 5 ? integer(s, 5) : 0;
+      break;
+    case Action::Time:
+      set.t0 = real(s, 0);
+      timeLine_ = line;
+      break;
+    case Action::UserStress:
+      userStress_ = s.args[0].text, userStressLine_ = line;
+      break;
+    case Action::UserInput:
+      userInput_ = s.args[0].text, userInputLine_ = line;
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
+void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
+  const KeywordInfo& info = *s.info;
+  if (propertyWithoutValues(s, b)) return;
+  checkLayout(s, spacar95);
+  if (applySetting(s, b, spacar95)) return;
   const int line = s.line;
   auto ints = [&](size_t from) {
     std::vector<int> v;
@@ -629,16 +732,7 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     for (size_t k = from; k < s.args.size(); ++k) v.push_back(real(s, k));
     return v;
   };
-  auto positive = [&](double v, const std::string& what) {
-    if (!(v > 0.0)) {
-      std::ostringstream o;
-      o << what << " must be positive, found " << v;
-      fail(line, s.keyword, o.str());
-    }
-    return v;
-  };
   using core::Role;
-  core::AnalysisSettings& set = b.settings();
   switch (info.action) {
     case Action::Element: {
       const size_t nn = info.elementType->slots.size();
@@ -728,67 +822,11 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::Prestress:  // ESIG e s1 [s2 ... sn]: a value per deformation (ModelBuilder::setPrestress)
       b.setPrestress(integer(s, 0), reals(1), line);
       break;
-    case Action::OutLevel:
-      set.outputLevel = integer(s, 0);
-      if (s.args.size() > 1) set.transferFunctionLevel = integer(s, 1);
-      break;
     case Action::Length0:
       b.setReferenceLength(integer(s, 0), real(s, 1), line);
       break;
-    case Action::Ignored:
-      b.addNote(s.keyword + " (line " + std::to_string(line) +
-                "): SPACAR95 run setting, accepted and ignored by flexmb");
-      break;
-    case Action::TimeStep:
-      if (spacar95) {  // a period from the current time; the end time is fixed at the block's END
-        set.outputIntervals = integer(s, 0);
-        period_ = positive(real(s, 1), "the TIMESTEP period");
-      } else {
-        set.tEnd = real(s, 0);
-        set.outputIntervals = integer(s, 1);
-      }
-      set.timestepGiven = true;
-      timestepLine_ = line;
-      break;
-    case Action::EpsInt:
-      set.relTol = set.absTol = positive(real(s, 0), "the integration tolerance");
-      break;
-    case Action::ErrorTol:
-      set.absTol = positive(real(s, 0), "the absolute tolerance");
-      set.relTol = positive(real(s, 1), "the relative tolerance");
-      break;
-    case Action::HMax:
-      set.hmax = positive(real(s, 0), "the maximum step size");
-      break;
-    case Action::EpsKin:
-      set.kinematicTol = positive(real(s, 0), "the kinematic tolerance");
-      set.kinematicTolGiven = true;
-      break;
-    case Action::MaxIterat:
-      set.maxIterations = integer(s, 0);
-      break;
-    case Action::IterStep:
-      set.maxIterations = integer(s, 0);
-      set.loadSteps = integer(s, 1);
-      if (auto tol = optReal(s, 2)) {
-        set.kinematicTol = positive(*tol, "the tolerance");
-        set.kinematicTolGiven = true;
-      }
-      // Fields 4 and 5 (control fields) are read and not used; field 6: initial-load steps.
-      set.initialLoadSteps = s.args.size() > 5 ? integer(s, 5) : 0;
-      break;
-    case Action::Time:
-      set.t0 = real(s, 0);
-      timeLine_ = line;
-      break;
     case Action::TimeForce:
       b.addTimeForce(integer(s, 0), integer(s, 1), function(s, 2, "f(t)"), line);
-      break;
-    case Action::UserStress:
-      userStress_ = s.args[0].text, userStressLine_ = line;
-      break;
-    case Action::UserInput:
-      userInput_ = s.args[0].text, userInputLine_ = line;
       break;
     case Action::TimeStress:
       b.addTimeStress(integer(s, 0), integer(s, 1), function(s, 2, "sigma(t)"), line);
@@ -804,6 +842,18 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       b.setInputDeformationFunctions(integer(s, 0), integer(s, 1), function(s, 2, "e(t)"), function(s, 3, "v(t)"),
                                      function(s, 4, "a(t)"), line);
       break;
+    case Action::OutLevel:  // run settings: applySetting
+    case Action::Ignored:
+    case Action::TimeStep:
+    case Action::EpsInt:
+    case Action::ErrorTol:
+    case Action::HMax:
+    case Action::EpsKin:
+    case Action::MaxIterat:
+    case Action::IterStep:
+    case Action::Time:
+    case Action::UserStress:
+    case Action::UserInput:
     case Action::End:
     case Action::Halt:
     case Action::Eof:
