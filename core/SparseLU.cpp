@@ -129,6 +129,8 @@ DenseLUFn denseLU(int nk) {
 class SolvePlan {
  public:
   void build(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai);
+  // build's second half: klu_refactor's traversal mapped onto the solve layout (val_).
+  void buildRefactorMaps(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai);
   // Factor values for new matrix values ax (same pattern) in the pivot order of the last build.
   // Returns min |u_kk| / max |u_kk| (KLU's klu_rcond), 0 for a zero or non-finite pivot.
   double refactor(const double* ax);
@@ -317,6 +319,11 @@ void SolvePlan::build(const klu_symbolic& s, const klu_numeric& f, const int* ap
       for (int k = 0; k < b.size; ++k) src_[b.lu + k * (b.size + 1)] = kluUdiag + b.first + k;
   for (size_t p = 0; p < val_.size(); ++p) val_[p] = *src_[p];
 
+  buildRefactorMaps(s, f, ap, ai);
+}
+
+void SolvePlan::buildRefactorMaps(const klu_symbolic& s, const klu_numeric& f, const int* ap, const int* ai) {
+  const int n = n_, nb = static_cast<int>(blocks_.size());
   // Refactorisation maps: klu_refactor's traversal (blocks first to last, columns in pivot order,
   // each column's entries of A in stored order), each factor value's address in KLU's numeric
   // object translated to its place in val_.

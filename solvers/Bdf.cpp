@@ -176,6 +176,56 @@ std::string Bdf::formatStats(const OdeStats& s) {
   return out;
 }
 
+namespace {
+
+// CVODE's settings: tolerances, dense linear solver (with the analytic Jacobian when given), order,
+// step bounds and the stop time.
+void configureCvode(Sundials& sd, Session& session, bool analyticJacobian, const BdfOptions& opt, double t0,
+                    double tf) {
+  const double tdir = tf > t0 ? 1.0 : -1.0;
+  auto check = [](int flag, const char* what) {
+    if (flag < 0)
+      throw std::runtime_error(std::string("Bdf: CVODE set-up ") + what + " failed (" + std::to_string(flag) + ")");
+  };
+  const double span = std::fabs(tf - t0);
+  const double hmax = opt.maxStep > 0.0 ? std::min(span, opt.maxStep) : 0.1 * span;
+  // hmin as Ode45's 16 eps(t) (at the larger end): a step below it means the tolerance cannot be
+  // met, instead of a crawl to h ~ 1e-19 through repeated failures.
+  const double hmin = 16.0 * epsAt(std::max(std::fabs(t0), std::fabs(tf)));
+  check(CVodeSetErrHandlerFn(sd.mem, errorHandler, &session), "CVodeSetErrHandlerFn");
+  check(CVodeInit(sd.mem, rhsCallback, t0, sd.y), "CVodeInit");
+  check(CVodeSStolerances(sd.mem, opt.relTol, opt.absTol), "CVodeSStolerances");
+  check(CVodeSetUserData(sd.mem, &session), "CVodeSetUserData");
+  check(CVodeSetLinearSolver(sd.mem, sd.LS, sd.A), "CVodeSetLinearSolver");
+  if (analyticJacobian) check(CVodeSetJacFn(sd.mem, jacCallback), "CVodeSetJacFn");  // else difference quotients
+  check(CVodeSetMaxOrd(sd.mem, opt.maxOrder), "CVodeSetMaxOrd");
+  check(CVodeSetMaxStep(sd.mem, hmax), "CVodeSetMaxStep");
+  check(CVodeSetMinStep(sd.mem, std::min(hmin, 0.5 * hmax)), "CVodeSetMinStep");
+  if (opt.initialStep > 0.0)
+    check(CVodeSetInitStep(sd.mem, tdir * std::min(opt.initialStep, hmax)), "CVodeSetInitStep");
+  check(CVodeSetStopTime(sd.mem, tf), "CVodeSetStopTime");
+}
+
+// The counts so far (every evaluation, difference-quotient Jacobians included).
+void cvodeStats(void* mem, OdeStats& stats) {
+  long nst = 0, nfe = 0, nfeLS = 0, netf = 0, ncfn = 0, nje = 0, nsetups = 0;
+  CVodeGetNumSteps(mem, &nst);
+  CVodeGetNumRhsEvals(mem, &nfe);
+  CVodeGetNumLinRhsEvals(mem, &nfeLS);
+  CVodeGetNumErrTestFails(mem, &netf);
+  CVodeGetNumNonlinSolvConvFails(mem, &ncfn);
+  CVodeGetNumJacEvals(mem, &nje);
+  CVodeGetNumLinSolvSetups(mem, &nsetups);
+  stats.nsteps = nst;
+  stats.nfailed = netf + ncfn;  // error-test and corrector-convergence failures
+  stats.nfevals = nfe + nfeLS;
+  stats.njacfevals = nfeLS;
+  stats.njacevals = nje;
+  stats.nlinsetups = nsetups;
+}
+
+}  // namespace
+
 OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std::vector<double>& tspan,
                          const Eigen::VectorXd& y0, const OdeObserver& observer, const OdeStepHook& accepted) const {
   const Eigen::Index n = y0.size();
@@ -211,44 +261,8 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
   if (!sd.LS) throw std::runtime_error("Bdf: SUNLinSol_Dense failed");
   std::copy(y0.data(), y0.data() + n, NV_DATA_S(sd.y));
 
-  auto check = [](int flag, const char* what) {
-    if (flag < 0)
-      throw std::runtime_error(std::string("Bdf: CVODE set-up ") + what + " failed (" + std::to_string(flag) + ")");
-  };
-  const double span = std::fabs(tf - t0);
-  const double hmax = opt_.maxStep > 0.0 ? std::min(span, opt_.maxStep) : 0.1 * span;
-  // hmin as Ode45's 16 eps(t) (at the larger end): a step below it means the tolerance cannot be
-  // met, instead of a crawl to h ~ 1e-19 through repeated failures.
-  const double hmin = 16.0 * epsAt(std::max(std::fabs(t0), std::fabs(tf)));
-  check(CVodeSetErrHandlerFn(sd.mem, errorHandler, &session), "CVodeSetErrHandlerFn");
-  check(CVodeInit(sd.mem, rhsCallback, t0, sd.y), "CVodeInit");
-  check(CVodeSStolerances(sd.mem, opt_.relTol, opt_.absTol), "CVodeSStolerances");
-  check(CVodeSetUserData(sd.mem, &session), "CVodeSetUserData");
-  check(CVodeSetLinearSolver(sd.mem, sd.LS, sd.A), "CVodeSetLinearSolver");
-  if (jacobian) check(CVodeSetJacFn(sd.mem, jacCallback), "CVodeSetJacFn");  // else difference quotients
-  check(CVodeSetMaxOrd(sd.mem, opt_.maxOrder), "CVodeSetMaxOrd");
-  check(CVodeSetMaxStep(sd.mem, hmax), "CVodeSetMaxStep");
-  check(CVodeSetMinStep(sd.mem, std::min(hmin, 0.5 * hmax)), "CVodeSetMinStep");
-  if (opt_.initialStep > 0.0)
-    check(CVodeSetInitStep(sd.mem, tdir * std::min(opt_.initialStep, hmax)), "CVodeSetInitStep");
-  check(CVodeSetStopTime(sd.mem, tf), "CVodeSetStopTime");
-
-  auto collectStats = [&] {
-    long nst = 0, nfe = 0, nfeLS = 0, netf = 0, ncfn = 0, nje = 0, nsetups = 0;
-    CVodeGetNumSteps(sd.mem, &nst);
-    CVodeGetNumRhsEvals(sd.mem, &nfe);
-    CVodeGetNumLinRhsEvals(sd.mem, &nfeLS);
-    CVodeGetNumErrTestFails(sd.mem, &netf);
-    CVodeGetNumNonlinSolvConvFails(sd.mem, &ncfn);
-    CVodeGetNumJacEvals(sd.mem, &nje);
-    CVodeGetNumLinSolvSetups(sd.mem, &nsetups);
-    res.stats.nsteps = nst;
-    res.stats.nfailed = netf + ncfn;  // error-test and corrector-convergence failures
-    res.stats.nfevals = nfe + nfeLS;  // every evaluation, difference-quotient Jacobians included
-    res.stats.njacfevals = nfeLS;
-    res.stats.njacevals = nje;
-    res.stats.nlinsetups = nsetups;
-  };
+  configureCvode(sd, session, static_cast<bool>(jacobian), opt_, t0, tf);
+  auto collectStats = [&] { cvodeStats(sd.mem, res.stats); };
 
   if (!observer(t0, y0)) {
     fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(t0));

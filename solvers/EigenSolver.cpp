@@ -391,6 +391,41 @@ void ConstrainedShiftInvert::projectResidual(double* v) const {
 }
 
 // ---------------------------------------------------------------------------------------------------
+namespace {
+
+// The lowest shift: inverse iteration at sigma, Rayleigh quotient rho, sigma <- -0.1 |rho| while it
+// moves down; op stays factorised at the shift returned. `s`: the pencil's diagonal scale.
+double lowestShift(ShiftInvertOperator& op, double sigma, double s) {
+  const int n = op.size();
+  // Inverse iteration at sigma, Rayleigh quotient rho, sigma <- -0.1 |rho| while it moves down.
+  Eigen::VectorXd x(n), t(n), y(n), ax(n);
+  for (int i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+  for (int round = 0; round < 12; ++round) {
+    for (int it = 0; it < 3; ++it) {
+      op.applyB(x.data(), t.data());
+      op.solve(t.data(), y.data());
+      const double nrm = y.norm();
+      if (!(nrm > 0.0) || !std::isfinite(nrm)) break;
+      x = y / nrm;
+    }
+    op.applyA(x.data(), ax.data());
+    op.applyB(x.data(), t.data());
+    const double bx = x.dot(t);
+    if (!(bx > 0.0)) break;
+    const double rho = std::abs(x.dot(ax) / bx);
+    const double next = -0.1 * rho;
+    if (!(rho > 1e-12 * s) || !std::isfinite(rho) || next <= 0.5 * sigma) break;  // no real progress
+    if (!op.factorize(next)) {
+      op.factorize(sigma);
+      break;
+    }
+    sigma = next;
+  }
+  return sigma;
+}
+
+}  // namespace
+
 EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
   const int n = op.size();
   checkSizes(n, opt, /*allowAll=*/false, "solveArpack");
@@ -425,30 +460,7 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
     return r;
   }
   if (opt.lowestShift && !opt.shift) {
-    // Inverse iteration at sigma, Rayleigh quotient rho, sigma <- -0.1 |rho| while it moves down.
-    Eigen::VectorXd x(n), t(n), y(n), ax(n);
-    for (int i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
-    for (int round = 0; round < 12; ++round) {
-      for (int it = 0; it < 3; ++it) {
-        op.applyB(x.data(), t.data());
-        op.solve(t.data(), y.data());
-        const double nrm = y.norm();
-        if (!(nrm > 0.0) || !std::isfinite(nrm)) break;
-        x = y / nrm;
-      }
-      op.applyA(x.data(), ax.data());
-      op.applyB(x.data(), t.data());
-      const double bx = x.dot(t);
-      if (!(bx > 0.0)) break;
-      const double rho = std::abs(x.dot(ax) / bx);
-      const double next = -0.1 * rho;
-      if (!(rho > 1e-12 * s) || !std::isfinite(rho) || next <= 0.5 * sigma) break;  // no real progress
-      if (!op.factorize(next)) {
-        op.factorize(sigma);
-        break;
-      }
-      sigma = next;
-    }
+    sigma = lowestShift(op, sigma, s);
     r.shift = sigma;
   }
   std::string note;
