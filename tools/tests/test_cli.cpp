@@ -20,70 +20,15 @@
 #include <vector>
 
 #include "core/tests/ShortRun.hpp"
+#include "tools/tests/CliFixture.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
-const std::string kData = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/";
+using namespace flexmb::cli_test;
 
-struct Result {
-  int code = -1;  // exit code; 128 + signal when killed
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("flexmb_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  // Runs a bash command line in the test folder; `flexmb` as a command is replaced by the binary.
-  Result sh(const std::string& line) {
-    const std::string cmd = std::regex_replace(line, std::regex("(^|[;&] *|timeout 120 )flexmb\\b"), "$1" + kFlexmb);
-    std::ofstream(dir_ / "run.sh") << "cd '" << dir_.string() << "' || exit 99\n{ " << cmd
-                                   << "\n} >out.txt 2>err.txt\n";
-    const int status = std::system(("/bin/bash '" + (dir_ / "run.sh").string() + "'").c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(dir_ / "out.txt");
-    r.err = slurp(dir_ / "err.txt");
-    fs::remove(dir_ / "out.txt");
-    fs::remove(dir_ / "err.txt");
-    fs::remove(dir_ / "run.sh");
-    return r;
-  }
-  Result flexmb(const std::string& args) { return sh("timeout 120 flexmb " + args); }
-  // A model file in the test folder: `base` from datfiles/ with every line matching `from`
-  // replaced by `to` (regex), or extra lines put before the dynamic block's END.
-  std::string variant(const std::string& base, const std::string& from, const std::string& to,
-                      const std::string& name = "model.dat") {
-    const std::string text = std::regex_replace(slurp(kData + base), std::regex(from), to);
-    std::ofstream(dir_ / name) << text;
-    return name;
-  }
-  std::vector<std::string> files() const {
-    std::vector<std::string> v;
-    for (const auto& e : fs::recursive_directory_iterator(dir_)) v.push_back(fs::relative(e.path(), dir_).string());
-    std::sort(v.begin(), v.end());
-    return v;
-  }
-  fs::path dir_;
-};
+class Cli : public CliTest {};
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;

@@ -17,24 +17,15 @@
 #include <string>
 #include <vector>
 
+#include "tools/tests/CliFixture.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+using namespace flexmb::cli_test;
+
 const std::string kPivot = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_study.dat";
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> v;
@@ -43,19 +34,8 @@ std::vector<std::string> lines(const std::string& text) {
   return v;
 }
 
-// Runs a bash script in `dir`; `flexmb` at the start of a command is the binary under test.
-Result sh(const fs::path& dir, const std::string& script) {
-  const std::string cmd = std::regex_replace(script, std::regex("(^|[;&|(] *|\n *)flexmb\\b"), "$1" + kFlexmb);
-  std::ofstream(dir / "run.sh") << "cd '" << dir.string() << "' || exit 99\n"
-                                << "{\n"
-                                << cmd << "\n} >out.txt 2>err.txt\n";
-  const int status = std::system(("/bin/bash '" + (dir / "run.sh").string() + "'").c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(dir / "out.txt");
-  r.err = slurp(dir / "err.txt");
-  return r;
-}
+// The study's scripts keep their out.txt / err.txt beside the study.
+Result runIn(const fs::path& dir, const std::string& script) { return runScript(dir, script, false); }
 
 int countManifests(const fs::path& study) {
   int n = 0;
@@ -65,19 +45,10 @@ int countManifests(const fs::path& study) {
   return n;
 }
 
-class StudyCli : public ::testing::Test {
+class StudyCli : public CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("flexmb_study_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  Result run(const std::string& script) { return sh(dir_, script); }
+  StudyCli() : CliTest("flexmb_study_") {}
+  Result run(const std::string& script) { return runIn(dir_, script); }
   // The reference: 6 variants of the pivot, static with buckling and modes, --jobs 2 (made once).
   static std::string referenceTable() {
     static std::string table;
@@ -85,7 +56,7 @@ class StudyCli : public ::testing::Test {
       const fs::path d = fs::temp_directory_path() / ("flexmb_study_reference_" + std::to_string(::getpid()));
       fs::remove_all(d);
       fs::create_directories(d);
-      const Result r = sh(d, "flexmb study " + kPivot + " " + kArgs + " --jobs 2 --out ref");
+      const Result r = runIn(d, "flexmb study " + kPivot + " " + kArgs + " --jobs 2 --out ref");
       EXPECT_EQ(r.code, 0) << r.err;
       table = slurp(d / "ref" / "study_summary.csv");
       fs::remove_all(d);
@@ -93,7 +64,6 @@ class StudyCli : public ::testing::Test {
     return table;
   }
   static inline const std::string kArgs = "--param t=0.1e-3:0.5e-3:6 --static --buckling --modes -q";
-  fs::path dir_;
 };
 
 }  // namespace

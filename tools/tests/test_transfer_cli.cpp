@@ -14,18 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "tools/tests/CliFixture.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kFlexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using namespace flexmb::cli_test;
 
 // Mass 4 on a spring 400 with damper 2 (PLTRUSS, l0 = 1): input force on the mass, outputs its
 // displacement and velocity.
@@ -34,18 +29,9 @@ const char* kMassSpring =
     "ESTIFF 1 400\nEDAMP 1 2\nXM 2 4\nITERSTEP 10 1\nEND\nHALT\n"
     "INPUTF 1 2 1\nOUTX 1 2 1\nOUTXP 2 2 1\nEND\nEND\n";
 
-class TransferCli : public ::testing::Test {
+class TransferCli : public CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("flexmb_tf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
+  TransferCli() : CliTest("flexmb_tf_") {}
   int run(const std::string& args, std::string* out = nullptr) {
     const std::string cmd = "cd '" + dir_.string() + "' && timeout 120 '" + kFlexmb + "' " + args + " >out.txt 2>&1";
     const int status = std::system(cmd.c_str());
@@ -62,7 +48,6 @@ class TransferCli : public ::testing::Test {
     }
     return rows;
   }
-  fs::path dir_;
 };
 
 }  // namespace
