@@ -59,9 +59,8 @@ class CliTest : public ::testing::Test {
  protected:
   explicit CliTest(std::string prefix = "flexmb_cli_") : prefix_(std::move(prefix)) {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (prefix_ + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-            std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / (prefix_ + ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                                        "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

@@ -28,7 +28,23 @@ namespace {
 
 using namespace flexmb::cli_test;
 
-class Cli : public CliTest {};
+class Cli : public CliTest {
+ protected:
+  // `flexmb simulate ARGS --out m` interrupted by SIGINT after 3 s: exit 130, saying so, the rows
+  // so far in m_x.csv and a manifest that says the run stopped.
+  void expectInterruptKeepsTheResultsSoFar(const std::string& args) {
+    const Result r = sh("flexmb simulate " + args + " --out m & pid=$!; sleep 3; kill -INT $pid; wait $pid");
+    EXPECT_EQ(r.code, 130) << r.err;
+    EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+    std::ifstream in(dir_ / "m_x.csv");
+    ASSERT_TRUE(in) << listing();
+    std::string line;
+    int rows = -1;
+    while (std::getline(in, line)) ++rows;
+    EXPECT_GT(rows, 1);
+    EXPECT_NE(slurp(dir_ / "m_run.txt").find("status: stopped: interrupted"), std::string::npos);
+  }
+};
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -263,18 +279,7 @@ TEST_F(Cli, FolderOutAndCompleteFileSets) {
 
 // Item 5: Ctrl-C during simulate writes the results so far.
 TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
-  const Result r = sh("flexmb simulate " + kData +
-                      "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
-                      "kill -INT $pid; wait $pid");
-  EXPECT_EQ(r.code, 130) << r.err;
-  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
-  std::ifstream in(dir_ / "m_x.csv");
-  ASSERT_TRUE(in) << joined(files());
-  std::string line;
-  int rows = -1;
-  while (std::getline(in, line)) ++rows;
-  EXPECT_GT(rows, 1);
-  EXPECT_NE(slurp(dir_ / "m_run.txt").find("status: stopped: interrupted"), std::string::npos);
+  expectInterruptKeepsTheResultsSoFar(kData + "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000");
   EXPECT_TRUE(fs::exists(dir_ / "m.mat"));
 }
 
@@ -459,18 +464,9 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
 
 // Ctrl-C during a bdf run writes the results so far, as with ode45.
 TEST_F(Cli, InterruptKeepsTheResultsSoFarWithBdf) {
-  const Result r = sh("flexmb simulate " + kData +
-                      "manipulator.dat -q --integrator bdf --t-end 500 --max-step 0.001 "
-                      "--intervals 10000 --out m & pid=$!; sleep 3; kill -INT $pid; wait $pid");
-  EXPECT_EQ(r.code, 130) << r.err;
-  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
-  std::ifstream in(dir_ / "m_x.csv");
-  ASSERT_TRUE(in) << joined(files());
-  std::string line;
-  int rows = -1;
-  while (std::getline(in, line)) ++rows;
-  EXPECT_GT(rows, 1);
-  EXPECT_NE(slurp(dir_ / "m_run.txt").find("status: stopped: interrupted"), std::string::npos);
+  expectInterruptKeepsTheResultsSoFar(kData +
+                                      "manipulator.dat -q --integrator bdf --t-end 500 --max-step 0.001 "
+                                      "--intervals 10000");
 }
 
 // The tutorial models: the cantilever's tip deflection against beam theory, the loop's DOF count.

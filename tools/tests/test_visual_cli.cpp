@@ -68,37 +68,45 @@ std::string browser(const std::string& exe, const fs::path& profile, const std::
          profile.string() + " " + extra;
 }
 
-// Decodes an 8-bit RGB(A) PNG and counts pixels near the given colours: "width height n1 n2 ...".
-const char* kPngPixels = R"PY(
+// An 8-bit RGB(A) PNG's rows (Python): load(path) -> (width, height, bytes per pixel, rows).
+const std::string kPngDecoder = R"PY(
 import sys, zlib, struct
-data = open(sys.argv[1], 'rb').read()
-assert data[:8] == b'\x89PNG\r\n\x1a\n'
-pos, idat = 8, b''
-while pos < len(data):
-    n, kind = struct.unpack('>I4s', data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + n]
-    if kind == b'IHDR':
-        w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
-    elif kind == b'IDAT':
-        idat += body
-    pos += 12 + n
-assert depth == 8 and ctype in (2, 6)
-bpp = 3 if ctype == 2 else 4
-raw = zlib.decompress(idat)
+def load(path):
+    data = open(path, 'rb').read()
+    assert data[:8] == b'\x89PNG\r\n\x1a\n'
+    pos, idat = 8, b''
+    while pos < len(data):
+        n, kind = struct.unpack('>I4s', data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b'IHDR':
+            w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
+        elif kind == b'IDAT':
+            idat += body
+        pos += 12 + n
+    assert depth == 8 and ctype in (2, 6)
+    bpp = 3 if ctype == 2 else 4
+    raw = zlib.decompress(idat)
+    stride = w * bpp
+    rows, prev, i = [], bytearray(stride), 0
+    for y in range(h):
+        f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
+        for x in range(stride):
+            a = line[x - bpp] if x >= bpp else 0
+            b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
+            if f == 1: line[x] = (line[x] + a) & 255
+            elif f == 2: line[x] = (line[x] + b) & 255
+            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line); prev = line
+    return w, h, bpp, rows
+)PY";
+
+// Counts pixels near the given colours: "width height n1 n2 ...".
+const std::string kPngPixels = kPngDecoder + R"PY(
+w, h, bpp, rows = load(sys.argv[1])
 stride = w * bpp
-rows, prev, i = [], bytearray(stride), 0
-for y in range(h):
-    f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
-    for x in range(stride):
-        a = line[x - bpp] if x >= bpp else 0
-        b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
-        if f == 1: line[x] = (line[x] + a) & 255
-        elif f == 2: line[x] = (line[x] + b) & 255
-        elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    rows.append(line); prev = line
 targets = [tuple(int(t[k:k + 2], 16) for k in (0, 2, 4)) for t in sys.argv[2:]]
 counts = [0] * len(targets)
 for line in rows:
@@ -215,37 +223,9 @@ namespace {
 // Pixels of a screenshot inside the canvas (960 x 600 at (13, 38)): "width height mechanism
 // changed", mechanism = not white and not the light grey of traces and borders; with a second
 // screenshot, changed = canvas pixels that are mechanism in exactly one of the two.
-const char* kCanvasPixels = R"PY(
-import sys, zlib, struct
-def load(path):
-    data = open(path, 'rb').read()
-    assert data[:8] == b'\x89PNG\r\n\x1a\n'
-    pos, idat = 8, b''
-    while pos < len(data):
-        n, kind = struct.unpack('>I4s', data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b'IHDR':
-            w, h, depth, ctype = struct.unpack('>IIBB', body[:10])
-        elif kind == b'IDAT':
-            idat += body
-        pos += 12 + n
-    assert depth == 8 and ctype in (2, 6)
-    bpp = 3 if ctype == 2 else 4
-    raw = zlib.decompress(idat)
-    stride = w * bpp
-    rows, prev, i = [], bytearray(stride), 0
-    for y in range(h):
-        f = raw[i]; line = bytearray(raw[i + 1:i + 1 + stride]); i += 1 + stride
-        for x in range(stride):
-            a = line[x - bpp] if x >= bpp else 0
-            b = prev[x]; c = prev[x - bpp] if x >= bpp else 0
-            if f == 1: line[x] = (line[x] + a) & 255
-            elif f == 2: line[x] = (line[x] + b) & 255
-            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c; pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(line); prev = line
+const std::string kCanvasPixels = kPngDecoder + R"PY(
+def canvas(path):
+    w, h, bpp, rows = load(path)
     mask = set()
     for y in range(40, 40 + 590):
         line = rows[y]
@@ -254,8 +234,8 @@ def load(path):
             if r + g + b < 600 and max(r, g, b) - min(r, g, b) + (255 - max(r, g, b)) > 40:
                 mask.add((x, y))
     return w, h, mask
-w, h, m1 = load(sys.argv[1])
-changed = len(m1 ^ load(sys.argv[2])[2]) if len(sys.argv) > 2 else 0
+w, h, m1 = canvas(sys.argv[1])
+changed = len(m1 ^ canvas(sys.argv[2])[2]) if len(sys.argv) > 2 else 0
 print(w, h, len(m1), changed)
 )PY";
 }  // namespace
