@@ -103,20 +103,9 @@ int groupOfX(Role r) {
   }
   return 1;
 }
-// Counting group (nep: fixed, released, input, dynamic) and storage rank (fixed, input, dynamic, released).
-int groupOfE(Role r) {
-  switch (r) {
-    case Role::Fixed:
-      return 0;
-    case Role::Calculable:
-      return 1;
-    case Role::Input:
-      return 2;
-    case Role::Dynamic:
-      return 3;
-  }
-  return 0;
-}
+// Counting group (nep: fixed, released, input, dynamic; the same order as nxp) and storage rank
+// (fixed, input, dynamic, released).
+int groupOfE(Role r) { return groupOfX(r); }
 constexpr int kERank[4] = {0, 3, 1, 2};
 
 std::string stepText(const SpacarResults& r, std::size_t k) {

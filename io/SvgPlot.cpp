@@ -547,8 +547,9 @@ std::string renderSvgStack(const std::vector<Plot>& plots) {
          "\" height=\"" + fixed2(std::max(H, 180.0)) + "\" font-family=\"sans-serif\">\n" + body + "</svg>\n";
 }
 
-void writeSvgStack(const std::string& path, const std::vector<Plot>& plots) {
-  const std::string text = renderSvgStack(plots);
+namespace {
+// The whole text in one checked write (the open's and the write's failures named).
+void writeWhole(const std::string& path, const std::string& text) {
   errno = 0;
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   if (!f) {
@@ -559,18 +560,10 @@ void writeSvgStack(const std::string& path, const std::vector<Plot>& plots) {
   f.close();
   if (!f) throw std::runtime_error("error writing '" + path + "'");
 }
+}  // namespace
 
-void writeSvg(const std::string& path, const Plot& plot) {
-  const std::string text = renderSvg(plot);
-  errno = 0;
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) {
-    const std::string why = errno ? std::generic_category().message(errno) : "open failed";
-    throw std::runtime_error("cannot open '" + path + "' for writing: " + why);
-  }
-  f.write(text.data(), static_cast<std::streamsize>(text.size()));
-  f.close();
-  if (!f) throw std::runtime_error("error writing '" + path + "'");
-}
+void writeSvgStack(const std::string& path, const std::vector<Plot>& plots) { writeWhole(path, renderSvgStack(plots)); }
+
+void writeSvg(const std::string& path, const Plot& plot) { writeWhole(path, renderSvg(plot)); }
 
 }  // namespace flexmb::io

@@ -92,15 +92,7 @@ int runModes(const std::vector<std::string>& args) {
   }
   // One file set: <out>.sbd / .sbm, the --svg figure and the manifest <out>_run.txt.
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
-  try {
-    files.checkWritable();
-    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
-    for (const std::string& extra : {svg, html, vtk})
-      if (!extra.empty()) io::OutputSet(extra).checkWritable();
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "modes");
   files.setting("model", m.file);
   files.setting("nev", std::to_string(nev));
@@ -305,15 +297,7 @@ int runStatic(const std::vector<std::string>& args) {
   const std::string prefix = csvPath.substr(0, csvPath.size() - 4);
   if (html == "<prefix>.html") html = prefix + ".html";
   if (vtk == "<prefix>") vtk = prefix;
-  try {
-    files.checkWritable();
-    // --svg, --html and --vtk too (the VTK writer would make a missing folder for its .vtu files).
-    for (const std::string& extra : {svg, html, vtk})
-      if (!extra.empty()) io::OutputSet(extra).checkWritable();
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "static");
   files.setting("model", m.file);
   files.setting("load steps", std::to_string(n));
@@ -429,13 +413,7 @@ int runSweep(const std::vector<std::string>& args) {
   std::string suffix = "_sweep";
   if (!basisFile.empty()) suffix += "_" + std::filesystem::path(basisFile).stem().string();
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
-  try {
-    files.checkWritable();
-    if (!svg.empty()) io::OutputSet(svg).checkWritable();
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!outputsWritable(files, {svg})) return kInputError;
   const std::string prefix = files.prefix();
   files.setting("command", "sweep");
   files.setting("model", m.file);

@@ -90,6 +90,11 @@ struct ProductFailed : std::runtime_error {
 };
 bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step);
 
+// Before an analysis: whether the file set and the extra outputs (--svg, --html, --vtk, --echo;
+// empty ones skipped) can be written where asked; false, said on stderr, when not (the command then
+// exits with kInputError). The VTK writer would make a missing folder for its .vtu files: checked too.
+bool outputsWritable(io::OutputSet& files, const std::vector<std::string>& extras = {});
+
 // The stale SPACAR companions (.sbm, .ltv) a file set removed when it renamed its files into place:
 // one line each on stdout, after the "wrote" lines.
 void sayRemovedStale(const std::vector<std::string>& removed);

@@ -254,6 +254,18 @@ bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, b
   return false;
 }
 
+bool outputsWritable(io::OutputSet& files, const std::vector<std::string>& extras) {
+  try {
+    files.checkWritable();
+    for (const std::string& extra : extras)
+      if (!extra.empty()) io::OutputSet(extra).checkWritable();
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
 bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step) {
   try {
     step();

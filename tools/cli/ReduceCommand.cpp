@@ -164,12 +164,7 @@ int runReduce(const std::vector<std::string>& args) {
       }
   // One file set: the basis and the manifest <basis without .csv>_run.txt.
   io::OutputSet files(std::filesystem::path(out).replace_extension("").string());
-  try {
-    files.checkWritable();
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!outputsWritable(files)) return kInputError;
   files.setting("command", "reduce");
   files.setting("model", m.file);
   describeReduction(files, o);

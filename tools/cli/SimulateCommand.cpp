@@ -146,6 +146,16 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
   return std::nullopt;
 }
 
+// The run's files and its --echo can be written, and the model can have an echo.
+bool simulateOutputsWritable(io::OutputSet& files, const SimulateArgs& a, const core::Model& model) {
+  if (!outputsWritable(files, {a.echo})) return false;
+  if (const std::string why = a.echo.empty() ? "" : io::restartUnsupportedReason(model); !why.empty()) {
+    std::cerr << "flexmb: " << why << " (run without --echo)\n";
+    return false;
+  }
+  return true;
+}
+
 // --basis auto --target EPS: the basis chosen by analysis::basisForTarget with the run's own
 // integrator and tolerances (nothing: the full model, said). Throws std::invalid_argument for a
 // malformed --svd-path.
@@ -397,17 +407,7 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
     std::cerr << "flexmb: note: no integrator runs (no degrees of freedom): --integrator, --reltol, --abstol, "
                  "--max-step and --bdf-order are ignored\n";
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
-  try {
-    files.checkWritable();
-    if (!a.echo.empty()) {
-      io::OutputSet(a.echo).checkWritable();
-      if (const std::string why = io::restartUnsupportedReason(model); !why.empty())
-        throw std::runtime_error(why + " (run without --echo)");
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!simulateOutputsWritable(files, a, model)) return kInputError;
   analysis::InverseDynamicsOptions o;
   if (a.tEnd > 0) o.tEnd = a.tEnd;
   if (a.intervals > 0) o.intervals = a.intervals;
@@ -524,17 +524,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (!a.basisFile.empty() && (a.out.empty() || a.out.back() == '/' || std::filesystem::is_directory(a.out)))
     suffix = "_" + std::filesystem::path(a.basisFile).stem().string();
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file, suffix));
-  try {
-    files.checkWritable();
-    if (!a.echo.empty()) {
-      io::OutputSet(a.echo).checkWritable();
-      if (const std::string why = io::restartUnsupportedReason(model); !why.empty())
-        throw std::runtime_error(why + " (run without --echo)");
-    }
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!simulateOutputsWritable(files, a, model)) return kInputError;
   if (a.basisFile == "auto") {
     try {
       opt.basis = chooseBasis(a, model, opt, files);

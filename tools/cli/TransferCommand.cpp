@@ -97,12 +97,7 @@ int runTransfer(const std::vector<std::string>& args) {
     return kInputError;
   }
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
-  try {
-    files.checkWritable();
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  if (!outputsWritable(files)) return kInputError;
   const std::string prefix = files.prefix();
   files.setting("command", "transfer");
   files.setting("model", m.file);
