@@ -210,4 +210,41 @@ inline ElemVec randomVector(int n, std::mt19937& rng) {
   return v;
 }
 
+// Central differences (step h) of an element's deformations at x: the reference for its analytic
+// Jacobian. A periodic angle's difference is taken modulo 2 pi.
+inline DefJac jacobianByDifferences(const Element& el, const ElemVec& x, double h) {
+  const int n = el.numCoords(), m = el.numDeformations();
+  DefJac J(m, n);
+  for (int j = 0; j < n; ++j) {
+    ElemVec xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    DefVec ep, em;
+    el.deformations(xp, ep);
+    el.deformations(xm, em);
+    DefVec d = ep - em;
+    for (int i = 0; i < m; ++i)
+      if (el.isPeriodicAngle(i)) d[i] = std::remainder(d[i], 2 * M_PI);
+    J.col(j) = d / (2 * h);
+  }
+  return J;
+}
+
+// Central differences (step h) of D(x)^T sigma, the analytic Jacobian's: the reference for the
+// stress-weighted Hessian sum_i sigma_i d2 e_i / dx2.
+inline ElemMat stressHessianByDifferences(const Element& el, const ElemVec& x, const DefVec& sigma, double h) {
+  const int n = el.numCoords();
+  ElemMat H(n, n);
+  for (int j = 0; j < n; ++j) {
+    ElemVec xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    DefJac Jp, Jm;
+    el.jacobian(xp, Jp);
+    el.jacobian(xm, Jm);
+    H.col(j) = (Jp - Jm).transpose() * sigma / (2 * h);
+  }
+  return H;
+}
+
 }  // namespace flexmb::core::test

@@ -14,6 +14,7 @@
 #include "core/elements/Element.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "core/elements/SpatialWarpingBeam.hpp"
+#include "core/tests/ElementSamples.hpp"
 
 using namespace flexmb::core;
 using euler::Mat3;
@@ -22,12 +23,8 @@ using euler::Vec4;
 
 namespace {
 
-double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-Vec4 randomQuaternion(std::mt19937& rng) {
-  Vec4 q;
-  for (int i = 0; i < 4; ++i) q[i] = uniform(rng, -1, 1);
-  return q.normalized();
-}
+using test::randomQuaternion;
+using test::uniform;
 
 // A BEAMW's 16 initial coordinates (random ends, orientations, initial warping) and its y vector.
 struct BeamWSetup {

@@ -103,19 +103,7 @@ TEST(ElementRegistry, JacobianMatchesFiniteDifferences) {
     el.jacobian(x, J);
     EXPECT_EQ(J.rows(), m) << c.label;
     EXPECT_EQ(J.cols(), n) << c.label;
-    DefJac Jfd(m, n);
-    for (int j = 0; j < n; ++j) {
-      ElemVec xp = x, xm = x;
-      xp[j] += kH;
-      xm[j] -= kH;
-      DefVec ep, em;
-      el.deformations(xp, ep);
-      el.deformations(xm, em);
-      DefVec d = ep - em;
-      for (int i = 0; i < m; ++i)
-        if (el.isPeriodicAngle(i)) d[i] = std::remainder(d[i], 2 * M_PI);
-      Jfd.col(j) = d / (2 * kH);
-    }
+    const DefJac Jfd = jacobianByDifferences(el, x, kH);
     const double err = relErr(J, Jfd);
     EXPECT_LT(err, 1e-6) << c.label;
     // The fused call gives exactly the separate ones.
@@ -160,16 +148,7 @@ TEST(ElementRegistry, StressWeightedHessianMatchesFiniteDifferences) {
                    el.stressWeightedHessian(x, sigma, H);
                    EXPECT_EQ(H.rows(), n) << c.label;
                    EXPECT_EQ(H.cols(), n) << c.label;
-                   ElemMat Hfd(n, n);
-                   for (int j = 0; j < n; ++j) {
-                     ElemVec xp = x, xm = x;
-                     xp[j] += kH;
-                     xm[j] -= kH;
-                     DefJac Jp, Jm;
-                     el.jacobian(xp, Jp);
-                     el.jacobian(xm, Jm);
-                     Hfd.col(j) = (Jp - Jm).transpose() * sigma / (2 * kH);
-                   }
+                   const ElemMat Hfd = stressHessianByDifferences(el, x, sigma, kH);
                    const double err = relErr(H, Hfd);
                    EXPECT_LT(err, 1e-6) << c.label;
                    EXPECT_LT(relErr(H, ElemMat(H.transpose()), 1e-300), 1e-14) << "symmetry, " << c.label;

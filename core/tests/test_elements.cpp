@@ -127,16 +127,7 @@ TEST(Elements, JacobianMatchesFiniteDifferences) {
       el->jacobian(x, J);
       ASSERT_EQ(J.rows(), m);
       ASSERT_EQ(J.cols(), n);
-      DefJac Jfd(m, n);
-      for (int j = 0; j < n; ++j) {
-        ElemVec xp = x, xm = x;
-        xp[j] += kH;
-        xm[j] -= kH;
-        DefVec ep, em;
-        el->deformations(xp, ep);
-        el->deformations(xm, em);
-        Jfd.col(j) = (ep - em) / (2 * kH);
-      }
+      const DefJac Jfd = test::jacobianByDifferences(*el, x, kH);
       const double err = relErr(J, Jfd);
       worst = std::max(worst, err);
       EXPECT_LT(err, 1e-6) << c.label << " config " << k;
@@ -199,16 +190,7 @@ TEST(Elements, StressWeightedHessianMatchesFiniteDifferences) {
       el->stressWeightedHessian(x, sigma, H);
       ASSERT_EQ(H.rows(), n);
       ASSERT_EQ(H.cols(), n);
-      ElemMat Hfd(n, n);
-      for (int j = 0; j < n; ++j) {
-        ElemVec xp = x, xm = x;
-        xp[j] += kH;
-        xm[j] -= kH;
-        DefJac Jp, Jm;
-        el->jacobian(xp, Jp);
-        el->jacobian(xm, Jm);
-        Hfd.col(j) = (Jp - Jm).transpose() * sigma / (2 * kH);
-      }
+      const ElemMat Hfd = test::stressHessianByDifferences(*el, x, sigma, kH);
       const double err = relErr(H, Hfd);
       worst = std::max(worst, err);
       EXPECT_LT(err, 1e-6) << c.label << " config " << k;

@@ -16,6 +16,7 @@
 #include "core/elements/Element.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "core/elements/SpatialBeam.hpp"
+#include "core/tests/ElementSamples.hpp"
 
 using namespace flexmb::core;
 using euler::Mat3;
@@ -24,18 +25,9 @@ using euler::Vec4;
 
 namespace {
 
-double uniform(std::mt19937& rng, double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-Vec4 randomQuaternion(std::mt19937& rng) {
-  Vec4 q;
-  for (int i = 0; i < 4; ++i) q[i] = uniform(rng, -1, 1);
-  return q.normalized();
-}
-Vec4 multiply(const Vec4& a, const Vec4& b) {  // R(a b) = R(a) R(b)
-  Vec4 r;
-  r[0] = a[0] * b[0] - a.tail<3>().dot(b.tail<3>());
-  r.tail<3>() = a[0] * b.tail<3>() + b[0] * a.tail<3>() + a.tail<3>().cross(b.tail<3>());
-  return r;
-}
+using test::randomQuaternion;
+using test::uniform;
+Vec4 multiply(const Vec4& a, const Vec4& b) { return test::quaternionProduct(a, b); }  // R(a b) = R(a) R(b)
 
 struct SpatialCase {
   std::string keyword;
@@ -107,16 +99,7 @@ TEST(SpatialElements, DerivativesAgainstFiniteDifferences) {
       DefJac De;
       el->jacobian(x, De);
       const double h = 1e-6;
-      Eigen::MatrixXd Dfd(m, n);
-      for (int j = 0; j < n; ++j) {
-        ElemVec xp = x, xm = x;
-        xp[j] += h;
-        xm[j] -= h;
-        DefVec ep, em;
-        el->deformations(xp, ep);
-        el->deformations(xm, em);
-        Dfd.col(j) = (ep - em) / (2 * h);
-      }
+      const Eigen::MatrixXd Dfd = test::jacobianByDifferences(*el, x, h);
       worstJ = std::max(worstJ, relErr(Eigen::MatrixXd(De), Dfd));
       // Hessian of each deformation: finite differences of the analytic Jacobian.
       ElemVec v(n);
@@ -124,18 +107,9 @@ TEST(SpatialElements, DerivativesAgainstFiniteDifferences) {
       DefVec d2;
       el->secondDerivative(x, v, d2);
       for (int i = 0; i < m; ++i) {
-        Eigen::MatrixXd Hfd(n, n);
-        for (int j = 0; j < n; ++j) {
-          ElemVec xp = x, xm = x;
-          xp[j] += h;
-          xm[j] -= h;
-          DefJac Jp, Jm;
-          el->jacobian(xp, Jp);
-          el->jacobian(xm, Jm);
-          Hfd.col(j) = (Jp.row(i) - Jm.row(i)).transpose() / (2 * h);
-        }
         DefVec s = DefVec::Zero(m);
         s[i] = 1.0;
+        const Eigen::MatrixXd Hfd = test::stressHessianByDifferences(*el, x, s, h);
         ElemMat H;
         el->stressWeightedHessian(x, s, H);
         worstH = std::max(worstH, relErr(Eigen::MatrixXd(H), Hfd));
