@@ -210,41 +210,46 @@ inline ElemVec randomVector(int n, std::mt19937& rng) {
   return v;
 }
 
-// Central differences (step h) of an element's deformations at x: the reference for its analytic
-// Jacobian. A periodic angle's difference is taken modulo 2 pi.
-inline DefJac jacobianByDifferences(const Element& el, const ElemVec& x, double h) {
-  const int n = el.numCoords(), m = el.numDeformations();
-  DefJac J(m, n);
-  for (int j = 0; j < n; ++j) {
+// Central differences (step h) along each coordinate of x of a vector function f(x, value):
+// column j = (f(x + h e_j) - f(x - h e_j)) / 2h.
+template <class F>
+Eigen::MatrixXd centralDifferences(const ElemVec& x, double h, F f) {
+  Eigen::MatrixXd D;
+  for (int j = 0; j < x.size(); ++j) {
     ElemVec xp = x, xm = x;
     xp[j] += h;
     xm[j] -= h;
-    DefVec ep, em;
-    el.deformations(xp, ep);
-    el.deformations(xm, em);
-    DefVec d = ep - em;
-    for (int i = 0; i < m; ++i)
-      if (el.isPeriodicAngle(i)) d[i] = std::remainder(d[i], 2 * M_PI);
-    J.col(j) = d / (2 * h);
+    Eigen::VectorXd fp, fm;
+    f(xp, fp);
+    f(xm, fm);
+    if (j == 0) D.resize(fp.size(), x.size());
+    D.col(j) = (fp - fm) / (2 * h);
   }
+  return D;
+}
+
+// The reference for an element's analytic Jacobian; a periodic angle's difference is taken modulo
+// 2 pi.
+inline DefJac jacobianByDifferences(const Element& el, const ElemVec& x, double h) {
+  DefJac J = centralDifferences(x, h, [&](const ElemVec& at, Eigen::VectorXd& e) {
+    DefVec d;
+    el.deformations(at, d);
+    e = d;
+  });
+  for (int i = 0; i < J.rows(); ++i)
+    if (el.isPeriodicAngle(i))
+      for (int j = 0; j < J.cols(); ++j) J(i, j) = std::remainder(J(i, j) * 2 * h, 2 * M_PI) / (2 * h);
   return J;
 }
 
-// Central differences (step h) of D(x)^T sigma, the analytic Jacobian's: the reference for the
-// stress-weighted Hessian sum_i sigma_i d2 e_i / dx2.
+// The reference for the stress-weighted Hessian sum_i sigma_i d2 e_i / dx2: differences of
+// D(x)^T sigma, the analytic Jacobian's.
 inline ElemMat stressHessianByDifferences(const Element& el, const ElemVec& x, const DefVec& sigma, double h) {
-  const int n = el.numCoords();
-  ElemMat H(n, n);
-  for (int j = 0; j < n; ++j) {
-    ElemVec xp = x, xm = x;
-    xp[j] += h;
-    xm[j] -= h;
-    DefJac Jp, Jm;
-    el.jacobian(xp, Jp);
-    el.jacobian(xm, Jm);
-    H.col(j) = (Jp - Jm).transpose() * sigma / (2 * h);
-  }
-  return H;
+  return centralDifferences(x, h, [&](const ElemVec& at, Eigen::VectorXd& g) {
+    DefJac J;
+    el.jacobian(at, J);
+    g = J.transpose() * sigma;
+  });
 }
 
 }  // namespace flexmb::core::test

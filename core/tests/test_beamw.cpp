@@ -17,14 +17,12 @@
 #include "core/tests/ElementSamples.hpp"
 
 using namespace flexmb::core;
+using namespace flexmb::core::test;
 using euler::Mat3;
 using euler::Vec3;
 using euler::Vec4;
 
 namespace {
-
-using test::randomQuaternion;
-using test::uniform;
 
 // A BEAMW's 16 initial coordinates (random ends, orientations, initial warping) and its y vector.
 struct BeamWSetup {

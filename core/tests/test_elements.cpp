@@ -110,100 +110,92 @@ double relErr(const A& a, const B& ref, double floor = 1e-9) {
 constexpr int kConfigs = 25;
 constexpr double kH = 1e-6;
 
+// Every case at kConfigs random configurations (the element made at a random initial one, then
+// moved): check(case, element, x, rng, k) returns its relative error there; the largest per case is
+// printed.
+template <class Check>
+void forEachConfiguration(unsigned seed, const char* what, Check check) {
+  std::mt19937 rng(seed);
+  for (const Case& c : cases()) {
+    const ElementTypeInfo* t = findElementType(c.keyword);
+    ASSERT_NE(t, nullptr);
+    double worst = 0.0;
+    for (int k = 0; k < kConfigs; ++k) {
+      const ElemVec x0 = randomInitial(*t, rng);
+      auto el = t->create(x0, ElementOptions{c.elongation});
+      const ElemVec x = randomConfiguration(*t, x0, rng);
+      worst = std::max(worst, check(c, *el, x, rng, k));
+    }
+    std::printf("[ max rel err ] %-17s %-32s %.2e\n", what, c.label.c_str(), worst);
+  }
+}
+
 }  // namespace
 
 TEST(Elements, JacobianMatchesFiniteDifferences) {
-  std::mt19937 rng(1);
-  for (const Case& c : cases()) {
-    const ElementTypeInfo* t = findElementType(c.keyword);
-    ASSERT_NE(t, nullptr);
-    double worst = 0.0;
-    for (int k = 0; k < kConfigs; ++k) {
-      const ElemVec x0 = randomInitial(*t, rng);
-      auto el = t->create(x0, ElementOptions{c.elongation});
-      const ElemVec x = randomConfiguration(*t, x0, rng);
-      const int n = el->numCoords(), m = el->numDeformations();
-      DefJac J;
-      el->jacobian(x, J);
-      ASSERT_EQ(J.rows(), m);
-      ASSERT_EQ(J.cols(), n);
-      const DefJac Jfd = test::jacobianByDifferences(*el, x, kH);
-      const double err = relErr(J, Jfd);
-      worst = std::max(worst, err);
-      EXPECT_LT(err, 1e-6) << c.label << " config " << k;
-    }
-    std::printf("[ max rel err ] jacobian          %-32s %.2e\n", c.label.c_str(), worst);
-  }
+  forEachConfiguration(1, "jacobian", [](const Case& c, const Element& el, const ElemVec& x, std::mt19937&, int k) {
+    DefJac J;
+    el.jacobian(x, J);
+    EXPECT_EQ(J.rows(), el.numDeformations());
+    EXPECT_EQ(J.cols(), el.numCoords());
+    if (J.rows() != el.numDeformations() || J.cols() != el.numCoords()) return 1.0;
+    const double err = relErr(J, test::jacobianByDifferences(el, x, kH));
+    EXPECT_LT(err, 1e-6) << c.label << " config " << k;
+    return err;
+  });
 }
 
 TEST(Elements, SecondDerivativeMatchesFiniteDifferences) {
-  std::mt19937 rng(2);
-  for (const Case& c : cases()) {
-    const ElementTypeInfo* t = findElementType(c.keyword);
-    ASSERT_NE(t, nullptr);
-    double worst = 0.0;
-    for (int k = 0; k < kConfigs; ++k) {
-      const ElemVec x0 = randomInitial(*t, rng);
-      auto el = t->create(x0, ElementOptions{c.elongation});
-      const ElemVec x = randomConfiguration(*t, x0, rng);
-      const int n = el->numCoords();
-      const ElemVec v = randomVector(n, rng);
-      DefVec d2;
-      el->secondDerivative(x, v, d2);
-      // d/ds [D'(x + s v) v] at s = 0, by central differences of the Jacobian.
-      DefJac Jp, Jm;
-      el->jacobian(x + kH * v, Jp);
-      el->jacobian(x - kH * v, Jm);
-      const DefVec ref = (Jp - Jm) * v / (2 * kH);
-      // And independently by second differences of the deformations (looser step).
-      const double h2 = 1e-4;
-      DefVec ep, e0, em;
-      el->deformations(x + h2 * v, ep);
-      el->deformations(x, e0);
-      el->deformations(x - h2 * v, em);
-      const DefVec ref2 = (ep - 2 * e0 + em) / (h2 * h2);
-      const double err = relErr(d2, ref);
-      worst = std::max(worst, err);
-      EXPECT_LT(err, 1e-6) << c.label << " config " << k;
-      // Second differences lose ~eps |e| / h2^2 to cancellation: absolute tolerance on that scale.
-      const double tol2 = 1e-6 * (1.0 + d2.cwiseAbs().maxCoeff() + e0.cwiseAbs().maxCoeff());
-      EXPECT_LT((d2 - ref2).cwiseAbs().maxCoeff(), tol2) << c.label << " config " << k;
-    }
-    std::printf("[ max rel err ] secondDerivative  %-32s %.2e\n", c.label.c_str(), worst);
-  }
+  forEachConfiguration(2, "secondDerivative",
+                       [](const Case& c, const Element& el, const ElemVec& x, std::mt19937& rng, int k) {
+                         const int n = el.numCoords();
+                         const ElemVec v = randomVector(n, rng);
+                         DefVec d2;
+                         el.secondDerivative(x, v, d2);
+                         // d/ds [D'(x + s v) v] at s = 0, by central differences of the Jacobian.
+                         DefJac Jp, Jm;
+                         el.jacobian(x + kH * v, Jp);
+                         el.jacobian(x - kH * v, Jm);
+                         const DefVec ref = (Jp - Jm) * v / (2 * kH);
+                         // And independently by second differences of the deformations (looser step).
+                         const double h2 = 1e-4;
+                         DefVec ep, e0, em;
+                         el.deformations(x + h2 * v, ep);
+                         el.deformations(x, e0);
+                         el.deformations(x - h2 * v, em);
+                         const DefVec ref2 = (ep - 2 * e0 + em) / (h2 * h2);
+                         const double err = relErr(d2, ref);
+                         EXPECT_LT(err, 1e-6) << c.label << " config " << k;
+                         // Second differences lose ~eps |e| / h2^2 to cancellation: absolute tolerance on that scale.
+                         const double tol2 = 1e-6 * (1.0 + d2.cwiseAbs().maxCoeff() + e0.cwiseAbs().maxCoeff());
+                         EXPECT_LT((d2 - ref2).cwiseAbs().maxCoeff(), tol2) << c.label << " config " << k;
+                         return err;
+                       });
 }
 
 TEST(Elements, StressWeightedHessianMatchesFiniteDifferences) {
-  std::mt19937 rng(3);
-  for (const Case& c : cases()) {
-    const ElementTypeInfo* t = findElementType(c.keyword);
-    ASSERT_NE(t, nullptr);
-    double worst = 0.0;
-    for (int k = 0; k < kConfigs; ++k) {
-      const ElemVec x0 = randomInitial(*t, rng);
-      auto el = t->create(x0, ElementOptions{c.elongation});
-      const ElemVec x = randomConfiguration(*t, x0, rng);
-      const int n = el->numCoords(), m = el->numDeformations();
-      DefVec sigma(m);
-      for (int i = 0; i < m; ++i) sigma[i] = uniform(rng, -10, 10);
-      ElemMat H;
-      el->stressWeightedHessian(x, sigma, H);
-      ASSERT_EQ(H.rows(), n);
-      ASSERT_EQ(H.cols(), n);
-      const ElemMat Hfd = test::stressHessianByDifferences(*el, x, sigma, kH);
-      const double err = relErr(H, Hfd);
-      worst = std::max(worst, err);
-      EXPECT_LT(err, 1e-6) << c.label << " config " << k;
-      EXPECT_LT(relErr(H, ElemMat(H.transpose()), 1e-300), 1e-14) << "symmetry, " << c.label;
-      // Consistency with secondDerivative: v^T H v = sigma . D2e[v, v].
-      const ElemVec v = randomVector(n, rng);
-      DefVec d2;
-      el->secondDerivative(x, v, d2);
-      const double a = v.dot(H * v), b = sigma.dot(d2);
-      EXPECT_NEAR(a, b, 1e-10 * std::max({1.0, std::abs(a), std::abs(b)})) << c.label;
-    }
-    std::printf("[ max rel err ] stressWeightedHes %-32s %.2e\n", c.label.c_str(), worst);
-  }
+  forEachConfiguration(3, "stressWeightedHes",
+                       [](const Case& c, const Element& el, const ElemVec& x, std::mt19937& rng, int k) {
+                         const int n = el.numCoords(), m = el.numDeformations();
+                         DefVec sigma(m);
+                         for (int i = 0; i < m; ++i) sigma[i] = uniform(rng, -10, 10);
+                         ElemMat H;
+                         el.stressWeightedHessian(x, sigma, H);
+                         EXPECT_EQ(H.rows(), n);
+                         EXPECT_EQ(H.cols(), n);
+                         if (H.rows() != n || H.cols() != n) return 1.0;
+                         const ElemMat Hfd = test::stressHessianByDifferences(el, x, sigma, kH);
+                         const double err = relErr(H, Hfd);
+                         EXPECT_LT(err, 1e-6) << c.label << " config " << k;
+                         EXPECT_LT(relErr(H, ElemMat(H.transpose()), 1e-300), 1e-14) << "symmetry, " << c.label;
+                         // Consistency with secondDerivative: v^T H v = sigma . D2e[v, v].
+                         const ElemVec v = randomVector(n, rng);
+                         DefVec d2;
+                         el.secondDerivative(x, v, d2);
+                         const double a = v.dot(H * v), b = sigma.dot(d2);
+                         EXPECT_NEAR(a, b, 1e-10 * std::max({1.0, std::abs(a), std::abs(b)})) << c.label;
+                         return err;
+                       });
 }
 
 // The beam deformations evaluated literally as printed in the paper (Eq. 3a-3c), with
