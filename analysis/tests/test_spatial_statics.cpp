@@ -144,22 +144,27 @@ TEST(SpatialStatics, NewtonConvergesQuadraticallyNearThePivotEquilibrium) {
   EXPECT_GT(e1 / e4, 10.0);
 }
 
+// A clamped-free BEAMNL column along x (8 elements, L = 1, EI = 1 and 1.5) under an axial tip
+// load P (compressive), in two load steps.
+static std::string axiallyLoadedColumn(double P) {
+  std::string dat;
+  for (int e = 1; e <= 8; ++e)
+    dat += "BEAMNL " + std::to_string(e) + " " + std::to_string(2 * e - 1) + " " + std::to_string(2 * e) + " " +
+           std::to_string(2 * e + 1) + " " + std::to_string(2 * e + 2) + " 0 1 0\n";
+  for (int i = 1; i <= 9; ++i) dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
+  for (int e = 1; e <= 8; ++e) dat += "DYNE " + std::to_string(e) + " 1 2 3 4 5 6\n";
+  dat += "FIX 1\nFIX 2\nEND\nHALT\n";
+  for (int e = 1; e <= 8; ++e) dat += "ESTIFF " + std::to_string(e) + " 1e5 1 1 1.5\n";
+  return dat + "XF 17 " + std::to_string(-P) + " 0 0\nITERSTEP 10 2\nEND\nEND\n";
+}
+
 TEST(SpatialStatics, StabilityOfAColumnBelowAndAboveItsBucklingLoad) {
   // Clamped-free BEAMNL column (8 elements, L = 1, EI = 1 and 1.5), axial tip load 0.5 and 1.5 of
   // P_cr = pi^2 EI / (4 L^2): the straight equilibrium is stable below, unstable above (the
   // sparse Newton reports it from Kbar + Gbar at the equilibrium).
   const double Pcr = M_PI * M_PI / 4.0;
   for (double fraction : {0.5, 1.5}) {
-    std::string dat;
-    for (int e = 1; e <= 8; ++e)
-      dat += "BEAMNL " + std::to_string(e) + " " + std::to_string(2 * e - 1) + " " + std::to_string(2 * e) + " " +
-             std::to_string(2 * e + 1) + " " + std::to_string(2 * e + 2) + " 0 1 0\n";
-    for (int i = 1; i <= 9; ++i)
-      dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
-    for (int e = 1; e <= 8; ++e) dat += "DYNE " + std::to_string(e) + " 1 2 3 4 5 6\n";
-    dat += "FIX 1\nFIX 2\nEND\nHALT\n";
-    for (int e = 1; e <= 8; ++e) dat += "ESTIFF " + std::to_string(e) + " 1e5 1 1 1.5\n";
-    dat += "XF 17 " + std::to_string(-fraction * Pcr) + " 0 0\nITERSTEP 10 2\nEND\nEND\n";
+    const std::string dat = axiallyLoadedColumn(fraction * Pcr);
     const core::Model m = io::readDatString(dat, "column.dat");
     const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
     ASSERT_TRUE(run.completed) << run.stopReason;
@@ -202,16 +207,7 @@ TEST(SpatialStatics, ColumnStabilityDoesNotDependOnTheOrientation) {
   const double Pcr = M_PI * M_PI / 4.0;
   const Eigen::Matrix3d R = objectivity::randomRotation(9);
   for (double fraction : {0.5, 1.5}) {
-    std::string dat;
-    for (int e = 1; e <= 8; ++e)
-      dat += "BEAMNL " + std::to_string(e) + " " + std::to_string(2 * e - 1) + " " + std::to_string(2 * e) + " " +
-             std::to_string(2 * e + 1) + " " + std::to_string(2 * e + 2) + " 0 1 0\n";
-    for (int i = 1; i <= 9; ++i)
-      dat += "X " + std::to_string(2 * i - 1) + " " + std::to_string((i - 1) / 8.0) + " 0 0\n";
-    for (int e = 1; e <= 8; ++e) dat += "DYNE " + std::to_string(e) + " 1 2 3 4 5 6\n";
-    dat += "FIX 1\nFIX 2\nEND\nHALT\n";
-    for (int e = 1; e <= 8; ++e) dat += "ESTIFF " + std::to_string(e) + " 1e5 1 1 1.5\n";
-    dat += "XF 17 " + std::to_string(-fraction * Pcr) + " 0 0\nITERSTEP 10 2\nEND\nEND\n";
+    const std::string dat = axiallyLoadedColumn(fraction * Pcr);
     const core::Model m = io::readDatString(objectivity::rotatedDat(dat, R), "column.dat");
     const analysis::StaticRun run = analysis::staticAnalysis(m, 0);
     ASSERT_TRUE(run.completed) << run.stopReason;

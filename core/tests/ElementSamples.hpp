@@ -12,6 +12,7 @@
 
 #include "core/elements/Element.hpp"
 #include "core/elements/EulerParameters.hpp"
+#include "core/tests/Differences.hpp"
 
 namespace flexmb::core::test {
 
@@ -210,32 +211,16 @@ inline ElemVec randomVector(int n, std::mt19937& rng) {
   return v;
 }
 
-// Central differences (step h) along each coordinate of x of a vector function f(x, value):
-// column j = (f(x + h e_j) - f(x - h e_j)) / 2h.
-template <class F>
-Eigen::MatrixXd centralDifferences(const ElemVec& x, double h, F f) {
-  Eigen::MatrixXd D;
-  for (int j = 0; j < x.size(); ++j) {
-    ElemVec xp = x, xm = x;
-    xp[j] += h;
-    xm[j] -= h;
-    Eigen::VectorXd fp, fm;
-    f(xp, fp);
-    f(xm, fm);
-    if (j == 0) D.resize(fp.size(), x.size());
-    D.col(j) = (fp - fm) / (2 * h);
-  }
-  return D;
-}
-
 // The reference for an element's analytic Jacobian; a periodic angle's difference is taken modulo
 // 2 pi.
 inline DefJac jacobianByDifferences(const Element& el, const ElemVec& x, double h) {
-  DefJac J = centralDifferences(x, h, [&](const ElemVec& at, Eigen::VectorXd& e) {
-    DefVec d;
-    el.deformations(at, d);
-    e = d;
-  });
+  DefJac J = centralDifferences(
+      [&](const Eigen::VectorXd& at) {
+        DefVec e;
+        el.deformations(at, e);
+        return Eigen::VectorXd(e);
+      },
+      x, h);
   for (int i = 0; i < J.rows(); ++i)
     if (el.isPeriodicAngle(i))
       for (int j = 0; j < J.cols(); ++j) J(i, j) = std::remainder(J(i, j) * 2 * h, 2 * M_PI) / (2 * h);
@@ -245,11 +230,13 @@ inline DefJac jacobianByDifferences(const Element& el, const ElemVec& x, double 
 // The reference for the stress-weighted Hessian sum_i sigma_i d2 e_i / dx2: differences of
 // D(x)^T sigma, the analytic Jacobian's.
 inline ElemMat stressHessianByDifferences(const Element& el, const ElemVec& x, const DefVec& sigma, double h) {
-  return centralDifferences(x, h, [&](const ElemVec& at, Eigen::VectorXd& g) {
-    DefJac J;
-    el.jacobian(at, J);
-    g = J.transpose() * sigma;
-  });
+  return centralDifferences(
+      [&](const Eigen::VectorXd& at) {
+        DefJac J;
+        el.jacobian(at, J);
+        return Eigen::VectorXd(J.transpose() * sigma);
+      },
+      x, h);
 }
 
 }  // namespace flexmb::core::test

@@ -11,6 +11,7 @@
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
+#include "core/tests/Differences.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
@@ -20,23 +21,9 @@ namespace samples = flexmb::core::samples;
 
 namespace {
 
-// Central differences of a vector function of eta, column by column.
-template <class Fn>
-MatrixXd differences(Fn&& fn, const VectorXd& at, double h) {
-  const VectorXd f0 = fn(at);
-  MatrixXd J(f0.size(), at.size());
-  for (int j = 0; j < at.size(); ++j) {
-    VectorXd p = at, m = at;
-    p[j] += h;
-    m[j] -= h;
-    J.col(j) = (fn(p) - fn(m)) / (2 * h);
-  }
-  return J;
-}
+using core::test::centralDifferences;
 
-double relErr(const MatrixXd& a, const MatrixXd& ref, double floor) {
-  return (a - ref).norm() / std::max(ref.norm(), floor);
-}
+double relErr(const MatrixXd& a, const MatrixXd& ref, double floor) { return core::test::relativeError(a, ref, floor); }
 
 }  // namespace
 
@@ -83,7 +70,7 @@ TEST(LinearizationAtRest, MatricesMatchFiniteDifferencesOnLoadedSamples) {
     gtf.firstOrder(nullptr, A0);
     gtf.deformationFirstOrder(A0, E0);
     const double h = 1e-7;
-    const MatrixXd Kfd = differences(
+    const MatrixXd Kfd = centralDifferences(
         [&](const VectorXd& v) {
           gtf.solvePositions(c.t, v);
           VectorXd s;
@@ -91,7 +78,7 @@ TEST(LinearizationAtRest, MatricesMatchFiniteDifferencesOnLoadedSamples) {
           return VectorXd(E0.transpose() * s);
         },
         eta, h);
-    const MatrixXd Gfd = differences(
+    const MatrixXd Gfd = centralDifferences(
         [&](const VectorXd& v) {
           const VectorXd f = loadsAt(v);
           MatrixXd A;
@@ -101,7 +88,7 @@ TEST(LinearizationAtRest, MatricesMatchFiniteDifferencesOnLoadedSamples) {
           return VectorXd(A.transpose() * (r - f));
         },
         eta, h);
-    const MatrixXd Tfd = -differences(
+    const MatrixXd Tfd = -centralDifferences(
         [&](const VectorXd& v) {
           const VectorXd f = loadsAt(v);
           VectorXd Q;

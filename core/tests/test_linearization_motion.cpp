@@ -16,6 +16,7 @@
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/Stresses.hpp"
+#include "core/tests/Differences.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
@@ -78,23 +79,9 @@ class Probe {
   core::Stresses stresses_;
 };
 
-// Central differences of a vector function of one of (eta, etad, etadd), column by column.
-template <class Fn>
-MatrixXd differences(Fn&& fn, const VectorXd& at, double h) {
-  const VectorXd f0 = fn(at);
-  MatrixXd J(f0.size(), at.size());
-  for (int j = 0; j < at.size(); ++j) {
-    VectorXd p = at, m = at;
-    p[j] += h;
-    m[j] -= h;
-    J.col(j) = (fn(p) - fn(m)) / (2 * h);
-  }
-  return J;
-}
+using core::test::centralDifferences;
 
-double relErr(const MatrixXd& a, const MatrixXd& fd, double floor) {
-  return (a - fd).norm() / std::max(fd.norm(), floor);
-}
+double relErr(const MatrixXd& a, const MatrixXd& ref, double floor) { return core::test::relativeError(a, ref, floor); }
 
 struct Case {
   std::string name;
@@ -122,35 +109,35 @@ void checkCase(const Case& c) {
     eom.residual(c.t, y, etadd, r);
     return r;
   };
-  const MatrixXd dRdq = differences([&](const VectorXd& v) { return R(v, c.etad, c.etadd); }, c.eta, h);
-  const MatrixXd dRdqd = differences([&](const VectorXd& v) { return R(c.eta, v, c.etadd); }, c.etad, h);
-  const MatrixXd dRdqdd = differences([&](const VectorXd& v) { return R(c.eta, c.etad, v); }, c.etadd, 1e-3);
+  const MatrixXd dRdq = centralDifferences([&](const VectorXd& v) { return R(v, c.etad, c.etadd); }, c.eta, h);
+  const MatrixXd dRdqd = centralDifferences([&](const VectorXd& v) { return R(c.eta, v, c.etadd); }, c.etad, h);
+  const MatrixXd dRdqdd = centralDifferences([&](const VectorXd& v) { return R(c.eta, c.etad, v); }, c.etadd, 1e-3);
 
   // The separate matrices from the frozen-factor split.
   Probe p0(m, c.V), pv(m, c.V);
   const Pieces s0 = p0.at(c.t, c.eta, c.etad, c.etadd);
-  const MatrixXd Kfd = differences(
+  const MatrixXd Kfd = centralDifferences(
       [&](const VectorXd& v) {
         return VectorXd(s0.Eq.transpose() * pv.stress(c.t, pv.at(c.t, v, c.etad, c.etadd).e, s0.ed));
       },
       c.eta, h);
-  const MatrixXd Gfd = differences(
+  const MatrixXd Gfd = centralDifferences(
       [&](const VectorXd& v) {
         const Pieces s = pv.at(c.t, v, c.etad, c.etadd);
         return VectorXd(s.A.transpose() * (s0.inertial - s.f + pv.jacobianTransposed(s0.sigma)));
       },
       c.eta, h);
-  const MatrixXd Nfd = differences(
+  const MatrixXd Nfd = centralDifferences(
       [&](const VectorXd& v) {
         const Pieces s = pv.at(c.t, v, c.etad, c.etadd);
         return VectorXd(s0.A.transpose() * s.inertial + s0.Eq.transpose() * pv.stress(c.t, s0.e, s.ed));
       },
       c.eta, h);
   // Along etad the configuration stays (p0 solves the same positions each time).
-  const MatrixXd Cfd = differences(
+  const MatrixXd Cfd = centralDifferences(
       [&](const VectorXd& v) { return VectorXd(s0.A.transpose() * p0.at(c.t, c.eta, v, c.etadd).inertial); }, c.etad,
       h);
-  const MatrixXd Dfd = differences(
+  const MatrixXd Dfd = centralDifferences(
       [&](const VectorXd& v) {
         return VectorXd(s0.Eq.transpose() * p0.stress(c.t, s0.e, p0.at(c.t, c.eta, v, c.etadd).ed));
       },
@@ -255,7 +242,7 @@ TEST(LinearizationInMotion, StaticTangentIncludesGravityLoadStiffness) {
     lin.staticForces(0.0, v, f, q);
     return q;
   };
-  const MatrixXd fd = -differences(Q, eta, 1e-6);
+  const MatrixXd fd = -centralDifferences(Q, eta, 1e-6);
   VectorXd f;
   lin.kinematics().solvePositions(0.0, eta);
   lin.appliedForces(0.0, 0.0, f);
