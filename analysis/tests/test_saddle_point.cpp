@@ -10,8 +10,8 @@
 #include <string>
 
 #include "analysis/Simulation.hpp"
-#include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
+#include "core/tests/ModelTexts.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;

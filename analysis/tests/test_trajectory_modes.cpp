@@ -16,8 +16,8 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "analysis/tests/TestModels.hpp"
 #include "core/Linearization.hpp"
+#include "core/tests/ModelTexts.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/QuadraticEigen.hpp"
 

@@ -201,7 +201,7 @@ inline Model fourBar(FourBar variant = FourBar::Mobile) {
   return s.finalize();
 }
 
-// analysis/tests/TestModels.hpp swungArm() with its default arguments: a flexible arm of three
+// core/tests/ModelTexts.hpp swungArm() with its default arguments: a flexible arm of three
 // PLBEAMs swung by a prescribed hinge angle 0.3 + 2 t + 0.75 t^2 (INPUTET), with distributed and
 // lumped mass, damping, a tip load and gravity: every optional term of Eq. 13.
 inline Model swungArm() {

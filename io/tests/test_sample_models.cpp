@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/GeometricTransferFunctions.hpp"
+#include "core/tests/ModelTexts.hpp"
 #include "core/tests/SampleModels.hpp"
 #include "io/DatReader.hpp"
 
@@ -19,22 +20,6 @@ namespace samples = flexmb::core::samples;
 namespace {
 
 std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
-
-// The text of analysis/tests/TestModels.hpp swungArm() with its default arguments.
-std::string swungArmText() {
-  std::ostringstream s;
-  s << "PLHINGE 10  100 101\n";
-  for (int k = 1; k <= 3; ++k)
-    s << "PLBEAM " << k << "  " << k << " " << 100 + k << "  " << k + 1 << " " << 101 + k << "\n";
-  for (int k = 1; k <= 4; ++k) s << "X " << k << " " << 0.4 * (k - 1) << " 0\n";
-  s << "FIX 1\nFIX 100\nINPUTE 10 1\n";
-  for (int k = 1; k <= 3; ++k) s << "DYNE " << k << " 1 2 3\n";
-  s << "END\nHALT\n";
-  s << "INPUTET 10 1 \"0.3 + 2*t + 0.75*t^2\" \"2 + 1.5*t\" \"1.5\"\n";
-  for (int k = 1; k <= 3; ++k) s << "EM " << k << " 1.7 2e-4\nESTIFF " << k << " 4e4 30\nEDAMP " << k << " 2 0.05\n";
-  s << "XM 4 0.3\nXF 4 0.5 -2\nGRAVITY 0 -9.81\nEND\nEND\n";
-  return s.str();
-}
 
 // The text of the gravity-loaded cantilever the linearisation test used (now
 // samples::gravityCantilever).
@@ -208,7 +193,7 @@ TEST(SampleModels, EqualTheFilesTheyMirror) {
        [] { return samples::fourBar(samples::FourBar::Underconstrained); }},
       {"tests/overconstrained.dat", file("tests/overconstrained.dat"),
        [] { return samples::fourBar(samples::FourBar::Overconstrained); }},
-      {"swungArm()", [] { return io::readDatString(swungArmText(), "swung_arm.dat"); }, samples::swungArm},
+      {"swungArm()", [] { return io::readDatString(flexmb::test::swungArm(), "swung_arm.dat"); }, samples::swungArm},
       {"cantilever.dat", file("cantilever.dat"), samples::cantilever},
       {"portal.dat", file("portal.dat"), samples::portal},
       {"manipulator.dat", file("manipulator.dat"), samples::manipulator},

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "solvers/Ode45.hpp"
+#include "solvers/tests/OdeTrace.hpp"
 
 using namespace flexmb::solvers;
 using Eigen::MatrixXd;
@@ -17,19 +18,8 @@ using Eigen::VectorXd;
 
 namespace {
 
-struct Trace {
-  OdeResult res;
-  std::vector<double> t;
-  std::vector<VectorXd> y;
-};
-
-OdeObserver recorder(Trace& r) {
-  return [&r](double t, const VectorXd& y) {
-    r.t.push_back(t);
-    r.y.push_back(y);
-    return true;
-  };
-}
+using test::recorder;
+using test::Trace;
 
 // Two decoupled damped oscillators x'' + 2 zeta w x' + w^2 x = 0, y = [x1, x2, v1, v2]: a slow
 // lightly damped one (1 Hz) and a stiff one (w = 1e4 rad/s, zeta = 0.5), as a flexible model's

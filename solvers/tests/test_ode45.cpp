@@ -1,5 +1,6 @@
 // Tests of solvers::Ode45 against ../shared/spec/ode45.md (reference counts) and closed-form solutions.
 #include "solvers/Ode45.hpp"
+#include "solvers/tests/OdeTrace.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,24 +8,18 @@
 #include <limits>
 #include <vector>
 
+#include "solvers/tests/OdeTrace.hpp"
+
 using namespace flexmb::solvers;
 using Eigen::VectorXd;
 
 namespace {
 
-struct Trace {
-  OdeResult res;
-  std::vector<double> t;
-  std::vector<VectorXd> y;
-};
+using test::Trace;
 
 Trace run(const OdeRhs& f, const std::vector<double>& tspan, const VectorXd& y0, Ode45Options o = {}) {
   Trace r;
-  r.res = Ode45(o).integrate(f, tspan, y0, [&](double t, const VectorXd& y) {
-    r.t.push_back(t);
-    r.y.push_back(y);
-    return true;
-  });
+  r.res = Ode45(o).integrate(f, tspan, y0, test::recorder(r));
   return r;
 }
 

@@ -14,7 +14,7 @@
 
 #include "analysis/Simulation.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "analysis/tests/TestModels.hpp"
+#include "core/tests/ModelTexts.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;

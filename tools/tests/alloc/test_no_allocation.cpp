@@ -10,9 +10,9 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/tests/TestModels.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Workspace.hpp"
+#include "core/tests/ModelTexts.hpp"
 #include "io/DatReader.hpp"
 
 extern "C" void* __libc_malloc(size_t);

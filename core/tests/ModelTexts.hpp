@@ -1,5 +1,6 @@
 #pragma once
-// Model texts shared by the tools' tests (each test keeps its own assertions).
+// Model texts (.dat) shared by the tests of every floor (each test keeps its own assertions); text
+// only, no dependency.
 #include <sstream>
 #include <string>
 
