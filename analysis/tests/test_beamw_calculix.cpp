@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "analysis/Statics.hpp"
+#include "analysis/tests/Sections.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;
@@ -45,18 +46,7 @@ namespace {
 constexpr double kE = 210e9, kG = 70e9;
 constexpr double kW = 50e-3, kT = 0.2e-3;  // leaf section: width along the y vector (global z), thickness
 
-// St Venant torsion constant of a w x t rectangle (series solution, Roark), to 1e-4 in the sum as
-// SPACAR Light does.
-double torsionConstant(double w, double t) {
-  const double a = std::min(w, t) / 2, b = std::max(w, t) / 2;
-  double s = 0.0;
-  for (int n = 1;; n += 2) {
-    const double term = std::tanh(n * std::numbers::pi * b / (2 * a)) / std::pow(n, 5);
-    s += term;
-    if (n >= 3 && term / s < 1e-4) break;
-  }
-  return std::pow(2 * a, 3) * (2 * b) / 3 * (1 - 192 / std::pow(std::numbers::pi, 5) * (a / b) * s);
-}
+using flexmb::test::torsionConstant;
 
 // ESTIFF (EA GIt EIy EIz cy cz ECw) and EM (rhoA Jxx Jyy Jzz Jyz Jw) of a w x t rectangle as SPACAR
 // Light computes them (shear factor 10 (1 + nu)/(12 + 11 nu) with nu = E/2G - 1, Cw = w^3 t^3/144).

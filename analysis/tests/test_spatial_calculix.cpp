@@ -27,6 +27,7 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/tests/Objectivity.hpp"
+#include "analysis/tests/Sections.hpp"
 #include "io/DatReader.hpp"
 
 using namespace flexmb;
@@ -38,17 +39,7 @@ constexpr double kE = 210e9, kNu = 0.3, kG = kE / (2 * (1 + kNu)), kRho = 7800.0
 constexpr double kA = 0.08, kB = 0.06, kL = 0.1;  // platform half-sizes, wire length
 const Vec3 kLoad(0.5, 1.0, 0.0);                  // N, on the corner (a, b, L)
 
-// St Venant torsion constant of a w x t rectangle (the series SPACAR Light uses).
-double torsionConstant(double w, double t) {
-  const double a = std::min(w, t) / 2, b = std::max(w, t) / 2;
-  double s = 0.0;
-  for (int n = 1;; n += 2) {
-    const double term = std::tanh(n * std::numbers::pi * b / (2 * a)) / std::pow(n, 5);
-    s += term;
-    if (n >= 3 && term / s < 1e-4) break;
-  }
-  return std::pow(2 * a, 3) * (2 * b) / 3 * (1 - 192 / std::pow(std::numbers::pi, 5) * (a / b) * s);
-}
+using flexmb::test::torsionConstant;
 
 struct Section {
   double w, t;  // w along the local y axis (CalculiX: the 1-direction), t along local z

@@ -27,4 +27,13 @@ inline double relativeError(const Eigen::MatrixXd& a, const Eigen::MatrixXd& ref
   return (a - ref).norm() / std::max(ref.norm(), floor);
 }
 
+// Largest entry of |a - ref| over the largest entry of either (not below `floor`); 0 for two empty
+// arrays.
+template <class A, class B>
+double maxRelativeError(const A& a, const B& ref, double floor = 1e-9) {
+  if (a.size() == 0 && ref.size() == 0) return 0.0;
+  const double scale = std::max({a.cwiseAbs().maxCoeff(), ref.cwiseAbs().maxCoeff(), floor});
+  return (a - ref).cwiseAbs().maxCoeff() / scale;
+}
+
 }  // namespace flexmb::core::test

@@ -2,6 +2,8 @@
 // Sample elements of every registered type, generated from the type's slots (node kinds) and its
 // direction vector alone, so that the registry-driven tests (test_element_registry.cpp) cover an
 // element type the moment it is registered.
+#include <gtest/gtest.h>
+
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
@@ -237,6 +239,28 @@ inline ElemMat stressHessianByDifferences(const Element& el, const ElemVec& x, c
         return Eigen::VectorXd(J.transpose() * sigma);
       },
       x, h);
+}
+
+// The stress-weighted Hessian at x against central differences (step h) of D^T sigma, its symmetry,
+// and its consistency with secondDerivative (v^T H v = sigma . D2e[v, v] for a random v); returns
+// its relative error (1 when its size is wrong).
+inline double checkStressWeightedHessian(const Element& el, const ElemVec& x, const DefVec& sigma, std::mt19937& rng,
+                                         double h, const std::string& label) {
+  const int n = el.numCoords();
+  ElemMat H;
+  el.stressWeightedHessian(x, sigma, H);
+  EXPECT_EQ(H.rows(), n) << label;
+  EXPECT_EQ(H.cols(), n) << label;
+  if (H.rows() != n || H.cols() != n) return 1.0;
+  const double err = maxRelativeError(H, stressHessianByDifferences(el, x, sigma, h));
+  EXPECT_LT(err, 1e-6) << label;
+  EXPECT_LT(maxRelativeError(H, ElemMat(H.transpose()), 1e-300), 1e-14) << "symmetry, " << label;
+  const ElemVec v = randomVector(n, rng);
+  DefVec d2;
+  el.secondDerivative(x, v, d2);
+  const double a = v.dot(H * v), b = sigma.dot(d2);
+  EXPECT_NEAR(a, b, 1e-10 * std::max({1.0, std::abs(a), std::abs(b)})) << label;
+  return err;
 }
 
 }  // namespace flexmb::core::test
