@@ -122,21 +122,33 @@ void fieldJacobian(double xi, double l0, const Field& f, const Mat3& Pl, const M
   J.block<3, 4>(0, LP) = (l0 * f.h10) * Jp;
   J.block<3, 4>(0, LQ) = (l0 * f.h11) * Jq;
 }
+// What every Gauss point's field Jacobian (fieldJacobian) needs of a configuration x: the chord's
+// direction e and length l, the projector (I - e e^T) / l, and the end tangents' Jacobians.
+struct ChordFrame {
+  Vec3 e;
+  double l;
+  Mat3 Pl;
+  Mat34 Jp, Jq;
+  ChordFrame(const Eigen::Matrix<double, 14, 1>& x, const Mat3& Ap, const Mat3& Aq) {
+    const Vec3 d = x.segment<3>(XQ) - x.segment<3>(XP);
+    l = d.norm();
+    e = d / l;
+    Pl = (Mat3::Identity() - e * e.transpose()) / l;
+    Jp = euler::rotatedJacobian(x.segment<4>(LP), Ap.col(0));
+    Jq = euler::rotatedJacobian(x.segment<4>(LQ), Aq.col(0));
+  }
+};
+
 }  // namespace
 
 void SpatialBeam::mass(const ElemVec& xe, const ElementInertia& in, ElemMat& M) const {
   Mat14 Mf = Mat14::Zero();
   const Vec14 x = xe;
   if (in.rhoA != 0.0) {
-    const Vec3 d = x.segment<3>(XQ) - x.segment<3>(XP);
-    const double l = d.norm();
-    const Vec3 e = d / l;
-    const Mat3 Pl = (Mat3::Identity() - e * e.transpose()) / l;
-    const Mat34 Jp = euler::rotatedJacobian(x.segment<4>(LP), Ap_.col(0));
-    const Mat34 Jq = euler::rotatedJacobian(x.segment<4>(LQ), Aq_.col(0));
+    const ChordFrame c(x, Ap_, Aq_);
     Eigen::Matrix<double, 3, 14> J;
     for (int k = 0; k < 4; ++k) {
-      fieldJacobian(kGaussXi[k], l0_, shape(kGaussXi[k]), Pl, Jp, Jq, J);
+      fieldJacobian(kGaussXi[k], l0_, shape(kGaussXi[k]), c.Pl, c.Jp, c.Jq, J);
       Mf.noalias() += (kGaussW[k] * in.rhoA * l0_) * J.transpose() * J;
     }
   }
@@ -151,12 +163,9 @@ void SpatialBeam::velocityForces(const ElemVec& xe, const ElemVec& xde, const El
   Vec14 hf = Vec14::Zero();
   const Vec14 x = xe, xd = xde;
   if (in.rhoA != 0.0) {
-    const Vec3 d = x.segment<3>(XQ) - x.segment<3>(XP);
-    const double l = d.norm();
-    const Vec3 e = d / l;
-    const Mat3 Pl = (Mat3::Identity() - e * e.transpose()) / l;
-    const Mat34 Jp = euler::rotatedJacobian(x.segment<4>(LP), Ap_.col(0));
-    const Mat34 Jq = euler::rotatedJacobian(x.segment<4>(LQ), Aq_.col(0));
+    const ChordFrame c(x, Ap_, Aq_);
+    const Vec3& e = c.e;
+    const double l = c.l;
     // Second derivatives along xd: d2 t_k = 2 R(lambdad_k) a, d2 e_l[u, u] below.
     const Vec3 u = xd.segment<3>(XQ) - xd.segment<3>(XP);
     const Vec3 Pu = u - e * e.dot(u);
@@ -166,7 +175,7 @@ void SpatialBeam::velocityForces(const ElemVec& xe, const ElemVec& xde, const El
     Eigen::Matrix<double, 3, 14> J;
     for (int k = 0; k < 4; ++k) {
       const Field f = shape(kGaussXi[k]);
-      fieldJacobian(kGaussXi[k], l0_, f, Pl, Jp, Jq, J);
+      fieldJacobian(kGaussXi[k], l0_, f, c.Pl, c.Jp, c.Jq, J);
       const Vec3 ac = l0_ * (f.h10 * d2tp + f.h11 * d2tq - (f.h10 + f.h11) * d2e);
       hf.noalias() += (kGaussW[k] * in.rhoA * l0_) * J.transpose() * ac;
     }
@@ -186,15 +195,10 @@ void SpatialBeam::gravityForces3(const ElemVec& xe, const ElementInertia& in, co
   if (in.rhoA != 0.0) {
     const Vec14 x = xe;
     const Vec3 gv(g[0], g[1], g[2]);
-    const Vec3 d = x.segment<3>(XQ) - x.segment<3>(XP);
-    const double l = d.norm();
-    const Vec3 e = d / l;
-    const Mat3 Pl = (Mat3::Identity() - e * e.transpose()) / l;
-    const Mat34 Jp = euler::rotatedJacobian(x.segment<4>(LP), Ap_.col(0));
-    const Mat34 Jq = euler::rotatedJacobian(x.segment<4>(LQ), Aq_.col(0));
+    const ChordFrame c(x, Ap_, Aq_);
     Eigen::Matrix<double, 3, 14> J;
     for (int k = 0; k < 4; ++k) {
-      fieldJacobian(kGaussXi[k], l0_, shape(kGaussXi[k]), Pl, Jp, Jq, J);
+      fieldJacobian(kGaussXi[k], l0_, shape(kGaussXi[k]), c.Pl, c.Jp, c.Jq, J);
       ff.noalias() += (kGaussW[k] * in.rhoA * l0_) * J.transpose() * gv;
     }
   }
