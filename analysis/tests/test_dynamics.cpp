@@ -12,6 +12,7 @@
 #include "analysis/Statics.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Linearization.hpp"
+#include "core/tests/Energy.hpp"
 #include "core/tests/ShortRun.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
@@ -38,23 +39,7 @@ double ellipticK(double k) {
   return M_PI / (2.0 * a);
 }
 
-// Total energy: kinetic 1/2 xd^T M(x) xd plus elastic 1/2 e^T S e over the stressed (active) deformations.
-double totalEnergy(const core::Model& m, core::Inertia& inertia, const core::StateOutputs& s) {
-  inertia.update(s.x);
-  double V = 0.0;
-  for (const auto& E : m.elements) {
-    if (!E.hasStiffness) continue;
-    const int nd = E.impl->numDeformations();
-    for (int i = 0; i < nd; ++i)
-      for (int j = 0; j < nd; ++j) {
-        const int a = E.firstDef + i, b = E.firstDef + j;
-        const bool activeA = m.eRole[a] == core::Role::Dynamic || m.eRole[a] == core::Role::Calculable;
-        const bool activeB = m.eRole[b] == core::Role::Dynamic || m.eRole[b] == core::Role::Calculable;
-        if (activeA && activeB) V += 0.5 * s.e[a] * E.S(i, j) * s.e[b];
-      }
-  }
-  return inertia.kineticEnergy(s.xd) + V;
-}
+using flexmb::core::test::totalEnergy;
 
 // Integrates from y0 and returns the largest relative deviation of the total energy.
 double energyDrift(const core::Model& m, const Eigen::VectorXd& y0, double tEnd, double relTol) {

@@ -21,6 +21,7 @@
 #include "core/Inertia.hpp"
 #include "core/Linearization.hpp"
 #include "core/elements/EulerParameters.hpp"
+#include "core/tests/Energy.hpp"
 #include "core/tests/ShortRun.hpp"
 #include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
@@ -477,17 +478,7 @@ TEST(SpatialModels, FreeTumblingFlexibleBeamConservesEnergy) {
   y0[nq + 3] = 0.5 * 0.5, y0[nq + 4] = 0.5 * 1.0, y0[nq + 5] = 0.5 * 2.0;
   y0[6 + 2] = 4e-3, y0[6 + 4] = -3e-3, y0[12 + 3] = 2e-3, y0[12 + 5] = 5e-3;  // bending
   core::Inertia inertia(m);
-  auto energy = [&](const core::StateOutputs& st) {
-    inertia.update(st.x);
-    double V = 0.0;
-    for (const auto& E : m.elements) {
-      if (!E.hasStiffness) continue;
-      const int nd = E.impl->numDeformations();
-      for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j) V += 0.5 * st.e[E.firstDef + i] * E.S(i, j) * st.e[E.firstDef + j];
-    }
-    return inertia.kineticEnergy(st.xd) + V;
-  };
+  auto energy = [&](const core::StateOutputs& st) { return core::test::totalEnergy(m, inertia, st, true); };
   solvers::Ode45Options o;
   o.relTol = relTol;
   o.absTol = Eigen::VectorXd::Constant(1, relTol * 1e-3);

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/EquationsOfMotion.hpp"
+#include "core/tests/Energy.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
@@ -40,19 +41,7 @@ VectorXd movingState(core::EquationsOfMotion& eom, double qScale, double qdScale
 double energy(const core::Model& m, core::EquationsOfMotion& eom, core::Inertia& inertia, double t, const VectorXd& y) {
   core::StateOutputs s;
   eom.outputs(t, y, s);
-  inertia.update(s.x);
-  double V = 0.0;
-  for (const auto& E : m.elements) {
-    if (!E.hasStiffness) continue;
-    const int nd = E.impl->numDeformations();
-    for (int i = 0; i < nd; ++i)
-      for (int j = 0; j < nd; ++j) {
-        const int a = E.firstDef + i, b = E.firstDef + j;
-        auto active = [&](int k) { return m.eRole[k] == core::Role::Dynamic || m.eRole[k] == core::Role::Calculable; };
-        if (active(a) && active(b)) V += 0.5 * s.e[a] * E.S(i, j) * s.e[b];
-      }
-  }
-  return inertia.kineticEnergy(s.xd) + V;
+  return core::test::totalEnergy(m, inertia, s);
 }
 
 }  // namespace

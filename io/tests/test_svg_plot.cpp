@@ -19,12 +19,7 @@
 #include "io/SvgPlot.hpp"
 
 namespace fs = std::filesystem;
-using flexmb::io::linearTicks;
-using flexmb::io::logTicks;
-using flexmb::io::Plot;
-using flexmb::io::renderSvg;
-using flexmb::io::Series;
-using flexmb::io::writeSvg;
+using namespace flexmb::io;
 
 namespace {
 

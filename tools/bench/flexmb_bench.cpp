@@ -126,6 +126,16 @@ struct Run {
   double wall = 0.0;  // seconds, model set-up + integration (EquationsOfMotion construction included)
   std::vector<double> t;
   std::vector<VectorXd> y;
+  // An observer that keeps every output state (room made for n of them first).
+  std::function<bool(double, const VectorXd&)> recorder(std::size_t n) {
+    t.reserve(n);
+    y.reserve(n);
+    return [this](double ti, const VectorXd& yi) {
+      t.push_back(ti);
+      y.push_back(yi);
+      return true;
+    };
+  }
 };
 
 struct Problem {
@@ -155,13 +165,7 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
       throw solvers::RhsError(e.what());
     }
   };
-  r.t.reserve(p.tspan.size());
-  r.y.reserve(p.tspan.size());
-  auto observer = [&](double t, const VectorXd& y) {
-    r.t.push_back(t);
-    r.y.push_back(y);
-    return true;
-  };
+  const auto observer = r.recorder(p.tspan.size());
   const VectorXd y0 = eom.initialState();
   const solvers::OdeResult res = analysis::integrateOde45(eom, o, f, p.tspan, y0, observer);  // as simulate
   r.wall = since(start);
@@ -218,13 +222,7 @@ Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bo
       throw solvers::RhsError(e.what());
     }
   };
-  r.t.reserve(p.tspan.size());
-  r.y.reserve(p.tspan.size());
-  auto observer = [&](double t, const VectorXd& y) {
-    r.t.push_back(t);
-    r.y.push_back(y);
-    return true;
-  };
+  const auto observer = r.recorder(p.tspan.size());
   solvers::BdfOptions o;
   o.relTol = relTol;
   o.absTol = absTol;
