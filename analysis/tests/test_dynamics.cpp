@@ -10,6 +10,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
+#include "analysis/tests/EnergyDrift.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Linearization.hpp"
 #include "core/tests/Energy.hpp"
@@ -45,26 +46,10 @@ using flexmb::core::test::totalEnergy;
 double energyDrift(const core::Model& m, const Eigen::VectorXd& y0, double tEnd, double relTol) {
   if (const char* s = std::getenv("FLEXMB_ENERGY_TEND")) tEnd = std::atof(s);  // for profiling only
   core::EquationsOfMotion eom(m), probe(m);
-  eom.kinematics().setRelativeTolerance(1e-5 * relTol);  // as analysis::simulate does
-  probe.kinematics().setRelativeTolerance(1e-5 * relTol);
   core::Inertia inertia(m);
-  solvers::Ode45Options o;
-  o.relTol = relTol;
-  o.absTol = Eigen::VectorXd::Constant(1, relTol * 1e-3);
-  solvers::Ode45 ode(o);
-  std::vector<double> tspan;
-  for (int i = 0; i <= 50; ++i) tspan.push_back(tEnd * i / 50.0);
-  double E0 = std::nan(""), worst = 0.0;
-  auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { eom.rhs(t, y, dy); };
-  auto obs = [&](double t, const Eigen::VectorXd& y) {
-    core::StateOutputs s;
-    probe.outputs(t, y, s);
-    const double E = totalEnergy(m, inertia, s);
-    if (std::isnan(E0)) E0 = E;
-    worst = std::max(worst, std::abs(E - E0) / std::abs(E0));
-    return true;
-  };
-  const auto r = ode.integrate(f, tspan, y0, obs);
+  solvers::OdeResult r;
+  const double worst = flexmb::test::largestEnergyDeviation(
+      eom, probe, y0, tEnd, relTol, [&](const core::StateOutputs& s) { return totalEnergy(m, inertia, s); }, r);
   std::printf("  %s", solvers::Ode45::formatStats(r.stats).c_str());
   EXPECT_EQ(r.status, solvers::OdeStatus::Success) << r.message;
   return worst;

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "analysis/Statics.hpp"
+#include "analysis/tests/EnergyDrift.hpp"
 #include "analysis/tests/Objectivity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/Inertia.hpp"
@@ -479,25 +480,10 @@ TEST(SpatialModels, FreeTumblingFlexibleBeamConservesEnergy) {
   y0[6 + 2] = 4e-3, y0[6 + 4] = -3e-3, y0[12 + 3] = 2e-3, y0[12 + 5] = 5e-3;  // bending
   core::Inertia inertia(m);
   auto energy = [&](const core::StateOutputs& st) { return core::test::totalEnergy(m, inertia, st, true); };
-  solvers::Ode45Options o;
-  o.relTol = relTol;
-  o.absTol = Eigen::VectorXd::Constant(1, relTol * 1e-3);
-  solvers::Ode45 ode(o);
   // Slow by design (5 min under the sanitizers): the short run integrates the first 0.1 s.
   const double tEnd = flexmb::test::shortRun() ? 0.1 : 1.0;
-  std::vector<double> tspan;
-  for (int i = 0; i <= 50; ++i) tspan.push_back(tEnd * i / 50.0);
-  double E0 = std::nan(""), worst = 0.0;
-  auto f = [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { eom.rhs(t, y, dy); };
-  auto obs = [&](double t, const Eigen::VectorXd& y) {
-    core::StateOutputs st;
-    probe.outputs(t, y, st);
-    const double E = energy(st);
-    if (std::isnan(E0)) E0 = E;
-    worst = std::max(worst, std::abs(E - E0) / std::abs(E0));
-    return true;
-  };
-  const auto r = ode.integrate(f, tspan, y0, obs);
+  solvers::OdeResult r;
+  const double worst = flexmb::test::largestEnergyDeviation(eom, probe, y0, tEnd, relTol, energy, r);
   ASSERT_EQ(r.status, solvers::OdeStatus::Success) << r.message;
   std::printf("free tumbling BEAM pair: relative energy drift over %g s at RelTol 1e-10: %.3e (%s)\n", tEnd, worst,
               solvers::Ode45::formatStats(r.stats).c_str());

@@ -1,8 +1,8 @@
 #pragma once
 // The total energy of a state, as the energy tests check it.
+#include "core/EquationsOfMotion.hpp"
 #include "core/Inertia.hpp"
 #include "core/Model.hpp"
-#include "core/EquationsOfMotion.hpp"
 
 namespace flexmb::core::test {
 
@@ -10,9 +10,7 @@ namespace flexmb::core::test {
 // (dynamic and calculable; every deformation with allDeformations).
 inline double totalEnergy(const Model& m, Inertia& inertia, const StateOutputs& s, bool allDeformations = false) {
   inertia.update(s.x);
-  auto active = [&](int k) {
-    return allDeformations || m.eRole[k] == Role::Dynamic || m.eRole[k] == Role::Calculable;
-  };
+  auto active = [&](int k) { return allDeformations || m.eRole[k] == Role::Dynamic || m.eRole[k] == Role::Calculable; };
   double V = 0.0;
   for (const auto& E : m.elements) {
     if (!E.hasStiffness) continue;

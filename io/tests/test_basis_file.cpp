@@ -20,11 +20,7 @@
 namespace fs = std::filesystem;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
-using flexmb::io::BasisInfo;
-using flexmb::io::formatBasis;
-using flexmb::io::parseBasis;
-using flexmb::io::readBasis;
-using flexmb::io::writeBasis;
+using namespace flexmb::io;
 
 namespace {
 
