@@ -68,6 +68,12 @@ std::unique_ptr<Element> make(const ElementTypeInfo& t, const ElemVec& x0, const
   return t.create(x0, {});
 }
 
+// An element of type t at random initial coordinates x0 with a random direction vector v.
+std::unique_ptr<Element> randomElement(const ElementTypeInfo& t, std::mt19937& rng, ElemVec& x0, Vec3& v) {
+  randomInitial(t, rng, x0, v);
+  return make(t, x0, v);
+}
+
 // A deformed configuration near x0: positions moved by up to 0.15, parameters perturbed (not
 // normalised: the derivatives hold for any lambda).
 ElemVec perturb(const ElementTypeInfo& t, const ElemVec& x0, std::mt19937& rng, double size) {
@@ -90,8 +96,7 @@ TEST(SpatialElements, DerivativesAgainstFiniteDifferences) {
     for (int trial = 0; trial < 20; ++trial) {
       ElemVec x0;
       Vec3 v3;
-      randomInitial(*t, rng, x0, v3);
-      auto el = make(*t, x0, v3);
+      auto el = randomElement(*t, rng, x0, v3);
       const int n = el->numCoords(), m = el->numDeformations();
       ASSERT_EQ(n, t->numCoords());
       ASSERT_EQ(m, t->numDeformations());
@@ -134,8 +139,7 @@ TEST(SpatialElements, ZeroInitiallyAndInvariantUnderRigidMotion) {
     for (int trial = 0; trial < 50; ++trial) {
       ElemVec x0;
       Vec3 v3;
-      randomInitial(*t, rng, x0, v3);
-      auto el = make(*t, x0, v3);
+      auto el = randomElement(*t, rng, x0, v3);
       DefVec e0;
       el->deformations(x0, e0);
       worst0 = std::max(worst0, e0.cwiseAbs().maxCoeff());
@@ -210,8 +214,7 @@ TEST(SpatialElements, BeamStiffnessIsTimoshenkoSpaceFrame) {
   for (int trial = 0; trial < 20; ++trial) {
     ElemVec x0;
     Vec3 y;
-    randomInitial(*t, rng, x0, y);
-    auto el = make(*t, x0, y);
+    auto el = randomElement(*t, rng, x0, y);
     const double EA = uniform(rng, 1, 100), GJ = uniform(rng, 0.1, 5), EIy = uniform(rng, 0.1, 5),
                  EIz = uniform(rng, 0.1, 5), cy = uniform(rng, 0, 0.05), cz = uniform(rng, 0, 0.05);
     const double p[6] = {EA, GJ, EIy, EIz, cy, cz};
@@ -283,8 +286,7 @@ TEST(SpatialElements, BeamInertia) {
   for (int trial = 0; trial < 10; ++trial) {
     ElemVec x0;
     Vec3 y;
-    randomInitial(*t, rng, x0, y);
-    auto el = make(*t, x0, y);
+    auto el = randomElement(*t, rng, x0, y);
     ElementInertia in;
     in.rhoA = uniform(rng, 0.5, 3);
     in.jxx = uniform(rng, 0.01, 0.1), in.jyy = uniform(rng, 0.01, 0.1), in.jzz = uniform(rng, 0.01, 0.1);
