@@ -29,12 +29,13 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
     notes.push_back({Kind::Result, integration + (traj.accuracy.checked ? "accuracy check: " : "accuracy ") + text,
                      integration + "accuracy", text});
     if (!traj.accuracy.converged())
-      notes.push_back({Kind::Warning,
-                       "the result is not converged: a tighter tolerance changes it by about " +
-                           solvers::significant(traj.accuracy.estimate, 2) +
-                           " of the model size over the run (more than 10 RelTol): tighten --reltol and --abstol and "
-                           "compare",
-                       "", ""});
+      notes.push_back(
+          {Kind::Warning,
+           "the result is not converged: a tighter tolerance changes it by about " +
+               solvers::significant(traj.accuracy.estimate, 2) +
+               " of the model size over the run (more than 10 RelTol): tighten RelTol and AbsTol (--reltol and "
+               "--abstol; opts.reltol and opts.abstol in spacar()) and compare",
+           "", ""});
   }
   if (opt.basis && !traj.states.empty()) {
     const core::ReductionEstimate& re = traj.reduction;
@@ -46,7 +47,7 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
                        "the reduction error estimate " + solvers::significant(re.estimate, 2) + " is larger than " +
                            (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + solvers::significant(limit, 2) +
                            "): the basis leaves out deflections the full model has; a larger basis (flexmb reduce "
-                           "--target) or the full model is more accurate",
+                           "--target; opts.target in spacar()) or the full model is more accurate",
                        "", ""});
   }
   return notes;

@@ -12,7 +12,7 @@
 //   solveDense  : Eigen::GeneralizedSelfAdjointEigenSolver (Cholesky of B), the algebraically lowest nev.
 //   solveLowest : dense matrices in; dense when n < max(denseBelow, 2*nev+2), else ARPACK + DenseShiftInvert.
 //
-// Default shift (../shared/spec/toolchain.md): sigma = -1e-3 * s, s = median_i(A_ii / B_ii) (over B_ii > 0);
+// Default shift: sigma = -1e-3 * s, s = median_i(A_ii / B_ii) (over B_ii > 0);
 // if that median is not positive, s = median |A_ii / B_ii|; if that is 0, s = 1. Never exactly 0.
 // If A - sigma B is singular the shift is moved further down (sigma - 1e-6*s*10^k, k = 0..3; a note is
 // left in `message`); if every attempt fails the status is Singular.

@@ -1,4 +1,5 @@
-// Ode45: see ../shared/spec/ode45.md (the contract) and Shampine & Reichelt, SIAM J. Sci. Comput. 1997.
+// Ode45: MATLAB's ode45 step by step (the contract: its steps and counts) after Shampine & Reichelt, SIAM J. Sci.
+// Comput. 1997.
 #include "solvers/Ode45.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Ode45: MATLAB's ode45 (Dormand-Prince 5(4), FSAL, local extrapolation) reproduced step by step.
-// The contract is ../shared/spec/ode45.md: same accepted/rejected steps and function-evaluation counts.
+// The contract: the same accepted and rejected steps and function-evaluation counts as MATLAB's.
 #pragma once
 
 #include <Eigen/Core>

@@ -7,25 +7,9 @@
 # clang tree), the `benchmark` tests (timings, meaningless here) and `format` (no compiled code);
 # the `slow` tests run their short versions. Extra arguments go to ctest (e.g. -R Sparse or -L io).
 # Prints the build and test times (tools/README.md has the measured figures).
-#
-# CPU lock: on the shared development machine (/tmp/flexmb-cpu.lock exists) the build and the tests
-# each take the lock, unless this process already holds it (started as `/work/bin/cpu bash
-# tools/sanitize.sh`: the lock's file descriptor is inherited, and a second flock on the same file
-# would wait for itself). FLEXMB_CPU_LOCK= (empty) runs without it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${FLEXMB_SANITIZE_DIR:-build-sanitize}
-
-lockfile=${FLEXMB_CPU_LOCK-/tmp/flexmb-cpu.lock}
-lock=()
-if [ -n "$lockfile" ] && [ -e "$lockfile" ]; then
-  target=$(readlink -f "$lockfile")
-  held=0
-  for fd in /proc/$$/fd/*; do
-    [ "$(readlink "$fd" 2>/dev/null || true)" = "$target" ] && held=1
-  done
-  ((held)) || lock=(flock "$lockfile")
-fi
 
 generator=()
 [ ! -f "$dir/CMakeCache.txt" ] && command -v ninja >/dev/null && generator=(-G Ninja)
@@ -35,12 +19,12 @@ cmake -S . -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFLEXM
   ${CXX:+-DCMAKE_CXX_COMPILER=$CXX} "${launcher[@]}" >/dev/null
 
 t0=$(date +%s)
-"${lock[@]}" cmake --build "$dir" -j"$(nproc)"
+cmake --build "$dir" -j"$(nproc)"
 t1=$(date +%s)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 rc=0
-"${lock[@]}" ctest --test-dir "$dir" -j"$(nproc)" --output-on-failure -LE 'fuzz|benchmark|format' "$@" || rc=$?
+ctest --test-dir "$dir" -j"$(nproc)" --output-on-failure -LE 'fuzz|benchmark|format' "$@" || rc=$?
 t2=$(date +%s)
 echo "sanitize: build $((t1 - t0)) s, tests $((t2 - t1)) s, total $((t2 - t0)) s (ctest exit $rc)"
 exit $rc

@@ -1,4 +1,4 @@
-// Tests of solvers::Ode45 against ../shared/spec/ode45.md (reference counts) and closed-form solutions.
+// Tests of solvers::Ode45 against MATLAB's reference counts and closed-form solutions.
 #include "solvers/Ode45.hpp"
 #include "solvers/tests/OdeTrace.hpp"
 

@@ -15,7 +15,6 @@
 # Light shapes in io/tests/data, tools/tests/data, the gateway's USERSIG models), and the basis files
 # in tools/fuzz/seeds/basis. -max_len is the largest seed rounded up to 4 KiB (at least 8 KiB), so
 # no shipped model is cut. Exit 77 (ctest: skipped) only when clang++ or libFuzzer is not installed.
-# Takes no CPU lock itself: run the test suite under it.
 set -euo pipefail
 src="$(cd "$(dirname "$0")/../.." && pwd)"
 cmd=${1:?usage: ci.sh build|tests|fuzz|seeds ...}

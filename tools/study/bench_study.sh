@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Figures of `flexmb study` (tools/study/README.md), to run alone on the machine (inside its CPU lock):
+# Figures of `flexmb study` (tools/study/README.md), to run alone on the machine (nothing else busy):
 #   1. speed-up of --jobs 2 over --jobs 1: 100 variants of the cross-spring pivot template (leaf
 #      thickness from 0.1 to 0.5 mm), static analysis with 10 load steps and 6 frequencies in each;
 #   2. the study's cost per variant beyond its analysis, from the same --jobs 1 runs: (wall time -
