@@ -160,38 +160,30 @@ void restartLoads(Writer& w, const Model& m) {
   for (const auto& tl : m.references) w.line("EREF " + w.eId(tl.index) + " " + quoted(tl.f));
 }
 
-// The inputs at time t: value (in XY/BETA for coordinates), rate and acceleration.
+// One prescribed input at time t: its functions (INPUTXT / INPUTET), else its value (a coordinate's
+// is in XY/BETA in SPACAR95), rate and acceleration, and DELINPX.
+void restartInput(Writer& w, const core::Rheonomic& r, double t, bool coordinate) {
+  const std::string id = coordinate ? w.xId(r.index) : w.eId(r.index);
+  if (r.fx) {
+    w.line(std::string(coordinate ? "INPUTXT " : "INPUTET ") + id + " " + quoted(r.fx) + " " + quoted(r.fv) + " " +
+           quoted(r.fa));
+    return;
+  }
+  double x, v, a;
+  r.evaluate(t, x, v, a);
+  if (w.s95) {
+    if (!coordinate) w.line("E " + id + " " + num(x));
+    if (v != 0.0) w.line((coordinate ? "XD " : "ED ") + id + " " + num(v));
+    if (a != 0.0) w.line((coordinate ? "XDD " : "EDD ") + id + " " + num(a));
+  } else {
+    w.line(std::string(coordinate ? "INPUTX " : "INPUTE ") + id + " " + num(x) + " " + num(v) + " " + num(a));
+  }
+  if (coordinate && r.delta != 0.0) w.line("DELINPX " + id + " " + num(r.delta));
+}
+
 void restartInputs(Writer& w, const Model& m, double t) {
-  for (const auto& r : m.inputX) {
-    if (r.fx) {
-      w.line("INPUTXT " + w.xId(r.index) + " " + quoted(r.fx) + " " + quoted(r.fv) + " " + quoted(r.fa));
-      continue;
-    }
-    double x, v, a;
-    r.evaluate(t, x, v, a);
-    if (w.s95) {
-      if (v != 0.0) w.line("XD " + w.xId(r.index) + " " + num(v));
-      if (a != 0.0) w.line("XDD " + w.xId(r.index) + " " + num(a));
-    } else {
-      w.line("INPUTX " + w.xId(r.index) + " " + num(x) + " " + num(v) + " " + num(a));
-    }
-    if (r.delta != 0.0) w.line("DELINPX " + w.xId(r.index) + " " + num(r.delta));
-  }
-  for (const auto& r : m.inputE) {
-    if (r.fx) {
-      w.line("INPUTET " + w.eId(r.index) + " " + quoted(r.fx) + " " + quoted(r.fv) + " " + quoted(r.fa));
-      continue;
-    }
-    double x, v, a;
-    r.evaluate(t, x, v, a);
-    if (w.s95) {
-      w.line("E " + w.eId(r.index) + " " + num(x));
-      if (v != 0.0) w.line("ED " + w.eId(r.index) + " " + num(v));
-      if (a != 0.0) w.line("EDD " + w.eId(r.index) + " " + num(a));
-    } else {
-      w.line("INPUTE " + w.eId(r.index) + " " + num(x) + " " + num(v) + " " + num(a));
-    }
-  }
+  for (const auto& r : m.inputX) restartInput(w, r, t, true);
+  for (const auto& r : m.inputE) restartInput(w, r, t, false);
 }
 
 // Rates (and, SPACAR95, accelerations) of DYNX coordinates, and the deformations where the run ended.

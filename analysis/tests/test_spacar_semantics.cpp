@@ -47,6 +47,20 @@ Difference compare(const core::Trajectory& a, const core::Trajectory& b) {
   return d;
 }
 
+// The run from the echo (second) against one run of the first model to tEnd with `intervals`
+// output intervals.
+Difference continuedAgainstOneRun(const core::Model& first, const core::Model& second,
+                                  const analysis::SimulationOptions& o, double tEnd, int intervals) {
+  const core::Trajectory b = analysis::simulate(second, o);
+  EXPECT_TRUE(b.completed) << b.stopReason;
+  analysis::SimulationOptions full = o;
+  full.tEnd = tEnd;
+  full.intervals = intervals;
+  const core::Trajectory c = analysis::simulate(first, full);
+  EXPECT_TRUE(c.completed) << c.stopReason;
+  return compare(b, c);
+}
+
 std::string readAll(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   std::string s;
@@ -101,14 +115,7 @@ TEST(Restart, Spacar95RestartFromEchoEqualsOneRun) {
   EXPECT_EQ(second.dialect, core::Dialect::Spacar95);
   EXPECT_DOUBLE_EQ(second.settings.t0, 5.0);
   EXPECT_DOUBLE_EQ(second.settings.tEnd, 10.0);
-  const core::Trajectory b = analysis::simulate(second, o);
-  ASSERT_TRUE(b.completed) << b.stopReason;
-  analysis::SimulationOptions full = o;
-  full.tEnd = 10.0;
-  full.intervals = 1000;
-  const core::Trajectory c = analysis::simulate(first, full);
-  ASSERT_TRUE(c.completed) << c.stopReason;
-  const Difference d = compare(b, c);
+  const Difference d = continuedAgainstOneRun(first, second, o, 10.0, 1000);
   EXPECT_EQ(d.compared, 501);
   // EPSINT 1e-6 (relative and absolute); positions ~0.5 m, the crank angle grows to ~40 rad.
   EXPECT_LT(d.x, 1e-5) << "positions differ by " << d.x;
@@ -128,13 +135,7 @@ TEST(Restart, Spacar2013RestartFromEchoEqualsOneRun) {
   EXPECT_EQ(second.dialect, core::Dialect::Spacar2013);
   EXPECT_DOUBLE_EQ(second.settings.t0, 1.0);
   EXPECT_DOUBLE_EQ(second.settings.tEnd, 2.0);
-  const core::Trajectory b = analysis::simulate(second, o);
-  ASSERT_TRUE(b.completed) << b.stopReason;
-  analysis::SimulationOptions full = o;
-  full.tEnd = 2.0;
-  full.intervals = 40;
-  const core::Trajectory c = analysis::simulate(first, full);
-  const Difference d = compare(b, c);
+  const Difference d = continuedAgainstOneRun(first, second, o, 2.0, 40);
   EXPECT_EQ(d.compared, 21);
   EXPECT_LT(d.x, 1e-5) << d.x;
   EXPECT_LT(d.e, 1e-5) << d.e;

@@ -40,6 +40,11 @@ struct LoadedPivot {
   core::Model model = pivot();
   analysis::StaticRun run = analysis::staticAnalysis(model, 0, 10);
   const analysis::StaticStep& mid() const { return run.steps[run.steps.size() / 2]; }
+  // lin placed at the middle load step's configuration, its kinematics solved to `tolerance`.
+  void placeAtMid(core::Linearization& lin, double tolerance) const {
+    lin.kinematics().setRelativeTolerance(tolerance);
+    lin.kinematics().setConfiguration(mid().x);
+  }
 };
 }  // namespace
 
@@ -67,8 +72,7 @@ TEST(SpatialStatics, SaddlePointTangentSolvesTheProjectedTangent) {
   const LoadedPivot p;
   ASSERT_TRUE(p.run.completed) << p.run.stopReason;
   core::Linearization lin(p.model);
-  lin.kinematics().setRelativeTolerance(1e-14);
-  lin.kinematics().setConfiguration(p.mid().x);
+  p.placeAtMid(lin, 1e-14);
   const Eigen::VectorXd eta = p.mid().eta + 1e-6 * direction(lin.size(), 0.4);
   Eigen::VectorXd Qsparse, Qdense, f, x;
   ASSERT_TRUE(lin.staticTangent(0.0, eta, 1.0, 1.0, Qsparse));
@@ -96,8 +100,7 @@ TEST(SpatialStatics, NewtonTangentIsTheDerivativeOfTheStaticResidual) {
   const LoadedPivot p;
   ASSERT_TRUE(p.run.completed) << p.run.stopReason;
   core::Linearization lin(p.model);
-  lin.kinematics().setRelativeTolerance(1e-15);
-  lin.kinematics().setConfiguration(p.mid().x);
+  p.placeAtMid(lin, 1e-15);
   const Eigen::VectorXd eta = p.mid().eta;
   const double s = p.mid().loadFactor;
   Eigen::VectorXd Q, Qp, Qm, x;
@@ -121,8 +124,7 @@ TEST(SpatialStatics, NewtonConvergesQuadraticallyNearThePivotEquilibrium) {
   const LoadedPivot p;
   ASSERT_TRUE(p.run.completed) << p.run.stopReason;
   core::Linearization lin(p.model);
-  lin.kinematics().setRelativeTolerance(1e-15);
-  lin.kinematics().setConfiguration(p.mid().x);
+  p.placeAtMid(lin, 1e-15);
   const Eigen::VectorXd& star = p.mid().eta;
   const double s = p.mid().loadFactor;
   const Eigen::VectorXd v = direction(lin.size(), 0.7);

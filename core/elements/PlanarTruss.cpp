@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/elements/Bar.hpp"
+
 namespace flexmb::core {
 
 PlanarTruss::PlanarTruss(const ElemVec& x0) {
@@ -47,17 +49,10 @@ void PlanarTruss::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, E
   H << a, b, -a, -b, b, c, -b, -c, -a, -b, a, b, -b, -c, b, c;
 }
 
-void PlanarTruss::constitutive(std::span<const double> params, DefMat& S) const {
-  S.setZero(1, 1);
-  S(0, 0) = (params.size() > 0 ? params[0] : 0.0) / l0_;
-}
+void PlanarTruss::constitutive(std::span<const double> params, DefMat& S) const { bar::constitutive(params, l0_, S); }
 
 void PlanarTruss::mass(const ElemVec&, const ElementInertia& inertia, ElemMat& M) const {
-  // rhoA l0 / 6 [[2, 1], [1, 2]] (x) I2
-  const double a = inertia.rhoA * l0_ / 3.0, b = inertia.rhoA * l0_ / 6.0;
-  M.setZero(4, 4);
-  M(0, 0) = M(1, 1) = M(2, 2) = M(3, 3) = a;
-  M(0, 2) = M(2, 0) = M(1, 3) = M(3, 1) = b;
+  bar::mass(inertia.rhoA, l0_, 2, M);
 }
 
 void PlanarTruss::velocityForces(const ElemVec&, const ElemVec&, const ElementInertia&, ElemVec& h) const {

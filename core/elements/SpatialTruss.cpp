@@ -4,6 +4,8 @@
 
 #include "core/elements/SpatialPrimitives.hpp"
 
+#include "core/elements/Bar.hpp"
+
 namespace flexmb::core {
 
 using namespace spatial;
@@ -45,19 +47,9 @@ void SpatialTruss::stressWeightedHessian(const ElemVec& x, const DefVec& sigma, 
   H = sigma[0] * l.H;
 }
 
-void SpatialTruss::constitutive(std::span<const double> params, DefMat& S) const {
-  S.setZero(1, 1);
-  S(0, 0) = (params.size() > 0 ? params[0] : 0.0) / l0_;
-}
+void SpatialTruss::constitutive(std::span<const double> params, DefMat& S) const { bar::constitutive(params, l0_, S); }
 
-void SpatialTruss::mass(const ElemVec&, const ElementInertia& in, ElemMat& M) const {
-  const double a = in.rhoA * l0_ / 3.0, b = in.rhoA * l0_ / 6.0;
-  M.setZero(6, 6);
-  for (int i = 0; i < 3; ++i) {
-    M(i, i) = M(i + 3, i + 3) = a;
-    M(i, i + 3) = M(i + 3, i) = b;
-  }
-}
+void SpatialTruss::mass(const ElemVec&, const ElementInertia& in, ElemMat& M) const { bar::mass(in.rhoA, l0_, 3, M); }
 
 void SpatialTruss::gravityForces3(const ElemVec&, const ElementInertia& in, const double* g, ElemVec& f) const {
   const double m2 = 0.5 * in.rhoA * l0_;

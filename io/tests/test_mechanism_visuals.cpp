@@ -28,6 +28,25 @@ core::Model cantilever() {
       "cantilever.dat");
 }
 
+// `frames` states at times 0, dt, 2 dt, ...: the initial configuration with node `label` raised by
+// 0.01 m per frame; with `rates`, zero velocities and accelerations and deformations, their rates
+// and stresses all 0.5 per frame.
+core::Trajectory risingNode(const core::Model& m, int label, int frames, double dt, bool rates) {
+  core::Trajectory traj;
+  for (int k = 0; k < frames; ++k) {
+    core::StateOutputs s;
+    s.x = m.x0;
+    s.x[m.nodes[m.nodeByLabel.at(label)].firstCoord + 1] += 0.01 * k;
+    if (rates) {
+      s.xd = s.xdd = Eigen::VectorXd::Zero(m.nx);
+      s.e = s.ed = s.edd = s.sig = Eigen::VectorXd::Constant(m.ne, 0.5 * k);
+    }
+    traj.time.push_back(dt * k);
+    traj.states.push_back(s);
+  }
+  return traj;
+}
+
 struct TempDir {
   fs::path path;
   TempDir() {
@@ -182,16 +201,7 @@ TEST(MechanismSvg, ShapeFigureHasOnePanelPerEntryAndOneScale) {
 
 TEST(VtkWriter, SeriesHasOneWellFormedVtuPerOutputTime) {
   const core::Model m = twoLink();
-  core::Trajectory traj;
-  for (int k = 0; k < 3; ++k) {
-    core::StateOutputs s;
-    s.x = m.x0;
-    s.x[m.nodes[m.nodeByLabel.at(5)].firstCoord + 1] += 0.01 * k;  // node 5 moves up
-    s.xd = s.xdd = Eigen::VectorXd::Zero(m.nx);
-    s.e = s.ed = s.edd = s.sig = Eigen::VectorXd::Constant(m.ne, 0.5 * k);
-    traj.time.push_back(0.1 * k);
-    traj.states.push_back(s);
-  }
+  core::Trajectory traj = risingNode(m, 5, 3, 0.1, true);  // node 5 moves up
   TempDir dir;
   const auto files = io::writeVtkSeries((dir.path / "run").string(), m, traj);
   ASSERT_EQ(files.size(), 4u);
@@ -228,14 +238,7 @@ TEST(VtkWriter, SeriesHasOneWellFormedVtuPerOutputTime) {
 
 TEST(HtmlAnimation, PageIsSelfContainedAndCarriesEveryFrame) {
   const core::Model m = cantilever();
-  core::Trajectory traj;
-  for (int k = 0; k < 5; ++k) {
-    core::StateOutputs s;
-    s.x = m.x0;
-    s.x[m.nodes[m.nodeByLabel.at(3)].firstCoord + 1] = 0.01 * k;
-    traj.time.push_back(0.25 * k);
-    traj.states.push_back(s);
-  }
+  core::Trajectory traj = risingNode(m, 3, 5, 0.25, false);
   io::AnimationOptions o;
   o.title = "</script><b>";
   const std::string page = io::renderHtmlAnimation(m, traj, o);
