@@ -209,6 +209,22 @@ void OutputSet::discardPending() {
   files_.clear();
 }
 
+bool OutputSet::attempt(const std::string& what, const std::function<void()>& step, std::ostream& err) {
+  try {
+    step();
+    renameFiles();
+    return true;
+  } catch (const ProductFailed& e) {
+    discardPending();
+    setting("not written", what + ": " + e.what());
+  } catch (const std::exception& e) {
+    discardPending();
+    setting("not written", what + ": " + e.what());
+    err << "flexmb: " << what << " not written: " << e.what() << "; the other results are written\n";
+  }
+  return false;
+}
+
 void OutputSet::adopt(const std::string& temporary, const std::string& path) { files_.emplace_back(path, temporary); }
 
 void OutputSet::setting(const std::string& name, double value) { setting(name, solvers::shortest(value)); }

@@ -15,11 +15,18 @@
 //     files) are written between renameFiles() and writeManifest() and listed with record().
 #include <fstream>
 #include <functional>
+#include <ostream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace flexmb::io {
+
+// Thrown by a product step (OutputSet::attempt) that has already said why it failed.
+struct ProductFailed : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class OutputFile {
  public:
@@ -100,6 +107,12 @@ class OutputSet {
   // Drops the temporaries registered since the last renameFiles() (a step that failed half-way),
   // removing what of them exists; the files renamed before stay.
   void discardPending();
+  // One product of a finished analysis (SPACAR's files, a picture, the echo) made by step and renamed
+  // into place on its own. A failure is said on err ("flexmb: <what> not written: reason; the other
+  // results are written"; not for ProductFailed, which said it already) and in the manifest ("not
+  // written: ..."), its temporaries are dropped and the files renamed before it stand: a finished
+  // run is never discarded by a step after it. Returns false on failure.
+  bool attempt(const std::string& what, const std::function<void()>& step, std::ostream& err);
   // Lists a file (or folder) written under its final name after renameFiles().
   void record(const std::string& path) { recorded_.push_back(path); }
   // Writes the manifest with the status line ("complete" or why the run stopped) and every file

@@ -79,15 +79,10 @@ const std::atomic<bool>* interruptFlag();
 const std::atomic<int>* interruptSignal();  // the signal that set the flag (0: none yet)
 int interruptedExitCode();                  // kInterrupted (SIGINT) or kTerminated (SIGTERM)
 
-// One product of a finished analysis (SPACAR's files, a picture, the echo) made and renamed into
-// place on its own: a failure is said on stderr ("<what> not written: reason; the other results are
-// written") and in the manifest ("not written: ..."), its temporaries are dropped, the files renamed
-// before it stand. Returns false on failure: the command then exits with kWriteFailed after writing
-// the manifest. A step that reports its own failure (a picture writer returning false) throws
-// ProductFailed, whose reason is already printed.
-struct ProductFailed : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+// io::OutputSet::attempt with the failures on stderr. Returns false on failure: the command then
+// exits with kWriteFailed after writing the manifest. A step that reports its own failure (a
+// picture writer returning false) throws ProductFailed, whose reason is already printed.
+using io::ProductFailed;
 bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step);
 
 // Before an analysis: whether the file set and the extra outputs (--svg, --html, --vtk, --echo;

@@ -267,19 +267,7 @@ bool outputsWritable(io::OutputSet& files, const std::vector<std::string>& extra
 }
 
 bool tryProduct(io::OutputSet& files, const std::string& what, const std::function<void()>& step) {
-  try {
-    step();
-    files.renameFiles();
-    return true;
-  } catch (const ProductFailed& e) {  // the step said why already
-    files.discardPending();
-    files.setting("not written", what + ": " + e.what());
-  } catch (const std::exception& e) {
-    files.discardPending();
-    files.setting("not written", what + ": " + e.what());
-    std::cerr << "flexmb: " << what << " not written: " << e.what() << "; the other results are written\n";
-  }
-  return false;
+  return files.attempt(what, step, std::cerr);
 }
 
 void sayRemovedStale(const std::vector<std::string>& removed) {

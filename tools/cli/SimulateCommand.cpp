@@ -20,6 +20,7 @@
 #include "analysis/RunNotes.hpp"
 #include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
+#include "analysis/SimulationFiles.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "io/DatReader.hpp"
@@ -217,22 +218,17 @@ std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::
   return std::nullopt;
 }
 
-// The time span and the integrator's settings in words, numbers in their shortest exact form:
-// "0 to 0.7 s, 700 output intervals, reltol 0.001, abstol 1e-06, max step 0.07 s (not limited:
-// ode45's default, a tenth of the span)".
-std::string integrationText(const core::Model& model, const analysis::SimulationOptions& opt) {
-  using solvers::shortest;
-  const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
-  const double h = opt.maxStep.value_or(model.settings.hmax);
-  const int n = opt.intervals.value_or(model.settings.outputIntervals);
-  std::string s = shortest(t0) + " to " + shortest(t1) + " s, " +
-                  (n > 0 ? std::to_string(n) + " output intervals" : std::string("output at every step")) +
-                  ", reltol " + shortest(opt.relTol.value_or(model.settings.relTol)) + ", abstol " +
-                  shortest(opt.absTol.value_or(model.settings.absTol)) + ", max step ";
-  if (h > 0) return s + shortest(std::min(h, t1 - t0)) + " s";
-  // A derived number: in 15 digits (0.1 x 0.07 is 0.007000000000000001 in its shortest exact form).
-  return s + solvers::significant(0.1 * (t1 - t0), 15) +
-         " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
+// The files the options ask for.
+analysis::SimulationFiles filesAsked(const SimulateArgs& a) {
+  analysis::SimulationFiles f;
+  f.csv = a.csv();
+  f.mat = a.mat();
+  f.linearize = a.linearize;
+  f.matrices = a.matrices;
+  f.echo = a.echo;
+  f.vtk = a.vtk;
+  f.html = a.html;
+  return f;
 }
 
 // The run manifest's settings.
@@ -241,134 +237,8 @@ void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model&
   files.setting("command", "simulate");
   files.setting("model", a.m.file);
   if (!a.basisFile.empty() && a.basisFile != "auto") files.setting("basis", a.basisFile);
-  files.setting("integrator", analysis::integratorDescription(opt));
-  files.setting("integration", integrationText(model, opt));
+  analysis::describeIntegration(files, model, opt);
   files.setting("dynamics", a.dynamics);
-}
-
-// Modes 4 and 3: eigenfrequencies (CSV) and matrices (_linear.mat) along the trajectory; returns them
-// for the .sbm when the SPACAR files are written.
-std::optional<analysis::TrajectoryModes> writeTrajectoryModes(io::OutputSet& files, const SimulateArgs& a,
-                                                              const core::Model& model,
-                                                              const analysis::SimulationOptions& opt,
-                                                              const core::Trajectory& traj) {
-  const auto lt = std::chrono::steady_clock::now();
-  auto tm = analysis::trajectoryModes(model, traj, a.linearize, opt.basis, a.matrices || a.mat());
-  std::cout << "linearised at " << tm.time.size() << " output times in "
-            << std::chrono::duration<double>(std::chrono::steady_clock::now() - lt).count() << " s\n";
-  if (!tm.completed) std::cerr << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
-  const int linearize = a.linearize;
-  {
-    // f: natural frequencies |s| of Eq. 15 (with C, D, N); zeta: damping ratios;
-    // frozen_f: (K + G) v = w^2 M v at the same configuration, without C and N.
-    std::ofstream f(files.temporaryFor("_frequencies.csv"));
-    f.precision(12);
-    f << "time";
-    for (int i = 0; i < linearize; ++i) f << ",f" << i + 1 << "_Hz";
-    for (int i = 0; i < linearize; ++i) f << ",zeta" << i + 1;
-    for (int i = 0; i < linearize; ++i) f << ",frozen_f" << i + 1 << "_Hz";
-    f << "\n";
-    auto cells = [&](const Eigen::VectorXd& v, double scale) {
-      for (int i = 0; i < linearize; ++i) {
-        f << ",";
-        if (i < v.size()) f << v[i] * scale;
-      }
-    };
-    for (size_t k = 0; k < tm.time.size(); ++k) {
-      f << tm.time[k];
-      cells(tm.omega[k], 1 / (2 * M_PI));
-      cells(tm.damping[k], 1.0);
-      cells(tm.omegaFrozen[k], 1 / (2 * M_PI));
-      f << "\n";
-    }
-    f.flush();
-    if (!f) throw std::runtime_error("cannot write '" + files.prefix() + "_frequencies.csv': write failed");
-    f.close();
-  }
-  if (a.matrices)
-    io::writeThroughMemory(files.temporaryFor("_linear.mat"),
-                           [&](const std::string& p) { io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega); });
-  if (a.mat()) return tm;
-  return std::nullopt;
-}
-
-// Every result file of the run, the pictures and the restart echo; the list of files written. The
-// trajectory's own files (CSV, .mat) are renamed into place first; each product derived from them
-// afterwards (the linearisation of modes 3/4, SPACAR's .sbd/.sbm, the echo, the pictures) is tried
-// on its own, and one that fails is named on stderr and in the manifest ("not written: ...") while
-// the rest stand: a finished run is never discarded by a step after it. incomplete: such a failure.
-std::vector<std::string> writeSimulationResults(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
-                                                const analysis::SimulationOptions& opt, const core::Trajectory& traj,
-                                                bool interrupted, bool& incomplete) {
-  incomplete = false;
-  std::vector<std::string> report;
-  auto attempt = [&](const std::string& what, const std::function<void()>& step) {
-    if (!tryProduct(files, what, step)) incomplete = true;
-  };
-  if (!traj.time.empty()) {
-    if (a.csv()) {
-      for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
-        files.temporaryFor(std::string(q) + ".csv");
-      io::writeCsv(files.temporaryPrefix(), model, traj);
-      if (io::hasOrientationNodes(model)) {
-        files.temporaryFor("_rot.csv");
-        io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
-      }
-    }
-    if (a.mat())  // through memory: matio does not report a full disk
-      io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
-    report = files.renameFiles();
-    std::optional<analysis::TrajectoryModes> kept;  // for <out>.sbm
-    if (a.linearize > 0 && !interrupted)
-      attempt("the linearisation along the trajectory (--linearize, --matrices)",
-              [&] { kept = writeTrajectoryModes(files, a, model, opt, traj); });
-    if (a.mat())  // SPACAR's <name>.sbd / .sbm (io/results.md)
-      attempt("SPACAR's .sbd/.sbm", [&] {
-        analysis::SpacarOutputOptions so;
-        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
-        const int mode = a.matrices ? 3 : a.linearize > 0 ? 4 : 1;
-        const io::SpacarResults sr = analysis::spacarFromTrajectory(model, traj, kept ? &*kept : nullptr, mode, so);
-        const std::string temp = files.temporaryPrefix();
-        for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
-      });
-  }
-  if (!a.echo.empty() && !traj.time.empty())
-    attempt("the restart echo " + a.echo,
-            [&] { io::writeRestart(files.temporaryPath(a.echo), model, traj.time.back(), traj.states.back()); });
-  if (!traj.time.empty()) {  // pictures of the motion (they name their own files), then the manifest
-    if (a.vtk)
-      attempt("the VTK series", [&] {
-        writeVtk(files.prefix(), model, traj);
-        files.record(files.prefix() + ".pvd");
-        files.record(files.prefix() + "_vtu");
-      });
-    if (a.html)
-      attempt("the HTML animation", [&] {
-        writeAnimation(files.prefix(), model, traj);
-        files.record(files.prefix() + ".html");
-      });
-  }
-  report = files.renameFiles();
-  report.push_back(files.writeManifest(traj.completed ? "complete" : "stopped: " + traj.stopReason));
-  return report;
-}
-
-// The total nodal forces fxt per output time (<out>_fxt.csv): what a driven rigid mechanism's
-// inputs need at their coordinates.
-void writeForceCsv(const std::string& path, const core::Model& model, const core::Trajectory& traj,
-                   const std::vector<Eigen::VectorXd>& fxt) {
-  std::ofstream f(path);
-  f.precision(17);
-  f << "time";
-  for (const auto& name : io::coordinateColumnNames(model)) f << "," << name;
-  f << "\n";
-  for (size_t k = 0; k < fxt.size(); ++k) {
-    f << traj.time[k];
-    for (Eigen::Index i = 0; i < fxt[k].size(); ++i) f << "," << fxt[k][i];
-    f << "\n";
-  }
-  f.flush();
-  if (!f) throw std::runtime_error("cannot write '" + path + "': write failed");
 }
 
 // The largest |force| each input needs over the run, as a SPACAR user reads it off fxt and sig.
@@ -452,19 +322,20 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
             << " output times, no integration\n";
   if (!traj.time.empty()) printInputForces(std::cout, model, traj, all.fxt);
   if (!traj.completed) std::cerr << "flexmb: stopped early: " << traj.stopReason << "\n";
-  std::vector<std::string> report;
-  bool incomplete = false;
+  analysis::SimulationFiles what = filesAsked(a);
+  what.fxt = &all.fxt;
+  analysis::WrittenSimulation written;
   try {
-    if (!traj.time.empty() && a.csv()) writeForceCsv(files.temporaryFor("_fxt.csv"), model, traj, all.fxt);
-    report = writeSimulationResults(files, a, model, analysis::SimulationOptions(), traj, all.interrupted, incomplete);
+    written = analysis::writeSimulation(files, model, analysis::SimulationOptions(), traj, all.interrupted, what,
+                                        std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  for (const auto& f : report) std::cout << "wrote " << f << "\n";
+  for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
   sayRemovedStale(files.removedStale());
   if (all.interrupted) return interruptedExitCode();
-  if (incomplete) return kWriteFailed;
+  if (written.incomplete) return kWriteFailed;
   return traj.completed ? kOk : kNumericalFailure;
 }
 
@@ -577,18 +448,17 @@ int runSimulate(const std::vector<std::string>& args) {
     }
   }
 
-  std::vector<std::string> report;
-  bool incomplete = false;
+  analysis::WrittenSimulation written;
   try {
-    report = writeSimulationResults(files, a, model, opt, traj, interrupted, incomplete);
+    written = analysis::writeSimulation(files, model, opt, traj, interrupted, filesAsked(a), std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  for (const auto& f : report) std::cout << "wrote " << f << "\n";
+  for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
   sayRemovedStale(files.removedStale());
   if (interrupted) return interruptedExitCode();
-  if (incomplete) return kWriteFailed;
+  if (written.incomplete) return kWriteFailed;
   return traj.completed ? kOk : kNumericalFailure;
 }
 

@@ -25,6 +25,7 @@
 #include <set>
 #include <sstream>
 
+#include "analysis/SimulationFiles.hpp"
 #include "analysis/Study.hpp"
 #include "io/DatReader.hpp"
 #include "io/ModelTemplate.hpp"
@@ -112,17 +113,6 @@ void writeSweep(io::OutputSet& files, const core::Model& model, const analysis::
   writeText(files, "_sweep.csv", io::formatCsv(analysis::sweepTable(model, r)));
 }
 
-void writeSimulation(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj) {
-  if (traj.time.empty()) return;
-  for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
-  io::writeCsv(files.temporaryPrefix(), model, traj);
-  if (io::hasOrientationNodes(model)) {
-    files.temporaryFor("_rot.csv");
-    io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
-  }
-  io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
-}
-
 void writeRecord(io::OutputSet& files, const io::StudyRecord& record) {
   std::ofstream f(files.temporaryFor("_summary.csv"));
   io::writeStudyRecord(f, record);
@@ -200,7 +190,7 @@ int runVariantFiles(const Study& s, int k) {
         if (r.modes) writeModes(files, *r.modes);
         if (r.statics) writeStatic(files, model, *r.statics, s.analyses.statics->buckling);
         if (r.sweep) writeSweep(files, model, *r.sweep);
-        if (r.trajectory) writeSimulation(files, model, *r.trajectory);
+        if (r.trajectory) analysis::writeTrajectoryFiles(files, model, *r.trajectory, analysis::SimulationFiles());
         record = analysis::summaryRecord(v, r);
         if (!r.failure.empty()) status = "failed: " + r.failure;
       }

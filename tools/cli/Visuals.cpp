@@ -141,6 +141,14 @@ bool writeStaticPage(const std::string& path, const core::Model& model, const st
   });
 }
 
+namespace {
+// The ParaView series of configurations, said on stdout.
+void writeVtkSaid(const std::string& prefix, const core::Model& model, const core::Trajectory& traj) {
+  const auto files = io::writeVtkSeries(prefix, model, traj);
+  std::cout << "wrote " << files.front() << " (ParaView collection of " << files.size() - 1 << " .vtu files)\n";
+}
+}  // namespace
+
 bool writeStaticVtk(const std::string& prefix, const core::Model& model, const analysis::StaticRun& run) {
   return reported(prefix + ".pvd", [&] {
     core::Trajectory traj;
@@ -151,7 +159,7 @@ bool writeStaticVtk(const std::string& prefix, const core::Model& model, const a
       traj.states.push_back(restState(model, st.x, st.e, st.sigma));
     }
     if (traj.time.empty()) throw std::runtime_error("no load step was reached: nothing to write");
-    writeVtk(prefix, model, traj);
+    writeVtkSaid(prefix, model, traj);
   });
 }
 
@@ -175,7 +183,7 @@ bool writeModesVtk(const std::string& prefix, const core::Model& model, const Mo
       traj.states.push_back(restState(model, io::scaledShape(model, n.x, n.shapes.col(j)), zero, zero));
     }
     if (traj.time.empty()) throw std::runtime_error("no mode shapes to write");
-    writeVtk(prefix, model, traj);
+    writeVtkSaid(prefix, model, traj);
   });
 }
 
@@ -267,19 +275,6 @@ bool writeSweepFigure(const std::string& path, const core::Model& model, const s
   }
   std::cout << "wrote " << path << "\n";
   return true;
-}
-
-void writeVtk(const std::string& prefix, const core::Model& model, const core::Trajectory& traj) {
-  const auto files = io::writeVtkSeries(prefix, model, traj);
-  std::cout << "wrote " << files.front() << " (ParaView collection of " << files.size() - 1 << " .vtu files)\n";
-}
-
-void writeAnimation(const std::string& prefix, const core::Model& model, const core::Trajectory& traj) {
-  io::AnimationOptions o;
-  o.title = model.sourceFile + ": t = " + io::shortNumber(traj.time.front(), 6) + " ... " +
-            io::shortNumber(traj.time.back(), 6) + " s" + (traj.completed ? "" : " (stopped early)");
-  io::writeHtmlAnimation(prefix + ".html", model, traj, o);
-  std::cout << "wrote " << prefix << ".html\n";
 }
 
 }  // namespace flexmb::cli

@@ -50,10 +50,6 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
 bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
                       const analysis::SweepResult& sweep, double t);
 
-// simulate --vtk / --html: <prefix>.pvd with <prefix>_vtu/, and <prefix>.html. Print what they wrote.
-void writeVtk(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
-void writeAnimation(const std::string& prefix, const core::Model& model, const core::Trajectory& traj);
-
 // The 3-D page (io/HtmlAnimation.hpp) and the ParaView series (io/VtkWriter.hpp) of the other analyses:
 //   show --html: the model in its initial configuration, numbers shown;
 //   static --html: the load steps (from the initial configuration) and each mode shape of the last

@@ -1,0 +1,153 @@
+#include "analysis/SimulationFiles.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "analysis/SpacarOutput.hpp"
+#include "io/HtmlAnimation.hpp"
+#include "io/RestartWriter.hpp"
+#include "io/ResultWriter.hpp"
+#include "io/SpacarResults.hpp"
+#include "io/TextOutput.hpp"
+#include "io/VtkWriter.hpp"
+#include "solvers/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+
+// Modes 4 and 3: the frequencies' table and (mode 3) the matrices; the linearisation is returned
+// for the .sbm.
+TrajectoryModes writeTrajectoryModes(io::OutputSet& files, const core::Model& model, const SimulationOptions& opt,
+                                     const core::Trajectory& traj, const SimulationFiles& what, std::ostream& out,
+                                     std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  TrajectoryModes tm = trajectoryModes(model, traj, what.linearize, opt.basis, what.matrices || what.mat);
+  out << "linearised at " << tm.time.size() << " output times in "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
+  if (!tm.completed) err << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
+  io::writeTextFile(files.temporaryFor("_frequencies.csv"), io::formatCsv(trajectoryFrequencyTable(tm, what.linearize)));
+  if (what.matrices)
+    io::writeThroughMemory(files.temporaryFor("_linear.mat"),
+                           [&](const std::string& p) { io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega); });
+  return tm;
+}
+
+}  // namespace
+
+io::CsvTable trajectoryFrequencyTable(const TrajectoryModes& modes, int columns) {
+  io::CsvTable t;
+  t.columns.push_back("time");
+  for (const char* stem : {"f", "zeta", "frozen_f"})
+    for (int i = 1; i <= columns; ++i) t.columns.push_back(io::numberedColumn(stem, i, *stem == 'z' ? "" : "_Hz"));
+  for (size_t k = 0; k < modes.time.size(); ++k) {
+    std::vector<double> row{modes.time[k]};
+    auto cells = [&](const Eigen::VectorXd& v, double scale) {
+      for (int i = 0; i < columns; ++i) row.push_back(i < v.size() ? v[i] * scale : NAN);
+    };
+    cells(modes.omega[k], 1 / (2 * M_PI));
+    cells(modes.damping[k], 1.0);
+    cells(modes.omegaFrozen[k], 1 / (2 * M_PI));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& traj,
+                             const std::vector<Eigen::VectorXd>& fxt) {
+  io::CsvTable t;
+  t.columns.push_back("time");
+  for (const auto& name : io::coordinateColumnNames(model)) t.columns.push_back(name);
+  for (size_t k = 0; k < fxt.size() && k < traj.time.size(); ++k) {
+    std::vector<double> row{traj.time[k]};
+    row.insert(row.end(), fxt[k].data(), fxt[k].data() + fxt[k].size());
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+void writeTrajectoryFiles(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj,
+                          const SimulationFiles& what) {
+  if (traj.time.empty()) return;
+    if (what.csv) {
+      if (what.fxt) io::writeTextFile(files.temporaryFor("_fxt.csv"), io::formatCsv(nodalForceTable(model, traj, *what.fxt)));
+      for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
+      io::writeCsv(files.temporaryPrefix(), model, traj);
+      if (io::hasOrientationNodes(model)) {
+        files.temporaryFor("_rot.csv");
+        io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
+      }
+    }
+    if (what.mat)  // through memory: matio does not report a full disk
+      io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+}
+
+void describeIntegration(io::OutputSet& files, const core::Model& model, const SimulationOptions& opt) {
+  using solvers::shortest;
+  files.setting("integrator", integratorDescription(opt));
+  const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
+  const double h = opt.maxStep.value_or(model.settings.hmax);
+  const int n = opt.intervals.value_or(model.settings.outputIntervals);
+  std::string s = shortest(t0) + " to " + shortest(t1) + " s, " +
+                  (n > 0 ? std::to_string(n) + " output intervals" : std::string("output at every step")) +
+                  ", reltol " + shortest(opt.relTol.value_or(model.settings.relTol)) + ", abstol " +
+                  shortest(opt.absTol.value_or(model.settings.absTol)) + ", max step ";
+  // A derived number in 15 digits (0.1 x 0.07 is 0.007000000000000001 in its shortest exact form).
+  s += h > 0 ? shortest(std::min(h, t1 - t0)) + " s"
+             : solvers::significant(0.1 * (t1 - t0), 15) +
+                   " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
+  files.setting("integration", s);
+}
+
+WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model, const SimulationOptions& opt,
+                                  const core::Trajectory& traj, bool interrupted, const SimulationFiles& what,
+                                  std::ostream& out, std::ostream& err) {
+  WrittenSimulation w;
+  auto attempt = [&](const std::string& product, const std::function<void()>& step) {
+    if (!files.attempt(product, step, err)) w.incomplete = true;
+  };
+  const bool any = !traj.time.empty();
+  if (any) {
+    writeTrajectoryFiles(files, model, traj, what);
+    files.renameFiles();
+    std::optional<TrajectoryModes> kept;  // for <prefix>.sbm
+    if (what.linearize > 0 && !interrupted)
+      attempt("the linearisation along the trajectory (--linearize, --matrices)",
+              [&] { kept = writeTrajectoryModes(files, model, opt, traj, what, out, err); });
+    if (what.mat)  // SPACAR's <name>.sbd / .sbm (io/results.md)
+      attempt("SPACAR's .sbd/.sbm", [&] {
+        SpacarOutputOptions so;
+        so.transferFunctions = (model.settings.transferFunctionLevel >= 1);
+        const int mode = what.matrices ? 3 : what.linearize > 0 ? 4 : 1;
+        const io::SpacarResults sr = spacarFromTrajectory(model, traj, kept ? &*kept : nullptr, mode, so);
+        const std::string temp = files.temporaryPrefix();
+        for (const auto& p : io::writeSpacarResults(temp, model, sr)) files.temporaryFor(p.substr(temp.size()));
+      });
+  }
+  if (!what.echo.empty() && any)
+    attempt("the restart echo " + what.echo,
+            [&] { io::writeRestart(files.temporaryPath(what.echo), model, traj.time.back(), traj.states.back()); });
+  if (any && what.vtk)  // pictures of the motion (they name their own files), then the manifest
+    attempt("the VTK series", [&] {
+      const auto series = io::writeVtkSeries(files.prefix(), model, traj);
+      out << "wrote " << series.front() << " (ParaView collection of " << series.size() - 1 << " .vtu files)\n";
+      files.record(files.prefix() + ".pvd");
+      files.record(files.prefix() + "_vtu");
+    });
+  if (any && what.html)
+    attempt("the HTML animation", [&] {
+      io::AnimationOptions o;
+      o.title = model.sourceFile + ": t = " + io::shortNumber(traj.time.front(), 6) + " ... " +
+                io::shortNumber(traj.time.back(), 6) + " s" + (traj.completed ? "" : " (stopped early)");
+      io::writeHtmlAnimation(files.prefix() + ".html", model, traj, o);
+      out << "wrote " << files.prefix() << ".html\n";
+      files.record(files.prefix() + ".html");
+    });
+  w.paths = files.renameFiles();
+  w.paths.push_back(files.writeManifest(traj.completed ? "complete" : "stopped: " + traj.stopReason));
+  return w;
+}
+
+}  // namespace flexmb::analysis
