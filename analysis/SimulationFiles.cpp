@@ -28,7 +28,8 @@ TrajectoryModes writeTrajectoryModes(io::OutputSet& files, const core::Model& mo
   out << "linearised at " << tm.time.size() << " output times in "
       << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
   if (!tm.completed) err << "flexmb: linearisation stopped early: " << tm.stopReason << "\n";
-  io::writeTextFile(files.temporaryFor("_frequencies.csv"), io::formatCsv(trajectoryFrequencyTable(tm, what.linearize)));
+  io::writeTextFile(files.temporaryFor("_frequencies.csv"),
+                    io::formatCsv(trajectoryFrequencyTable(tm, what.linearize)));
   if (what.matrices)
     io::writeThroughMemory(files.temporaryFor("_linear.mat"),
                            [&](const std::string& p) { io::writeLinearizedMat(p, tm.time, tm.matrices, tm.omega); });
@@ -71,17 +72,19 @@ io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& t
 void writeTrajectoryFiles(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj,
                           const SimulationFiles& what) {
   if (traj.time.empty()) return;
-    if (what.csv) {
-      if (what.fxt) io::writeTextFile(files.temporaryFor("_fxt.csv"), io::formatCsv(nodalForceTable(model, traj, *what.fxt)));
-      for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"}) files.temporaryFor(std::string(q) + ".csv");
-      io::writeCsv(files.temporaryPrefix(), model, traj);
-      if (io::hasOrientationNodes(model)) {
-        files.temporaryFor("_rot.csv");
-        io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
-      }
+  if (what.csv) {
+    if (what.fxt)
+      io::writeTextFile(files.temporaryFor("_fxt.csv"), io::formatCsv(nodalForceTable(model, traj, *what.fxt)));
+    for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
+      files.temporaryFor(std::string(q) + ".csv");
+    io::writeCsv(files.temporaryPrefix(), model, traj);
+    if (io::hasOrientationNodes(model)) {
+      files.temporaryFor("_rot.csv");
+      io::writeOrientationCsv(files.temporaryPrefix(), model, traj);
     }
-    if (what.mat)  // through memory: matio does not report a full disk
-      io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
+  }
+  if (what.mat)  // through memory: matio does not report a full disk
+    io::writeThroughMemory(files.temporaryFor(".mat"), [&](const std::string& p) { io::writeMat(p, model, traj); });
 }
 
 void describeIntegration(io::OutputSet& files, const core::Model& model, const SimulationOptions& opt) {

@@ -21,9 +21,9 @@ namespace flexmb::analysis {
 
 // Which files (the command line's --format, --linearize, --matrices, --echo, --vtk, --html).
 struct SimulationFiles {
-  bool csv = true;     // <prefix>_x.csv ... _sig.csv (and _rot.csv with orientation nodes)
-  bool mat = true;     // <prefix>.mat and SPACAR's <prefix>.sbd (.sbm with a linearisation)
-  int linearize = 0;   // mode 4: this many eigenfrequencies per output time, <prefix>_frequencies.csv
+  bool csv = true;        // <prefix>_x.csv ... _sig.csv (and _rot.csv with orientation nodes)
+  bool mat = true;        // <prefix>.mat and SPACAR's <prefix>.sbd (.sbm with a linearisation)
+  int linearize = 0;      // mode 4: this many eigenfrequencies per output time, <prefix>_frequencies.csv
   bool matrices = false;  // mode 3: the linearised matrices per output time, <prefix>_linear.mat
   std::string echo;       // a restart .dat of the final state (empty: none)
   bool vtk = false, html = false;

@@ -10,8 +10,11 @@ packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev libarpack2-
 # A full build (no target named: the test suite) also needs: octave + liboctave-dev for the
 # Octave/MATLAB gateway (tools/octave) and its tests, octave-control for getss's ss object; calculix-ccx, the independent FE oracle of the
 # spatial tests; clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes) for tools/fuzz; chromium
-# for the headless browser test of the HTML animation. The main job (named targets) skips them.
-(($#)) || packages+=(octave liboctave-dev octave-control calculix-ccx clang libclang-rt-14-dev chromium)
+# for the headless browser test of the HTML animation; pybind11-dev, python3-dev and python3-pytest for
+# the Python module (tools/python) and its tests, python3-matplotlib for its example. The main job
+# (named targets) skips them.
+(($#)) || packages+=(octave liboctave-dev octave-control calculix-ccx clang libclang-rt-14-dev chromium
+                     pybind11-dev python3-dev python3-pytest python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -1,0 +1,173 @@
+"""flexmb from Python: SPACAR .dat models, their analyses, NumPy results.
+
+    import flexmb
+    model = flexmb.read("datfiles/straight_guidance.dat")
+    run = flexmb.simulate(model, t_end=0.1)
+    run.x[:, 3]            # nodal coordinate 4 over time (model order, as the CSV tables)
+    run.write("out/guidance")   # the files `flexmb simulate` writes
+
+Every analysis is the command line's recipe, and every `write` its writer: the same model gives
+the same files. Arrays are read-only views on the result's memory (no copies). Analyses release
+the GIL, so threads run variants in parallel. Ctrl-C raises KeyboardInterrupt with the results so
+far as its `.result`.
+"""
+
+import numbers
+
+import numpy as np
+
+
+class InputError(ValueError):
+    """A model that cannot be read: `file`, `line` and `reason` say where and why."""
+
+    file = None
+    line = None
+    reason = None
+
+
+class UserFunctionError(RuntimeError):
+    """A Python user function raised or returned the wrong shape; the message holds the time and
+    the traceback, `.result` the run up to there."""
+
+    result = None
+
+
+from . import _core  # noqa: E402  (the exceptions above must exist before the native part raises them)
+
+Model = _core.Model
+
+
+def read(path):
+    """The model of a SPACAR .dat file (both dialects; the last analysis stage)."""
+    if not isinstance(path, (str, bytes)) and not hasattr(path, "__fspath__"):
+        raise TypeError(f"path: expected a file name, got {type(path).__name__}")
+    import os
+
+    return _core.read(os.fsdecode(os.fspath(path)))
+
+
+def parse(text, name="<string>"):
+    """The model of a .dat text; errors name `name` and the line."""
+    _need(text, str, "text")
+    _need(name, str, "name")
+    return _core.parse(text, name)
+
+
+def variant(template, name="<template>", **parameters):
+    """The model of a design-study template (`{expression}` placeholders, as `flexmb study` takes
+    them) with the given parameter values, without touching the disk."""
+    _need(template, str, "template")
+    values = []
+    for key, value in parameters.items():
+        values.append((key, _real(value, key)))
+    text = _core.instantiate(template, name, values)
+    return _core.parse(text, name)
+
+
+def static(model, *, nev=6, load_steps=0, buckling=0):
+    """Mode 10: equilibrium over the load steps (`flexmb static`); eigenfrequencies (Hz) and, with
+    buckling > 0, buckling load factors in each. Arrays have one row per step."""
+    _model(model)
+    return _core.static(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0),
+                        _count(buckling, "buckling", 0))
+
+
+def modes(model, *, nev=6, basis=None):
+    """Eigenfrequencies (Hz, `.freq`) and mode shapes (`.modes` in q, `.modex` in x) in the initial
+    configuration (`flexmb modes`)."""
+    _model(model)
+    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model))
+
+
+def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0):
+    """Eigenfrequencies over a range of motion (`flexmb sweep`): coordinate `component` of `node`
+    prescribed from `start` to `stop` in `steps` configurations."""
+    _model(model)
+    return _core.sweep(model, _count(node, "node", 1), _count(component, "component", 1), _real(start, "start"),
+                       _real(stop, "stop"), _count(steps, "steps", 2), _count(nev, "nev", 1), _basis(basis, model),
+                       _real(t, "t"))
+
+
+def transfer(model, *, nev=0, load_steps=0):
+    """Mode 9: the state-space model A, B, C, D between the transfer block's inputs and outputs at
+    the last load step (`flexmb transfer`)."""
+    _model(model)
+    return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0))
+
+
+def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
+             basis=None, usersig=None, accuracy_check=False):
+    """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
+
+    usersig: a callable f(t, x, xd, e, ed) returning sig (ne stresses, added to the model's) or
+    (sig, f) with f (nx nodal forces); arrays in model order, read-only, valid during the call only.
+    """
+    _model(model)
+    if usersig is not None and not callable(usersig):
+        raise TypeError(f"usersig: expected a callable, got {type(usersig).__name__}")
+    _need(integrator, str, "integrator")
+    return _core.simulate(model, _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol"),
+                          _positive(max_step, "max_step"), None if intervals is None else _count(intervals, "intervals", 0),
+                          integrator, _basis(basis, model), usersig, bool(accuracy_check))
+
+
+def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False):
+    """The files `flexmb simulate --out prefix` writes (CSV tables, .mat, SPACAR's .sbd, ...)."""
+    _need(prefix, str, "prefix")
+    return _core.SimulationResult._write(self, prefix, bool(csv), bool(mat), _count(linearize, "linearize", 0),
+                                         bool(matrices), bool(vtk), bool(html))
+
+
+_core.SimulationResult._write = _core.SimulationResult.write
+_core.SimulationResult.write = _write_simulation
+
+
+def _need(value, kind, name):
+    if not isinstance(value, kind):
+        raise TypeError(f"{name}: expected {kind.__name__}, got {type(value).__name__}")
+
+
+def _model(model):
+    if not isinstance(model, Model):
+        raise TypeError(f"model: expected a flexmb.Model (flexmb.read or flexmb.parse), got {type(model).__name__}")
+
+
+def _real(value, name):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: expected a number, got {type(value).__name__}")
+    if not np.isfinite(value):
+        raise ValueError(f"{name}: expected a finite number, got {value}")
+    return float(value)
+
+
+def _positive(value, name):
+    if value is None:
+        return None
+    v = _real(value, name)
+    if v <= 0:
+        raise ValueError(f"{name}: expected a positive number, got {value}")
+    return v
+
+
+def _count(value, name, least):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
+    if value < least:
+        raise ValueError(f"{name}: expected at least {least}, got {value}")
+    return int(value)
+
+
+def _basis(basis, model):
+    if basis is None:
+        return None
+    if isinstance(basis, (str, bytes)):
+        raise TypeError("basis: expected an array (ndof x k), not a file name (read it with numpy.loadtxt)")
+    v = np.asarray(basis, dtype=float)
+    if v.ndim != 2 or v.shape[0] != model.ndof or v.shape[1] < 1:
+        raise ValueError(f"basis: expected shape ({model.ndof}, k) (the degrees of freedom by the basis vectors), "
+                         f"got {v.shape}")
+    return v
+
+
+__all__ = ["read", "parse", "variant", "static", "modes", "sweep", "transfer", "simulate", "Model", "InputError",
+           "UserFunctionError"]

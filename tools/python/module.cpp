@@ -1,0 +1,589 @@
+// flexmb._core: the Python front end's native part (pybind11). It only dispatches: models come from
+// io's reader, results from analysis's recipes, files from the writers the command line uses. The
+// Python package (tools/python/flexmb/__init__.py) adds the keyword checks and the documentation.
+//
+// Results own their arrays (row-major, one row per step or output time, model order as the command
+// line's CSV tables) and hand them to NumPy as read-only views, without copies. Analyses run with
+// the GIL released; a Python user function takes it back for its call only.
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstring>
+#include <memory>
+#include <sstream>
+
+#include "analysis/Modes.hpp"
+#include "analysis/Simulation.hpp"
+#include "analysis/SimulationFiles.hpp"
+#include "analysis/Statics.hpp"
+#include "analysis/Sweep.hpp"
+#include "analysis/Transfer.hpp"
+#include "core/UserFunctions.hpp"
+#include "io/DatReader.hpp"
+#include "io/ModelTemplate.hpp"
+#include "io/OutputFile.hpp"
+#include "io/TextOutput.hpp"
+
+namespace py = pybind11;
+using namespace flexmb;
+
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ModelPtr = std::shared_ptr<const core::Model>;
+
+// ---- Ctrl-C: a SIGINT handler of our own while an analysis runs in the main thread ----------------
+std::atomic<bool> g_interrupt{false};
+std::atomic<int> g_signal{0};
+extern "C" void onSigint(int sig) {
+  g_signal.store(sig);
+  g_interrupt.store(true);
+}
+
+// Installs the handler for its lifetime when called from Python's main thread (Python runs signal
+// handlers there only; other threads' analyses are not interruptible by Ctrl-C).
+class InterruptScope {
+ public:
+  InterruptScope() {
+    const py::object threading = py::module_::import("threading");
+    active_ = threading.attr("current_thread")().is(threading.attr("main_thread")());
+    if (!active_) return;
+    g_interrupt.store(false);
+    g_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = onSigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_);
+  }
+  ~InterruptScope() {
+    if (active_) sigaction(SIGINT, &old_, nullptr);
+  }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+  const std::atomic<bool>* flag() const { return active_ ? &g_interrupt : nullptr; }
+  const std::atomic<int>* signal() const { return active_ ? &g_signal : nullptr; }
+  bool interrupted() const { return active_ && g_interrupt.load(); }
+
+ private:
+  bool active_ = false;
+  struct sigaction old_ {};
+};
+
+// Raises exception type `type` (a flexmb exception class or KeyboardInterrupt) with `message` and the
+// result so far as its attribute `result`.
+[[noreturn]] void raiseWithResult(py::handle type, const std::string& message, py::object result) {
+  py::object exc = type(message);
+  exc.attr("result") = std::move(result);
+  PyErr_SetObject(type.ptr(), exc.ptr());
+  throw py::error_already_set();
+}
+
+py::object package() { return py::module_::import("flexmb"); }
+
+// ---- models ---------------------------------------------------------------------------------------
+// io::DatError as flexmb.InputError(message, file, line, reason).
+template <class F>
+ModelPtr readModel(F&& read) {
+  try {
+    return std::make_shared<const core::Model>(read());
+  } catch (const io::DatError& e) {
+    py::object exc = package().attr("InputError")(e.what());
+    exc.attr("file") = e.file();
+    exc.attr("line") = e.line();
+    exc.attr("reason") = e.message();
+    PyErr_SetObject(package().attr("InputError").ptr(), exc.ptr());
+    throw py::error_already_set();
+  } catch (const io::TemplateError& e) {
+    py::object exc = package().attr("InputError")(e.what());
+    exc.attr("line") = e.line();
+    PyErr_SetObject(package().attr("InputError").ptr(), exc.ptr());
+    throw py::error_already_set();
+  }
+}
+
+py::list elementList(const core::Model& m) {
+  py::list out;
+  for (const auto& el : m.elements) {
+    py::list nodes;
+    for (int n : el.nodes) nodes.append(m.nodes[n].label);
+    py::dict d;
+    d["number"] = el.label;
+    d["type"] = el.type ? el.type->keyword : std::string("?");
+    d["nodes"] = nodes;
+    out.append(d);
+  }
+  return out;
+}
+
+// ---- user functions -------------------------------------------------------------------------------
+// USERSIG as a Python callable: f(t, x, xd, e, ed) returns sig (ne stresses added to the model's) or
+// (sig, f) with f the nx nodal forces; None for either: zero. The arguments are read-only views on
+// buffers reused from call to call (no allocation per call); model order, as the results.
+class PythonStresses : public core::UserFunctions {
+ public:
+  PythonStresses(py::function f, const core::Model& model) : f_(std::move(f)), ne_(model.ne), nx_(model.nx) {
+    x_.resize(nx_), xd_.resize(nx_), e_.resize(ne_), ed_.resize(ne_);
+    auto view = [this](Eigen::VectorXd& v) {
+      py::array a(py::dtype::of<double>(), {v.size()}, {sizeof(double)}, v.data(), py::none());
+      py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+      return a;
+    };
+    vx_ = view(x_), vxd_ = view(xd_), ve_ = view(e_), ved_ = view(ed_);
+  }
+  ~PythonStresses() override {
+    py::gil_scoped_acquire gil;
+    f_ = py::function();
+    vx_ = vxd_ = ve_ = ved_ = py::array();
+  }
+  bool hasLoads() const override { return true; }
+  void loads(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& xd, const Eigen::VectorXd& e,
+             const Eigen::VectorXd& ed, Eigen::VectorXd& sigma, Eigen::VectorXd& f) override {
+    sigma.setZero(ne_);
+    f.setZero(nx_);
+    py::gil_scoped_acquire gil;
+    x_ = x, xd_ = xd, e_ = e, ed_ = ed;
+    try {
+      const py::object r = f_(t, vx_, vxd_, ve_, ved_);
+      if (py::isinstance<py::tuple>(r)) {
+        const py::tuple tup = r.cast<py::tuple>();
+        if (tup.size() != 2)
+          throw core::UserFunctionError(what(t) + " returned a tuple of " + std::to_string(tup.size()) +
+                                        " items: expected sig (" + std::to_string(ne_) + ",) or (sig, f) with f (" +
+                                        std::to_string(nx_) + ",)");
+        take(tup[0], sigma, ne_, "sig", t);
+        take(tup[1], f, nx_, "f", t);
+      } else {
+        take(r, sigma, ne_, "sig", t);
+      }
+    } catch (py::error_already_set& err) {
+      const std::string trace = formatted(err);
+      throw core::UserFunctionError(what(t) + " raised " + trace);
+    } catch (const py::cast_error& err) {
+      throw core::UserFunctionError(what(t) + ": " + err.what());
+    }
+  }
+
+ private:
+  static std::string what(double t) {
+    std::ostringstream s;
+    s.precision(10);
+    s << "the Python USERSIG function at t = " << t;
+    return s.str();
+  }
+  static std::string formatted(py::error_already_set& err) {
+    try {
+      const py::object tb = py::module_::import("traceback");
+      const py::list lines = tb.attr("format_exception")(err.type(), err.value(), err.trace());
+      std::string s;
+      for (const auto& l : lines) s += l.cast<std::string>();
+      return s;
+    } catch (...) {
+      return err.what();
+    }
+  }
+  static void take(const py::handle& h, Eigen::VectorXd& out, int n, const char* name, double t) {
+    if (h.is_none()) return;
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+    if (!a || a.ndim() != 1 || a.shape(0) != n) {
+      std::string got = a ? "shape (" : "a " + std::string(py::str(h.get_type().attr("__name__")));
+      if (a) {
+        for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? ", " : "") + std::to_string(a.shape(i));
+        got += a.ndim() == 1 ? ",)" : ")";
+      }
+      throw core::UserFunctionError(what(t) + " returned " + name + " of " + got + ": expected shape (" +
+                                    std::to_string(n) + ",)");
+    }
+    std::memcpy(out.data(), a.data(), sizeof(double) * n);
+  }
+  py::function f_;
+  int ne_, nx_;
+  Eigen::VectorXd x_, xd_, e_, ed_;
+  py::array vx_, vxd_, ve_, ved_;
+};
+
+// ---- results --------------------------------------------------------------------------------------
+struct StaticResult {
+  ModelPtr model;
+  analysis::StaticRun run;
+  int buckling = 0;
+  Eigen::VectorXd loadFactor, initialFactor;
+  RowMatrix x, e, sig, freq, bucklingFactors;
+};
+
+// Rows of a matrix from per-step vectors (NaN where a step has fewer).
+template <class Steps, class Get>
+RowMatrix rowsOf(const Steps& steps, int cols, Get get) {
+  RowMatrix m = RowMatrix::Constant(static_cast<Eigen::Index>(steps.size()), cols, NAN);
+  for (size_t k = 0; k < steps.size(); ++k) {
+    const Eigen::VectorXd v = get(steps[k]);
+    for (Eigen::Index j = 0; j < std::min<Eigen::Index>(cols, v.size()); ++j) m(static_cast<Eigen::Index>(k), j) = v[j];
+  }
+  return m;
+}
+
+StaticResult makeStatic(ModelPtr model, analysis::StaticRun run, int nev, int buckling) {
+  StaticResult r;
+  const auto& s = run.steps;
+  r.loadFactor.resize(static_cast<Eigen::Index>(s.size()));
+  r.initialFactor.resize(static_cast<Eigen::Index>(s.size()));
+  for (size_t k = 0; k < s.size(); ++k) r.loadFactor[k] = s[k].loadFactor, r.initialFactor[k] = s[k].initialFactor;
+  r.x = rowsOf(s, model->nx, [](const auto& st) { return st.x; });
+  r.e = rowsOf(s, model->ne, [](const auto& st) { return st.e; });
+  r.sig = rowsOf(s, model->ne, [](const auto& st) { return st.sigma; });
+  r.freq = rowsOf(s, nev, [](const auto& st) { return Eigen::VectorXd(st.frequencies.omega / (2 * M_PI)); });
+  r.bucklingFactors = rowsOf(s, buckling, [](const auto& st) { return st.buckling; });
+  r.model = std::move(model);
+  r.run = std::move(run);
+  r.buckling = buckling;
+  return r;
+}
+
+struct ModesResult {
+  ModelPtr model;
+  analysis::InitialModes modes;
+  Eigen::VectorXd freq;  // Hz
+};
+
+struct SweepResultPy {
+  ModelPtr model;
+  analysis::SweepResult sweep;
+  Eigen::VectorXd values, loads;
+  RowMatrix freq, x;  // Hz ascending per point; nodal coordinates per point
+};
+
+struct TransferResultPy {
+  ModelPtr model;
+  analysis::TransferRun run;
+};
+
+struct SimulationResult {
+  ModelPtr model;
+  analysis::SimulationOptions options;
+  core::Trajectory trajectory;
+  bool interrupted = false;
+  Eigen::VectorXd time;
+  RowMatrix x, xd, xdd, e, ed, edd, sig;
+};
+
+SimulationResult makeSimulation(ModelPtr model, analysis::SimulationOptions opt, core::Trajectory traj,
+                                bool interrupted) {
+  SimulationResult r;
+  const auto& s = traj.states;
+  r.time = Eigen::Map<const Eigen::VectorXd>(traj.time.data(), static_cast<Eigen::Index>(traj.time.size()));
+  r.x = rowsOf(s, model->nx, [](const auto& st) { return st.x; });
+  r.xd = rowsOf(s, model->nx, [](const auto& st) { return st.xd; });
+  r.xdd = rowsOf(s, model->nx, [](const auto& st) { return st.xdd; });
+  r.e = rowsOf(s, model->ne, [](const auto& st) { return st.e; });
+  r.ed = rowsOf(s, model->ne, [](const auto& st) { return st.ed; });
+  r.edd = rowsOf(s, model->ne, [](const auto& st) { return st.edd; });
+  r.sig = rowsOf(s, model->ne, [](const auto& st) { return st.sig; });
+  opt.interrupt = nullptr;
+  opt.interruptSignal = nullptr;
+  r.model = std::move(model);
+  r.options = std::move(opt);
+  r.trajectory = std::move(traj);
+  r.interrupted = interrupted;
+  return r;
+}
+
+std::optional<Eigen::MatrixXd> basisArgument(const std::optional<Eigen::MatrixXd>& basis, const core::Model& m) {
+  if (basis && basis->rows() != m.numDofs())
+    throw py::value_error("basis: expected " + std::to_string(m.numDofs()) + " rows (the degrees of freedom), got " +
+                          std::to_string(basis->rows()));
+  return basis;
+}
+
+// Writes a CSV table atomically (io::writeTextFile) and returns the path.
+std::string writeTable(const std::string& path, const io::CsvTable& table) {
+  io::writeTextFile(path, io::formatCsv(table));
+  return path;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "flexmb's native part; use the flexmb package";
+
+  py::class_<core::Model, std::shared_ptr<core::Model>>(m, "Model")
+      .def_property_readonly("file", [](const core::Model& x) { return x.sourceFile; })
+      .def_property_readonly("nx", [](const core::Model& x) { return x.nx; })
+      .def_property_readonly("ne", [](const core::Model& x) { return x.ne; })
+      .def_property_readonly("ndof", &core::Model::numDofs)
+      .def_property_readonly("spatial", [](const core::Model& x) { return x.spatial; })
+      .def_property_readonly("nodes", [](const core::Model& x) {
+        std::vector<int> labels;
+        for (const auto& n : x.nodes) labels.push_back(n.label);
+        return labels;
+      })
+      .def_property_readonly("elements", [](const core::Model& x) { return elementList(x); })
+      .def_property_readonly("coordinates",
+                             [](const core::Model& x) {
+                               std::vector<std::string> names;
+                               for (int i = 0; i < x.nx; ++i) names.push_back(x.coordName(i));
+                               return names;
+                             })
+      .def_property_readonly("deformations",
+                             [](const core::Model& x) {
+                               std::vector<std::string> names;
+                               for (int i = 0; i < x.ne; ++i) names.push_back(x.deformationName(i));
+                               return names;
+                             })
+      .def_property_readonly("dofs",
+                             [](const core::Model& x) {
+                               std::vector<std::string> names;
+                               for (const auto& d : x.dofs)
+                                 names.push_back(d.isDeformation ? x.deformationName(d.index) : x.coordName(d.index));
+                               return names;
+                             })
+      .def_property_readonly(
+          "x0", [](const core::Model& x) -> const Eigen::VectorXd& { return x.x0; }, py::return_value_policy::reference_internal)
+      .def_property_readonly("notes", [](const core::Model& x) { return x.notes; })
+      .def_property_readonly("warnings", [](const core::Model& x) { return x.warnings; })
+      .def("__repr__", [](const core::Model& x) {
+        return "<flexmb.Model " + x.sourceFile + ": " + std::to_string(x.nodes.size()) + " nodes, " +
+               std::to_string(x.elements.size()) + " elements, " + std::to_string(x.numDofs()) +
+               " degrees of freedom>";
+      });
+
+  m.def("read", [](const std::string& path) { return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatFile(path); })); });
+  m.def("parse", [](const std::string& text, const std::string& name) {
+    return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatString(text, name); }));
+  });
+  m.def("instantiate", [](const std::string& text, const std::string& name, const io::ParameterValues& values) {
+    std::string modelText;
+    readModel([&] {
+      io::ModelTemplate t(text, name);
+      std::vector<std::string> names;
+      for (const auto& [k, v] : values) names.push_back(k);
+      t.check(names);
+      modelText = t.instantiate(values);
+      return core::Model();
+    });
+    return modelText;
+  });
+
+  // ---- static ----
+  py::class_<StaticResult>(m, "StaticResult")
+      .def_readonly("load_factor", &StaticResult::loadFactor)
+      .def_readonly("initial_factor", &StaticResult::initialFactor)
+      .def_readonly("x", &StaticResult::x)
+      .def_readonly("e", &StaticResult::e)
+      .def_readonly("sig", &StaticResult::sig)
+      .def_readonly("freq", &StaticResult::freq)
+      .def_readonly("buckling", &StaticResult::bucklingFactors)
+      .def_property_readonly("completed", [](const StaticResult& r) { return r.run.completed; })
+      .def_property_readonly("stop_reason", [](const StaticResult& r) { return r.run.stopReason; })
+      .def_property_readonly("load_step",
+                             [](const StaticResult& r) {
+                               std::vector<int> s;
+                               for (const auto& st : r.run.steps) s.push_back(st.loadStep);
+                               return s;
+                             })
+      .def("write", [](const StaticResult& r, const std::string& path) {
+        return writeTable(path, analysis::staticTable(*r.model, r.run, r.buckling));
+      });
+  m.def("static", [](std::shared_ptr<core::Model> model, int nev, int loadSteps, int buckling) {
+    InterruptScope scope;
+    analysis::StaticOptions so;
+    so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
+    so.interrupt = scope.flag(), so.interruptSignal = scope.signal();
+    analysis::StaticRun run;
+    {
+      py::gil_scoped_release release;
+      run = analysis::staticAnalysis(*model, so);
+    }
+    StaticResult r = makeStatic(model, std::move(run), nev, buckling);
+    if (r.run.interrupted)
+      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
+                      py::cast(std::move(r)));
+    return r;
+  });
+
+  // ---- modes ----
+  py::class_<ModesResult>(m, "ModesResult")
+      .def_readonly("freq", &ModesResult::freq)
+      .def_property_readonly(
+          "omega", [](const ModesResult& r) -> const Eigen::VectorXd& { return r.modes.frequencies.omega; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "modes", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.frequencies.modes; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "modex", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.frequencies.nodalModes; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "M0", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.system.M; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "K0", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.system.K; },
+          py::return_value_policy::reference_internal)
+      .def("write", [](const ModesResult& r, const std::string& prefix) {
+        return writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies));
+      });
+  m.def("modes", [](std::shared_ptr<core::Model> model, int nev, const std::optional<Eigen::MatrixXd>& basis) {
+    ModesResult r;
+    const auto b = basisArgument(basis, *model);
+    {
+      py::gil_scoped_release release;
+      r.modes = analysis::initialModes(*model, b, nev);
+    }
+    r.freq = r.modes.frequencies.omega / (2 * M_PI);
+    r.model = model;
+    return r;
+  });
+
+  // ---- sweep ----
+  py::class_<SweepResultPy>(m, "SweepResult")
+      .def_readonly("values", &SweepResultPy::values)
+      .def_readonly("loads", &SweepResultPy::loads)
+      .def_readonly("freq", &SweepResultPy::freq)
+      .def_readonly("x", &SweepResultPy::x)
+      .def_property_readonly("prescribed", [](const SweepResultPy& r) { return r.sweep.prescribed; })
+      .def_property_readonly("completed", [](const SweepResultPy& r) { return r.sweep.completed; })
+      .def_property_readonly("stop_reason", [](const SweepResultPy& r) { return r.sweep.stopReason; })
+      .def("write", [](const SweepResultPy& r, const std::string& path) {
+        return writeTable(path, analysis::sweepTable(*r.model, r.sweep));
+      });
+  m.def("sweep", [](std::shared_ptr<core::Model> model, int node, int component, double from, double to, int steps,
+                    int nev, const std::optional<Eigen::MatrixXd>& basis, double t) {
+    InterruptScope scope;
+    analysis::SweepOptions o;
+    o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
+    o.basis = basisArgument(basis, *model);
+    o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
+    SweepResultPy r;
+    {
+      py::gil_scoped_release release;
+      r.sweep = analysis::sweep(*model, o);
+    }
+    const auto& p = r.sweep.points;
+    r.values.resize(static_cast<Eigen::Index>(p.size()));
+    r.loads.resize(static_cast<Eigen::Index>(p.size()));
+    for (size_t k = 0; k < p.size(); ++k) r.values[k] = p[k].value, r.loads[k] = p[k].load;
+    r.freq = rowsOf(p, nev, [](const auto& pt) { return Eigen::VectorXd(pt.omegaSorted / (2 * M_PI)); });
+    r.x = rowsOf(p, model->nx, [](const auto& pt) { return pt.x; });
+    r.model = model;
+    if (r.sweep.interrupted)
+      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.sweep: " + r.sweep.stopReason + "; the points reached are in .result",
+                      py::cast(std::move(r)));
+    return r;
+  });
+
+  // ---- transfer ----
+  py::class_<TransferResultPy>(m, "TransferResult")
+      .def_property_readonly(
+          "A", [](const TransferResultPy& r) -> const Eigen::MatrixXd& { return r.run.model.A; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "B", [](const TransferResultPy& r) -> const Eigen::MatrixXd& { return r.run.model.B; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "C", [](const TransferResultPy& r) -> const Eigen::MatrixXd& { return r.run.model.C; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "D", [](const TransferResultPy& r) -> const Eigen::MatrixXd& { return r.run.model.D; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly("inputs", [](const TransferResultPy& r) { return r.run.model.inputNames; })
+      .def_property_readonly("outputs", [](const TransferResultPy& r) { return r.run.model.outputNames; })
+      .def_property_readonly("completed", [](const TransferResultPy& r) { return r.run.completed; })
+      .def_property_readonly("stop_reason", [](const TransferResultPy& r) { return r.run.stopReason; })
+      .def("static_gain", [](const TransferResultPy& r) { return analysis::staticGain(r.run.model); })
+      .def("frequency_response", [](const TransferResultPy& r, const Eigen::VectorXd& omega) {
+        return analysis::frequencyResponses(r.run.model, omega);
+      });
+  m.def("transfer", [](std::shared_ptr<core::Model> model, int nev, int loadSteps) {
+    TransferResultPy r;
+    analysis::TransferOptions o;
+    o.nev = nev, o.loadSteps = loadSteps;
+    {
+      py::gil_scoped_release release;
+      r.run = analysis::transferAnalysis(*model, o);
+    }
+    r.model = model;
+    return r;
+  });
+
+  // ---- simulate ----
+  py::class_<SimulationResult>(m, "SimulationResult")
+      .def_readonly("time", &SimulationResult::time)
+      .def_readonly("x", &SimulationResult::x)
+      .def_readonly("xd", &SimulationResult::xd)
+      .def_readonly("xdd", &SimulationResult::xdd)
+      .def_readonly("e", &SimulationResult::e)
+      .def_readonly("ed", &SimulationResult::ed)
+      .def_readonly("edd", &SimulationResult::edd)
+      .def_readonly("sig", &SimulationResult::sig)
+      .def_property_readonly("completed", [](const SimulationResult& r) { return r.trajectory.completed; })
+      .def_property_readonly("stop_reason", [](const SimulationResult& r) { return r.trajectory.stopReason; })
+      .def_property_readonly("integrator", [](const SimulationResult& r) { return r.trajectory.integrator; })
+      .def_property_readonly("nsteps", [](const SimulationResult& r) { return r.trajectory.nsteps; })
+      .def_property_readonly("nfailed", [](const SimulationResult& r) { return r.trajectory.nfailed; })
+      .def_property_readonly("nfevals", [](const SimulationResult& r) { return r.trajectory.nfevals; })
+      .def_property_readonly("statistics",
+                             [](const SimulationResult& r) {
+                               return analysis::formatStatistics(r.trajectory, r.options.integrator);
+                             })
+      .def_property_readonly("reduction_error_estimate",
+                             [](const SimulationResult& r) -> std::optional<double> {
+                               if (!r.trajectory.reduction.estimated) return std::nullopt;
+                               return r.trajectory.reduction.estimate;
+                             })
+      .def("write", [](const SimulationResult& r, const std::string& prefix, bool csv, bool mat, int linearize,
+                       bool matrices, bool vtk, bool html) {
+        analysis::SimulationFiles what;
+        what.csv = csv, what.mat = mat, what.linearize = linearize, what.matrices = matrices, what.vtk = vtk,
+        what.html = html;
+        io::OutputSet files(prefix);
+        files.checkWritable();
+        files.setting("command", "simulate (Python)");
+        files.setting("model", r.model->sourceFile);
+        analysis::describeIntegration(files, *r.model, r.options);
+        std::ostringstream out, err;
+        analysis::WrittenSimulation w;
+        {
+          py::gil_scoped_release release;
+          w = analysis::writeSimulation(files, *r.model, r.options, r.trajectory, r.interrupted, what, out, err);
+        }
+        if (w.incomplete) py::module_::import("warnings").attr("warn")(err.str());
+        return w.paths;
+      });
+  m.def("simulate", [](std::shared_ptr<core::Model> model, std::optional<double> tEnd, std::optional<double> relTol,
+                       std::optional<double> absTol, std::optional<double> maxStep, std::optional<int> intervals,
+                       const std::string& integrator, const std::optional<Eigen::MatrixXd>& basis,
+                       std::optional<py::function> usersig, bool accuracyCheck) {
+    analysis::SimulationOptions opt;
+    const auto chosen = analysis::parseIntegrator(integrator);
+    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf' or 'auto', not '" + integrator + "'");
+    opt.integrator = *chosen;
+    opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
+    opt.basis = basisArgument(basis, *model);
+    opt.accuracyCheck = accuracyCheck;
+    ModelPtr run = model;
+    if (usersig) {
+      auto copy = std::make_shared<core::Model>(*model);
+      copy->userFunctions = std::make_shared<PythonStresses>(*usersig, *copy);
+      run = copy;
+    }
+    InterruptScope scope;
+    opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
+    core::Trajectory traj;
+    bool interrupted = false;
+    {
+      py::gil_scoped_release release;
+      traj = analysis::simulate(*run, opt, &interrupted);
+    }
+    const std::string reason = traj.stopReason;
+    const bool userFailed = !traj.completed && reason.find("Python USERSIG") != std::string::npos;
+    SimulationResult r = makeSimulation(run, std::move(opt), std::move(traj), interrupted);
+    if (interrupted)
+      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
+                      py::cast(std::move(r)));
+    if (userFailed)
+      raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason, py::cast(std::move(r)));
+    return r;
+  });
+}

@@ -1,0 +1,238 @@
+"""The Python front end against the command line: the same recipe and the same writer give the same
+files; user functions against the built-in loads they replace; bad input, user-function errors and
+Ctrl-C as the module documents them. Run by ctest (python_tests) with PYTHONPATH=<build>/python and
+FLEXMB=<build>/flexmb."""
+
+import concurrent.futures
+import filecmp
+import os
+import re
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+import scipy.io
+
+import flexmb
+
+SRC = os.environ.get("FLEXMB_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+CLI = os.environ.get("FLEXMB", os.path.join(SRC, "build", "flexmb"))
+
+
+def model_path(*parts):
+    return os.path.join(SRC, *parts)
+
+
+def cli(*args):
+    done = subprocess.run([CLI, *args], capture_output=True, text=True)
+    assert done.returncode == 0, f"flexmb {' '.join(args)}: {done.stderr}"
+    return done.stdout
+
+
+def same_bytes(a, b):
+    assert os.path.exists(a) and os.path.exists(b), (a, b)
+    assert filecmp.cmp(a, b, shallow=False), f"{a} and {b} differ"
+
+
+# ---- models ----------------------------------------------------------------------------------------
+def test_read_exposes_the_model():
+    m = flexmb.read(model_path("datfiles", "straight_guidance.dat"))
+    assert m.ndof == len(m.dofs) == 17
+    assert m.nx == len(m.coordinates) == m.x0.shape[0]
+    assert m.ne == len(m.deformations)
+    assert m.elements[0]["type"] == "PLBEAM" and len(m.elements[0]["nodes"]) == 4
+    assert not m.x0.flags.writeable
+
+
+def test_input_errors_name_file_line_and_reason():
+    text = "PLBEAM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nFOO 1 2\nEND\nEND\n"
+    with pytest.raises(flexmb.InputError) as err:
+        flexmb.parse(text, "bad.dat")
+    assert err.value.file == "bad.dat" and err.value.line == 6 and "FOO" in str(err.value)
+    assert isinstance(err.value, ValueError)
+    with pytest.raises(flexmb.InputError):
+        flexmb.read(model_path("datfiles", "no_such_model.dat"))
+
+
+def test_bad_arguments_raise_type_and_value_errors_naming_the_argument():
+    m = flexmb.read(model_path("datfiles", "straight_guidance.dat"))
+    cases = [
+        (lambda: flexmb.static("model.dat"), TypeError, "model"),
+        (lambda: flexmb.modes(m, nev=0), ValueError, "nev"),
+        (lambda: flexmb.modes(m, nev=2.5), TypeError, "nev"),
+        (lambda: flexmb.simulate(m, t_end=-1), ValueError, "t_end"),
+        (lambda: flexmb.simulate(m, reltol="1e-3"), TypeError, "reltol"),
+        (lambda: flexmb.simulate(m, integrator="rk4"), ValueError, "integrator"),
+        (lambda: flexmb.simulate(m, usersig=3), TypeError, "usersig"),
+        (lambda: flexmb.modes(m, basis=np.zeros((5, 2))), ValueError, "basis"),
+        (lambda: flexmb.modes(m, basis="m3.csv"), TypeError, "basis"),
+        (lambda: flexmb.sweep(m, node=6, start=0.0, stop=float("nan")), ValueError, "stop"),
+    ]
+    for call, kind, name in cases:
+        with pytest.raises(kind, match=name):
+            call()
+
+
+def test_variant_from_a_template_equals_the_instantiated_file(tmp_path):
+    template = open(model_path("datfiles", "spatial", "cross_spring_pivot_study.dat")).read()
+    m = flexmb.variant(template, "pivot.dat", t=0.2e-3)
+    coarse = flexmb.read(model_path("datfiles", "spatial", "cross_spring_pivot_coarse.dat"))
+    f1 = flexmb.modes(m, nev=3).freq
+    f2 = flexmb.modes(coarse, nev=3).freq
+    assert np.allclose(f1, f2, rtol=1e-5)
+    with pytest.raises(flexmb.InputError, match="w2"):
+        flexmb.variant(template, "pivot.dat", t=0.2e-3, w2=1.0)
+
+
+# ---- the command line's files ----------------------------------------------------------------------
+@pytest.fixture
+def work(tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    return tmp_path
+
+
+@pytest.mark.parametrize("name", ["straight_guidance", "cantilever"])
+def test_static_writes_the_command_lines_table(work, name):
+    path = model_path("datfiles", f"{name}.dat")
+    cli("static", path, "--out", str(work / "cli" / "s.csv"), "--buckling", "2", "-q")
+    r = flexmb.static(flexmb.read(path), buckling=2)
+    r.write(str(work / "py" / "s.csv"))
+    same_bytes(work / "cli" / "s.csv", work / "py" / "s.csv")
+    table = np.genfromtxt(work / "cli" / "s.csv", delimiter=",", names=True)
+    assert np.array_equal(np.atleast_1d(table["load_factor"]), r.load_factor)
+
+
+def test_modes_write_the_command_lines_table(work):
+    path = model_path("datfiles", "manipulator.dat")
+    cli("modes", path, "--nev", "4", "--out", str(work / "cli" / "m"))
+    r = flexmb.modes(flexmb.read(path), nev=4)
+    r.write(str(work / "py" / "m"))
+    same_bytes(work / "cli" / "m_modes.csv", work / "py" / "m_modes.csv")
+    assert r.freq.shape == (4,) and np.all(np.diff(r.freq) >= 0)
+    assert not r.modes.flags.owndata  # a view on the result's memory
+
+
+def test_sweep_writes_the_command_lines_table(work):
+    path = model_path("datfiles", "straight_guidance.dat")
+    cli("sweep", path, "--node", "6", "--comp", "1", "--from", "0", "--to", "0.05", "--steps", "4", "--out",
+        str(work / "cli" / "w"), "-q")
+    r = flexmb.sweep(flexmb.read(path), node=6, component=1, start=0.0, stop=0.05, steps=4)
+    r.write(str(work / "py" / "w.csv"))
+    same_bytes(work / "cli" / "w.csv", work / "py" / "w.csv")
+    assert r.freq.shape == (4, 4)
+
+
+@pytest.mark.parametrize("name", ["straight_guidance", "slider_crank_s95"])
+def test_simulate_writes_the_command_lines_files(work, name):
+    path = model_path("datfiles", f"{name}.dat")
+    cli("simulate", path, "--t-end", "0.05", "--out", str(work / "cli" / name), "-q")
+    r = flexmb.simulate(flexmb.read(path), t_end=0.05)
+    written = r.write(str(work / "py" / name))
+    assert written[-1].endswith("_run.txt")
+    for suffix in ["_x.csv", "_xd.csv", "_xdd.csv", "_e.csv", "_ed.csv", "_edd.csv", "_sig.csv", ".mat", ".sbd"]:
+        same_bytes(work / "cli" / (name + suffix), work / "py" / (name + suffix))
+    x = np.loadtxt(work / "cli" / f"{name}_x.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert np.array_equal(x[:, 0], r.time) and np.array_equal(x[:, 1:], r.x)
+    sig = np.loadtxt(work / "cli" / f"{name}_sig.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert np.array_equal(sig[:, 1:], r.sig)
+    assert r.completed and r.nfevals > 0 and not r.x.flags.writeable
+
+
+def test_transfer_matrices_equal_the_command_lines_ltv(work):
+    path = model_path("datfiles", "spatial", "cross_spring_pivot_transfer.dat")
+    cli("transfer", path, "--no-bode", "--out", str(work / "cli" / "t"), "-q")
+    r = flexmb.transfer(flexmb.read(path))
+    ltv = scipy.io.loadmat(str(work / "cli" / "t.ltv"))
+    for name in "ABCD":
+        assert np.array_equal(ltv[name], getattr(r, name)), name
+    gain = r.static_gain()
+    assert gain.shape == (2, 1) and gain[0, 0] > 0
+
+
+# ---- user functions ----------------------------------------------------------------------------------
+ARM = model_path("tools", "octave", "tests", "data", "arm_expr.dat")
+
+
+def arm_without_loads():
+    text = open(ARM).read()
+    stripped = re.sub(r"^(XFT|ESIGT) .*$", "", text, flags=re.M)
+    assert stripped != text
+    return flexmb.parse(stripped, "arm_usersig.dat")
+
+
+def arm_loads(m):
+    tip = m.coordinates.index(next(c for c in m.coordinates if re.search(r"node 3\b.*y", c)))
+    elbow = next(i for i, d in enumerate(m.deformations) if "101" in d)
+
+    def usersig(t, x, xd, e, ed):
+        sig = np.zeros(m.ne)
+        f = np.zeros(m.nx)
+        sig[elbow] = 0.3 * np.cos(3 * t)
+        f[tip] = 2 * np.sin(5 * t)
+        return sig, f
+
+    return usersig
+
+
+def test_usersig_equals_the_built_in_loads():
+    builtin = flexmb.simulate(flexmb.read(ARM), t_end=0.3)
+    m = arm_without_loads()
+    r = flexmb.simulate(m, t_end=0.3, usersig=arm_loads(m))
+    assert r.completed and r.time.shape == builtin.time.shape
+    assert np.allclose(r.x, builtin.x, rtol=0, atol=1e-12)
+    assert np.allclose(r.sig, builtin.sig, rtol=0, atol=1e-9)
+    unloaded = flexmb.simulate(m, t_end=0.3)
+    assert np.max(np.abs(unloaded.x - builtin.x)) > 1e-4  # the loads matter
+
+
+def test_an_exception_in_usersig_stops_the_run_with_time_traceback_and_results():
+    m = arm_without_loads()
+
+    def failing(t, x, xd, e, ed):
+        if t > 0.1:
+            raise ZeroDivisionError("the user's bug")
+        return np.zeros(m.ne)
+
+    with pytest.raises(flexmb.UserFunctionError) as err:
+        flexmb.simulate(m, t_end=0.3, usersig=failing)
+    text = str(err.value)
+    assert "ZeroDivisionError" in text and "the user's bug" in text and "Traceback" in text
+    assert re.search(r"t = 0\.1", text)
+    kept = err.value.result
+    assert kept is not None and not kept.completed and 0 < kept.time[-1] <= 0.1 + 1e-9
+
+
+def test_a_usersig_of_the_wrong_shape_names_the_expected_one():
+    m = arm_without_loads()
+    with pytest.raises(flexmb.UserFunctionError, match=rf"expected shape \({m.ne},\)"):
+        flexmb.simulate(m, t_end=0.1, usersig=lambda t, x, xd, e, ed: np.zeros(m.ne + 1))
+
+
+# ---- Ctrl-C and threads ---------------------------------------------------------------------------------
+def test_ctrl_c_raises_keyboard_interrupt_and_keeps_the_results():
+    m = flexmb.read(model_path("datfiles", "straight_guidance.dat"))
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt) as err:
+        flexmb.simulate(m, t_end=1000.0, reltol=1e-8, abstol=1e-10)
+    timer.join()
+    assert time.monotonic() - start < 60
+    kept = err.value.result
+    assert not kept.completed and len(kept.time) >= 1 and kept.time[-1] < 1000.0
+    # Python's own handler is back: the next Ctrl-C is an ordinary KeyboardInterrupt.
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_threads_run_variants_in_parallel_with_the_serial_results():
+    template = open(model_path("datfiles", "spatial", "cross_spring_pivot_study.dat")).read()
+    thicknesses = [0.15e-3, 0.2e-3, 0.25e-3, 0.3e-3]
+    serial = [flexmb.static(flexmb.variant(template, t=t), nev=2).freq for t in thicknesses]
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        parallel = list(pool.map(lambda t: flexmb.static(flexmb.variant(template, t=t), nev=2).freq, thicknesses))
+    for a, b in zip(serial, parallel):
+        assert np.array_equal(a, b)
