@@ -395,4 +395,12 @@ Eigen::MatrixXd readBasis(const std::string& path, BasisInfo* info) {
   return parseBasis(text, path, info);
 }
 
+Eigen::MatrixXd readBasisFor(const std::string& path, int degreesOfFreedom) {
+  Eigen::MatrixXd V = readBasis(path);
+  if (V.rows() != degreesOfFreedom)
+    throw std::runtime_error(path + ": basis has " + std::to_string(V.rows()) + " rows, the model has " +
+                             std::to_string(degreesOfFreedom) + " degrees of freedom");
+  return V;
+}
+
 }  // namespace flexmb::io

@@ -46,6 +46,9 @@ struct BasisInfo {
 
 void writeBasis(const std::string& path, const Eigen::MatrixXd& V, const BasisInfo& info);
 Eigen::MatrixXd readBasis(const std::string& path, BasisInfo* info = nullptr);
+// readBasis, and its rows must be the model's degrees of freedom (else std::runtime_error naming
+// the file and both counts): what every front end's --basis / basis= reads.
+Eigen::MatrixXd readBasisFor(const std::string& path, int degreesOfFreedom);
 
 // The same on strings: formatBasis returns the file content; parseBasis uses `name` as the file
 // name in its messages.

@@ -45,11 +45,7 @@ void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
 
 std::optional<Eigen::MatrixXd> loadBasis(const std::string& path, const core::Model& model) {
   if (path.empty()) return std::nullopt;
-  Eigen::MatrixXd V = io::readBasis(path);
-  if (V.rows() != model.numDofs())
-    throw std::runtime_error(path + ": basis has " + std::to_string(V.rows()) + " rows, the model has " +
-                             std::to_string(model.numDofs()) + " degrees of freedom");
-  return V;
+  return io::readBasisFor(path, model.numDofs());
 }
 
 // Static load steps above this are refused up front: each is at least one Newton solve and one

@@ -13,18 +13,24 @@
 #include <atomic>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
+#include "analysis/BasisForTarget.hpp"
 #include "analysis/Modes.hpp"
+#include "analysis/ReducedOperators.hpp"
+#include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
 #include "analysis/Transfer.hpp"
 #include "core/UserFunctions.hpp"
+#include "io/BasisFile.hpp"
 #include "io/DatReader.hpp"
 #include "io/ModelTemplate.hpp"
+#include "io/OperatorFile.hpp"
 #include "io/OutputFile.hpp"
 #include "io/TextOutput.hpp"
 
@@ -260,6 +266,16 @@ struct TransferResultPy {
   analysis::TransferRun run;
 };
 
+struct ReduceResult {
+  ModelPtr model;
+  analysis::ReductionResult basis;
+  std::shared_ptr<const core::ReducedOperators> operators;  // null: not built (operatorsNote says why)
+  std::string operatorsNote;
+  std::vector<analysis::TargetCandidate> tried;  // target: the candidates, smallest first
+  bool full = false;                             // target: no basis smaller than the full model meets it
+  std::string note;
+};
+
 struct SimulationResult {
   ModelPtr model;
   analysis::SimulationOptions options;
@@ -314,11 +330,12 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("ne", [](const core::Model& x) { return x.ne; })
       .def_property_readonly("ndof", &core::Model::numDofs)
       .def_property_readonly("spatial", [](const core::Model& x) { return x.spatial; })
-      .def_property_readonly("nodes", [](const core::Model& x) {
-        std::vector<int> labels;
-        for (const auto& n : x.nodes) labels.push_back(n.label);
-        return labels;
-      })
+      .def_property_readonly("nodes",
+                             [](const core::Model& x) {
+                               std::vector<int> labels;
+                               for (const auto& n : x.nodes) labels.push_back(n.label);
+                               return labels;
+                             })
       .def_property_readonly("elements", [](const core::Model& x) { return elementList(x); })
       .def_property_readonly("coordinates",
                              [](const core::Model& x) {
@@ -340,16 +357,18 @@ PYBIND11_MODULE(_core, m) {
                                return names;
                              })
       .def_property_readonly(
-          "x0", [](const core::Model& x) -> const Eigen::VectorXd& { return x.x0; }, py::return_value_policy::reference_internal)
+          "x0", [](const core::Model& x) -> const Eigen::VectorXd& { return x.x0; },
+          py::return_value_policy::reference_internal)
       .def_property_readonly("notes", [](const core::Model& x) { return x.notes; })
       .def_property_readonly("warnings", [](const core::Model& x) { return x.warnings; })
       .def("__repr__", [](const core::Model& x) {
         return "<flexmb.Model " + x.sourceFile + ": " + std::to_string(x.nodes.size()) + " nodes, " +
-               std::to_string(x.elements.size()) + " elements, " + std::to_string(x.numDofs()) +
-               " degrees of freedom>";
+               std::to_string(x.elements.size()) + " elements, " + std::to_string(x.numDofs()) + " degrees of freedom>";
       });
 
-  m.def("read", [](const std::string& path) { return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatFile(path); })); });
+  m.def("read", [](const std::string& path) {
+    return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatFile(path); }));
+  });
   m.def("parse", [](const std::string& text, const std::string& name) {
     return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatString(text, name); }));
   });
@@ -364,6 +383,14 @@ PYBIND11_MODULE(_core, m) {
       return core::Model();
     });
     return modelText;
+  });
+
+  m.def("read_basis", [](const std::string& path, int dofs) {
+    try {
+      return io::readBasisFor(path, dofs);
+    } catch (const std::exception& e) {
+      throw py::value_error(std::string("basis: ") + e.what());
+    }
   });
 
   // ---- static ----
@@ -398,7 +425,8 @@ PYBIND11_MODULE(_core, m) {
     }
     StaticResult r = makeStatic(model, std::move(run), nev, buckling);
     if (r.run.interrupted)
-      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
+      raiseWithResult(PyExc_KeyboardInterrupt,
+                      "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
                       py::cast(std::move(r)));
     return r;
   });
@@ -468,7 +496,8 @@ PYBIND11_MODULE(_core, m) {
     r.x = rowsOf(p, model->nx, [](const auto& pt) { return pt.x; });
     r.model = model;
     if (r.sweep.interrupted)
-      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.sweep: " + r.sweep.stopReason + "; the points reached are in .result",
+      raiseWithResult(PyExc_KeyboardInterrupt,
+                      "flexmb.sweep: " + r.sweep.stopReason + "; the points reached are in .result",
                       py::cast(std::move(r)));
     return r;
   });
@@ -507,6 +536,96 @@ PYBIND11_MODULE(_core, m) {
     return r;
   });
 
+  // ---- reduce ----
+  py::class_<ReduceResult>(m, "ReduceResult")
+      .def_property_readonly(
+          "V", [](const ReduceResult& r) -> const Eigen::MatrixXd& { return r.basis.V; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly("method", [](const ReduceResult& r) { return r.basis.method; })
+      .def_property_readonly("parameters", [](const ReduceResult& r) { return r.basis.parameters; })
+      .def_property_readonly("large", [](const ReduceResult& r) { return r.basis.large; })
+      .def_property_readonly("full", [](const ReduceResult& r) { return r.full; })
+      .def_property_readonly("note", [](const ReduceResult& r) { return r.note; })
+      .def_property_readonly("operators", [](const ReduceResult& r) { return r.operatorsNote; })
+      .def_property_readonly("tried",
+                             [](const ReduceResult& r) {
+                               std::vector<std::pair<int, std::optional<double>>> out;
+                               for (const auto& c : r.tried)
+                                 out.emplace_back(c.vectors, c.estimate.estimated
+                                                                 ? std::optional<double>(c.estimate.estimate)
+                                                                 : std::nullopt);
+                               return out;
+                             })
+      .def("write", [](const ReduceResult& r, const std::string& path) {
+        if (r.full) throw py::value_error("no basis to write: " + r.note);
+        io::OutputSet files(std::filesystem::path(path).replace_extension("").string());
+        files.checkWritable();
+        files.setting("command", "reduce (Python)");
+        files.setting("model", r.model->sourceFile);
+        const std::string opsPath = io::operatorPathFor(path);
+        files.setting("reduced operators", r.operators ? opsPath + ": " + r.operatorsNote : r.operatorsNote);
+        const auto& b = r.basis;
+        io::writeBasis(files.temporaryPath(path), b.V,
+                       {b.method, r.model->sourceFile, b.parameters, b.large, b.scaledSingularValues});
+        if (r.operators) io::writeOperators(files.temporaryPath(opsPath), *r.operators);
+        return files.commit("complete");
+      });
+  m.def("reduce", [](std::shared_ptr<core::Model> model, const analysis::ReductionOptions& options,
+                     std::optional<double> target, bool operators) {
+    ReduceResult r;
+    r.model = model;
+    {
+      py::gil_scoped_release release;
+      try {
+        if (target) {
+          analysis::TargetOptions to;
+          to.target = *target;
+          to.basis = options;
+          analysis::TargetResult tr = analysis::basisForTarget(*model, to);
+          r.tried = tr.tried;
+          r.full = tr.full;
+          r.note = tr.note;
+          r.basis = std::move(tr.basis);
+        } else {
+          r.basis = analysis::buildBasis(*model, options);
+        }
+      } catch (const std::invalid_argument& e) {
+        py::gil_scoped_acquire gil;
+        throw py::value_error(e.what());
+      }
+      if (r.full) {
+        r.operatorsNote = "not built: no basis";
+      } else if (!operators) {
+        r.operatorsNote = "not built (operators=False)";
+      } else if (const std::string why = analysis::operatorsUnsupported(*model); !why.empty()) {
+        r.operatorsNote = "not built: " + why;
+      } else {
+        try {
+          r.operators = std::make_shared<const core::ReducedOperators>(analysis::trainOperators(*model, r.basis.V));
+          r.operatorsNote = analysis::describeOperators(*r.operators);
+        } catch (const std::exception& e) {
+          r.operatorsNote = std::string("not built: ") + e.what();
+        }
+      }
+    }
+    return r;
+  });
+
+  py::class_<analysis::ReductionOptions>(m, "ReductionOptions")
+      .def(py::init<>())
+      .def_readwrite("method", &analysis::ReductionOptions::method)
+      .def_readwrite("modes", &analysis::ReductionOptions::modes)
+      .def_readwrite("normalise", &analysis::ReductionOptions::normalise)
+      .def_readwrite("large", &analysis::ReductionOptions::large)
+      .def_readwrite("configs", &analysis::ReductionOptions::configs)
+      .def_readwrite("weight", &analysis::ReductionOptions::weight)
+      .def_readwrite("threshold", &analysis::ReductionOptions::threshold)
+      .def_readwrite("count", &analysis::ReductionOptions::count)
+      .def_readwrite("node", &analysis::ReductionOptions::node)
+      .def_readwrite("component", &analysis::ReductionOptions::component)
+      .def_readwrite("start", &analysis::ReductionOptions::from)
+      .def_readwrite("stop", &analysis::ReductionOptions::to);
+
   // ---- simulate ----
   py::class_<SimulationResult>(m, "SimulationResult")
       .def_readonly("time", &SimulationResult::time)
@@ -523,9 +642,15 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("nsteps", [](const SimulationResult& r) { return r.trajectory.nsteps; })
       .def_property_readonly("nfailed", [](const SimulationResult& r) { return r.trajectory.nfailed; })
       .def_property_readonly("nfevals", [](const SimulationResult& r) { return r.trajectory.nfevals; })
-      .def_property_readonly("statistics",
-                             [](const SimulationResult& r) {
-                               return analysis::formatStatistics(r.trajectory, r.options.integrator);
+      .def_property_readonly(
+          "statistics",
+          [](const SimulationResult& r) { return analysis::formatStatistics(r.trajectory, r.options.integrator); })
+      .def_property_readonly("reduced_dynamics",
+                             [](const SimulationResult& r) -> std::string {
+                               if (!r.options.basis) return "";
+                               if (r.options.operators)
+                                 return analysis::describeOperatorUse(r.trajectory.operators, *r.options.operators);
+                               return "Eq. 19";
                              })
       .def_property_readonly("reduction_error_estimate",
                              [](const SimulationResult& r) -> std::optional<double> {
@@ -554,6 +679,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("simulate", [](std::shared_ptr<core::Model> model, std::optional<double> tEnd, std::optional<double> relTol,
                        std::optional<double> absTol, std::optional<double> maxStep, std::optional<int> intervals,
                        const std::string& integrator, const std::optional<Eigen::MatrixXd>& basis,
+                       const std::optional<std::string>& basisFile, const ReduceResult* reduced, bool fullKinematics,
                        std::optional<py::function> usersig, bool accuracyCheck) {
     analysis::SimulationOptions opt;
     const auto chosen = analysis::parseIntegrator(integrator);
@@ -561,6 +687,25 @@ PYBIND11_MODULE(_core, m) {
     opt.integrator = *chosen;
     opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
     opt.basis = basisArgument(basis, *model);
+    std::string operatorNote;
+    if (basisFile) {
+      try {
+        opt.basis = io::readBasisFor(*basisFile, model->numDofs());
+      } catch (const std::exception& e) {
+        throw py::value_error(std::string("basis: ") + e.what());
+      }
+    } else if (reduced) {
+      if (reduced->full) throw py::value_error("basis: the reduce result has no basis (" + reduced->note + ")");
+      opt.basis = basisArgument(reduced->basis.V, *model);
+    }
+    if (basisFile) {
+      const analysis::OperatorChoice choice =
+          analysis::chooseOperators(*model, model->sourceFile, *opt.basis, *basisFile, fullKinematics);
+      if (!choice.refusal.empty()) throw py::value_error("basis: " + choice.refusal);
+      opt.operators = choice.operators;
+    } else if (reduced && !fullKinematics) {
+      opt.operators = reduced->operators;
+    }
     opt.accuracyCheck = accuracyCheck;
     ModelPtr run = model;
     if (usersig) {
@@ -583,7 +728,8 @@ PYBIND11_MODULE(_core, m) {
       raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
                       py::cast(std::move(r)));
     if (userFailed)
-      raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason, py::cast(std::move(r)));
+      raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason,
+                      py::cast(std::move(r)));
     return r;
   });
 }

@@ -95,10 +95,45 @@ def transfer(model, *, nev=0, load_steps=0):
     return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0))
 
 
+def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weight=0.0, threshold=0.01, count=0,
+           node=0, component=1, start=0.0, stop=0.0, large=None, target=None, operators=True):
+    """A reduction basis q = V eta (`flexmb reduce`): `.V` (ndof x k), its reduced operators
+    (`.operators` says what was built), `.write(path)` the basis file and the operators beside it.
+    With `target` the smallest basis of `method` whose reduction error estimate meets it (`.tried`
+    lists the candidates; `.full` when none does)."""
+    _model(model)
+    o = _core.ReductionOptions()
+    if method not in ("modal", "svd-modal"):
+        raise ValueError(f"method: 'modal' or 'svd-modal', not {method!r}")
+    if normalise not in ("mass", "unit"):
+        raise ValueError(f"normalise: 'mass' or 'unit', not {normalise!r}")
+    o.method, o.normalise = method, normalise
+    o.modes = _count(modes, "modes", 1)
+    o.configs = _count(configs, "configs", 1)
+    o.weight = _real(weight, "weight")
+    o.threshold = _positive(threshold, "threshold")
+    o.count = _count(count, "count", 0)
+    o.node = _count(node, "node", 0)
+    o.component = _count(component, "component", 1)
+    o.start, o.stop = _real(start, "start"), _real(stop, "stop")
+    if large is not None:
+        o.large = [_count(i, "large", 1) - 1 for i in large]
+        if any(i >= model.ndof for i in o.large):
+            raise ValueError(f"large: indices 1 to {model.ndof} (the degrees of freedom)")
+    if target is not None:
+        target = _real(target, "target")
+        if not 0 < target < 1:
+            raise ValueError(f"target: expected 0 < target < 1, got {target}")
+    return _core.reduce(model, o, target, bool(operators))
+
+
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
-             basis=None, usersig=None, accuracy_check=False):
+             basis=None, full_kinematics=False, usersig=None, accuracy_check=False):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
+    basis: a reduced run q = V eta. An array (ndof x k) runs Eq. 19; a basis file (`flexmb reduce`'s)
+    or a `flexmb.reduce` result run with their reduced operators, as `flexmb simulate --basis` does
+    (full_kinematics=True: Eq. 19 all the same).
     usersig: a callable f(t, x, xd, e, ed) returning sig (ne stresses, added to the model's) or
     (sig, f) with f (nx nodal forces); arrays in model order, read-only, valid during the call only.
     """
@@ -106,9 +141,18 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     if usersig is not None and not callable(usersig):
         raise TypeError(f"usersig: expected a callable, got {type(usersig).__name__}")
     _need(integrator, str, "integrator")
+    array, path, reduced = None, None, None
+    if isinstance(basis, _core.ReduceResult):
+        reduced = basis
+    elif isinstance(basis, (str, bytes)) or hasattr(basis, "__fspath__"):
+        import os
+
+        path = os.fsdecode(os.fspath(basis))
+    else:
+        array = _basis(basis, model)
     return _core.simulate(model, _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol"),
                           _positive(max_step, "max_step"), None if intervals is None else _count(intervals, "intervals", 0),
-                          integrator, _basis(basis, model), usersig, bool(accuracy_check))
+                          integrator, array, path, reduced, bool(full_kinematics), usersig, bool(accuracy_check))
 
 
 def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False):
@@ -160,8 +204,12 @@ def _count(value, name, least):
 def _basis(basis, model):
     if basis is None:
         return None
-    if isinstance(basis, (str, bytes)):
-        raise TypeError("basis: expected an array (ndof x k), not a file name (read it with numpy.loadtxt)")
+    if isinstance(basis, (str, bytes)) or hasattr(basis, "__fspath__"):
+        import os
+
+        return _core.read_basis(os.fsdecode(os.fspath(basis)), model.ndof)
+    if isinstance(basis, _core.ReduceResult):
+        return basis.V
     v = np.asarray(basis, dtype=float)
     if v.ndim != 2 or v.shape[0] != model.ndof or v.shape[1] < 1:
         raise ValueError(f"basis: expected shape ({model.ndof}, k) (the degrees of freedom by the basis vectors), "
@@ -169,5 +217,5 @@ def _basis(basis, model):
     return v
 
 
-__all__ = ["read", "parse", "variant", "static", "modes", "sweep", "transfer", "simulate", "Model", "InputError",
+__all__ = ["read", "parse", "variant", "static", "modes", "sweep", "transfer", "reduce", "simulate", "Model", "InputError",
            "UserFunctionError"]

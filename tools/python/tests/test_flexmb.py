@@ -68,7 +68,9 @@ def test_bad_arguments_raise_type_and_value_errors_naming_the_argument():
         (lambda: flexmb.simulate(m, integrator="rk4"), ValueError, "integrator"),
         (lambda: flexmb.simulate(m, usersig=3), TypeError, "usersig"),
         (lambda: flexmb.modes(m, basis=np.zeros((5, 2))), ValueError, "basis"),
-        (lambda: flexmb.modes(m, basis="m3.csv"), TypeError, "basis"),
+        (lambda: flexmb.modes(m, basis="no_such_basis.csv"), ValueError, "basis"),
+        (lambda: flexmb.reduce(m, method="pod"), ValueError, "method"),
+        (lambda: flexmb.reduce(m, target=2.0), ValueError, "target"),
         (lambda: flexmb.sweep(m, node=6, start=0.0, stop=float("nan")), ValueError, "stop"),
     ]
     for call, kind, name in cases:
@@ -151,6 +153,28 @@ def test_transfer_matrices_equal_the_command_lines_ltv(work):
         assert np.array_equal(ltv[name], getattr(r, name)), name
     gain = r.static_gain()
     assert gain.shape == (2, 1) and gain[0, 0] > 0
+
+
+def test_reduce_and_a_reduced_run_write_the_command_lines_files(work):
+    path = model_path("datfiles", "straight_guidance.dat")
+    cli("reduce", path, "--modes", "3", "--out", str(work / "cli" / "m3.csv"), "-q")
+    m = flexmb.read(path)
+    r = flexmb.reduce(m, modes=3)
+    assert r.V.shape == (m.ndof, 3) and "terms" in r.operators
+    r.write(str(work / "py" / "m3.csv"))
+    same_bytes(work / "cli" / "m3.csv", work / "py" / "m3.csv")
+    cli("simulate", path, "--t-end", "0.05", "--basis", str(work / "cli" / "m3.csv"), "--out", str(work / "cli" / "g"),
+        "-q")
+    run = flexmb.simulate(m, t_end=0.05, basis=str(work / "cli" / "m3.csv"))
+    assert run.reduced_dynamics.startswith("reduced operators")
+    run.write(str(work / "py" / "g"))
+    for suffix in ["_x.csv", "_sig.csv", ".sbd"]:
+        same_bytes(work / "cli" / ("g" + suffix), work / "py" / ("g" + suffix))
+    eq19 = flexmb.simulate(m, t_end=0.05, basis=r.V)
+    assert eq19.reduced_dynamics == "Eq. 19"
+    assert np.max(np.abs(eq19.x - run.x)) < 1e-3  # operators fitted to 1e-3 of the forces
+    in_memory = flexmb.simulate(m, t_end=0.05, basis=r)
+    assert np.array_equal(in_memory.x, run.x)
 
 
 # ---- user functions ----------------------------------------------------------------------------------
