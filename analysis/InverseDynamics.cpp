@@ -75,4 +75,30 @@ InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynami
   return run;
 }
 
+InverseDynamicsRun inverseDynamicsStages(const std::vector<const core::Model*>& stages,
+                                         const InverseDynamicsOptions& options) {
+  InverseDynamicsRun all;
+  for (size_t k = 0; k < stages.size(); ++k) {
+    InverseDynamicsOptions ok = options;
+    if (k + 1 < stages.size()) ok.tEnd.reset(), ok.intervals.reset();
+    InverseDynamicsRun part = inverseDynamics(*stages[k], ok);
+    const auto& pt = part.trajectory;
+    const size_t skip =
+        !all.trajectory.time.empty() && !pt.time.empty() && pt.time.front() == all.trajectory.time.back();
+    for (size_t i = skip; i < pt.time.size(); ++i) {
+      all.trajectory.time.push_back(pt.time[i]);
+      all.trajectory.states.push_back(pt.states[i]);
+      all.fxt.push_back(part.fxt[i]);
+    }
+    all.trajectory.integrator = pt.integrator;
+    all.interrupted = part.interrupted;
+    if (!pt.completed) {
+      all.trajectory.completed = false;
+      all.trajectory.stopReason = pt.stopReason;
+      break;
+    }
+  }
+  return all;
+}
+
 }  // namespace flexmb::analysis

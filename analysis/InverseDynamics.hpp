@@ -41,4 +41,10 @@ struct InverseDynamicsRun {
 // the first output time whose kinematics fail (a dead point, no assembly), keeping the times before.
 InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynamicsOptions& options);
 
+// SPACAR95 blocks: each stage over its own span (nothing carries over but the time; options.tEnd and
+// intervals apply to the last), the outputs concatenated (a shared time point once); stops at the
+// first stage that does not complete.
+InverseDynamicsRun inverseDynamicsStages(const std::vector<const core::Model*>& stages,
+                                         const InverseDynamicsOptions& options);
+
 }  // namespace flexmb::analysis

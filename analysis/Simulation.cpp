@@ -563,4 +563,12 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
   return all;
 }
 
+std::vector<const core::Model*> stagesThatRun(const std::vector<io::AnalysisStage>& stages) {
+  std::vector<const core::Model*> runs;
+  for (const auto& st : stages)
+    if (st.runs) runs.push_back(&st.model);
+  if (runs.empty() && !stages.empty()) runs.push_back(&stages.back().model);
+  return runs;
+}
+
 }  // namespace flexmb::analysis

@@ -8,11 +8,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/EquationsOfMotion.hpp"
 #include "core/Model.hpp"
 #include "core/ReducedOperators.hpp"
 #include "core/Trajectory.hpp"
+#include "io/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {
@@ -105,6 +107,10 @@ solvers::OdeResult integrateOde45(core::EquationsOfMotion& eom, const solvers::O
 // the kinematics start from (an accuracy-check window). yEnd: the state at the last output time.
 core::Trajectory simulateFrom(const core::Model& model, const SimulationOptions& options, const Eigen::VectorXd& y0,
                               const Eigen::VectorXd& x0, Eigen::VectorXd& yEnd);
+
+// The stages of a file that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with
+// the defaults.
+std::vector<const core::Model*> stagesThatRun(const std::vector<io::AnalysisStage>& stages);
 
 // SPACAR95 block structure: the analysis stages that run (each a model read up to an END, sharing
 // the topology), in order. The first starts from its model's initial values; each later one starts

@@ -296,27 +296,7 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
   o.interrupt = interruptFlag();
   o.interruptSignal = interruptSignal();
   // SPACAR95 blocks: each runs over its own span (nothing carries over but the time).
-  analysis::InverseDynamicsRun all;
-  for (size_t k = 0; k < runs.size(); ++k) {
-    analysis::InverseDynamicsOptions ok = o;
-    if (k + 1 < runs.size()) ok.tEnd.reset(), ok.intervals.reset();
-    analysis::InverseDynamicsRun part = analysis::inverseDynamics(*runs[k], ok);
-    const auto& pt = part.trajectory;
-    const size_t skip =
-        !all.trajectory.time.empty() && !pt.time.empty() && pt.time.front() == all.trajectory.time.back();
-    for (size_t i = skip; i < pt.time.size(); ++i) {
-      all.trajectory.time.push_back(pt.time[i]);
-      all.trajectory.states.push_back(pt.states[i]);
-      all.fxt.push_back(part.fxt[i]);
-    }
-    all.trajectory.integrator = pt.integrator;
-    all.interrupted = part.interrupted;
-    if (!pt.completed) {
-      all.trajectory.completed = false;
-      all.trajectory.stopReason = pt.stopReason;
-      break;
-    }
-  }
+  const analysis::InverseDynamicsRun all = analysis::inverseDynamicsStages(runs, o);
   const core::Trajectory& traj = all.trajectory;
   std::cout << "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at " << traj.time.size()
             << " output times, no integration\n";
@@ -346,11 +326,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (auto rc = parseSimulate(args, a)) return *rc;
   std::vector<io::AnalysisStage> stages;
   if (!loadStages(a.m, stages, true, true)) return kInputError;
-  // The stages that run an analysis (SPACAR95 blocks with TIMESTEP); none: the last, with defaults.
-  std::vector<const core::Model*> runs;
-  for (const auto& st : stages)
-    if (st.runs) runs.push_back(&st.model);
-  if (runs.empty()) runs.push_back(&stages.back().model);
+  const std::vector<const core::Model*> runs = analysis::stagesThatRun(stages);
   const core::Model& model = *runs.back();
   // No TIMESTEP: the defaults, said once, with what the command line overrides.
   if (!model.settings.timestepGiven && !a.m.quiet && (a.tEnd <= 0 || a.intervals < 0)) {

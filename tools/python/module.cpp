@@ -18,9 +18,12 @@
 #include <sstream>
 
 #include "analysis/BasisForTarget.hpp"
+#include "analysis/InverseDynamics.hpp"
+#include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/ReducedOperators.hpp"
 #include "analysis/Reduction.hpp"
+#include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
 #include "analysis/Statics.hpp"
@@ -41,6 +44,15 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using ModelPtr = std::shared_ptr<const core::Model>;
+
+// A model as read: every analysis stage of the file (SPACAR95 blocks), the last one the model the
+// analyses without stages use, as the command line does.
+struct ModelHandle {
+  std::shared_ptr<const std::vector<io::AnalysisStage>> stages;
+  ModelPtr last() const { return ModelPtr(stages, &stages->back().model); }
+  const core::Model& operator*() const { return stages->back().model; }
+  const core::Model* operator->() const { return &stages->back().model; }
+};
 
 // ---- Ctrl-C: a SIGINT handler of our own while an analysis runs in the main thread ----------------
 std::atomic<bool> g_interrupt{false};
@@ -93,9 +105,9 @@ py::object package() { return py::module_::import("flexmb"); }
 // ---- models ---------------------------------------------------------------------------------------
 // io::DatError as flexmb.InputError(message, file, line, reason).
 template <class F>
-ModelPtr readModel(F&& read) {
+ModelHandle readModel(F&& read) {
   try {
-    return std::make_shared<const core::Model>(read());
+    return ModelHandle{std::make_shared<const std::vector<io::AnalysisStage>>(read())};
   } catch (const io::DatError& e) {
     py::object exc = package().attr("InputError")(e.what());
     exc.attr("file") = e.file();
@@ -180,6 +192,9 @@ class PythonStresses : public core::UserFunctions {
     s << "the Python USERSIG function at t = " << t;
     return s.str();
   }
+
+ public:
+  // The exception with its Python traceback, as Python prints it.
   static std::string formatted(py::error_already_set& err) {
     try {
       const py::object tb = py::module_::import("traceback");
@@ -191,6 +206,8 @@ class PythonStresses : public core::UserFunctions {
       return err.what();
     }
   }
+
+ private:
   static void take(const py::handle& h, Eigen::VectorXd& out, int n, const char* name, double t) {
     if (h.is_none()) return;
     const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
@@ -210,6 +227,78 @@ class PythonStresses : public core::UserFunctions {
   Eigen::VectorXd x_, xd_, e_, ed_;
   py::array vx_, vxd_, ve_, ved_;
 };
+
+// USERINP as a Python callable: f(t, order) returns one value per input (Model.inputs: the
+// prescribed coordinates, then the prescribed deformations) of that order (0 values, 1 rates,
+// 2 accelerations). The kinematics ask for every input at one t and order: one call serves them.
+class PythonInputs {
+ public:
+  PythonInputs(py::function f, int n) : f_(std::move(f)), values_(Eigen::VectorXd::Zero(n)) {}
+  ~PythonInputs() {
+    py::gil_scoped_acquire gil;
+    f_ = py::function();
+  }
+  PythonInputs(const PythonInputs&) = delete;
+  PythonInputs& operator=(const PythonInputs&) = delete;
+  double at(double t, int order, int slot) {
+    if (t != t_ || order != order_) {
+      py::gil_scoped_acquire gil;
+      const Eigen::Index n = values_.size();
+      try {
+        const py::object r = f_(t, order);
+        const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(r);
+        if (!a || a.ndim() != 1 || a.shape(0) != n)
+          throw core::UserFunctionError(what(t, order) + " returned " +
+                                        (a ? "an array of " + std::to_string(a.size()) + " values"
+                                           : "a " + std::string(py::str(r.get_type().attr("__name__")))) +
+                                        ": expected shape (" + std::to_string(n) + ",), one value per input");
+        std::memcpy(values_.data(), a.data(), sizeof(double) * n);
+      } catch (py::error_already_set& err) {
+        throw core::UserFunctionError(what(t, order) + " raised " + PythonStresses::formatted(err));
+      }
+      t_ = t, order_ = order;
+    }
+    return values_[slot];
+  }
+
+ private:
+  static std::string what(double t, int order) {
+    std::ostringstream s;
+    s.precision(10);
+    s << "the Python USERINP function at t = " << t << " (order " << order << ")";
+    return s.str();
+  }
+  py::function f_;
+  Eigen::VectorXd values_;
+  double t_ = NAN;
+  int order_ = -1;
+};
+
+class PythonInputChannel : public core::TimeFunction {
+ public:
+  PythonInputChannel(std::shared_ptr<PythonInputs> source, int order, int slot)
+      : source_(std::move(source)), order_(order), slot_(slot) {}
+  double value(double t) const override { return source_->at(t, order_, slot_); }
+  std::string text() const override { return "Python USERINP, input " + std::to_string(slot_ + 1); }
+
+ private:
+  std::shared_ptr<PythonInputs> source_;
+  int order_, slot_;
+};
+
+// The model's inputs driven by f (their polynomials and expressions replaced).
+void installInputs(const py::function& f, core::Model& model) {
+  const int n = static_cast<int>(model.inputX.size() + model.inputE.size());
+  auto source = std::make_shared<PythonInputs>(f, n);
+  int slot = 0;
+  for (auto* inputs : {&model.inputX, &model.inputE})
+    for (auto& r : *inputs) {
+      r.fx = std::make_shared<PythonInputChannel>(source, 0, slot);
+      r.fv = std::make_shared<PythonInputChannel>(source, 1, slot);
+      r.fa = std::make_shared<PythonInputChannel>(source, 2, slot);
+      ++slot;
+    }
+}
 
 // ---- results --------------------------------------------------------------------------------------
 struct StaticResult {
@@ -283,6 +372,8 @@ struct SimulationResult {
   bool interrupted = false;
   Eigen::VectorXd time;
   RowMatrix x, xd, xdd, e, ed, edd, sig;
+  RowMatrix fxt;                         // driven rigid mechanisms: the nodal forces per output time
+  std::vector<Eigen::VectorXd> fxtRows;  // the same for the writer
 };
 
 SimulationResult makeSimulation(ModelPtr model, analysis::SimulationOptions opt, core::Trajectory traj,
@@ -324,53 +415,60 @@ std::string writeTable(const std::string& path, const io::CsvTable& table) {
 PYBIND11_MODULE(_core, m) {
   m.doc() = "flexmb's native part; use the flexmb package";
 
-  py::class_<core::Model, std::shared_ptr<core::Model>>(m, "Model")
-      .def_property_readonly("file", [](const core::Model& x) { return x.sourceFile; })
-      .def_property_readonly("nx", [](const core::Model& x) { return x.nx; })
-      .def_property_readonly("ne", [](const core::Model& x) { return x.ne; })
-      .def_property_readonly("ndof", &core::Model::numDofs)
-      .def_property_readonly("spatial", [](const core::Model& x) { return x.spatial; })
+  py::class_<ModelHandle>(m, "Model")
+      .def_property_readonly("file", [](const ModelHandle& h) { return h->sourceFile; })
+      .def_property_readonly("nx", [](const ModelHandle& h) { return h->nx; })
+      .def_property_readonly("ne", [](const ModelHandle& h) { return h->ne; })
+      .def_property_readonly("ndof", [](const ModelHandle& h) { return h->numDofs(); })
+      .def_property_readonly("spatial", [](const ModelHandle& h) { return h->spatial; })
       .def_property_readonly("nodes",
-                             [](const core::Model& x) {
+                             [](const ModelHandle& h) {
                                std::vector<int> labels;
-                               for (const auto& n : x.nodes) labels.push_back(n.label);
+                               for (const auto& n : h->nodes) labels.push_back(n.label);
                                return labels;
                              })
-      .def_property_readonly("elements", [](const core::Model& x) { return elementList(x); })
+      .def_property_readonly("elements", [](const ModelHandle& h) { return elementList(*h); })
       .def_property_readonly("coordinates",
-                             [](const core::Model& x) {
+                             [](const ModelHandle& h) {
                                std::vector<std::string> names;
-                               for (int i = 0; i < x.nx; ++i) names.push_back(x.coordName(i));
+                               for (int i = 0; i < h->nx; ++i) names.push_back(h->coordName(i));
                                return names;
                              })
       .def_property_readonly("deformations",
-                             [](const core::Model& x) {
+                             [](const ModelHandle& h) {
                                std::vector<std::string> names;
-                               for (int i = 0; i < x.ne; ++i) names.push_back(x.deformationName(i));
+                               for (int i = 0; i < h->ne; ++i) names.push_back(h->deformationName(i));
                                return names;
                              })
       .def_property_readonly("dofs",
-                             [](const core::Model& x) {
+                             [](const ModelHandle& h) {
                                std::vector<std::string> names;
-                               for (const auto& d : x.dofs)
-                                 names.push_back(d.isDeformation ? x.deformationName(d.index) : x.coordName(d.index));
+                               for (const auto& d : h->dofs)
+                                 names.push_back(d.isDeformation ? h->deformationName(d.index) : h->coordName(d.index));
                                return names;
                              })
       .def_property_readonly(
-          "x0", [](const core::Model& x) -> const Eigen::VectorXd& { return x.x0; },
+          "x0", [](const ModelHandle& h) -> const Eigen::VectorXd& { return h->x0; },
           py::return_value_policy::reference_internal)
-      .def_property_readonly("notes", [](const core::Model& x) { return x.notes; })
-      .def_property_readonly("warnings", [](const core::Model& x) { return x.warnings; })
-      .def("__repr__", [](const core::Model& x) {
-        return "<flexmb.Model " + x.sourceFile + ": " + std::to_string(x.nodes.size()) + " nodes, " +
-               std::to_string(x.elements.size()) + " elements, " + std::to_string(x.numDofs()) + " degrees of freedom>";
+      .def_property_readonly("notes", [](const ModelHandle& h) { return h->notes; })
+      .def_property_readonly("warnings", [](const ModelHandle& h) { return h->warnings; })
+      .def_property_readonly("inputs",
+                             [](const ModelHandle& h) {
+                               std::vector<std::string> names;
+                               for (const auto& r : h->inputX) names.push_back(h->coordName(r.index));
+                               for (const auto& r : h->inputE) names.push_back(h->deformationName(r.index));
+                               return names;
+                             })
+      .def_property_readonly("stages", [](const ModelHandle& h) { return h.stages->size(); })
+      .def("__repr__", [](const ModelHandle& h) {
+        return "<flexmb.Model " + h->sourceFile + ": " + std::to_string(h->nodes.size()) + " nodes, " +
+               std::to_string(h->elements.size()) + " elements, " + std::to_string(h->numDofs()) +
+               " degrees of freedom>";
       });
 
-  m.def("read", [](const std::string& path) {
-    return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatFile(path); }));
-  });
+  m.def("read", [](const std::string& path) { return readModel([&] { return io::readDatStages(path); }); });
   m.def("parse", [](const std::string& text, const std::string& name) {
-    return std::const_pointer_cast<core::Model>(readModel([&] { return io::readDatString(text, name); }));
+    return readModel([&] { return io::readDatStagesString(text, name); });
   });
   m.def("instantiate", [](const std::string& text, const std::string& name, const io::ParameterValues& values) {
     std::string modelText;
@@ -380,7 +478,7 @@ PYBIND11_MODULE(_core, m) {
       for (const auto& [k, v] : values) names.push_back(k);
       t.check(names);
       modelText = t.instantiate(values);
-      return core::Model();
+      return std::vector<io::AnalysisStage>(1);
     });
     return modelText;
   });
@@ -391,6 +489,25 @@ PYBIND11_MODULE(_core, m) {
     } catch (const std::exception& e) {
       throw py::value_error(std::string("basis: ") + e.what());
     }
+  });
+
+  // ---- check (mode 0) ----
+  m.def("check", [](const ModelHandle& handle) {
+    analysis::ModelCheck c;
+    {
+      py::gil_scoped_release release;
+      c = analysis::checkModel(*handle);
+    }
+    py::dict d;
+    d["well_posed"] = c.wellPosed();
+    d["kinematics"] = c.kinematicsError.empty() ? c.kinematicsText() : "kinematic check failed: " + c.kinematicsError;
+    d["mechanism_deformations"] = c.diagnosis.mechanismDeformations;
+    d["overflow"] = c.diagnosis.overflow;
+    d["assembly"] = c.assembly.problem.empty() ? c.assembly.error : c.assembly.problem;
+    d["massless"] = c.assembly.massless;
+    d["notes"] = handle->notes;
+    d["warnings"] = handle->warnings;
+    return d;
   });
 
   // ---- static ----
@@ -413,7 +530,8 @@ PYBIND11_MODULE(_core, m) {
       .def("write", [](const StaticResult& r, const std::string& path) {
         return writeTable(path, analysis::staticTable(*r.model, r.run, r.buckling));
       });
-  m.def("static", [](std::shared_ptr<core::Model> model, int nev, int loadSteps, int buckling) {
+  m.def("static", [](const ModelHandle& handle, int nev, int loadSteps, int buckling) {
+    const ModelPtr model = handle.last();
     InterruptScope scope;
     analysis::StaticOptions so;
     so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
@@ -452,7 +570,8 @@ PYBIND11_MODULE(_core, m) {
       .def("write", [](const ModesResult& r, const std::string& prefix) {
         return writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies));
       });
-  m.def("modes", [](std::shared_ptr<core::Model> model, int nev, const std::optional<Eigen::MatrixXd>& basis) {
+  m.def("modes", [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis) {
+    const ModelPtr model = handle.last();
     ModesResult r;
     const auto b = basisArgument(basis, *model);
     {
@@ -476,8 +595,9 @@ PYBIND11_MODULE(_core, m) {
       .def("write", [](const SweepResultPy& r, const std::string& path) {
         return writeTable(path, analysis::sweepTable(*r.model, r.sweep));
       });
-  m.def("sweep", [](std::shared_ptr<core::Model> model, int node, int component, double from, double to, int steps,
-                    int nev, const std::optional<Eigen::MatrixXd>& basis, double t) {
+  m.def("sweep", [](const ModelHandle& handle, int node, int component, double from, double to, int steps, int nev,
+                    const std::optional<Eigen::MatrixXd>& basis, double t) {
+    const ModelPtr model = handle.last();
     InterruptScope scope;
     analysis::SweepOptions o;
     o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
@@ -524,7 +644,8 @@ PYBIND11_MODULE(_core, m) {
       .def("frequency_response", [](const TransferResultPy& r, const Eigen::VectorXd& omega) {
         return analysis::frequencyResponses(r.run.model, omega);
       });
-  m.def("transfer", [](std::shared_ptr<core::Model> model, int nev, int loadSteps) {
+  m.def("transfer", [](const ModelHandle& handle, int nev, int loadSteps) {
+    const ModelPtr model = handle.last();
     TransferResultPy r;
     analysis::TransferOptions o;
     o.nev = nev, o.loadSteps = loadSteps;
@@ -570,8 +691,9 @@ PYBIND11_MODULE(_core, m) {
         if (r.operators) io::writeOperators(files.temporaryPath(opsPath), *r.operators);
         return files.commit("complete");
       });
-  m.def("reduce", [](std::shared_ptr<core::Model> model, const analysis::ReductionOptions& options,
-                     std::optional<double> target, bool operators) {
+  m.def("reduce", [](const ModelHandle& handle, const analysis::ReductionOptions& options, std::optional<double> target,
+                     bool operators) {
+    const ModelPtr model = handle.last();
     ReduceResult r;
     r.model = model;
     {
@@ -636,6 +758,7 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("ed", &SimulationResult::ed)
       .def_readonly("edd", &SimulationResult::edd)
       .def_readonly("sig", &SimulationResult::sig)
+      .def_readonly("fxt", &SimulationResult::fxt)
       .def_property_readonly("completed", [](const SimulationResult& r) { return r.trajectory.completed; })
       .def_property_readonly("stop_reason", [](const SimulationResult& r) { return r.trajectory.stopReason; })
       .def_property_readonly("integrator", [](const SimulationResult& r) { return r.trajectory.integrator; })
@@ -662,6 +785,7 @@ PYBIND11_MODULE(_core, m) {
         analysis::SimulationFiles what;
         what.csv = csv, what.mat = mat, what.linearize = linearize, what.matrices = matrices, what.vtk = vtk,
         what.html = html;
+        if (!r.fxtRows.empty()) what.fxt = &r.fxtRows;
         io::OutputSet files(prefix);
         files.checkWritable();
         files.setting("command", "simulate (Python)");
@@ -676,11 +800,12 @@ PYBIND11_MODULE(_core, m) {
         if (w.incomplete) py::module_::import("warnings").attr("warn")(err.str());
         return w.paths;
       });
-  m.def("simulate", [](std::shared_ptr<core::Model> model, std::optional<double> tEnd, std::optional<double> relTol,
+  m.def("simulate", [](const ModelHandle& handle, std::optional<double> tEnd, std::optional<double> relTol,
                        std::optional<double> absTol, std::optional<double> maxStep, std::optional<int> intervals,
                        const std::string& integrator, const std::optional<Eigen::MatrixXd>& basis,
                        const std::optional<std::string>& basisFile, const ReduceResult* reduced, bool fullKinematics,
-                       std::optional<py::function> usersig, bool accuracyCheck) {
+                       std::optional<py::function> usersig, std::optional<py::function> userinp, bool accuracyCheck) {
+    const ModelPtr model = handle.last();
     analysis::SimulationOptions opt;
     const auto chosen = analysis::parseIntegrator(integrator);
     if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf' or 'auto', not '" + integrator + "'");
@@ -707,23 +832,48 @@ PYBIND11_MODULE(_core, m) {
       opt.operators = reduced->operators;
     }
     opt.accuracyCheck = accuracyCheck;
-    ModelPtr run = model;
-    if (usersig) {
-      auto copy = std::make_shared<core::Model>(*model);
-      copy->userFunctions = std::make_shared<PythonStresses>(*usersig, *copy);
-      run = copy;
+    // The file's stages that run, with the Python user functions installed in a copy of them.
+    std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
+    if (usersig || userinp) {
+      auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
+      for (auto& st : *copy) {
+        if (usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*usersig, st.model);
+        if (userinp) installInputs(*userinp, st.model);
+      }
+      stages = copy;
     }
+    const std::vector<const core::Model*> runs = analysis::stagesThatRun(*stages);
+    const ModelPtr last(stages, runs.back());
+    const bool driven = analysis::isDrivenRigidMechanism(*last);
+    if (driven && opt.basis)
+      throw py::value_error("basis: " + last->sourceFile +
+                            " is a driven rigid mechanism (no degrees of freedom): there is no reduced model");
+    if (const analysis::RunSizeCheck size = analysis::checkRunSize(*last, opt); !size.refusal.empty())
+      throw py::value_error(size.refusal);
     InterruptScope scope;
     opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
     core::Trajectory traj;
+    std::vector<Eigen::VectorXd> fxt;
     bool interrupted = false;
     {
       py::gil_scoped_release release;
-      traj = analysis::simulate(*run, opt, &interrupted);
+      if (driven) {
+        analysis::InverseDynamicsOptions io;
+        io.tEnd = opt.tEnd, io.intervals = opt.intervals;
+        io.interrupt = opt.interrupt, io.interruptSignal = opt.interruptSignal;
+        analysis::InverseDynamicsRun run = analysis::inverseDynamicsStages(runs, io);
+        traj = std::move(run.trajectory);
+        fxt = std::move(run.fxt);
+        interrupted = run.interrupted;
+      } else {
+        traj = analysis::simulateStages(runs, opt, &interrupted);
+      }
     }
     const std::string reason = traj.stopReason;
-    const bool userFailed = !traj.completed && reason.find("Python USERSIG") != std::string::npos;
-    SimulationResult r = makeSimulation(run, std::move(opt), std::move(traj), interrupted);
+    const bool userFailed = !traj.completed && reason.find("the Python USER") != std::string::npos;
+    SimulationResult r = makeSimulation(last, std::move(opt), std::move(traj), interrupted);
+    r.fxtRows = std::move(fxt);
+    r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
     if (interrupted)
       raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
                       py::cast(std::move(r)));

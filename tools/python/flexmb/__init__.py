@@ -64,6 +64,15 @@ def variant(template, name="<template>", **parameters):
     return _core.parse(text, name)
 
 
+def check(model):
+    """Mode 0 (`flexmb check`): a dict with `well_posed`, the kinematic report (`kinematics`: rank,
+    degrees of freedom, redundant or missing equations), deformations that move without stiffness,
+    values that overflow, the initial assembly's problem, massless degrees of freedom, notes and
+    warnings."""
+    _model(model)
+    return _core.check(model)
+
+
 def static(model, *, nev=6, load_steps=0, buckling=0):
     """Mode 10: equilibrium over the load steps (`flexmb static`); eigenfrequencies (Hz) and, with
     buckling > 0, buckling load factors in each. Arrays have one row per step."""
@@ -128,7 +137,7 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
 
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
-             basis=None, full_kinematics=False, usersig=None, accuracy_check=False):
+             basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
     basis: a reduced run q = V eta. An array (ndof x k) runs Eq. 19; a basis file (`flexmb reduce`'s)
@@ -136,10 +145,18 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     (full_kinematics=True: Eq. 19 all the same).
     usersig: a callable f(t, x, xd, e, ed) returning sig (ne stresses, added to the model's) or
     (sig, f) with f (nx nodal forces); arrays in model order, read-only, valid during the call only.
+    userinp: a callable f(t, order) returning one value per input (model.inputs) of that order
+    (0 positions, 1 rates, 2 accelerations), replacing the file's input motions.
+    An exception in either stops the run: UserFunctionError with the time, the traceback and the
+    results so far (`.result`). A driven rigid mechanism (no degrees of freedom) gets its
+    kinematics and the forces its inputs need (`.fxt`), as `flexmb simulate` does.
     """
     _model(model)
-    if usersig is not None and not callable(usersig):
-        raise TypeError(f"usersig: expected a callable, got {type(usersig).__name__}")
+    for name, f in (("usersig", usersig), ("userinp", userinp)):
+        if f is not None and not callable(f):
+            raise TypeError(f"{name}: expected a callable, got {type(f).__name__}")
+    if userinp is not None and not model.inputs:
+        raise ValueError(f"userinp: {model.file} has no inputs (INPUTX / INPUTE) to drive")
     _need(integrator, str, "integrator")
     array, path, reduced = None, None, None
     if isinstance(basis, _core.ReduceResult):
@@ -152,7 +169,8 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
         array = _basis(basis, model)
     return _core.simulate(model, _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol"),
                           _positive(max_step, "max_step"), None if intervals is None else _count(intervals, "intervals", 0),
-                          integrator, array, path, reduced, bool(full_kinematics), usersig, bool(accuracy_check))
+                          integrator, array, path, reduced, bool(full_kinematics), usersig, userinp,
+                          bool(accuracy_check))
 
 
 def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False):
@@ -217,5 +235,5 @@ def _basis(basis, model):
     return v
 
 
-__all__ = ["read", "parse", "variant", "static", "modes", "sweep", "transfer", "reduce", "simulate", "Model", "InputError",
+__all__ = ["read", "parse", "variant", "check", "static", "modes", "sweep", "transfer", "reduce", "simulate", "Model", "InputError",
            "UserFunctionError"]

@@ -47,6 +47,17 @@ def test_read_exposes_the_model():
     assert not m.x0.flags.writeable
 
 
+def test_check_reports_as_the_command_line():
+    good = flexmb.check(flexmb.read(model_path("datfiles", "straight_guidance.dat")))
+    assert good["well_posed"] and "degrees of freedom" in good["kinematics"]
+    for name in ["overconstrained", "underconstrained"]:
+        path = model_path("datfiles", "tests", f"{name}.dat")
+        bad = flexmb.check(flexmb.read(path))
+        assert not bad["well_posed"], name
+        done = subprocess.run([CLI, "check", path], capture_output=True, text=True)
+        assert done.returncode == 1 and bad["kinematics"].strip() in done.stdout, name
+
+
 def test_input_errors_name_file_line_and_reason():
     text = "PLBEAM 1 1 2 3 4\nX 1 0 0\nX 3 1 0\nFIX 1\nFIX 2\nFOO 1 2\nEND\nEND\n"
     with pytest.raises(flexmb.InputError) as err:
@@ -234,6 +245,47 @@ def test_a_usersig_of_the_wrong_shape_names_the_expected_one():
     m = arm_without_loads()
     with pytest.raises(flexmb.UserFunctionError, match=rf"expected shape \({m.ne},\)"):
         flexmb.simulate(m, t_end=0.1, usersig=lambda t, x, xd, e, ed: np.zeros(m.ne + 1))
+
+
+def test_userinp_equals_the_files_input_motion():
+    m = flexmb.read(ARM)
+    assert m.inputs == ["e(PLHINGE 100, 1 relative rotation)"]
+    builtin = flexmb.simulate(m, t_end=0.3)
+
+    def crank(t, order):  # the file's INPUTET 100 1 "0.5*sin(2*t)" "cos(2*t)" "-2*sin(2*t)"
+        return np.array([[0.5 * np.sin(2 * t), np.cos(2 * t), -2 * np.sin(2 * t)][order]])
+
+    r = flexmb.simulate(m, t_end=0.3, userinp=crank)
+    assert r.completed and np.allclose(r.x, builtin.x, rtol=0, atol=1e-12)
+    still = flexmb.simulate(m, t_end=0.3, userinp=lambda t, order: np.zeros(1))
+    assert np.max(np.abs(still.x - builtin.x)) > 1e-3
+    with pytest.raises(flexmb.UserFunctionError, match=r"USERINP.*expected shape \(1,\)"):
+        flexmb.simulate(m, t_end=0.3, userinp=lambda t, order: np.zeros(2))
+    with pytest.raises(flexmb.UserFunctionError, match="KeyError"):
+        flexmb.simulate(m, t_end=0.3, userinp=lambda t, order: {}["x"])
+    with pytest.raises(ValueError, match="userinp"):
+        flexmb.simulate(flexmb.read(model_path("datfiles", "straight_guidance.dat")), userinp=crank)
+
+
+def test_a_driven_rigid_mechanism_gives_the_command_lines_forces(work):
+    path = model_path("datfiles", "slider_crank_rigid.dat")
+    cli("simulate", path, "--out", str(work / "cli" / "sc"), "-q")
+    r = flexmb.simulate(flexmb.read(path))
+    assert r.nfevals == 0 and r.fxt.shape == (len(r.time), r.x.shape[1])
+    r.write(str(work / "py" / "sc"))
+    for suffix in ["_fxt.csv", "_x.csv", "_sig.csv", ".sbd"]:
+        same_bytes(work / "cli" / ("sc" + suffix), work / "py" / ("sc" + suffix))
+    with pytest.raises(ValueError, match="driven rigid mechanism"):
+        flexmb.simulate(flexmb.read(path), basis=np.zeros((0, 1)))
+
+
+def test_a_spacar95_file_runs_its_stages_as_the_command_line(work):
+    path = model_path("datfiles", "tests", "slider_crank_manual_s95.dat")
+    cli("simulate", path, "--out", str(work / "cli" / "s95"), "-q")
+    r = flexmb.simulate(flexmb.read(path))
+    r.write(str(work / "py" / "s95"))
+    for suffix in ["_x.csv", "_e.csv", ".sbd"]:
+        same_bytes(work / "cli" / ("s95" + suffix), work / "py" / ("s95" + suffix))
 
 
 # ---- Ctrl-C and threads ---------------------------------------------------------------------------------
