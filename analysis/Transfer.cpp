@@ -301,7 +301,7 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
         "transfer block after the second END HALT");
   TransferRun r;
   StaticOptions so;
-  so.nev = options.nev;
+  so.nev = std::min(options.nev, model.numDofs());  // the .sbm's frequencies: at most one per degree of freedom
   so.loadSteps = options.loadSteps;
   so.onStep = options.onStep;
   r.statics = staticAnalysis(model, so);

@@ -8,68 +8,15 @@
 #include <iomanip>
 #include <iostream>
 
-#include "analysis/SpacarOutput.hpp"
 #include "analysis/Transfer.hpp"
+#include "analysis/TransferFiles.hpp"
 #include "io/OutputFile.hpp"
-#include "io/ResultWriter.hpp"
-#include "io/SpacarResults.hpp"
-#include "io/SvgPlot.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 
 namespace po = boost::program_options;
 
 namespace flexmb::cli {
-
-namespace {
-constexpr double kTwoPi = 2.0 * M_PI;
-
-std::vector<std::string> stateNames(Eigen::Index m) {
-  std::vector<std::string> n;
-  for (Eigen::Index k = 0; k < m; ++k) n.push_back("dq" + std::to_string(k + 1));
-  for (Eigen::Index k = 0; k < m; ++k) n.push_back("dqd" + std::to_string(k + 1));
-  return n;
-}
-
-// Magnitude over phase of H(i w) against the frequency in Hz.
-std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h,
-                                const Eigen::VectorXd& phase, const std::string& note) {
-  io::Plot mag, ph;
-  mag.title = title;
-  if (!note.empty()) mag.notes = {note};
-  mag.x.label = "frequency [Hz]";
-  mag.x.log = true;
-  mag.y.label = "magnitude";
-  mag.y.log = true;
-  ph.x = mag.x;
-  ph.y.label = "phase [deg]";
-  mag.height = ph.height = 300;
-  io::Series m, p;
-  for (Eigen::Index k = 0; k < omega.size(); ++k) {
-    m.x.push_back(omega[k] / kTwoPi);
-    m.y.push_back(std::abs(h[k]));
-    p.x.push_back(omega[k] / kTwoPi);
-    p.y.push_back(phase[k]);  // analysis::bodePhase
-  }
-  mag.series = {m};
-  ph.series = {p};
-  return {mag, ph};
-}
-// One Bode diagram (magnitude over phase) per input-output pair: <prefix>_bode_in<i>_out<o>.svg.
-void writeBodeDiagrams(io::OutputSet& files, const analysis::StateSpace& ss, const std::string& modelFile,
-                       const std::string& note) {
-  const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
-  const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(ss, omega);
-  for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
-    for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
-      const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
-      const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
-      io::writeSvgStack(files.temporaryFor(name),
-                        bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + modelFile + ")", omega, h,
-                                  analysis::bodePhase(ss, static_cast<int>(i), static_cast<int>(o), omega, h), note));
-    }
-}
-}  // namespace
 
 int runTransfer(const std::vector<std::string>& args) {
   ModelOptions m;
@@ -102,7 +49,7 @@ int runTransfer(const std::vector<std::string>& args) {
   files.setting("command", "transfer");
   files.setting("model", m.file);
   analysis::TransferOptions to;
-  to.nev = std::min(nev, model.numDofs());
+  to.nev = nev;
   to.loadSteps = steps;
   Progress progress("transfer", !m.quiet);
   to.onStep = [&](int i, int total) { progress.update(i, total, "load steps"); };
@@ -134,43 +81,15 @@ int runTransfer(const std::vector<std::string>& args) {
       std::cout << "  no static gain: A is singular (a free motion without stiffness)\n";
     }
   }
-  // The state-space matrices first, then SPACAR's files, then the Bode diagrams, each on its own
-  // (tryProduct): a failure in a later one leaves the earlier ones written.
-  bool complete = true;
-  if (run.completed)
-    complete &= tryProduct(files, "the state-space matrices A, B, C, D", [&] {
-      const Eigen::Index mm = ss.A.rows() / 2;
-      const std::vector<std::string> states = stateNames(mm);
-      io::writeMatrixCsv(files.temporaryFor("_A.csv"), ss.A, states, states, "A");
-      io::writeMatrixCsv(files.temporaryFor("_B.csv"), ss.B, states, ss.inputNames, "B");
-      io::writeMatrixCsv(files.temporaryFor("_C.csv"), ss.C, ss.outputNames, states, "C");
-      io::writeMatrixCsv(files.temporaryFor("_D.csv"), ss.D, ss.outputNames, ss.inputNames, "D");
-    });
-  complete &= tryProduct(files, "SPACAR's .sbd/.sbm/.ltv", [&] {
-    analysis::SpacarOutputOptions so;
-    so.transferFunctions = true;
-    so.jacobian = true;
-    const io::SpacarResults sr = analysis::spacarFromTransfer(model, run, so);
-    const std::string tmp = files.temporaryPrefix();
-    for (const auto& p : io::writeSpacarResults(tmp, model, sr)) files.temporaryFor(p.substr(tmp.size()));
-  });
-  // A large model's Bode diagrams cost seconds (a Hessenberg reduction of A and 400 O(n^2) solves)
-  // that nobody asked for: drawn up to 400 states, beyond that with --bode.
-  if (run.completed && bode && ss.A.rows() > 400 && !forceBode) {
-    std::cout << "  Bode diagrams not drawn for " << ss.A.rows() << " states (--bode draws them)\n";
-  } else if (run.completed && bode) {
-    // No damping (A's velocity block is zero): the resonance peaks are infinite, the drawn ones are
-    // only as high as the frequency grid comes to them.
-    const bool undamped = analysis::undamped(ss);
-    const std::string note = undamped ? "no damping in the model: the peaks are infinite at the eigenfrequencies "
-                                        "(give EDAMP); the phase is a lightly damped model's"
-                                      : "";
-    if (undamped) std::cout << "  note: " << note << "\n";
-    complete &= tryProduct(files, "the Bode diagrams", [&] { writeBodeDiagrams(files, ss, m.file, note); });
-  }
+  // The state-space matrices, SPACAR's files and the Bode diagrams (analysis::writeTransfer).
+  analysis::TransferFiles what;
+  what.bode = bode;
+  what.forceBode = forceBode;
+  what.modelFile = m.file;
+  analysis::WrittenTransfer written;
   try {
-    for (const auto& p : files.commit(run.completed ? "complete" : "stopped: " + run.stopReason))
-      std::cout << "wrote " << p << "\n";
+    written = analysis::writeTransfer(files, model, run, what, std::cout, std::cerr);
+    for (const auto& p : written.paths) std::cout << "wrote " << p << "\n";
     sayRemovedStale(files.removedStale());
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
@@ -181,7 +100,7 @@ int runTransfer(const std::vector<std::string>& args) {
               << " (the load steps reached are written; no state-space model)\n";
     return kNumericalFailure;
   }
-  if (!complete) return kWriteFailed;
+  if (written.incomplete) return kWriteFailed;
   return kOk;
 }
 

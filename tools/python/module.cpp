@@ -29,6 +29,7 @@
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
 #include "analysis/Transfer.hpp"
+#include "analysis/TransferFiles.hpp"
 #include "core/UserFunctions.hpp"
 #include "io/BasisFile.hpp"
 #include "io/DatReader.hpp"
@@ -641,8 +642,27 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("completed", [](const TransferResultPy& r) { return r.run.completed; })
       .def_property_readonly("stop_reason", [](const TransferResultPy& r) { return r.run.stopReason; })
       .def("static_gain", [](const TransferResultPy& r) { return analysis::staticGain(r.run.model); })
-      .def("frequency_response", [](const TransferResultPy& r, const Eigen::VectorXd& omega) {
-        return analysis::frequencyResponses(r.run.model, omega);
+      .def("frequency_response",
+           [](const TransferResultPy& r, const Eigen::VectorXd& omega) {
+             return analysis::frequencyResponses(r.run.model, omega);
+           })
+      .def("write", [](const TransferResultPy& r, const std::string& prefix, bool bode) {
+        io::OutputSet files(prefix);
+        files.checkWritable();
+        files.setting("command", "transfer (Python)");
+        files.setting("model", r.model->sourceFile);
+        files.setting("load steps", std::to_string(r.run.statics.loadSteps));
+        analysis::TransferFiles what;
+        what.bode = bode;
+        what.modelFile = r.model->sourceFile;
+        std::ostringstream out, err;
+        analysis::WrittenTransfer w;
+        {
+          py::gil_scoped_release release;
+          w = analysis::writeTransfer(files, *r.model, r.run, what, out, err);
+        }
+        if (w.incomplete) py::module_::import("warnings").attr("warn")(err.str());
+        return w.paths;
       });
   m.def("transfer", [](const ModelHandle& handle, int nev, int loadSteps) {
     const ModelPtr model = handle.last();

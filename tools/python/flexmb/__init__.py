@@ -97,9 +97,10 @@ def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None,
                        _real(t, "t"))
 
 
-def transfer(model, *, nev=0, load_steps=0):
+def transfer(model, *, nev=6, load_steps=0):
     """Mode 9: the state-space model A, B, C, D between the transfer block's inputs and outputs at
-    the last load step (`flexmb transfer`)."""
+    the last load step (`flexmb transfer`); `.write(prefix, bode=True)` writes its files (A..D CSV,
+    SPACAR's .sbd/.sbm/.ltv, the Bode diagrams). nev: eigenfrequencies per load step in the .sbm."""
     _model(model)
     return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0))
 
@@ -182,6 +183,16 @@ def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices
 
 _core.SimulationResult._write = _core.SimulationResult.write
 _core.SimulationResult.write = _write_simulation
+
+
+def _write_transfer(self, prefix, *, bode=True):
+    """The files `flexmb transfer --out prefix` writes."""
+    _need(prefix, str, "prefix")
+    return _core.TransferResult._write(self, prefix, bool(bode))
+
+
+_core.TransferResult._write = _core.TransferResult.write
+_core.TransferResult.write = _write_transfer
 
 
 def _need(value, kind, name):

@@ -155,10 +155,13 @@ def test_simulate_writes_the_command_lines_files(work, name):
     assert r.completed and r.nfevals > 0 and not r.x.flags.writeable
 
 
-def test_transfer_matrices_equal_the_command_lines_ltv(work):
+def test_transfer_writes_the_command_lines_files(work):
     path = model_path("datfiles", "spatial", "cross_spring_pivot_transfer.dat")
-    cli("transfer", path, "--no-bode", "--out", str(work / "cli" / "t"), "-q")
+    cli("transfer", path, "--out", str(work / "cli" / "t"), "-q")
     r = flexmb.transfer(flexmb.read(path))
+    r.write(str(work / "py" / "t"))
+    for suffix in ["_A.csv", "_B.csv", "_C.csv", "_D.csv", ".sbd", ".sbm", ".ltv", "_bode_in1_out1.svg"]:
+        same_bytes(work / "cli" / ("t" + suffix), work / "py" / ("t" + suffix))
     ltv = scipy.io.loadmat(str(work / "cli" / "t.ltv"))
     for name in "ABCD":
         assert np.array_equal(ltv[name], getattr(r, name)), name
