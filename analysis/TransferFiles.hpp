@@ -14,9 +14,9 @@
 namespace flexmb::analysis {
 
 struct TransferFiles {
-  bool bode = true;          // draw the Bode diagrams
-  bool forceBode = false;    // also for more than kBodeStateLimit states (each frequency an O(n^2) solve)
-  std::string modelFile;     // named in the diagrams' titles
+  bool bode = true;        // draw the Bode diagrams
+  bool forceBode = false;  // also for more than kBodeStateLimit states (each frequency an O(n^2) solve)
+  std::string modelFile;   // named in the diagrams' titles
   static constexpr long kBodeStateLimit = 400;
 };
 

@@ -272,7 +272,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
       }
       case 9: {
         analysis::TransferOptions to;
-        to.nev = std::min(6, model.numDofs());
+        to.nev = 6;  // as flexmb transfer (capped at the degrees of freedom by the analysis)
         const analysis::TransferRun tr = analysis::transferAnalysis(model, to);
         out << "spacar: transfer functions at the last of " << tr.statics.steps.size()
             << " load steps: " << tr.model.B.cols() << " inputs, " << tr.model.C.rows() << " outputs, "

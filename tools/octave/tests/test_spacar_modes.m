@@ -1,17 +1,23 @@
 function test_spacar_modes(src, flexmb)
-% spacar modes 3, 4, 10 and 0 give what the command line gives (--mode 3, --mode 4, static), bit for
-% bit, including the .sbm matrices; the example script runs. (Mode 1: test_spacar_paper.)
+% spacar modes 3, 4, 9, 10 and 0 give what the command line gives (--mode 3, --mode 4, transfer,
+% static): the same files byte for byte (.sbd, .sbm, .ltv) and so the same variables; the example
+% script runs. (Mode 1: test_spacar_paper.)
   copyfile(fullfile(src, 'datfiles', 'slider_crank_s95.dat'), 'sc.dat');
   copyfile(fullfile(src, 'tools', 'tests', 'data', 'cantilever_static.dat'), 'cant.dat');
+  copyfile(fullfile(src, 'datfiles', 'spatial', 'cross_spring_pivot_transfer.dat'), 'pivot.dat');
   mkdir('cli');
-  cases = {3, 'sc', '--mode 3 sc.dat --out cli/sc -q'; 4, 'sc', '--mode 4 sc.dat --out cli/sc -q';
-           10, 'cant', 'static cant.dat --out cli/cant_static.csv'};
+  cases = {3, 'sc', '--mode 3 sc.dat --out cli/sc -q', {'.sbd', '.sbm'};
+           4, 'sc', '--mode 4 sc.dat --out cli/sc -q', {'.sbd', '.sbm'};
+           9, 'pivot', 'transfer pivot.dat --no-bode --out cli/pivot -q', {'.sbd', '.sbm', '.ltv'};
+           10, 'cant', 'static cant.dat --out cli/cant_static.csv', {'.sbd', '.sbm'}};
   for k = 1:rows(cases)
-    [mode, name, args] = cases{k, :};
+    [mode, name, args, exts] = cases{k, :};
     [status, out] = system(sprintf('"%s" %s', flexmb, args));
     assert(status == 0, 'flexmb %s: %s', args, out);
     r = spacar(-mode, name);
-    for ext = {'.sbd', '.sbm'}
+    for ext = exts
+      assert(isequal(flexmb_test_bytes(fullfile('cli', [name ext{1}])), flexmb_test_bytes([name ext{1}])), ...
+             'mode %d: %s%s is not the bytes flexmb %s writes', mode, name, ext{1}, args);
       cli = load(fullfile('cli', [name ext{1}]), '-mat');
       own = load([name ext{1}], '-mat');
       for v = fieldnames(cli)'
@@ -19,7 +25,8 @@ function test_spacar_modes(src, flexmb)
       end
     end
     assert(r.mode == mode && isfield(r, 'M0') && isfield(r, 'freq'), 'mode %d: struct lacks M0 / freq', mode);
-    fprintf('mode %d: %s.sbd and .sbm equal to flexmb %s (%d steps, M0 %s)\n', mode, name, args, r.tdef, mat2str(size(r.M0)));
+    fprintf('mode %d: %s%s the bytes of flexmb %s (%d steps, M0 %s)\n', mode, name, strjoin(exts, ', '), args, ...
+            r.tdef, mat2str(size(r.M0)));
   end
   r = spacar(-0, 'cant');
   assert(r.mode == 0 && isequal(size(r.dx), [r.nx r.ndof]) && isequal(size(r.bigd), [r.ne r.nx]), 'mode 0');

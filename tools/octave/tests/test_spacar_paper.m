@@ -12,6 +12,8 @@ function test_spacar_paper(src, flexmb)
     t0 = tic;
     r = spacar(-1, name);   % silent; variables into this workspace, struct returned
     fprintf('%s: spacar(1) in %.2f s\n', name, toc(t0));
+    assert(isequal(flexmb_test_bytes(fullfile('cli', [name '.sbd'])), flexmb_test_bytes([name '.sbd'])), ...
+           '%s: %s.sbd is not the bytes flexmb simulate writes', name, name);
     cli = load(fullfile('cli', [name '.sbd']), '-mat');
     names = fieldnames(cli);
     for k = 1:numel(names)
