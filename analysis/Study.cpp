@@ -95,17 +95,27 @@ void addSectionForceMaxima(const core::Model& m, const Eigen::VectorXd& sigma,
     if (!elastic || el.type->internal) continue;
     const double l0 = elementLength(m, el);
     for (int k = 0; k < nd; ++k) {
-      const std::string& name = el.type->deformationNames[k];
       std::string column;
       double scale = 1.0;
-      if (name == "elongation") {
-        column = "max_axial_force";
-      } else if (name == "torsion") {
-        column = "max_torsion_moment", scale = l0;
-      } else if (name.rfind("bending y", 0) == 0 || name.rfind("bending z", 0) == 0) {
-        column = std::string("max_bending_moment_") + name[8], scale = l0;
-      } else if (name.rfind("bending", 0) == 0) {
-        column = "max_bending_moment", scale = l0;
+      switch (el.type->deformationKind(k)) {
+        case core::DeformationKind::Elongation:
+          column = "max_axial_force";
+          break;
+        case core::DeformationKind::Torsion:
+          column = "max_torsion_moment", scale = l0;
+          break;
+        case core::DeformationKind::BendingY:
+          column = "max_bending_moment_y", scale = l0;
+          break;
+        case core::DeformationKind::BendingZ:
+          column = "max_bending_moment_z", scale = l0;
+          break;
+        case core::DeformationKind::Bending:
+          column = "max_bending_moment", scale = l0;
+          break;
+        case core::DeformationKind::Rotation:
+        case core::DeformationKind::Other:
+          break;
       }
       if (column.empty() || el.firstDef + k >= sigma.size()) continue;
       double& v = maxima.emplace(column, 0.0).first->second;

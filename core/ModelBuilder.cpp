@@ -877,15 +877,19 @@ void ModelBuilder::Finalizer::elementInertia() {
         if (!std::isfinite(v)) R::fail(st.line, "mass parameter is not finite");
       ignoreExtras("EM", ei, st.values.size(), type.inertia.size(), type.ignoredInertia, st.line);
       const size_t own = std::min(st.values.size(), type.inertia.size());
+      // Each value into the field its name in the type's layout says (the registry's inertia list).
       // Jxx, Jyy, Jzz and the warping inertia Jw are non-negative (Jyz, a product, may be negative).
-      for (size_t k = 1; k < own; ++k)
-        if (st.values[k] < 0.0 && k != 4)
-          R::fail(st.line, std::string(k == 5 ? "negative warping inertia " : "negative mass moment of inertia ") +
-                               num(st.values[k]) + " for " + r.elemName(ei));
       ElementInertia inertia;
-      auto at = [&](size_t k) { return k < own ? st.values[k] : 0.0; };
-      inertia.rhoA = at(0);
-      inertia.jxx = at(1), inertia.jyy = at(2), inertia.jzz = at(3), inertia.jyz = at(4), inertia.jw = at(5);
+      for (size_t k = 0; k < own; ++k) {
+        const std::string& name = type.inertia[k].name;
+        if (k > 0 && st.values[k] < 0.0 && name != "Jyz")
+          R::fail(st.line,
+                  std::string(name == "Jw" ? "negative warping inertia " : "negative mass moment of inertia ") +
+                      num(st.values[k]) + " for " + r.elemName(ei));
+        double ElementInertia::*field = ElementInertia::field(name);
+        if (!field) R::fail(st.line, type.keyword + ": the registry's EM parameter " + name + " has no inertia field");
+        inertia.*field = st.values[k];
+      }
       m.elements[ei].inertia = inertia;
       m.elements[ei].inertiaParams = st.values;
       continue;

@@ -6,6 +6,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace flexmb::core {
@@ -69,6 +70,9 @@ struct ElementInertia {
     return rhoA != 0.0 || rhoI != 0.0 || jxx != 0.0 || jyy != 0.0 || jzz != 0.0 || jyz != 0.0 || jxy != 0.0 ||
            jxz != 0.0 || jw != 0.0;
   }
+  // The field an EM parameter of the registry's inertia layout fills, by its name ("rhoA", "Jxx",
+  // "Jyy", "Jzz", "Jyz", "Jw"); null for a name without one.
+  static double ElementInertia::*field(std::string_view name);
 };
 
 // Whether an element's deformation measure still describes the configuration (see
@@ -182,6 +186,11 @@ struct ParameterSpec {
   std::string meaning;
 };
 
+// What a deformation measures (the registry says it per deformation): analyses that read section
+// forces go by it (analysis/Study.cpp), not by the deformation's name. Beams measure torsion and
+// bending as l0 times an angle, so their generalised stresses are moments over l0.
+enum class DeformationKind { Elongation, Torsion, Bending, BendingY, BendingZ, Rotation, Other };
+
 struct ElementTypeInfo {
   std::string keyword;  // e.g. "PLBEAM"
   std::string description;
@@ -218,6 +227,12 @@ struct ElementTypeInfo {
   // planar beam's cubic, PlanarBeam.hpp); spatial (p, lambda_p, q, lambda_q) as the cubic through
   // the end triads R(lambda) elementFrame.
   bool drawnCurved = false;
+  // One per deformation (deformationNames' order); missing ones are Other.
+  std::vector<DeformationKind> deformationKinds = {};
+  DeformationKind deformationKind(int deformation) const {
+    return deformation < static_cast<int>(deformationKinds.size()) ? deformationKinds[deformation]
+                                                                   : DeformationKind::Other;
+  }
   int numCoords() const;
   int numDeformations() const { return static_cast<int>(deformationNames.size()); }
   bool isLargeRotation(int deformation) const;

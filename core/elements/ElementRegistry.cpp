@@ -34,12 +34,23 @@ namespace {
 constexpr int kOwnTypeIds = 100;
 }  // namespace
 
+double ElementInertia::*ElementInertia::field(std::string_view name) {
+  static const std::pair<std::string_view, double ElementInertia::*> fields[] = {
+      {"rhoA", &ElementInertia::rhoA}, {"rhoI", &ElementInertia::rhoI}, {"Jxx", &ElementInertia::jxx},
+      {"Jyy", &ElementInertia::jyy},   {"Jzz", &ElementInertia::jzz},   {"Jyz", &ElementInertia::jyz},
+      {"Jw", &ElementInertia::jw}};
+  for (const auto& [n, f] : fields)
+    if (n == name) return f;
+  return nullptr;
+}
+
 bool ElementTypeInfo::isAlwaysReleased(int deformation) const {
   return std::find(alwaysReleased.begin(), alwaysReleased.end(), deformation) != alwaysReleased.end();
 }
 
 const std::vector<ElementTypeInfo>& elementTypes() {
   using enum NodeKind;
+  using K = DeformationKind;
   static const std::vector<ElementTypeInfo> types = [] {
     const std::vector<std::string> beamDefs = {"elongation", "bending p", "bending q"};
     const std::vector<ParameterSpec> beamParams = {
@@ -56,6 +67,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         &PlanarBeam::create};
       b.spacarTypeId = 5;
       b.drawnCurved = true;
+      b.deformationKinds = {K::Elongation, K::Bending, K::Bending};
       t.push_back(b);
       b.keyword = "PLBEAMNL";
       b.description = "planar flexible beam, elongation always with the bending correction (Eq. 3a)";
@@ -70,6 +82,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                          {{"EA", "N", "axial stiffness (EDAMP: axial damping coefficient)"}},
                          &PlanarTruss::create};
       tr.spacarTypeId = 7;
+      tr.deformationKinds = {K::Elongation};
       t.push_back(tr);
     }
     {
@@ -81,6 +94,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         &PlanarHinge::create};
       h.spacarTypeId = kOwnTypeIds + 1;
       h.largeRotations = {0};
+      h.deformationKinds = {K::Rotation};
       t.push_back(h);
     }
 
@@ -110,6 +124,8 @@ const std::vector<ElementTypeInfo>& elementTypes() {
     std::vector<ParameterSpec> sectionParams = spatialBeamParams, sectionMass = spatialBeamMass;
     sectionParams.push_back({"ECw", "N m^4", "warping stiffness E Cw (BEAMW; thin rectangle w x t: Cw = w^3 t^3/144)"});
     sectionMass.push_back({"Jw", "kg m^3", "warping inertia rho Cw per length (BEAMW)"});
+    const std::vector<DeformationKind> spatialBeamKinds = {K::Elongation, K::Torsion,  K::BendingY,
+                                                           K::BendingY,   K::BendingZ, K::BendingZ};
     auto tail = [](const std::vector<ParameterSpec>& all, size_t from) {
       return std::vector<ParameterSpec>(all.begin() + static_cast<std::ptrdiff_t>(from), all.end());
     };
@@ -129,6 +145,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       b.ignoredStiffness = tail(sectionParams, spatialBeamParams.size());
       b.ignoredInertia = tail(sectionMass, spatialBeamMass.size());
       b.drawnCurved = true;
+      b.deformationKinds = spatialBeamKinds;
       t.push_back(b);
       b.keyword = "BEAMNL";
       b.description = "spatial flexible beam with the bending-corrected elongation (Eq. 3a in both planes)";
@@ -149,6 +166,8 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         nullptr};
       w.deformationNames.push_back("warping p");
       w.deformationNames.push_back("warping q");
+      w.deformationKinds = spatialBeamKinds;
+      w.deformationKinds.insert(w.deformationKinds.end(), {K::Other, K::Other});
       w.vector = yAxis;
       w.createWithVector = &SpatialWarpingBeam::create;
       w.inertia = sectionMass;
@@ -162,6 +181,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                          {"elongation"}, {{"EA", "N", "axial stiffness"}},   &SpatialTruss::create};
       tr.inertia = rhoAOnly;
       tr.spacarTypeId = 2;
+      tr.deformationKinds = {K::Elongation};
       tr.ignoredStiffness = tail(sectionParams, 1);
       tr.ignoredInertia = tail(sectionMass, 1);
       t.push_back(tr);
@@ -180,6 +200,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       h.createWithVector = &SpatialHinge::create;
       h.spacarTypeId = kOwnTypeIds + 2;
       h.largeRotations = {0};  // the rotation about the axis; the tilts stay small
+      h.deformationKinds = {K::Rotation, K::Other, K::Other};
       t.push_back(h);
     }
     {
@@ -194,6 +215,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       r.createWithVector = &RigidBeam::create;
       r.inertia = rhoAOnly;
       r.spacarTypeId = kOwnTypeIds + 3;
+      r.deformationKinds = {K::Elongation, K::Other, K::Other};
       t.push_back(r);
     }
     return t;

@@ -69,6 +69,13 @@ TEST(ElementRegistry, EveryTypeIsCreatedFromItsSlots) {
     ASSERT_EQ(S.cols(), t.numDeformations()) << c.label;
     EXPECT_EQ(S, DefMat(S.transpose())) << c.label;
     EXPECT_TRUE(S.allFinite()) << c.label;
+    // A keyword type says what each deformation measures, and every EM parameter of its layout
+    // names an inertia field (ModelBuilder fills them by name).
+    if (!t.internal) {
+      EXPECT_EQ(static_cast<int>(t.deformationKinds.size()), t.numDeformations()) << c.label;
+    }
+    for (const ParameterSpec& em : t.inertia)
+      EXPECT_NE(ElementInertia::field(em.name), nullptr) << c.label << " " << em.name;
   }
 }
 
