@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/elements/CoRotatedCurve.hpp"
 #include "core/elements/EulerParameters.hpp"
 
 namespace flexmb::io {
@@ -70,49 +71,29 @@ double stiffnessParameter(const core::ElementEntry& el, const char* name) {
   return 0.0;
 }
 
-// Samples a framed element (spatial beam, or a straight element with a triad at its first
-// orientation node) at x: centre points and, when ys is given, the section axes.
-struct FramedSampler {
-  const core::Model& m;
-  const core::ElementEntry& el;
-  int segments;
-  // Writes n + 1 points (n = segments for a curved element, else 1) and returns n + 1.
-  int sample(const Eigen::VectorXd& x, Point3* pts, Point3* ys, Point3* zs) const {
-    std::vector<int> pos, rot;
-    slots(m, el, pos, rot);
-    const Vec3 xp = vec(positionOf(m, pos[0], x)), xq = vec(positionOf(m, pos[1], x));
-    const Vec3 d = xq - xp;
-    const double l = d.norm();
-    const Vec3 el0 = l > 0 ? Vec3(d / l) : Vec3::UnitX();
-    Mat3 Ap, Aq;
-    el.impl->elementFrame(0, Ap);
-    const Mat3 Rp = rotationOf(m, rot[0], x) * Ap;
-    const bool curved = rot.size() >= 2 && el.impl->elementFrame(1, Aq);
-    const Mat3 Rq = curved ? Mat3(rotationOf(m, rot[1], x) * Aq) : Rp;
-    const int n = curved ? segments : 1;
-    double l0 = el.impl->referenceLength();
-    if (!(l0 > 0)) l0 = l;
-    for (int k = 0; k <= n; ++k) {
-      const double xi = static_cast<double>(k) / n;
-      Vec3 r = (1 - xi) * xp + xi * xq, t = d;
-      if (curved) {
-        const Vec3 tp = Rp.col(0) - el0, tq = Rq.col(0) - el0;
-        r += l0 * (xi * (1 - xi) * (1 - xi) * tp + xi * xi * (xi - 1) * tq);
-        t += l0 * ((1 - xi) * (1 - 3 * xi) * tp + xi * (3 * xi - 2) * tq);
-      }
-      pts[k] = point(r);
-      if (!ys) continue;
-      t = t.norm() > 0 ? Vec3(t.normalized()) : el0;
-      Vec3 y = (1 - xi) * Rp.col(1) + xi * Rq.col(1);
-      y -= y.dot(t) * t;
-      if (!(y.norm() > 1e-12)) y = Rp.col(2).cross(t);
-      y.normalize();
-      ys[k] = point(y);
-      zs[k] = point(t.cross(y));
-    }
-    return n + 1;
-  }
-};
+// The centre line (pts) and, when ys and zs are given, the section axes of a framed element at x:
+// its own field where it has one (Element::centreLine: the spatial beam), else the co-rotated
+// curve through its end triads (core/elements/CoRotatedCurve.hpp; straight with one triad).
+// segments + 1 points when both ends carry a triad, else 2; returns the count.
+int sampleFramed(const core::Model& m, const core::ElementEntry& el, int segments, const Eigen::VectorXd& x,
+                 Eigen::Matrix3Xd& pts, Eigen::Matrix3Xd* ys, Eigen::Matrix3Xd* zs) {
+  std::vector<int> pos, rot;
+  slots(m, el, pos, rot);
+  Mat3 Ap, Aq;
+  el.impl->elementFrame(0, Ap);
+  const bool curved = rot.size() >= 2 && el.impl->elementFrame(1, Aq);
+  const int count = curved ? segments + 1 : 2;
+  pts.resize(3, count);
+  if (ys && zs) ys->resize(3, count), zs->resize(3, count);
+  core::ElemVec xe;
+  el.gather(x, xe);
+  if (curved && el.impl->centreLine(xe, pts, ys, zs)) return count;
+  const Mat3 Rp = rotationOf(m, rot[0], x) * Ap;
+  const Mat3 Rq = curved ? Mat3(rotationOf(m, rot[1], x) * Aq) : Rp;
+  core::coRotatedCurve(vec(positionOf(m, pos[0], x)), Rp, vec(positionOf(m, pos[1], x)), Rq, el.impl->referenceLength(),
+                       curved, pts, ys, zs);
+  return count;
+}
 }  // namespace
 
 bool MechanismGeometry::isPositionNode(int node) const { return core::isTranslational(model_.nodes[node].kind); }
@@ -226,47 +207,37 @@ Point3 MechanismGeometry::nodePoint(int node, const Eigen::VectorXd& x) const {
 void MechanismGeometry::points(const Eigen::VectorXd& x, std::vector<Point3>& out) const {
   out.resize(numPoints_);
   core::ElemVec xe;
-  core::DefVec e;
+  Eigen::Matrix3Xd line;
   for (const DrawnElement& d : drawn_) {
     const auto& el = model_.elements[d.element];
-    if (d.shape == DrawnShape::Curve && isPlanarBeam(model_, el)) {
-      // The beam's own field (PlanarBeam.hpp): chord plus n(alpha) (H2 e2 + H3 e3).
+    const bool planarCurve = d.shape == DrawnShape::Curve && isPlanarBeam(model_, el);
+    const bool spatialCurve = d.framed && d.numPoints == beamSegments_ + 1 && isSpatialBeam(model_, el);
+    if (planarCurve || spatialCurve) {  // the element's own field (Element::centreLine)
+      line.resize(3, d.numPoints);
       el.gather(x, xe);
-      el.impl->deformations(xe, e);
-      const Point3 p = positionOf(model_, el.nodes[0], x), q = positionOf(model_, el.nodes[2], x);
-      const double alpha = std::atan2(q.y - p.y, q.x - p.x);
-      const double nx = -std::sin(alpha), ny = std::cos(alpha);
-      const double e2 = std::isfinite(e[1]) ? e[1] : 0.0, e3 = std::isfinite(e[2]) ? e[2] : 0.0;
-      for (int k = 0; k <= beamSegments_; ++k) {
-        const double xi = static_cast<double>(k) / beamSegments_;
-        const double w = xi * (1 - xi) * (1 - xi) * e2 + xi * xi * (1 - xi) * e3;
-        out[d.firstPoint + k] = {(1 - xi) * p.x + xi * q.x + nx * w, (1 - xi) * p.y + xi * q.y + ny * w,
-                                 (1 - xi) * p.z + xi * q.z};
+      if (el.impl->centreLine(xe, line)) {
+        for (int k = 0; k < d.numPoints; ++k) out[d.firstPoint + k] = point(line.col(k));
+        continue;
       }
-    } else if (d.framed && d.numPoints == beamSegments_ + 1 && isSpatialBeam(model_, el)) {
-      FramedSampler{model_, el, beamSegments_}.sample(x, &out[d.firstPoint], nullptr, nullptr);
-    } else {
-      for (int k = 0; k < d.numPoints; ++k) out[d.firstPoint + k] = positionOf(model_, pointNode_[d.firstPoint + k], x);
     }
+    for (int k = 0; k < d.numPoints; ++k) out[d.firstPoint + k] = positionOf(model_, pointNode_[d.firstPoint + k], x);
   }
 }
 
 void MechanismGeometry::sectionAxes(const Eigen::VectorXd& x, std::vector<Point3>& y, std::vector<Point3>& z) const {
   y.assign(numPoints_, Point3{});
   z.assign(numPoints_, Point3{});
-  const size_t most = static_cast<size_t>(beamSegments_) + 1;
-  std::vector<Point3> scratch(most), ys(most), zs(most);
+  Eigen::Matrix3Xd pts, ys, zs;
   for (const DrawnElement& d : drawn_) {
     if (!d.framed || d.numPoints < 1) continue;
     // The sampler's count can differ from the drawn points (an element drawn straight whose ends
     // both carry a triad, e.g. BEAMW): its axes are spread over the drawn points, never past them.
-    const int count = FramedSampler{model_, model_.elements[d.element], beamSegments_}.sample(x, scratch.data(),
-                                                                                              ys.data(), zs.data());
+    const int count = sampleFramed(model_, model_.elements[d.element], beamSegments_, x, pts, &ys, &zs);
     for (int k = 0; k < d.numPoints; ++k) {
       const int from =
           count == d.numPoints || d.numPoints == 1 ? std::min(k, count - 1) : (k * (count - 1)) / (d.numPoints - 1);
-      y[d.firstPoint + k] = ys[from];
-      z[d.firstPoint + k] = zs[from];
+      y[d.firstPoint + k] = point(ys.col(from));
+      z[d.firstPoint + k] = point(zs.col(from));
     }
   }
 }

@@ -167,6 +167,15 @@ class Element {
     (void)end, (void)A;
     return false;
   }
+  // Its own displacement field, for the pictures (io/MechanismGeometry): the centre line at x in
+  // points.cols() points at xi = k / (n - 1) from its first to its last position node and, when ys
+  // and zs are given (sized like points), the section's local y and z axes there. False for an
+  // element without a field of its own: it is drawn straight between its position nodes.
+  virtual bool centreLine(const ElemVec& x, Eigen::Ref<Eigen::Matrix3Xd> points, Eigen::Matrix3Xd* ys = nullptr,
+                          Eigen::Matrix3Xd* zs = nullptr) const {
+    (void)x, (void)points, (void)ys, (void)zs;
+    return false;
+  }
   // True for a deformation that is an angle known only modulo 2 pi (a spatial hinge's rotation,
   // a principal value): the kinematics keep it continuous along the motion.
   virtual bool isPeriodicAngle(int /*i*/) const { return false; }

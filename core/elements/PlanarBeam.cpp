@@ -414,4 +414,22 @@ void PlanarBeam::gravityForces(const ElemVec& x, const ElementInertia& inertia, 
   f[5] = m * k12 * gn * g.k3;
 }
 
+bool PlanarBeam::centreLine(const ElemVec& x, Eigen::Ref<Eigen::Matrix3Xd> points, Eigen::Matrix3Xd* ys,
+                            Eigen::Matrix3Xd* zs) const {
+  (void)ys, (void)zs;
+  DefVec e;
+  deformations(x, e);
+  const double px = x[0], py = x[1], qx = x[3], qy = x[4];
+  const double alpha = std::atan2(qy - py, qx - px);
+  const double nx = -std::sin(alpha), ny = std::cos(alpha);
+  const double e2 = std::isfinite(e[1]) ? e[1] : 0.0, e3 = std::isfinite(e[2]) ? e[2] : 0.0;
+  const Eigen::Index n = points.cols();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double xi = n > 1 ? static_cast<double>(k) / static_cast<double>(n - 1) : 0.0;
+    const double w = xi * (1 - xi) * (1 - xi) * e2 + xi * xi * (1 - xi) * e3;
+    points.col(k) << (1 - xi) * px + xi * qx + nx * w, (1 - xi) * py + xi * qy + ny * w, 0.0;
+  }
+  return true;
+}
+
 }  // namespace flexmb::core

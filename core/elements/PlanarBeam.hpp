@@ -56,6 +56,10 @@ class PlanarBeam final : public Element {
   // theta is measured from the reference configuration, so rigid rotations are always valid.
   ElementValidity validity(const ElemVec& x) const override;
   double referenceLength() const override { return l0_; }
+  // The chord plus n(alpha) (H2 e2 + H3 e3): the cubic the bending deformations describe (no axes:
+  // planar).
+  bool centreLine(const ElemVec& x, Eigen::Ref<Eigen::Matrix3Xd> points, Eigen::Matrix3Xd* ys,
+                  Eigen::Matrix3Xd* zs) const override;
   // Restart: l0 = length0 (or from e1), beta0 = the chord angle at x, phi0p/phi0q such that the
   // bending deformations at x are e2, e3 (theta_p = asin(e2/l0), theta_q = asin(-e3/l0)).
   void setReference(const ElemVec& x, const DefVec& e, double length0) override;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/elements/CoRotatedCurve.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "core/elements/SpatialPrimitives.hpp"
 
@@ -203,6 +204,19 @@ void SpatialBeam::gravityForces3(const ElemVec& xe, const ElementInertia& in, co
     }
   }
   f = ff;
+}
+
+bool SpatialBeam::centreLine(const ElemVec& x, Eigen::Ref<Eigen::Matrix3Xd> points, Eigen::Matrix3Xd* ys,
+                             Eigen::Matrix3Xd* zs) const {
+  // Normalised Euler parameters: a mode shape x + s dx leaves |lambda| != 1.
+  auto triad = [&](int at, const Eigen::Matrix3d& A) -> Eigen::Matrix3d {
+    const Eigen::Vector4d l = x.segment<4>(at);
+    const double n = l.norm();
+    if (!(n > 0) || !std::isfinite(n)) return A;
+    return euler::rotation(l / n) * A;
+  };
+  coRotatedCurve(x.segment<3>(0), triad(3, Ap_), x.segment<3>(7), triad(10, Aq_), l0_, true, points, ys, zs);
+  return true;
 }
 
 }  // namespace flexmb::core

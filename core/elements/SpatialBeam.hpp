@@ -50,6 +50,10 @@ class SpatialBeam final : public EvaluatedElement<SpatialBeam, 14, 6> {
     return true;
   }
   double referenceLength() const override { return l0_; }
+  // The co-rotated cubic field of the mass matrix (header) through the end triads, with the section
+  // axes interpolated between the ends and kept normal to the tangent.
+  bool centreLine(const ElemVec& x, Eigen::Ref<Eigen::Matrix3Xd> points, Eigen::Matrix3Xd* ys,
+                  Eigen::Matrix3Xd* zs) const override;
 
  private:
   friend class EvaluatedElement<SpatialBeam, 14, 6>;

@@ -279,6 +279,36 @@ TEST(SpatialElements, BeamInPlaneEqualsPlanarBeam) {
   EXPECT_LT(worst, 1e-13);
 }
 
+TEST(SpatialElements, BeamCentreLineIsTheCubicThroughItsEndTriads) {
+  // Element::centreLine, the pictures' field: a beam along x of length 2, its end q turned by theta
+  // about z. The co-rotated cubic puts the middle at the chord's middle plus l0/8 (t_p - t_q), the
+  // planar beam's H3(1/2) e3 = -l0 sin(theta)/8 across the chord (and (1 - cos theta) l0/8
+  // along it, past the middle); the section's z axis stays global z, y is normal to the tangent.
+  const double l0 = 2.0, theta = 0.3;
+  auto quat = [](double a) { return Vec4(std::cos(a / 2), 0, 0, std::sin(a / 2)); };
+  ElemVec x0(14), x(14);
+  x0 << 0, 0, 0, quat(0), l0, 0, 0, quat(0);
+  x << 0, 0, 0, quat(0), l0, 0, 0, quat(theta);
+  const double y[3] = {0, 1, 0};
+  const auto beam = findElementType("BEAM")->createWithVector(x0, y, {});
+  Eigen::Matrix3Xd pts(3, 5), ys(3, 5), zs(3, 5);
+  ASSERT_TRUE(beam->centreLine(x, pts, &ys, &zs));
+  EXPECT_LT((pts.col(0) - Vec3(0, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((pts.col(4) - Vec3(l0, 0, 0)).norm(), 1e-15);
+  EXPECT_NEAR(pts(0, 2), l0 / 2 + l0 * (1 - std::cos(theta)) / 8, 1e-14);
+  EXPECT_NEAR(pts(1, 2), -l0 * std::sin(theta) / 8, 1e-14);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_LT((zs.col(k) - Vec3::UnitZ()).norm(), 1e-14) << k;
+    EXPECT_NEAR(ys.col(k).norm(), 1.0, 1e-14) << k;
+  }
+  // Undeformed: the straight chord; elements without a field of their own say so.
+  ASSERT_TRUE(beam->centreLine(x0, pts));
+  EXPECT_LT(std::abs(pts(1, 2)), 1e-15);
+  ElemVec t0(6);
+  t0 << 0, 0, 0, 1, 0, 0;
+  EXPECT_FALSE(findElementType("TRUSS")->create(t0, {})->centreLine(t0, pts));
+}
+
 TEST(SpatialElements, BeamInertia) {
   std::mt19937 rng(21);
   const ElementTypeInfo* t = findElementType("BEAM");
