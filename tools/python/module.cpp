@@ -411,11 +411,7 @@ std::string writeTable(const std::string& path, const io::CsvTable& table) {
   return path;
 }
 
-}  // namespace
-
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "flexmb's native part; use the flexmb package";
-
+void bindModel(py::module_& m) {
   py::class_<ModelHandle>(m, "Model")
       .def_property_readonly("file", [](const ModelHandle& h) { return h->sourceFile; })
       .def_property_readonly("nx", [](const ModelHandle& h) { return h->nx; })
@@ -491,7 +487,9 @@ PYBIND11_MODULE(_core, m) {
       throw py::value_error(std::string("basis: ") + e.what());
     }
   });
+}
 
+void bindCheck(py::module_& m) {
   // ---- check (mode 0) ----
   m.def("check", [](const ModelHandle& handle) {
     analysis::ModelCheck c;
@@ -510,7 +508,9 @@ PYBIND11_MODULE(_core, m) {
     d["warnings"] = handle->warnings;
     return d;
   });
+}
 
+void bindStatic(py::module_& m) {
   // ---- static ----
   py::class_<StaticResult>(m, "StaticResult")
       .def_readonly("load_factor", &StaticResult::loadFactor)
@@ -549,7 +549,9 @@ PYBIND11_MODULE(_core, m) {
                       py::cast(std::move(r)));
     return r;
   });
+}
 
+void bindModes(py::module_& m) {
   // ---- modes ----
   py::class_<ModesResult>(m, "ModesResult")
       .def_readonly("freq", &ModesResult::freq)
@@ -583,7 +585,9 @@ PYBIND11_MODULE(_core, m) {
     r.model = model;
     return r;
   });
+}
 
+void bindSweep(py::module_& m) {
   // ---- sweep ----
   py::class_<SweepResultPy>(m, "SweepResult")
       .def_readonly("values", &SweepResultPy::values)
@@ -622,7 +626,9 @@ PYBIND11_MODULE(_core, m) {
                       py::cast(std::move(r)));
     return r;
   });
+}
 
+void bindTransfer(py::module_& m) {
   // ---- transfer ----
   py::class_<TransferResultPy>(m, "TransferResult")
       .def_property_readonly(
@@ -676,7 +682,9 @@ PYBIND11_MODULE(_core, m) {
     r.model = model;
     return r;
   });
+}
 
+void bindReduce(py::module_& m) {
   // ---- reduce ----
   py::class_<ReduceResult>(m, "ReduceResult")
       .def_property_readonly(
@@ -767,7 +775,9 @@ PYBIND11_MODULE(_core, m) {
       .def_readwrite("component", &analysis::ReductionOptions::component)
       .def_readwrite("start", &analysis::ReductionOptions::from)
       .def_readwrite("stop", &analysis::ReductionOptions::to);
+}
 
+void bindSimulate(py::module_& m) {
   // ---- simulate ----
   py::class_<SimulationResult>(m, "SimulationResult")
       .def_readonly("time", &SimulationResult::time)
@@ -902,4 +912,18 @@ PYBIND11_MODULE(_core, m) {
                       py::cast(std::move(r)));
     return r;
   });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "flexmb's native part; use the flexmb package";
+  bindModel(m);
+  bindCheck(m);
+  bindStatic(m);
+  bindModes(m);
+  bindSweep(m);
+  bindTransfer(m);
+  bindReduce(m);
+  bindSimulate(m);
 }
