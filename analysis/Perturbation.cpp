@@ -46,19 +46,18 @@ DofPlaces dofPlaces(const core::Model& augmented) {
 }
 
 namespace {
-// A linearisation of `augmented` with its positions solved at the equilibrium `step`.
-void placeAt(core::Linearization& lin, const core::Model& augmented, const StaticStep& step, Eigen::VectorXd& q) {
-  q.resize(augmented.numDofs());
-  for (int k = 0; k < q.size(); ++k) {
+// The equilibrium `step` of `augmented` in its degrees of freedom (inputs and supports among them).
+core::EquilibriumPoint pointOf(const core::Model& augmented, const StaticStep& step) {
+  core::EquilibriumPoint at;
+  at.t = augmented.settings.t0;
+  at.loadFactor = step.loadFactor, at.initialFactor = step.initialFactor;
+  at.eta.resize(augmented.numDofs());
+  for (int k = 0; k < at.eta.size(); ++k) {
     const auto& d = augmented.dofs[k];
-    q[k] = d.isDeformation ? step.e[d.index] : step.x[d.index];
+    at.eta[k] = d.isDeformation ? step.e[d.index] : step.x[d.index];
   }
-  lin.kinematics().setRelativeTolerance(std::min(augmented.settings.kinematicTol, 1e-12));
-  lin.kinematics().setInputLoadFactor(step.loadFactor, step.initialFactor);
-  // From the equilibrium's own configuration: Newton from the initial one may not reach a large
-  // deflection, or reach another assembly branch.
-  if (step.x.size() == augmented.nx) lin.kinematics().setConfiguration(step.x);
-  lin.kinematics().solvePositions(augmented.settings.t0, q);
+  at.x = &step.x;
+  return at;
 }
 }  // namespace
 
@@ -68,20 +67,14 @@ Eigen::MatrixXd transferAt(const core::Model& augmented, const StaticStep& step)
 
 std::unique_ptr<core::Linearization> placedAt(const core::Model& augmented, const StaticStep& step) {
   auto lin = std::make_unique<core::Linearization>(augmented);
-  Eigen::VectorXd q;
-  placeAt(*lin, augmented, step, q);
+  core::placeAt(*lin, pointOf(augmented, step));
   return lin;
 }
 
 PerturbedSystem linearizeAt(const core::Model& augmented, const StaticStep& step) {
-  const double t = augmented.settings.t0;
   core::Linearization lin(augmented);
-  Eigen::VectorXd q;
-  placeAt(lin, augmented, step, q);
-  Eigen::VectorXd f;
-  lin.appliedForces(t, step.loadFactor, f, step.initialFactor);
   PerturbedSystem out;
-  lin.atRest(t, q, f, out.system, true);
+  core::linearizeAt(lin, pointOf(augmented, step), out.system);
   out.F = lin.transfer();
   return out;
 }

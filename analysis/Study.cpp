@@ -250,16 +250,13 @@ std::vector<std::pair<std::string, double>> nodeStiffness(const core::Model& mod
   if (it == model.nodeByLabel.end()) return out;
   const core::Node& node = model.nodes[it->second];
   core::Linearization lin(model);
-  lin.kinematics().setRelativeTolerance(std::min(model.settings.kinematicTol, 1e-12));
-  const double t = model.settings.t0;
-  lin.kinematics().setInputLoadFactor(step.loadFactor, step.initialFactor);
-  lin.kinematics().setConfiguration(step.x);  // the equilibrium's assembly branch
-  Eigen::VectorXd q, f;
-  lin.dofs(step.eta, q);
-  lin.kinematics().solvePositions(t, q);
-  lin.appliedForces(t, step.loadFactor, f, step.initialFactor);
+  core::EquilibriumPoint at;
+  at.t = model.settings.t0;
+  at.loadFactor = step.loadFactor, at.initialFactor = step.initialFactor;
+  at.eta = step.eta;
+  at.x = &step.x;  // the equilibrium's assembly branch
   core::LinearizedSystem sys;
-  lin.atRest(t, step.eta, f, sys, false);
+  core::linearizeAt(lin, at, sys, false);
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(sys.K + sys.G);
   if (lu.rank() < sys.K.rows()) return out;
   const Eigen::MatrixXd A = lin.transfer().middleRows(node.firstCoord, node.dim());  // d x m

@@ -470,4 +470,21 @@ void Linearization::constrainedPencil(ConstrainedPencil& out) const {
   out.P.setFromTriplets(tp.begin(), tp.end());
 }
 
+void placeAt(Linearization& lin, const EquilibriumPoint& at) {
+  GeometricTransferFunctions& k = lin.kinematics();
+  k.setRelativeTolerance(std::min(lin.model().settings.kinematicTol, 1e-12));
+  k.setInputLoadFactor(at.loadFactor, at.initialFactor);
+  if (at.x && at.x->size() == lin.model().nx) k.setConfiguration(*at.x);
+  Eigen::VectorXd q;
+  lin.dofs(at.eta, q);
+  k.solvePositions(at.t, q);
+}
+
+void linearizeAt(Linearization& lin, const EquilibriumPoint& at, LinearizedSystem& out, bool withMass) {
+  placeAt(lin, at);
+  Eigen::VectorXd f;
+  lin.appliedForces(at.t, at.loadFactor, f, at.initialFactor);
+  lin.atRest(at.t, at.eta, f, out, withMass);
+}
+
 }  // namespace flexmb::core

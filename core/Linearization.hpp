@@ -180,4 +180,20 @@ class Linearization {
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms
 };
 
+// A static equilibrium as the analyses hand it over (a load step, a study's variant, a transfer
+// function's operating point): time, load factors (DEL* s, initial loads mu), the linearisation's
+// coordinates eta and, when known, the configuration x it was found in (its assembly branch).
+struct EquilibriumPoint {
+  double t = 0.0, loadFactor = 1.0, initialFactor = 1.0;
+  Eigen::VectorXd eta;
+  const Eigen::VectorXd* x = nullptr;  // nx, or null: from the model's initial configuration
+};
+
+// The recipe the analyses shared by hand: the kinematic tolerance at most 1e-12 of the model size,
+// the inputs at the load factors, the positions solved at q(eta) from x's branch (Newton from the
+// initial configuration may not reach a large deflection, or reach another branch).
+void placeAt(Linearization& lin, const EquilibriumPoint& at);
+// placeAt, the applied forces there and M, K, G, C, D, N (Eq. 15-16; withMass = false skips M).
+void linearizeAt(Linearization& lin, const EquilibriumPoint& at, LinearizedSystem& out, bool withMass = true);
+
 }  // namespace flexmb::core
