@@ -5,7 +5,7 @@
 
 #include "analysis/Simulation.hpp"
 #include "core/EquationsOfMotion.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -83,7 +83,7 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
     Eigen::VectorXd yEnd;
     const core::Trajectory r = simulateFrom(span, o, w.ya, w.xa, yEnd);
     if (!r.completed || yEnd.size() != w.yb.size()) {
-      a.note = "the reference run of the window " + solvers::shortest(w.ta) + " to " + solvers::shortest(w.tb) +
+      a.note = "the reference run of the window " + text::shortest(w.ta) + " to " + text::shortest(w.tb) +
                " s stopped: " + r.stopReason;
       return a;
     }
@@ -125,8 +125,8 @@ core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationO
 }
 
 std::string describeAccuracy(const core::AccuracyEstimate& a) {
-  using solvers::shortest;
-  auto sig = [](double v) { return solvers::significant(v, 2); };
+  using text::shortest;
+  auto sig = [](double v) { return text::significant(v, 2); };
   if (!a.checked) return "not checked: " + (a.note.empty() ? std::string("no reason recorded") : a.note);
   return std::string(a.converged() ? "converged" : "NOT CONVERGED") + ": estimated error " + sig(a.estimate) +
          " (of the model size; angles in rad), limit " + sig(a.limit) + " = 10 RelTol; " + std::to_string(a.windows) +

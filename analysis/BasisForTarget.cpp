@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "analysis/ReductionError.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -30,7 +30,7 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     throw std::invalid_argument(
         "--target must be a number between 0 and 1 (the reduction error relative to the "
         "motion), not " +
-        solvers::shortest(o.target));
+        text::shortest(o.target));
   const auto start = std::chrono::steady_clock::now();
   TargetResult res;
   // One basis with every candidate's columns: the most modes the q_s subproblem has, or every
@@ -111,12 +111,12 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     if (whole.omegaSmall.size() > k) res.basis.omegaSmall = whole.omegaSmall.head(k);
     for (auto& [name, value] : res.basis.parameters)
       if ((name == "r" && whole.method == "modal") || name == "kept") value = std::to_string(k);
-    res.basis.parameters.push_back({"target", solvers::shortest(o.target)});
+    res.basis.parameters.push_back({"target", text::shortest(o.target)});
   }
   if (!res.met) {
     res.full = true;
     res.note = "no basis of up to " + std::to_string(available) + " vectors meets the target " +
-               solvers::shortest(o.target) + ": the full model is used";
+               text::shortest(o.target) + ": the full model is used";
   }
   res.seconds = since(start);
   return res;

@@ -6,7 +6,7 @@
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "core/ResultQuantities.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -38,8 +38,8 @@ InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynami
     if (stopRequested(options.interrupt)) {
       traj.completed = false;
       run.interrupted = true;
-      traj.stopReason = interruptCause(options.interruptSignal) + " before t = " + solvers::shortest(t) +
-                        "; results before it are kept";
+      traj.stopReason =
+          interruptCause(options.interruptSignal) + " before t = " + text::shortest(t) + "; results before it are kept";
       return run;
     }
     core::StateOutputs out;
@@ -48,7 +48,7 @@ InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynami
       eom.outputs(t, y, out);
       if (const auto bad = core::firstInvalidElement(model, out.x)) {
         std::ostringstream msg;
-        msg << "at t = " << solvers::shortest(t) << ": " << bad->message << "; results before it are kept";
+        msg << "at t = " << text::shortest(t) << ": " << bad->message << "; results before it are kept";
         traj.completed = false;
         traj.stopReason = msg.str();
         return run;
@@ -57,13 +57,13 @@ InverseDynamicsRun inverseDynamics(const core::Model& model, const InverseDynami
       rq.forces(t, 0.0, out, Eigen::VectorXd(), sigma, fxt);
     } catch (const std::exception& e) {  // KinematicsError: no configuration (a dead point, the loop opens)
       traj.completed = false;
-      traj.stopReason = "at t = " + solvers::shortest(t) + ": the kinematics have no solution (" + e.what() +
+      traj.stopReason = "at t = " + text::shortest(t) + ": the kinematics have no solution (" + e.what() +
                         "); results before it are kept";
       return run;
     }
     if (!out.x.allFinite() || !out.xdd.allFinite() || !sigma.allFinite() || !fxt.allFinite()) {
       traj.completed = false;
-      traj.stopReason = "non-finite results at t = " + solvers::shortest(t) +
+      traj.stopReason = "non-finite results at t = " + text::shortest(t) +
                         " (an input expression undefined there?); results before it are kept";
       return run;
     }

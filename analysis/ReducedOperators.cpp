@@ -19,7 +19,7 @@
 #include "core/ReducedCoordinates.hpp"
 #include "core/Workspace.hpp"
 #include "io/OperatorFile.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -559,8 +559,8 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
   const double diff = (a.tail(m) - b.tail(m)).norm() / std::max(b.tail(m).norm(), 1e-300);
   const double allowed = std::max(20.0 * std::max(ops.forceError, ops.massError), 1e-6);
   if (b.tail(m).norm() > 0.0 && diff > allowed) {
-    s << "at the centre of their range their accelerations differ from Eq. 19's by " << solvers::shortest(diff)
-      << " (relative; their fit allows " << solvers::shortest(allowed)
+    s << "at the centre of their range their accelerations differ from Eq. 19's by " << text::shortest(diff)
+      << " (relative; their fit allows " << text::shortest(allowed)
       << "): the model's mass, stiffness or loads changed since they were made";
     return s.str();
   }
@@ -568,7 +568,7 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
 }
 
 std::string describeOperators(const ReducedOperators& ops) {
-  auto g2 = [](double v) { return solvers::significant(v, 2); };
+  auto g2 = [](double v) { return text::significant(v, 2); };
   std::ostringstream t;
   t << ops.terms() << " terms, fit " << g2(ops.forceError) << " (force) / " << g2(ops.massError)
     << " (mass) of their largest in the range, target " << g2(ops.tolerance) << "; one evaluation "
@@ -581,12 +581,12 @@ std::string describeOperators(const ReducedOperators& ops) {
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops) {
   std::ostringstream s;
   if (!use.notUsed.empty()) return "Eq. 19 (" + use.notUsed + ")";
-  const std::string fit = solvers::significant(std::max(ops.forceError, ops.massError), 2);
+  const std::string fit = text::significant(std::max(ops.forceError, ops.massError), 2);
   s << "reduced operators for " << use.evaluations << " evaluations (" << ops.terms() << " terms, fit " << fit
     << " of the largest force or mass in their range)";
   if (use.fallbacks)
     s << "; Eq. 19 for " << use.fallbacks
-      << " evaluations outside their range, the first at t = " << solvers::shortest(use.firstFallback) << " s ("
+      << " evaluations outside their range, the first at t = " << text::shortest(use.firstFallback) << " s ("
       << use.where << ")";
   else
     s << "; the run stayed in their range";
@@ -618,16 +618,16 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
     const double estimate = pilotRange(model, V, o, ops.centre, ops.rotation, lo, hi);
     std::ostringstream r;
     r << "pilot run of Eq. 19 (ode45, RelTol "
-      << solvers::shortest(std::isnan(o.pilotRelTol) ? model.settings.relTol : o.pilotRelTol)
-      << ") to t = " << solvers::shortest(model.settings.tEnd) << " s, its principal directions, widened "
-      << solvers::shortest(100 * o.margin) << "% each side";
+      << text::shortest(std::isnan(o.pilotRelTol) ? model.settings.relTol : o.pilotRelTol)
+      << ") to t = " << text::shortest(model.settings.tEnd) << " s, its principal directions, widened "
+      << text::shortest(100 * o.margin) << "% each side";
     // Fit to a small share of the reduction error the basis has anyway (issue 33: the operators may add
     // at most 10% of it; the estimate is 1.4-3x the true error).
     if (std::isnan(opt.tolerance)) {
       opt.tolerance = std::isfinite(estimate) ? std::clamp(kToleranceShare * estimate, 1e-7, 1e-3) : 1e-6;
-      r << "; fit tolerance " << solvers::shortest(opt.tolerance)
-        << (std::isfinite(estimate) ? " (" + solvers::shortest(kToleranceShare) + " of its reduction error estimate " +
-                                          solvers::shortest(estimate) + ")"
+      r << "; fit tolerance " << text::shortest(opt.tolerance)
+        << (std::isfinite(estimate) ? " (" + text::shortest(kToleranceShare) + " of its reduction error estimate " +
+                                          text::shortest(estimate) + ")"
                                     : "");
     }
     ops.range = r.str();
@@ -735,9 +735,8 @@ OperatorChoice chooseOperators(const core::Model& model, const std::string& mode
                     " (flexmb reduce builds them anew; --full-kinematics runs without them)";
       else if (!operatorsCheaper(*ops))
         c.note = "Eq. 19 (the reduced operators in " + path + " cost " +
-                 solvers::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
-                 solvers::shortest(std::round(ops->equation19Seconds * 1e8) / 100) +
-                 " us: too many terms for this basis)";
+                 text::shortest(std::round(ops->operatorSeconds * 1e8) / 100) + " us per evaluation, Eq. 19 " +
+                 text::shortest(std::round(ops->equation19Seconds * 1e8) / 100) + " us: too many terms for this basis)";
       else
         c.operators = std::move(ops);
     } catch (const std::exception& e) {
@@ -888,8 +887,8 @@ std::string OperatorDynamics::whereOutside() const {
     return s.str();
   }
   const int i = lastOutside_;
-  s << "coordinate " << i + 1 << " of the operators' frame (zeta = R^T (eta - c)) = " << solvers::shortest(lastEta_[i])
-    << " outside the trained [" << solvers::shortest(ops_.lower[i]) << ", " << solvers::shortest(ops_.upper[i]) << "]";
+  s << "coordinate " << i + 1 << " of the operators' frame (zeta = R^T (eta - c)) = " << text::shortest(lastEta_[i])
+    << " outside the trained [" << text::shortest(ops_.lower[i]) << ", " << text::shortest(ops_.upper[i]) << "]";
   return s.str();
 }
 

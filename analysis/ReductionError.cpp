@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/Linearization.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -63,10 +63,10 @@ ErrorScale errorScaleOf(const core::Model& model, double motion) {
   ErrorScale s;
   if (motion >= 1e-3 * L) {
     s.value = motion;
-    s.text = "of the motion (" + solvers::significant(motion, 3) + " m)";
+    s.text = "of the motion (" + text::significant(motion, 3) + " m)";
   } else {
     s.value = L;
-    s.text = "of the model size (" + solvers::significant(L, 3) + " m; the motion is smaller)";
+    s.text = "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)";
   }
   return s;
 }
@@ -198,10 +198,10 @@ double positionErrorAgainst(const core::Model& model, const core::Trajectory& a,
 
 std::string describeReductionError(const ReductionErrorEstimate& e) {
   if (!e.estimated) return "not estimated: " + e.note;
-  return solvers::significant(e.estimate, 2) + " " + e.scaleText +
-         ", largest at t = " + solvers::significant(e.atTime, 3) + " s (twice the quasi-static deflection " +
+  return text::significant(e.estimate, 2) + " " + e.scaleText + ", largest at t = " + text::significant(e.atTime, 3) +
+         " s (twice the quasi-static deflection " +
          "outside the basis under the full model's residual of Eq. 13 at the reduced states, at " +
-         std::to_string(e.samples) + " output times, " + solvers::shortest(std::round(e.seconds * 1e4) / 1e4) + " s)";
+         std::to_string(e.samples) + " output times, " + text::shortest(std::round(e.seconds * 1e4) / 1e4) + " s)";
 }
 
 }  // namespace flexmb::analysis

@@ -5,7 +5,7 @@
 
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/ReductionError.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -32,7 +32,7 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
       notes.push_back(
           {Kind::Warning,
            "the result is not converged: a tighter tolerance changes it by about " +
-               solvers::significant(traj.accuracy.estimate, 2) +
+               text::significant(traj.accuracy.estimate, 2) +
                " of the model size over the run (more than 10 RelTol): tighten RelTol and AbsTol (--reltol and "
                "--abstol; opts.reltol and opts.abstol in spacar()) and compare",
            "", ""});
@@ -44,8 +44,8 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
     const double limit = !std::isnan(target) ? target : 10.0 * opt.relTol.value_or(model.settings.relTol);
     if (re.estimated && re.estimate > limit)
       notes.push_back({Kind::Warning,
-                       "the reduction error estimate " + solvers::significant(re.estimate, 2) + " is larger than " +
-                           (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + solvers::significant(limit, 2) +
+                       "the reduction error estimate " + text::significant(re.estimate, 2) + " is larger than " +
+                           (!std::isnan(target) ? "the target" : "10 RelTol") + " (" + text::significant(limit, 2) +
                            "): the basis leaves out deflections the full model has; a larger basis (flexmb reduce "
                            "--target; opts.target in spacar()) or the full model is more accurate",
                        "", ""});

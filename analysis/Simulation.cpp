@@ -15,8 +15,8 @@
 #include "core/ElementValidity.hpp"
 #include "core/EquationsOfMotion.hpp"
 #include "solvers/Bdf.hpp"
-#include "solvers/NumberText.hpp"
 #include "solvers/Ode45.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -237,7 +237,7 @@ class StageRun {
     } catch (const std::exception& e) {
       traj_.completed = false;
       traj_.stopReason =
-          std::string(e.what()) + " after t = " + solvers::shortest(tReached_) + "; results before it are kept";
+          std::string(e.what()) + " after t = " + text::shortest(tReached_) + "; results before it are kept";
     }
     if (windows_ && traj_.completed)
       traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
@@ -449,7 +449,7 @@ class StageRun {
     traj_.nlinsetups = r.stats.nlinsetups;
     if (stoppedByUser_) {
       traj_.completed = false;
-      traj_.stopReason = interruptCause(opt_.interruptSignal) + " after t = " + solvers::shortest(tReached_) +
+      traj_.stopReason = interruptCause(opt_.interruptSignal) + " after t = " + text::shortest(tReached_) +
                          "; results before it are kept";
       if (interrupted) *interrupted = true;
     } else if (r.status != solvers::OdeStatus::Success && traj_.completed) {

@@ -12,7 +12,7 @@
 #include "io/SpacarResults.hpp"
 #include "io/TextOutput.hpp"
 #include "io/VtkWriter.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
 
@@ -88,7 +88,7 @@ void writeTrajectoryFiles(io::OutputSet& files, const core::Model& model, const 
 }
 
 void describeIntegration(io::OutputSet& files, const core::Model& model, const SimulationOptions& opt) {
-  using solvers::shortest;
+  using text::shortest;
   files.setting("integrator", integratorDescription(opt));
   const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
   const double h = opt.maxStep.value_or(model.settings.hmax);
@@ -99,7 +99,7 @@ void describeIntegration(io::OutputSet& files, const core::Model& model, const S
                   shortest(opt.absTol.value_or(model.settings.absTol)) + ", max step ";
   // A derived number in 15 digits (0.1 x 0.07 is 0.007000000000000001 in its shortest exact form).
   s += h > 0 ? shortest(std::min(h, t1 - t0)) + " s"
-             : solvers::significant(0.1 * (t1 - t0), 15) +
+             : text::significant(0.1 * (t1 - t0), 15) +
                    " s (not limited by the file or --max-step: the integrator's default, a tenth of the span)";
   files.setting("integration", s);
 }

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::io {
 namespace {
@@ -24,8 +24,8 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-using solvers::appendG17;
-using solvers::g17;
+using text::appendG17;
+using text::g17;
 
 // Shortened quote of user text for messages.
 std::string quote(std::string_view s) {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::io {
 
@@ -24,7 +24,7 @@ std::string formatCsv(const CsvTable& table) {
     if (row.size() != table.columns.size()) throw std::logic_error("CSV row and header differ in length");
     for (size_t j = 0; j < row.size(); ++j) {
       if (j) out += ',';
-      if (!std::isnan(row[j])) solvers::appendG17(out, row[j]);
+      if (!std::isnan(row[j])) text::appendG17(out, row[j]);
     }
     out += '\n';
   }

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <type_traits>
 
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::io {
 namespace {
@@ -28,7 +28,7 @@ void appendBlock(std::string& out, const char* kind, const char* name, const M& 
       if constexpr (std::is_same_v<typename M::Scalar, int>)
         out += std::to_string(A(i, j));
       else
-        solvers::appendG17(out, A(i, j));
+        text::appendG17(out, A(i, j));
     }
     out += '\n';
   }
@@ -97,15 +97,15 @@ std::string formatOperators(const core::ReducedOperators& o) {
     out.append("# ").append(k).append(": ").append(v).append("\n");
   };
   key("dofs", std::to_string(o.dofs));
-  key("basis checksum", solvers::g17(o.basisChecksum));
-  key("tolerance", solvers::g17(o.tolerance));
-  key("force error", solvers::g17(o.forceError));
-  key("mass error", solvers::g17(o.massError));
+  key("basis checksum", text::g17(o.basisChecksum));
+  key("tolerance", text::g17(o.tolerance));
+  key("force error", text::g17(o.forceError));
+  key("mass error", text::g17(o.massError));
   key("training samples", std::to_string(o.trainingSamples));
   key("validation samples", std::to_string(o.validationSamples));
-  key("training seconds", solvers::g17(o.trainingSeconds));
-  key("operator seconds", solvers::g17(o.operatorSeconds));
-  key("equation 19 seconds", solvers::g17(o.equation19Seconds));
+  key("training seconds", text::g17(o.trainingSeconds));
+  key("operator seconds", text::g17(o.operatorSeconds));
+  key("equation 19 seconds", text::g17(o.equation19Seconds));
   std::string range = o.range;
   for (char& c : range)
     if (c == '\n' || c == '\r') c = ' ';

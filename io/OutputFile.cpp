@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace fs = std::filesystem;
 
@@ -227,7 +227,7 @@ bool OutputSet::attempt(const std::string& what, const std::function<void()>& st
 
 void OutputSet::adopt(const std::string& temporary, const std::string& path) { files_.emplace_back(path, temporary); }
 
-void OutputSet::setting(const std::string& name, double value) { setting(name, solvers::shortest(value)); }
+void OutputSet::setting(const std::string& name, double value) { setting(name, text::shortest(value)); }
 
 std::vector<std::string> OutputSet::renameFiles() {
   // Every file that is whole is renamed even when another is not: one truncated .mat must not take

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <map>
 #include <stdexcept>
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::io {
 
@@ -18,7 +18,7 @@ using core::Role;
 std::string num(double v) {
   if (!std::isfinite(v)) throw std::invalid_argument("restart state: a value is not finite");
   if (v == 0.0) return "0";
-  return solvers::shortest(v);
+  return text::shortest(v);
 }
 
 std::string quoted(const core::TimeFunctionPtr& f) {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/elements/EulerParameters.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::io {
 namespace {
@@ -27,7 +27,7 @@ using core::Trajectory;
 // ---------------------------------------------------------------------------------------------
 // Number formatting (locale-independent).
 
-using solvers::appendG17;
+using text::appendG17;
 
 // ---------------------------------------------------------------------------------------------
 // Files.
@@ -82,7 +82,7 @@ constexpr Quantity kQuantities[] = {
 };
 
 void checkTime(double t, const std::string& where) {
-  if (!std::isfinite(t)) throw std::runtime_error(where + ": non-finite output time " + solvers::g17(t));
+  if (!std::isfinite(t)) throw std::runtime_error(where + ": non-finite output time " + text::g17(t));
 }
 
 // Sizes and finiteness of one state; `where` names the writer and the path for messages.
@@ -92,13 +92,13 @@ void checkState(const StateOutputs& s, double t, const Model& model, const std::
     const Eigen::VectorXd& v = s.*q.member;
     const int n = q.nodal ? model.nx : model.ne;
     if (v.size() != n)
-      throw std::runtime_error(where + ": " + q.name + " at t = " + solvers::g17(t) + " has " +
-                               std::to_string(v.size()) + " entries, the model has " + std::to_string(n));
+      throw std::runtime_error(where + ": " + q.name + " at t = " + text::g17(t) + " has " + std::to_string(v.size()) +
+                               " entries, the model has " + std::to_string(n));
     const std::vector<std::string>& names = q.nodal ? xNames : eNames;
     for (int j = 0; j < n; ++j)
       if (!std::isfinite(v[j]))
-        throw std::runtime_error(where + ": non-finite value " + solvers::g17(v[j]) + " in " + q.name + " at t = " +
-                                 solvers::g17(t) + ", column " + std::to_string(j + 1) + " (" + names[j] + ")");
+        throw std::runtime_error(where + ": non-finite value " + text::g17(v[j]) + " in " + q.name + " at t = " +
+                                 text::g17(t) + ", column " + std::to_string(j + 1) + " (" + names[j] + ")");
   }
 }
 
@@ -407,11 +407,11 @@ void writeLinearizedMat(const std::string& path, const std::vector<double>& time
     for (const auto& [name, member] : mats) {
       const Eigen::MatrixXd& A = sys[k].*member;
       if (static_cast<std::size_t>(A.rows()) != m || static_cast<std::size_t>(A.cols()) != m)
-        throw std::invalid_argument("linearised MAT output '" + path + "': " + name + " at t = " +
-                                    solvers::g17(time[k]) + " is not " + std::to_string(m) + " x " + std::to_string(m));
+        throw std::invalid_argument("linearised MAT output '" + path + "': " + name + " at t = " + text::g17(time[k]) +
+                                    " is not " + std::to_string(m) + " x " + std::to_string(m));
       if (!A.allFinite())
         throw std::invalid_argument("linearised MAT output '" + path + "': non-finite " + name +
-                                    " at t = " + solvers::g17(time[k]));
+                                    " at t = " + text::g17(time[k]));
     }
   }
   {

@@ -15,12 +15,12 @@
 #include <limits>
 #include <stdexcept>
 #include <utility>
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::solvers {
 namespace {
 
-using solvers::shortest;
+using text::shortest;
 
 double epsAt(double t) {  // spacing of doubles at |t|
   const double a = std::fabs(t);
@@ -71,7 +71,7 @@ struct Session {
       abortError = e.what();
       return -1;
     } catch (const RhsError& e) {
-      rhsError = std::string(what) + " failed at t = " + shortest(t) + ": " + e.what();
+      rhsError = std::string(what) + " failed at t = " + text::shortest(t) + ": " + e.what();
       return 1;
     } catch (...) {
       unexpected = std::current_exception();
@@ -85,13 +85,13 @@ int rhsCallback(realtype t, N_Vector y, N_Vector ydot, void* data) {
   ++s.calls;
   s.load(y, s.y);
   if (!s.y.allFinite()) {
-    s.rhsError = "right-hand side failed at t = " + shortest(t) + ": non-finite state y";
+    s.rhsError = "right-hand side failed at t = " + text::shortest(t) + ": non-finite state y";
     return 1;
   }
   const int rc = s.guarded(t, "right-hand side", [&] { (*s.f)(t, s.y, s.dy); });
   if (rc != 0) return rc;
   if (s.dy.size() != s.y.size() || !s.dy.allFinite()) {
-    s.rhsError = "right-hand side failed at t = " + shortest(t) + ": " +
+    s.rhsError = "right-hand side failed at t = " + text::shortest(t) + ": " +
                  (s.dy.size() != s.y.size() ? "wrong size of dydt" : "non-finite value in dydt");
     if (s.dy.size() != s.y.size()) s.dy.resize(s.y.size());
     return 1;
@@ -109,7 +109,7 @@ int jacCallback(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_
   const int rc = s.guarded(t, "Jacobian", [&] { (*s.jac)(t, s.y, s.fy, Jm); });
   if (rc != 0) return rc;
   if (!Jm.allFinite()) {
-    s.rhsError = "Jacobian failed at t = " + shortest(t) + ": non-finite entry";
+    s.rhsError = "Jacobian failed at t = " + text::shortest(t) + ": non-finite entry";
     return 1;
   }
   return 0;
@@ -265,7 +265,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
   auto collectStats = [&] { cvodeStats(sd.mem, res.stats); };
 
   if (!observer(t0, y0)) {
-    fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(t0));
+    fail(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(t0));
     return res;
   }
   Eigen::VectorXd y(n), yout(n);
@@ -274,11 +274,11 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     try {
       accepted(t, state);
     } catch (const RhsAbort& e) {  // a user function or Ctrl-C at an accepted state: stop, keep the results
-      fail(OdeStatus::RhsFailed, std::string(e.what()) + " (at the accepted state t = " + shortest(t) + ")");
+      fail(OdeStatus::RhsFailed, std::string(e.what()) + " (at the accepted state t = " + text::shortest(t) + ")");
       return false;
     } catch (const RhsError& e) {
-      fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + shortest(t) + ": " + e.what() +
-                                     "; results up to there are kept");
+      fail(OdeStatus::RhsFailed, "BDF integration stopped at the accepted state t = " + text::shortest(t) + ": " +
+                                     e.what() + "; results up to there are kept");
       return false;
     }
     return true;
@@ -297,9 +297,9 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
       std::string msg;
       if (!session.abortError.empty()) {
         status = OdeStatus::RhsFailed;
-        msg = session.abortError + " (at t = " + shortest(tcur) + ")";
+        msg = session.abortError + " (at t = " + text::shortest(tcur) + ")";
       } else {
-        msg = "BDF integration stopped at t = " + shortest(tcur) + ": " + why;
+        msg = "BDF integration stopped at t = " + text::shortest(tcur) + ": " + why;
         if (!session.cvodeError.empty()) msg += " (" + session.cvodeError + ")";
         if (!session.rhsError.empty()) msg += "; last failure: " + session.rhsError;
         msg += "; results up to there are kept";
@@ -313,7 +313,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
     if (everyStep) {
       if (!observer(done ? tf : tcur, y)) {
         collectStats();
-        fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tcur));
+        fail(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(tcur));
         return res;
       }
     } else {
@@ -323,7 +323,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
         if (tq != tcur && !(done && next == ntspan)) {  // tf itself: the stop time, exactly
           if (CVodeGetDky(sd.mem, tq, 0, sd.dky) < 0) {
             collectStats();
-            fail(OdeStatus::SolverFailure, "interpolation failed at t = " + shortest(tq));
+            fail(OdeStatus::SolverFailure, "interpolation failed at t = " + text::shortest(tq));
             return res;
           }
           session.load(sd.dky, yout);
@@ -331,7 +331,7 @@ OdeResult Bdf::integrate(const OdeRhs& f, const OdeJacobian& jacobian, const std
         }
         if (!observer(tq, *out)) {
           collectStats();
-          fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tcur));
+          fail(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(tcur));
           return res;
         }
       }

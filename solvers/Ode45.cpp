@@ -9,7 +9,7 @@
 #include <limits>
 #include <optional>
 #include <utility>
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 
 namespace flexmb::solvers {
 namespace {
@@ -40,7 +40,7 @@ double epsAt(double t) {
   return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
 }
 
-using solvers::shortest;
+using text::shortest;
 
 }  // namespace
 
@@ -145,22 +145,22 @@ class Ode45Run {
   // One rhs evaluation; false (with `failure_` set) on RhsError or a non-finite input or value.
   bool eval(double tt, const VectorXd& yy, VectorXd& dy) {
     if (!yy.allFinite()) {
-      failure_ = "right-hand side failed at t = " + shortest(tt) + ": non-finite state y";
+      failure_ = "right-hand side failed at t = " + text::shortest(tt) + ": non-finite state y";
       return false;
     }
     ++res_.stats.nfevals;
     try {
       f_(tt, yy, dy);
     } catch (const RhsAbort& e) {
-      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " + e.what();
+      failure_ = "right-hand side failed at t = " + text::shortest(tt) + ": " + e.what();
       aborted_ = true;
       return false;
     } catch (const RhsError& e) {
-      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " + e.what();
+      failure_ = "right-hand side failed at t = " + text::shortest(tt) + ": " + e.what();
       return false;
     }
     if (dy.size() != n_ || !dy.allFinite()) {
-      failure_ = "right-hand side failed at t = " + shortest(tt) + ": " +
+      failure_ = "right-hand side failed at t = " + text::shortest(tt) + ": " +
                  (dy.size() != n_ ? "wrong size of dydt" : "non-finite value in dydt");
       return false;
     }
@@ -172,13 +172,15 @@ class Ode45Run {
     res_.message = std::move(msg);
     return res_;
   }
-  OdeResult stopped(double tt) { return fail(OdeStatus::Stopped, "stopped by the observer at t = " + shortest(tt)); }
+  OdeResult stopped(double tt) {
+    return fail(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(tt));
+  }
 
   // A right-hand side that fails at every trial state down to the minimum step: the solution itself
   // runs into the failure (MATLAB's ode45 has no such outcome: its right-hand sides do not fail).
   static std::string atMinimumStep(double tt, double hh) {
-    return " (trial steps from the accepted state at t = " + shortest(tt) + " failed down to the minimum step " +
-           shortest(hh) +
+    return " (trial steps from the accepted state at t = " + text::shortest(tt) + " failed down to the minimum step " +
+           text::shortest(hh) +
            "; results up to there are kept. The model itself fails there, e.g. a singular "
            "configuration or a load it cannot carry)";
   }
@@ -250,8 +252,8 @@ class Ode45Run {
     if (absh_ <= hmin) {
       if (rhsFailed) return fail(OdeStatus::RhsFailed, failure_ + atMinimumStep(t_, absh_));
       return fail(OdeStatus::StepSizeUnderflow,
-                  "step size underflow at t = " + shortest(t_) + ": tolerance cannot be met (h = " + shortest(absh_) +
-                      " <= hmin = " + shortest(hmin) + ")" +
+                  "step size underflow at t = " + text::shortest(t_) + ": tolerance cannot be met (h = " +
+                      text::shortest(absh_) + " <= hmin = " + text::shortest(hmin) + ")" +
                       (streakFailure_.empty()
                            ? ""
                            : "; since the step was last unconstrained, larger trial steps failed: " + streakFailure_));
@@ -285,7 +287,7 @@ class Ode45Run {
   std::optional<OdeResult> accept() {
     if (auto stop = acceptAndOutput()) return stop;
     if (opt_.stepMonitor && !opt_.stepMonitor(tnew_, ynew_, std::fabs(h_), stiffnessEstimate()))
-      return fail(OdeStatus::Stopped, "stopped by the step monitor at t = " + shortest(tnew_));
+      return fail(OdeStatus::Stopped, "stopped by the step monitor at t = " + text::shortest(tnew_));
     return std::nullopt;
   }
 
@@ -305,7 +307,7 @@ class Ode45Run {
         const double tq = t_ + h_ * (static_cast<double>(j) / opt_.refine);
         interp(tq);
         if (!yout_.allFinite())
-          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + shortest(tq));
+          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + text::shortest(tq));
         if (!observer_(tq, yout_)) return stopped(tnew_);
       }
       if (!observer_(tnew_, ynew_)) return stopped(tnew_);
@@ -317,7 +319,7 @@ class Ode45Run {
       if (tq != tnew_) {
         interp(tq);
         if (!yout_.allFinite())
-          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + shortest(tq));
+          return fail(OdeStatus::RhsFailed, "non-finite interpolated value at t = " + text::shortest(tq));
         out = &yout_;
       }
       if (!observer_(tq, *out)) return stopped(tnew_);

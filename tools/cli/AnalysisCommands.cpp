@@ -20,7 +20,7 @@
 #include "io/SpacarResults.hpp"
 #include "io/SvgPlot.hpp"
 #include "io/TextOutput.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 #include "tools/cli/Visuals.hpp"
@@ -179,7 +179,7 @@ void printFinalDisplacements(std::ostream& o, const core::Model& model, const an
       const char* name = n.kind == core::NodeKind::Orientation       ? "rotation [rad]"
                          : n.kind == core::NodeKind::EulerParameters ? euler[c]
                                                                      : position[c];
-      o << "  " << name << " = " << solvers::shortest(x[n.firstCoord + c] - model.x0[n.firstCoord + c]);
+      o << "  " << name << " = " << text::shortest(x[n.firstCoord + c] - model.x0[n.firstCoord + c]);
     }
     o << "\n";
   }
@@ -414,8 +414,8 @@ int runSweep(const std::vector<std::string>& args) {
   files.setting("command", "sweep");
   files.setting("model", m.file);
   files.setting("prescribed", "node " + std::to_string(o.node) + " component " + std::to_string(o.component));
-  files.setting("range", solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
-                             std::to_string(o.steps) + " configurations");
+  files.setting("range", text::shortest(o.from) + " to " + text::shortest(o.to) + " in " + std::to_string(o.steps) +
+                             " configurations");
   files.setting("nev", std::to_string(o.nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
 

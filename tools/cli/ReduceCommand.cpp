@@ -11,7 +11,7 @@
 #include "io/BasisFile.hpp"
 #include "io/OperatorFile.hpp"
 #include "io/OutputFile.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 
@@ -73,7 +73,7 @@ void describeReduction(io::OutputSet& files, const analysis::ReductionOptions& o
   } else {
     files.setting("modes per configuration", std::to_string(o.modes));
     files.setting("path", "node " + std::to_string(o.node) + " component " + std::to_string(o.component) + " from " +
-                              solvers::shortest(o.from) + " to " + solvers::shortest(o.to) + " in " +
+                              text::shortest(o.from) + " to " + text::shortest(o.to) + " in " +
                               std::to_string(o.configs) + " configurations");
     files.setting("weight", o.weight);
     if (o.count > 0)
@@ -180,10 +180,10 @@ int runReduce(const std::vector<std::string>& args) {
       progress.finish();
       printCandidates(std::cout, tr);
       files.setting("target", target);
-      files.setting("choosing", solvers::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s (" +
+      files.setting("choosing", text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s (" +
                                     std::to_string(tr.tried.size()) + " candidate runs)");
       if (tr.full) {
-        std::cout << "target " << solvers::shortest(target) << ": " << tr.note << "; no basis written\n";
+        std::cout << "target " << text::shortest(target) << ": " << tr.note << "; no basis written\n";
         files.commit("complete: " + tr.note);
         std::cout << "wrote " << files.manifestPath() << "\n";
         return kOk;

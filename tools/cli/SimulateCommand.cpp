@@ -29,7 +29,7 @@
 #include "io/RestartWriter.hpp"
 #include "io/ResultWriter.hpp"
 #include "io/SpacarResults.hpp"
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 
@@ -133,7 +133,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
   if (a.matrices && a.linearize <= 0) a.linearize = 6;
   if (!std::isnan(a.target) && !(a.target > 0.0 && a.target < 1.0)) {
     std::cerr << "flexmb: --target must be between 0 and 1 (the reduction error relative to the motion), not "
-              << solvers::shortest(a.target) << "\n";
+              << text::shortest(a.target) << "\n";
     return kUsageError;
   }
   if (a.basisFile == "auto" && std::isnan(a.target)) {
@@ -178,10 +178,10 @@ std::optional<Eigen::MatrixXd> chooseBasis(const SimulateArgs& a, const core::Mo
   std::ostringstream tried;
   for (const auto& c : tr.tried) {
     tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
-          << " vectors: " << (c.estimate.estimated ? solvers::significant(c.estimate.estimate, 2) : "not estimated");
+          << " vectors: " << (c.estimate.estimated ? text::significant(c.estimate.estimate, 2) : "not estimated");
   }
-  const std::string how = "target " + solvers::shortest(a.target) + ", " + to.basis.method + "; tried " + tried.str() +
-                          "; choosing took " + solvers::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
+  const std::string how = "target " + text::shortest(a.target) + ", " + to.basis.method + "; tried " + tried.str() +
+                          "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
   files.setting("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
                                  : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
   std::cout << "basis auto: " << (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") << " (" << how
@@ -252,13 +252,13 @@ void printInputForces(std::ostream& o, const core::Model& model, const core::Tra
   };
   for (const auto& in : model.inputX) {
     const auto [f, t] = peak([&](size_t k) { return fxt[k][in.index]; });
-    o << "  input " << model.coordName(in.index) << ": largest force (fxt) " << solvers::shortest(f)
-      << " at t = " << solvers::shortest(t) << "\n";
+    o << "  input " << model.coordName(in.index) << ": largest force (fxt) " << text::shortest(f)
+      << " at t = " << text::shortest(t) << "\n";
   }
   for (const auto& in : model.inputE) {
     const auto [f, t] = peak([&](size_t k) { return traj.states[k].sig[in.index]; });
-    o << "  input " << model.deformationName(in.index) << ": largest stress (sig) " << solvers::shortest(f)
-      << " at t = " << solvers::shortest(t) << " (the drive applies -sig in the direction of the deformation)\n";
+    o << "  input " << model.deformationName(in.index) << ": largest stress (sig) " << text::shortest(f)
+      << " at t = " << text::shortest(t) << " (the drive applies -sig in the direction of the deformation)\n";
   }
 }
 
@@ -288,7 +288,7 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
                 "times, no integrator");
   {
     const double t0 = model.settings.t0, t1 = o.tEnd.value_or(model.settings.tEnd);
-    files.setting("time", solvers::shortest(t0) + " to " + solvers::shortest(t1) + " s, " +
+    files.setting("time", text::shortest(t0) + " to " + text::shortest(t1) + " s, " +
                               std::to_string(o.intervals.value_or(model.settings.outputIntervals)) +
                               " output intervals");
   }
@@ -332,8 +332,8 @@ int runSimulate(const std::vector<std::string>& args) {
   if (!model.settings.timestepGiven && !a.m.quiet && (a.tEnd <= 0 || a.intervals < 0)) {
     std::cerr << "flexmb: note: " << a.m.file << " has no TIMESTEP: ";
     if (a.tEnd <= 0)
-      std::cerr << "the run goes from " << solvers::shortest(model.settings.t0) << " to "
-                << solvers::shortest(model.settings.tEnd) << " s";
+      std::cerr << "the run goes from " << text::shortest(model.settings.t0) << " to "
+                << text::shortest(model.settings.tEnd) << " s";
     if (a.tEnd <= 0 && a.intervals < 0) std::cerr << " in ";
     if (a.intervals < 0) std::cerr << model.settings.outputIntervals << " output intervals";
     std::cerr << " (the defaults; give TIMESTEP, or --t-end and --intervals)\n";

@@ -2,7 +2,7 @@
 
 #include "mex.h"
 
-#include "solvers/NumberText.hpp"
+#include "text/NumberText.hpp"
 #include "tools/octave/OctaveInterrupt.hpp"
 
 #include <chrono>
@@ -15,7 +15,7 @@
 namespace flexmb::octave_gateway {
 namespace {
 
-std::string timeText(double t) { return solvers::significant(t, 10); }
+std::string timeText(double t) { return text::significant(t, 10); }
 
 // A 1 x n row: SPACAR passes vectors to user functions as rows (FIS's FFESFVA indexes
 // x(lnp(n, :)) and multiplies 2*Q_bar'*qp', which needs 1 x 4 rows).

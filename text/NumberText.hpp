@@ -4,7 +4,7 @@
 #include <charconv>
 #include <string>
 
-namespace flexmb::solvers {
+namespace flexmb::text {
 
 // Shortest text that reads back to the same double ("0.1", "1e-05"; a time just below 1 does not
 // print as 1).
@@ -38,4 +38,4 @@ inline std::string significant(double v, int digits) {
   return std::string(buf, r.ptr);
 }
 
-}  // namespace flexmb::solvers
+}  // namespace flexmb::text
