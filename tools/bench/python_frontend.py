@@ -9,6 +9,7 @@
 3. reading results: a result array handed out again and again, against copying it.
 """
 
+import concurrent.futures
 import os
 import sys
 import time
@@ -61,6 +62,16 @@ def usersig_overhead():
           f"overhead {per_call * 1e6:.3f} us per call (target under 1 us)")
 
 
+def threads():
+    template = open(os.path.join(SRC, "datfiles", "spatial", "cross_spring_pivot_study.dat")).read()
+    variants = [flexmb.variant(template, t=(0.15 + 0.02 * k) * 1e-3) for k in range(16)]
+    serial = best(lambda: [flexmb.static(v, nev=4) for v in variants], repeat=3)
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        parallel = best(lambda: list(pool.map(lambda v: flexmb.static(v, nev=4), variants)), repeat=3)
+    print(f"threads: 16 pivot variants (static, 4 frequencies) {serial * 1e3:.1f} ms in one thread, "
+          f"{parallel * 1e3:.1f} ms in two: {serial / parallel:.2f}x on {os.cpu_count()} cores (the GIL released)")
+
+
 def result_reading():
     m = flexmb.read(os.path.join(SRC, "datfiles", "straight_guidance.dat"))
     r = flexmb.simulate(m, t_end=0.2, intervals=20000)
@@ -76,3 +87,4 @@ if __name__ == "__main__":
     call_overhead()
     usersig_overhead()
     result_reading()
+    threads()

@@ -37,6 +37,7 @@
 #include "io/OperatorFile.hpp"
 #include "io/OutputFile.hpp"
 #include "io/TextOutput.hpp"
+#include "validation/PaperValidation.hpp"
 
 namespace py = pybind11;
 using namespace flexmb;
@@ -489,6 +490,29 @@ void bindModel(py::module_& m) {
   });
 }
 
+// `flexmb validate`: the paper's report into out_dir from the models in source_dir/datfiles;
+// returns 0 (every acceptance check holds), 1 (one failed: the report says which) or 3 (an
+// analysis stopped). Ctrl-C: KeyboardInterrupt, the previous report kept.
+void bindValidate(py::module_& m) {
+  m.def("validate", [](const std::string& sourceDir, const std::string& outDir, int sweepSteps, bool quiet) {
+    InterruptScope scope;
+    validation::ValidationOptions o;
+    o.sourceDir = sourceDir, o.outDir = outDir, o.sweepSteps = sweepSteps, o.quiet = quiet;
+    o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
+    std::filesystem::create_directories(outDir);
+    int rc = 0;
+    {
+      py::gil_scoped_release release;
+      rc = validation::runValidation(o);
+    }
+    if (rc == validation::kInterrupted) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, "flexmb.validate: interrupted; the previous report is kept");
+      throw py::error_already_set();
+    }
+    return rc;
+  });
+}
+
 void bindCheck(py::module_& m) {
   // ---- check (mode 0) ----
   m.def("check", [](const ModelHandle& handle) {
@@ -920,6 +944,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "flexmb's native part; use the flexmb package";
   bindModel(m);
   bindCheck(m);
+  bindValidate(m);
   bindStatic(m);
   bindModes(m);
   bindSweep(m);

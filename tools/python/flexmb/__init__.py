@@ -174,6 +174,22 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
                           bool(accuracy_check))
 
 
+def validate(source, out, *, sweep_steps=21, quiet=True):
+    """`flexmb validate`: the paper's validation report (report.md with its figures and tables) in the
+    folder `out` from the paper's models in `source`/datfiles (a flexmb source tree). Returns 0 when
+    every acceptance check holds, 1 when one failed (the report says which), 3 when an analysis
+    stopped."""
+    import os
+
+    for name, value in (("source", source), ("out", out)):
+        if not isinstance(value, (str, bytes)) and not hasattr(value, "__fspath__"):
+            raise TypeError(f"{name}: expected a folder name, got {type(value).__name__}")
+    source, out = os.fsdecode(os.fspath(source)), os.fsdecode(os.fspath(out))
+    if not os.path.isdir(os.path.join(source, "datfiles")):
+        raise ValueError(f"source: {source} has no datfiles/ folder")
+    return _core.validate(source, out, _count(sweep_steps, "sweep_steps", 2), bool(quiet))
+
+
 def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False):
     """The files `flexmb simulate --out prefix` writes (CSV tables, .mat, SPACAR's .sbd, ...)."""
     _need(prefix, str, "prefix")
@@ -246,5 +262,5 @@ def _basis(basis, model):
     return v
 
 
-__all__ = ["read", "parse", "variant", "check", "static", "modes", "sweep", "transfer", "reduce", "simulate", "Model", "InputError",
+__all__ = ["read", "parse", "variant", "check", "static", "modes", "sweep", "transfer", "reduce", "simulate", "validate", "Model", "InputError",
            "UserFunctionError"]

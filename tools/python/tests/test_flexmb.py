@@ -291,6 +291,14 @@ def test_a_spacar95_file_runs_its_stages_as_the_command_line(work):
         same_bytes(work / "cli" / ("s95" + suffix), work / "py" / ("s95" + suffix))
 
 
+def test_validate_writes_the_papers_report(tmp_path):
+    assert flexmb.validate(SRC, tmp_path / "report", sweep_steps=3) == 0
+    report = (tmp_path / "report" / "report.md").read_text()
+    assert "Boer et al. (2013)" in report and "| guidance full | 17 | 45667 |" in report
+    with pytest.raises(ValueError, match="source"):
+        flexmb.validate(tmp_path, tmp_path / "r2")
+
+
 # ---- Ctrl-C and threads ---------------------------------------------------------------------------------
 def test_ctrl_c_raises_keyboard_interrupt_and_keeps_the_results():
     m = flexmb.read(model_path("datfiles", "straight_guidance.dat"))
