@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "analysis/Simulation.hpp"
-#include "core/EquationsOfMotion.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {

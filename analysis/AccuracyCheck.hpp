@@ -21,8 +21,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 
 #include "analysis/StateJacobian.hpp"
-#include "core/EquationsOfMotion.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
 
 namespace flexmb::analysis {
 

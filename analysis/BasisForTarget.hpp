@@ -17,8 +17,8 @@
 
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

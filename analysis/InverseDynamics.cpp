@@ -3,9 +3,9 @@
 #include <sstream>
 
 #include "analysis/Interrupt.hpp"
-#include "core/ElementValidity.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/ResultQuantities.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/ResultQuantities.hpp"
+#include "core/kinematics/ElementValidity.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {

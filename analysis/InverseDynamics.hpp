@@ -12,8 +12,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -2,7 +2,7 @@
 
 #include <exception>
 
-#include "core/GeometricTransferFunctions.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
 
 namespace flexmb::analysis {
 

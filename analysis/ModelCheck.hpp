@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "core/KinematicCheck.hpp"
-#include "core/Model.hpp"
-#include "core/ModelDiagnostics.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "core/linearization/ModelDiagnostics.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

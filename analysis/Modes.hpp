@@ -7,9 +7,9 @@
 #include <optional>
 #include <string>
 
-#include "core/Linearization.hpp"
-#include "core/Model.hpp"
-#include "io/CsvTable.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/CsvTable.hpp"
 #include "solvers/ReductionBasis.hpp"
 
 namespace flexmb::analysis {

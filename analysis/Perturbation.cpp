@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/SpacarResults.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 namespace flexmb::analysis {
 

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "analysis/Statics.hpp"
-#include "core/Linearization.hpp"
-#include "core/Model.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -14,11 +14,11 @@
 
 #include <Eigen/SVD>
 #include "analysis/Simulation.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/ReducedCoordinates.hpp"
-#include "core/Workspace.hpp"
-#include "io/OperatorFile.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/ReducedCoordinates.hpp"
+#include "core/dynamics/Workspace.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "io/formats/OperatorFile.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {

@@ -19,10 +19,10 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/ReducedOperators.hpp"
-#include "core/TimeFunction.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
+#include "core/model/ReducedOperators.hpp"
+#include "core/model/TimeFunction.hpp"
 #include "solvers/ChebyshevBasis.hpp"
 
 namespace flexmb::analysis {

@@ -4,7 +4,7 @@
 
 #include "analysis/Modes.hpp"
 #include "analysis/Sweep.hpp"
-#include "core/Linearization.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "solvers/ReductionBasis.hpp"
 
 namespace flexmb::analysis {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

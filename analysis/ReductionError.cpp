@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/Linearization.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "analysis/Simulation.hpp"
-#include "core/Model.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "core/EquationsOfMotion.hpp"
-#include "core/Model.hpp"
-#include "core/ReducedOperators.hpp"
-#include "core/Trajectory.hpp"
-#include "io/DatReader.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
+#include "core/model/ReducedOperators.hpp"
+#include "io/formats/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::analysis {

@@ -6,12 +6,12 @@
 #include <optional>
 
 #include "analysis/SpacarOutput.hpp"
-#include "io/HtmlAnimation.hpp"
-#include "io/RestartWriter.hpp"
-#include "io/ResultWriter.hpp"
-#include "io/SpacarResults.hpp"
-#include "io/TextOutput.hpp"
-#include "io/VtkWriter.hpp"
+#include "io/formats/RestartWriter.hpp"
+#include "io/formats/ResultWriter.hpp"
+#include "io/formats/SpacarResults.hpp"
+#include "io/formats/TextOutput.hpp"
+#include "io/pictures/HtmlAnimation.hpp"
+#include "io/pictures/VtkWriter.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {

@@ -12,10 +12,10 @@
 
 #include "analysis/Simulation.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
-#include "io/CsvTable.hpp"
-#include "io/OutputFile.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/CsvTable.hpp"
+#include "io/formats/OutputFile.hpp"
 
 namespace flexmb::analysis {
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "analysis/Perturbation.hpp"
-#include "core/KinematicCheck.hpp"
-#include "core/ResultQuantities.hpp"
+#include "core/dynamics/ResultQuantities.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
 
 namespace flexmb::analysis {
 namespace {

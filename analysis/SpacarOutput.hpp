@@ -1,5 +1,5 @@
 #pragma once
-// SPACAR-shaped results (io/SpacarResults.hpp, io/results.md) from flexmb's analyses: every analysis
+// SPACAR-shaped results (io/formats/SpacarResults.hpp, io/results.md) from flexmb's analyses: every analysis
 // fills one io::SpacarResults, written as <name>.sbd / <name>.sbm. The derived quantities SPACAR
 // reports (reaction stresses in sig, total nodal forces fxt, transfer functions dx, D = de/dx)
 // come from core::ResultQuantities at each stored step.
@@ -8,10 +8,10 @@
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "analysis/Transfer.hpp"
-#include "core/Linearization.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
-#include "io/SpacarResults.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 namespace flexmb::analysis {
 

@@ -1,6 +1,6 @@
 #include "analysis/StateJacobian.hpp"
 
-#include "core/GeometricTransferFunctions.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
 
 namespace flexmb::analysis {
 

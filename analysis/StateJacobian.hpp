@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "core/Linearization.hpp"
-#include "core/Model.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 
@@ -17,7 +17,7 @@ class StateJacobian {
  public:
   // basis: q = V eta (empty: the full model), as for core::EquationsOfMotion.
   StateJacobian(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis);
-  // On the workspace of the equations of motion it differentiates (core/Workspace.hpp).
+  // On the workspace of the equations of motion it differentiates (core/dynamics/Workspace.hpp).
   StateJacobian(core::Workspace& workspace, const std::optional<Eigen::MatrixXd>& basis);
 
   int size() const { return m_; }  // dimension of eta; J is 2m x 2m

@@ -8,9 +8,9 @@
 #include <utility>
 
 #include "analysis/Interrupt.hpp"
-#include "core/ElementValidity.hpp"
 #include "core/elements/EulerParameters.hpp"
-#include "io/ResultWriter.hpp"
+#include "core/kinematics/ElementValidity.hpp"
+#include "io/formats/ResultWriter.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {

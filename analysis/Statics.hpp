@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "analysis/Modes.hpp"
-#include "core/Linearization.hpp"
-#include "io/CsvTable.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/CsvTable.hpp"
 #include "solvers/StaticEquilibrium.hpp"
 
 namespace flexmb::analysis {

@@ -15,10 +15,10 @@
 #include <set>
 #include <sstream>
 
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/Inertia.hpp"
-#include "core/Linearization.hpp"
-#include "core/ModelDiagnostics.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/linearization/ModelDiagnostics.hpp"
 
 namespace flexmb::analysis {
 

@@ -1,8 +1,8 @@
 #pragma once
-// Design studies: one template model (io/ModelTemplate) and a table of parameter values, the same
+// Design studies: one template model (io/templates/ModelTemplate) and a table of parameter values, the same
 // analyses run on every variant, and a one-line summary of each (the quantities a designer ranks
 // by). The front end (`flexmb study`) runs the variants in worker processes, writes their files
-// and collects the summaries (io/StudySummary); this file holds the recipe: which variants there
+// and collects the summaries (io/templates/StudySummary); this file holds the recipe: which variants there
 // are, which of them a task runs, what each variant computes and summarises, and which variants are
 // finished (resume).
 //
@@ -19,12 +19,12 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
-#include "core/KinematicCheck.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
-#include "io/ModelTemplate.hpp"
-#include "io/StudySummary.hpp"
-#include "io/StudyTable.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "core/model/Model.hpp"
+#include "io/templates/ModelTemplate.hpp"
+#include "io/templates/StudySummary.hpp"
+#include "io/templates/StudyTable.hpp"
 
 namespace flexmb::analysis {
 
@@ -116,7 +116,7 @@ std::string variantFingerprint(const std::string& templateText, const io::Parame
                                const StudyAnalyses& analyses, const std::string& version);
 
 enum class VariantState { NotRun, Finished, FinishedFailed, Stale };
-// From the variant's manifest (<prefix>_run.txt, io/OutputFile.hpp) and summary: finished when the
+// From the variant's manifest (<prefix>_run.txt, io/formats/OutputFile.hpp) and summary: finished when the
 // manifest exists and names the same fingerprint and the summary reads back (the variants' files
 // are committed without fsync, io::OutputSet::setSync: after a power failure a manifest may stand
 // beside an empty summary, and the variant runs again); FinishedFailed when its status is

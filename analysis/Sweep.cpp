@@ -1,6 +1,6 @@
 #include "analysis/Sweep.hpp"
 
-#include "io/ResultWriter.hpp"
+#include "io/formats/ResultWriter.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -12,9 +12,9 @@
 
 #include "analysis/Interrupt.hpp"
 #include "analysis/Modes.hpp"
-#include "core/ElementValidity.hpp"
-#include "core/Linearization.hpp"
-#include "core/PrescribedEquilibrium.hpp"
+#include "core/kinematics/ElementValidity.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/linearization/PrescribedEquilibrium.hpp"
 #include "solvers/EigenSolver.hpp"
 
 namespace flexmb::analysis {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "io/CsvTable.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/CsvTable.hpp"
 
 namespace flexmb::analysis {
 

@@ -9,8 +9,8 @@
 #include <optional>
 #include <vector>
 
-#include "core/Linearization.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/linearization/Linearization.hpp"
 
 namespace flexmb::analysis {
 

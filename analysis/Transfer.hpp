@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "analysis/Statics.hpp"
-#include "core/Model.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::analysis {
 

@@ -3,9 +3,9 @@
 #include <cmath>
 
 #include "analysis/SpacarOutput.hpp"
-#include "io/ResultWriter.hpp"
-#include "io/SpacarResults.hpp"
-#include "io/SvgPlot.hpp"
+#include "io/formats/ResultWriter.hpp"
+#include "io/formats/SpacarResults.hpp"
+#include "io/pictures/SvgPlot.hpp"
 
 namespace flexmb::analysis {
 

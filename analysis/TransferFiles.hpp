@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "analysis/Transfer.hpp"
-#include "core/Model.hpp"
-#include "io/OutputFile.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/OutputFile.hpp"
 
 namespace flexmb::analysis {
 

@@ -23,10 +23,10 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/Sweep.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "io/BasisFile.hpp"
-#include "io/DatReader.hpp"
-#include "io/OutputFile.hpp"
-#include "io/SvgPlot.hpp"
+#include "io/formats/BasisFile.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/OutputFile.hpp"
+#include "io/pictures/SvgPlot.hpp"
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/EquationsOfMotion.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
 #include "solvers/Ode45.hpp"
 
 namespace flexmb::test {

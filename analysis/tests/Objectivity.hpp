@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
 #include "core/elements/EulerParameters.hpp"
-#include "io/DatReader.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/DatReader.hpp"
 
 namespace flexmb::objectivity {
 

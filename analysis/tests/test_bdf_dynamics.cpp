@@ -12,9 +12,9 @@
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/StateJacobian.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
 using namespace flexmb;

@@ -12,7 +12,7 @@
 
 #include "analysis/Statics.hpp"
 #include "core/elements/EulerParameters.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

@@ -11,11 +11,11 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/tests/EnergyDrift.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/Linearization.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/Energy.hpp"
 #include "core/tests/ShortRun.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
 using namespace flexmb;

@@ -20,7 +20,7 @@
 #include <string>
 
 #include "analysis/InverseDynamics.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

@@ -11,8 +11,8 @@
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

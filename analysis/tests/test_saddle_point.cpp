@@ -1,6 +1,6 @@
 // The two forms of the accelerations of Eq. 13 give the same right-hand side: the projected form
 // Mbar qdd = F_q^T (f - h - M g - D_x^T sigma) (dense, independent coordinates) and the sparse
-// nodal saddle-point form (core/SaddlePointAccelerations), at random moving states of models with
+// nodal saddle-point form (core/dynamics/SaddlePointAccelerations), at random moving states of models with
 // closed loops, inputs on coordinates and deformations (rheonomic), DYNX coordinates, damping,
 // gravity, lumped and distributed masses, planar and spatial.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include <string>
 
 #include "analysis/Simulation.hpp"
-#include "core/EquationsOfMotion.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/tests/ModelTexts.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 using Eigen::VectorXd;

@@ -10,8 +10,8 @@
 
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
-#include "io/DatReader.hpp"
-#include "io/RestartWriter.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/RestartWriter.hpp"
 
 using namespace flexmb;
 

@@ -8,8 +8,8 @@
 
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
-#include "io/DatReader.hpp"
-#include "io/SpacarResults.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 using namespace flexmb;
 

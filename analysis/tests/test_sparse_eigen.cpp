@@ -9,8 +9,8 @@
 #include <string>
 
 #include "analysis/Statics.hpp"
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

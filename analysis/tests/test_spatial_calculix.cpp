@@ -28,7 +28,7 @@
 #include "analysis/Statics.hpp"
 #include "analysis/tests/Objectivity.hpp"
 #include "analysis/tests/Sections.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;

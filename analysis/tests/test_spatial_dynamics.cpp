@@ -10,7 +10,7 @@
 #include <string>
 
 #include "analysis/Simulation.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 using Vec3 = Eigen::Vector3d;

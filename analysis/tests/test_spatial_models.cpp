@@ -18,13 +18,13 @@
 #include "analysis/Statics.hpp"
 #include "analysis/tests/EnergyDrift.hpp"
 #include "analysis/tests/Objectivity.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/Inertia.hpp"
-#include "core/Linearization.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/Inertia.hpp"
 #include "core/elements/EulerParameters.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/Energy.hpp"
 #include "core/tests/ShortRun.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
 using namespace flexmb;
@@ -257,7 +257,7 @@ RollUp rollUp(const Vec3& dir, const Vec3& y, int n, int steps) {
 }  // namespace
 
 TEST(SpatialModels, EndMomentRollUpIsTheSameInAnySkewOrientation) {
-  // The moment's load stiffness on Euler parameters is antisymmetric (core/NodalMatrices.hpp): with
+  // The moment's load stiffness on Euler parameters is antisymmetric (core/dynamics/NodalMatrices.hpp): with
   // it in the Newton tangent the roll-up converges in any orientation, and the skew beam (axis
   // (1, 2, 2)/3) has the aligned beam's errors to round-off.
   const int n = 32, steps = 8;

@@ -14,7 +14,7 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/tests/Objectivity.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

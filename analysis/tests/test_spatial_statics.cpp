@@ -18,9 +18,9 @@
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
 #include "analysis/tests/Objectivity.hpp"
-#include "core/Linearization.hpp"
 #include "core/elements/EulerParameters.hpp"
-#include "io/DatReader.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

@@ -11,8 +11,8 @@
 #include <sstream>
 
 #include "analysis/Study.hpp"
-#include "io/DatReader.hpp"
-#include "io/ModelTemplate.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/templates/ModelTemplate.hpp"
 
 using namespace flexmb;
 using analysis::StudyAnalyses;

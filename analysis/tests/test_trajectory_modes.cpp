@@ -16,9 +16,9 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
-#include "core/Linearization.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/ModelTexts.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 #include "solvers/QuadraticEigen.hpp"
 
 using namespace flexmb;

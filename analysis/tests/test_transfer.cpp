@@ -17,7 +17,7 @@
 #include "analysis/Statics.hpp"
 #include "analysis/Transfer.hpp"
 #include "core/elements/EulerParameters.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

@@ -167,7 +167,7 @@ class Element {
     (void)end, (void)A;
     return false;
   }
-  // Its own displacement field, for the pictures (io/MechanismGeometry): the centre line at x in
+  // Its own displacement field, for the pictures (io/pictures/MechanismGeometry): the centre line at x in
   // points.cols() points at xi = k / (n - 1) from its first to its last position node and, when ys
   // and zs are given (sized like points), the section's local y and z axes there. False for an
   // element without a field of its own: it is drawn straight between its position nodes.
@@ -232,7 +232,7 @@ struct ElementTypeInfo {
   // identity column in a reduction basis (the q_l of Eq. 21, analysis::defaultLargeCoordinates).
   std::vector<int> largeRotations = {};
   // Drawn as the curve of its displacement field instead of straight lines between its position
-  // nodes (io/MechanismGeometry): planar (p, phi_p, q, phi_q) from the bending deformations (the
+  // nodes (io/pictures/MechanismGeometry): planar (p, phi_p, q, phi_q) from the bending deformations (the
   // planar beam's cubic, PlanarBeam.hpp); spatial (p, lambda_p, q, lambda_q) as the cubic through
   // the end triads R(lambda) elementFrame.
   bool drawnCurved = false;

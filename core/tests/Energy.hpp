@@ -1,8 +1,8 @@
 #pragma once
 // The total energy of a state, as the energy tests check it.
-#include "core/EquationsOfMotion.hpp"
-#include "core/Inertia.hpp"
-#include "core/Model.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::core::test {
 

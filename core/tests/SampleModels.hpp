@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/ModelBuilder.hpp"
+#include "core/model/Model.hpp"
+#include "core/model/ModelBuilder.hpp"
 
 namespace flexmb::core::samples {
 

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "core/ElementValidity.hpp"
-#include "core/ModelBuilder.hpp"
 #include "core/elements/PlanarBeam.hpp"
 #include "core/elements/PlanarHinge.hpp"
 #include "core/elements/PlanarTruss.hpp"
+#include "core/kinematics/ElementValidity.hpp"
+#include "core/model/ModelBuilder.hpp"
 
 using namespace flexmb::core;
 

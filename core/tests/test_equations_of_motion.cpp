@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <random>
 
-#include "core/EquationsOfMotion.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/tests/Energy.hpp"
 #include "core/tests/SampleModels.hpp"
 

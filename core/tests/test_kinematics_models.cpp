@@ -7,10 +7,10 @@
 #include <cmath>
 #include <string>
 
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/KinematicCheck.hpp"
-#include "core/PrescribedEquilibrium.hpp"
 #include "core/elements/EulerParameters.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "core/linearization/PrescribedEquilibrium.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;
@@ -268,7 +268,7 @@ TEST(GeometricTransferFunctions, OpenChainsArePlacedInOnePassWithoutIteration) {
   }
 }
 
-// The rotation a sweep prescribes on a spatial orientation node (core/PrescribedEquilibrium.hpp):
+// The rotation a sweep prescribes on a spatial orientation node (core/linearization/PrescribedEquilibrium.hpp):
 // exact for a rotation about the axis from any initial orientation, and its gradient on the Euler
 // parameters against central differences (also away from lambda0, where it is not 2 E(lambda)).
 TEST(PrescribedRotation, ValueIsTheAngleAboutTheAxisAndGradientMatchesDifferences) {

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/Inertia.hpp"
-#include "core/Linearization.hpp"
-#include "core/Stresses.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/dynamics/Stresses.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/Differences.hpp"
 #include "core/tests/SampleModels.hpp"
 

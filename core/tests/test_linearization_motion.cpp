@@ -11,11 +11,11 @@
 #include <optional>
 #include <string>
 
-#include "core/EquationsOfMotion.hpp"
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/Inertia.hpp"
-#include "core/Linearization.hpp"
-#include "core/Stresses.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/dynamics/Stresses.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/Differences.hpp"
 #include "core/tests/SampleModels.hpp"
 

@@ -7,9 +7,9 @@
 
 #include <vector>
 
-#include "core/Linearization.hpp"
-#include "core/ModelBuilder.hpp"
 #include "core/elements/Element.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "core/model/ModelBuilder.hpp"
 
 using namespace flexmb::core;
 

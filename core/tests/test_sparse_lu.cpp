@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/SparseLU.hpp"
+#include "core/kinematics/SparseLU.hpp"
 #include "core/tests/ShortRun.hpp"
 
 using Eigen::MatrixXd;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/GeometricTransferFunctions.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;

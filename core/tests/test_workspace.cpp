@@ -1,4 +1,4 @@
-// Evaluators sharing one Workspace (core/Workspace.hpp) compute the same bits as evaluators with a
+// Evaluators sharing one Workspace (core/dynamics/Workspace.hpp) compute the same bits as evaluators with a
 // workspace each: on every sample model, equations of motion (integrating and probing), a moving
 // linearisation, result quantities and bare kinematics are called interleaved, as a simulation
 // interleaves them (ode45's stages, output times, an implicit integrator's Jacobian, anchors and
@@ -11,10 +11,10 @@
 #include <cstring>
 #include <random>
 
-#include "core/EquationsOfMotion.hpp"
-#include "core/Linearization.hpp"
-#include "core/ResultQuantities.hpp"
-#include "core/Workspace.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/ResultQuantities.hpp"
+#include "core/dynamics/Workspace.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/SampleModels.hpp"
 
 using namespace flexmb;

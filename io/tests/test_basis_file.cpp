@@ -1,6 +1,6 @@
-// Basis files (io/BasisFile): exact round trip of V and of the record of how it was made, and the
+// Basis files (io/formats/BasisFile): exact round trip of V and of the record of how it was made, and the
 // "file:line: reason" errors on malformed input.
-#include "io/BasisFile.hpp"
+#include "io/formats/BasisFile.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

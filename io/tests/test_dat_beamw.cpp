@@ -7,9 +7,9 @@
 
 #include <string>
 
-#include "core/KinematicCheck.hpp"
-#include "io/DatReader.hpp"
-#include "io/ResultWriter.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/ResultWriter.hpp"
 
 using namespace flexmb;
 using core::Role;

@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "core/elements/PlanarBeam.hpp"
-#include "io/DatReader.hpp"
-#include "io/ExpressionFunction.hpp"
-#include "io/KeywordTable.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/ExpressionFunction.hpp"
+#include "io/formats/KeywordTable.hpp"
 
 using namespace flexmb;
 using core::Dialect;

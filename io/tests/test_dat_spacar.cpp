@@ -7,12 +7,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/KinematicCheck.hpp"
 #include "core/elements/PlanarBeam.hpp"
 #include "core/elements/PlanarTruss.hpp"
-#include "io/DatReader.hpp"
-#include "io/KeywordTable.hpp"
-#include "io/RestartWriter.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/KeywordTable.hpp"
+#include "io/formats/RestartWriter.hpp"
 
 using namespace flexmb;
 using core::Dialect;

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/KinematicCheck.hpp"
-#include "io/BasisFile.hpp"
-#include "io/DatReader.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "io/formats/BasisFile.hpp"
+#include "io/formats/DatReader.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <random>
 
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;

@@ -9,11 +9,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/DatReader.hpp"
-#include "io/HtmlAnimation.hpp"
-#include "io/MechanismGeometry.hpp"
-#include "io/MechanismSvg.hpp"
-#include "io/VtkWriter.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/pictures/HtmlAnimation.hpp"
+#include "io/pictures/MechanismGeometry.hpp"
+#include "io/pictures/MechanismSvg.hpp"
+#include "io/pictures/VtkWriter.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;

@@ -1,12 +1,12 @@
-// Model templates of design studies (io/ModelTemplate.hpp): substitution, definitions and defaults,
+// Model templates of design studies (io/templates/ModelTemplate.hpp): substitution, definitions and defaults,
 // and the error messages (file:line of the template, unknown parameter, bad expression).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "io/DatReader.hpp"
-#include "io/ModelTemplate.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/templates/ModelTemplate.hpp"
 
 using flexmb::io::ModelTemplate;
 using flexmb::io::TemplateError;

@@ -1,4 +1,4 @@
-// io/OutputFile: atomic, checked result files and run manifests.
+// io/formats/OutputFile: atomic, checked result files and run manifests.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/OutputFile.hpp"
+#include "io/formats/OutputFile.hpp"
 
 namespace fs = std::filesystem;
 using namespace flexmb::io;

@@ -1,4 +1,4 @@
-// Result writers (io/ResultWriter): CSV tables, MATLAB .mat (read back with scipy), .dat echo,
+// Result writers (io/formats/ResultWriter): CSV tables, MATLAB .mat (read back with scipy), .dat echo,
 // and their error paths. The model is built by hand (no reader, no element evaluation needed).
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,9 +16,9 @@
 
 #include <Eigen/Dense>
 
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
-#include "io/ResultWriter.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/ResultWriter.hpp"
 
 namespace fs = std::filesystem;
 using flexmb::core::ElementEntry;

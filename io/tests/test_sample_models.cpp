@@ -9,10 +9,10 @@
 #include <sstream>
 #include <string>
 
-#include "core/GeometricTransferFunctions.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
 #include "core/tests/ModelTexts.hpp"
 #include "core/tests/SampleModels.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 namespace samples = flexmb::core::samples;

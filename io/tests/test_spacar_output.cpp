@@ -8,10 +8,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/GeometricTransferFunctions.hpp"
-#include "core/ResultQuantities.hpp"
-#include "io/DatReader.hpp"
-#include "io/SpacarResults.hpp"
+#include "core/dynamics/ResultQuantities.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;

@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <limits>
 
-#include "io/DatReader.hpp"
-#include "io/SpacarResults.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;

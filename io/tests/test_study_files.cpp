@@ -1,5 +1,5 @@
-// The files of a design study: parameter tables and grid axes (io/StudyTable.hpp), variant
-// summaries, the collected table and the report (io/StudySummary.hpp).
+// The files of a design study: parameter tables and grid axes (io/templates/StudyTable.hpp), variant
+// summaries, the collected table and the report (io/templates/StudySummary.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "io/StudySummary.hpp"
-#include "io/StudyTable.hpp"
+#include "io/templates/StudySummary.hpp"
+#include "io/templates/StudyTable.hpp"
 
 using namespace flexmb::io;
 

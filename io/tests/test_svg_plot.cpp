@@ -1,4 +1,4 @@
-// SVG plot writer (io/SvgPlot): tick generation, XML validity (checked with python's xml.dom.minidom),
+// SVG plot writer (io/pictures/SvgPlot): tick generation, XML validity (checked with python's xml.dom.minidom),
 // element counts per series, line breaking at NaN / non-positive log values, clipping, escaping,
 // determinism and the error path.
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "io/SvgPlot.hpp"
+#include "io/pictures/SvgPlot.hpp"
 
 namespace fs = std::filesystem;
 using namespace flexmb::io;

@@ -16,8 +16,8 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/Transfer.hpp"
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 
 namespace flexmb::bench {
 

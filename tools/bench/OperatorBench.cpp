@@ -18,8 +18,8 @@
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "io/DatReader.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "io/formats/DatReader.hpp"
 
 namespace flexmb::bench {
 

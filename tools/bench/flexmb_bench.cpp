@@ -33,10 +33,10 @@
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/StateJacobian.hpp"
-#include "core/EquationsOfMotion.hpp"
-#include "core/GeometricTransferFunctions.hpp"
-#include "io/DatReader.hpp"
-#include "io/SvgPlot.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/pictures/SvgPlot.hpp"
 #include "solvers/Bdf.hpp"
 #include "solvers/Ode45.hpp"
 
@@ -1158,7 +1158,8 @@ int main(int argc, char** argv) {
        << acc << (failedAt.empty() ? "" : "; it stopped at " + failedAt + " (see the table)")
        << reducedComparison(slowMin, slowMax) << ".\n";
   }
-  md << "- One rhs evaluation of the full model (sparse nodal saddle-point form, core/SaddlePointAccelerations) grows "
+  md << "- One rhs evaluation of the full model (sparse nodal saddle-point form, "
+        "core/dynamics/SaddlePointAccelerations) grows "
      << "with a log-log slope of " << fmt("%.2f", slopeAll) << " in the number of elements per flexure ("
      << fmt("%.2f", slopeLast) << " over the last three sizes) and costs " << fmt("%.2f", rows.front().median * 1e6)
      << " us at " << rows.front().dof

@@ -2,8 +2,8 @@
 #include <iostream>
 
 #include "analysis/ModelCheck.hpp"
-#include "io/DatReader.hpp"
-#include "io/KeywordTable.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/KeywordTable.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;

@@ -9,9 +9,9 @@
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
 
-#include "core/Model.hpp"
-#include "io/DatReader.hpp"
-#include "io/OutputFile.hpp"
+#include "core/model/Model.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/OutputFile.hpp"
 
 namespace flexmb::cli {
 
@@ -49,7 +49,7 @@ struct ModelOptions {
 // acceptUserFunctions: a file naming USERSIG / USERINP is read (mode 0 never calls them); else it is
 // refused with a message that they run only through spacar().
 bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctions = false);
-// loadModel, then the model diagnostics (core/ModelDiagnostics) that make an analysis meaningless:
+// loadModel, then the model diagnostics (core/linearization/ModelDiagnostics) that make an analysis meaningless:
 // no degrees of freedom, no mass where the analysis needs it, overflowing values, an initial
 // assembly on another branch. Prints them; false = input error.
 // allowDriven: a driven rigid mechanism (no degrees of freedom, moving inputs) is accepted

@@ -8,9 +8,9 @@
 
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
-#include "io/DatReader.hpp"
-#include "io/KeywordTable.hpp"
-#include "io/OutputFile.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/KeywordTable.hpp"
+#include "io/formats/OutputFile.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;

@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "analysis/ModelCheck.hpp"
-#include "io/DatReader.hpp"
-#include "io/MechanismSvg.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/pictures/MechanismSvg.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 

@@ -2,8 +2,8 @@
 // analyses on every variant, run on all cores (one worker process per variant: the analyses share
 // nothing, ARPACK's state included), resumable, splittable into tasks (--task i --of n) and
 // submittable to Slurm (--slurm); `flexmb study collect` joins the summaries into a table and a
-// report. The recipe is analysis/Study.hpp; the file formats io/ModelTemplate, io/StudyTable and
-// io/StudySummary.
+// report. The recipe is analysis/Study.hpp; the file formats io/templates/ModelTemplate, io/templates/StudyTable and
+// io/templates/StudySummary.
 #include <fcntl.h>
 #include <poll.h>
 #include <sched.h>
@@ -27,13 +27,13 @@
 
 #include "analysis/SimulationFiles.hpp"
 #include "analysis/Study.hpp"
-#include "io/DatReader.hpp"
-#include "io/ModelTemplate.hpp"
-#include "io/OutputFile.hpp"
-#include "io/ResultWriter.hpp"
-#include "io/StudySummary.hpp"
-#include "io/StudyTable.hpp"
-#include "io/SvgPlot.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/OutputFile.hpp"
+#include "io/formats/ResultWriter.hpp"
+#include "io/pictures/SvgPlot.hpp"
+#include "io/templates/ModelTemplate.hpp"
+#include "io/templates/StudySummary.hpp"
+#include "io/templates/StudyTable.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 #include "tools/cli/StudySlurm.hpp"

@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-#include "io/OutputFile.hpp"
+#include "io/formats/OutputFile.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;

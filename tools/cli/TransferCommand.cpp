@@ -10,7 +10,7 @@
 
 #include "analysis/Transfer.hpp"
 #include "analysis/TransferFiles.hpp"
-#include "io/OutputFile.hpp"
+#include "io/formats/OutputFile.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 

@@ -3,12 +3,12 @@
 #include <cmath>
 #include <iostream>
 
-#include "core/EquationsOfMotion.hpp"
-#include "core/GeometricTransferFunctions.hpp"
-#include "io/HtmlAnimation.hpp"
-#include "io/MechanismSvg.hpp"
-#include "io/TextOutput.hpp"
-#include "io/VtkWriter.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "io/formats/TextOutput.hpp"
+#include "io/pictures/HtmlAnimation.hpp"
+#include "io/pictures/MechanismSvg.hpp"
+#include "io/pictures/VtkWriter.hpp"
 
 namespace flexmb::cli {
 

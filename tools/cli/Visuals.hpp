@@ -9,8 +9,8 @@
 
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::cli {
 
@@ -50,7 +50,8 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
 bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
                       const analysis::SweepResult& sweep, double t);
 
-// The 3-D page (io/HtmlAnimation.hpp) and the ParaView series (io/VtkWriter.hpp) of the other analyses:
+// The 3-D page (io/pictures/HtmlAnimation.hpp) and the ParaView series (io/pictures/VtkWriter.hpp) of the other
+// analyses:
 //   show --html: the model in its initial configuration, numbers shown;
 //   static --html: the load steps (from the initial configuration) and each mode shape of the last
 //   step; static --vtk: one .vtu per load step (time = the load factor: 0 at load step 0, a ramp

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/KeywordTable.hpp"
+#include "io/formats/KeywordTable.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
 

@@ -1,4 +1,4 @@
-// libFuzzer target: the basis-file reader (io::parseBasis, io/BasisFile.hpp), which reads files
+// libFuzzer target: the basis-file reader (io::parseBasis, io/formats/BasisFile.hpp), which reads files
 // written by `flexmb reduce` and by other programs (spreadsheets, MATLAB, Python). Expected failures
 // are exceptions derived from std::exception ("<file>:<line>: <reason>"). Beyond the sanitizers, every
 // accepted file must round-trip: when formatBasis accepts what parseBasis returned (it refuses, e.g.,
@@ -11,7 +11,7 @@
 #include <exception>
 #include <string>
 
-#include "io/BasisFile.hpp"
+#include "io/formats/BasisFile.hpp"
 
 namespace {
 

@@ -7,10 +7,10 @@
 #include <exception>
 #include <string_view>
 
-#include "core/KinematicCheck.hpp"
-#include "io/DatReader.hpp"
-#include "io/MechanismGeometry.hpp"
-#include "io/MechanismSvg.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/pictures/MechanismGeometry.hpp"
+#include "io/pictures/MechanismSvg.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

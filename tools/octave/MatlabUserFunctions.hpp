@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Model.hpp"
-#include "core/UserFunctions.hpp"
-#include "io/SpacarResults.hpp"
+#include "core/model/Model.hpp"
+#include "core/model/UserFunctions.hpp"
+#include "io/formats/SpacarResults.hpp"
 
 namespace flexmb::octave_gateway {
 

@@ -34,9 +34,9 @@
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "analysis/Transfer.hpp"
-#include "io/DatReader.hpp"
-#include "io/OutputFile.hpp"
-#include "io/SpacarResults.hpp"
+#include "io/formats/DatReader.hpp"
+#include "io/formats/OutputFile.hpp"
+#include "io/formats/SpacarResults.hpp"
 #include "tools/octave/MatlabUserFunctions.hpp"
 #include "tools/octave/OctaveInterrupt.hpp"
 

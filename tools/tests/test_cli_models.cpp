@@ -15,7 +15,7 @@
 #include "analysis/Simulation.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "core/tests/ModelTexts.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
 namespace fs = std::filesystem;

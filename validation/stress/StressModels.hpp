@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "core/Inertia.hpp"
-#include "core/Model.hpp"
-#include "core/Trajectory.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
 
 namespace flexmb::stress {
 

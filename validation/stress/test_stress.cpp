@@ -12,9 +12,9 @@
 
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
-#include "core/Inertia.hpp"
-#include "core/KinematicCheck.hpp"
-#include "io/DatReader.hpp"
+#include "core/dynamics/Inertia.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "io/formats/DatReader.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;

@@ -12,10 +12,10 @@
 
 #include "analysis/Simulation.hpp"
 #include "analysis/Statics.hpp"
-#include "core/ElementValidity.hpp"
-#include "core/KinematicCheck.hpp"
-#include "core/Linearization.hpp"
-#include "io/DatReader.hpp"
+#include "core/kinematics/ElementValidity.hpp"
+#include "core/kinematics/KinematicCheck.hpp"
+#include "core/linearization/Linearization.hpp"
+#include "io/formats/DatReader.hpp"
 #include "validation/stress/StressModels.hpp"
 
 using namespace flexmb;

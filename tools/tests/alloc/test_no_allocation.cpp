@@ -10,10 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include "core/EquationsOfMotion.hpp"
-#include "core/Workspace.hpp"
+#include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/dynamics/Workspace.hpp"
 #include "core/tests/ModelTexts.hpp"
-#include "io/DatReader.hpp"
+#include "io/formats/DatReader.hpp"
 
 extern "C" void* __libc_malloc(size_t);
 extern "C" void* __libc_calloc(size_t, size_t);

@@ -1,0 +1,74 @@
+#pragma once
+// What a time simulation produces: output times, SPACAR's quantities at each, and integrator
+// statistics. Filled by the simulate analysis, written by io's result writers.
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/dynamics/EquationsOfMotion.hpp"
+
+namespace flexmb::core {
+
+// The a-posteriori accuracy check of a simulation (analysis/AccuracyCheck.hpp): short windows of
+// the run integrated again at a tighter tolerance from the run's own states, compared at their ends.
+struct AccuracyEstimate {
+  bool checked = false;        // false: not run (not asked for, the run stopped, no window fitted)
+  int windows = 0;             // windows compared
+  double windowSeconds = 0.0;  // their total length
+  double referenceRelTol = 0.0;
+  // Largest difference at a window's end between the run and the reference: nodal positions
+  // relative to the model size (Model::lengthScale), angles and Euler parameters as they are.
+  double windowError = 0.0;
+  double estimate = 0.0;  // extrapolated to the whole run: the largest error per second x the span
+  double limit = 0.0;     // an estimate above it: the run is not converged
+  bool converged() const { return !checked || estimate <= limit; }
+  std::string note;  // why it was not run, or what limited it
+};
+
+// The reduction error of a reduced run (analysis/ReductionError.hpp): the full model's residual at
+// the reduced states, its quasi-static deflection outside the basis, relative to the motion.
+struct ReductionEstimate {
+  bool estimated = false;
+  double estimate = 0.0;  // largest position deflection / scale
+  double scale = 0.0;     // the motion (or model size) it is relative to, in m
+  std::string scaleText;  // "of the motion (0.0833 m)" or "of the model size (...)"
+  double atTime = 0.0;    // where the largest was found
+  int samples = 0;        // output times evaluated
+  double seconds = 0.0;   // its cost
+  std::string note;       // why not estimated
+};
+
+// How a reduced run's right-hand side was evaluated (analysis/ReducedOperators.hpp): by the
+// precomputed operators, and by Eq. 19 (the full kinematics) where the state left their range.
+struct OperatorUse {
+  bool used = false;     // the run had operators
+  std::string notUsed;   // why a reduced run had none (or used Eq. 19 throughout)
+  long evaluations = 0;  // right-hand sides from the operators
+  long fallbacks = 0;    // right-hand sides from Eq. 19 outside the trained range
+  double firstFallback = std::numeric_limits<double>::quiet_NaN();  // time of the first
+  std::string where;                                                // the coordinate outside the range there
+};
+
+struct Trajectory {
+  std::vector<double> time;
+  std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
+  long nsteps = 0, nfailed = 0, nfevals = 0;
+  long nrhsfailed = 0;  // ode45: failed attempts whose right-hand side failed at a trial state
+  // The integrator ("ode45", "bdf", or "ode45+bdf" for an auto run that switched) and, for bdf, its
+  // Jacobian evaluations and linear-solver set-ups.
+  std::string integrator = "ode45";
+  long njacevals = 0, nlinsetups = 0;
+  // ode45's step bound by stability (the stiffest mode) rather than accuracy: from stiffSince on,
+  // stiffBoundSteps steps at the boundary, |lambda| about stiffLambda (1/s); stiffBoundSteps = 0:
+  // never. switchedAt: the time an auto run went on with bdf (NaN: it did not).
+  double stiffSince = 0.0, stiffLambda = 0.0;
+  long stiffBoundSteps = 0;
+  double switchedAt = std::numeric_limits<double>::quiet_NaN();
+  bool completed = true;
+  std::string stopReason;  // why the run stopped early (time and reason); empty when completed
+  AccuracyEstimate accuracy;
+  ReductionEstimate reduction;  // reduced runs (a basis) that keep their states
+  OperatorUse operators;        // reduced runs
+};
+
+}  // namespace flexmb::core
