@@ -8,6 +8,7 @@
 #include "analysis/BasisForTarget.hpp"
 #include "analysis/ReducedOperators.hpp"
 #include "analysis/Reduction.hpp"
+#include "analysis/ReductionFiles.hpp"
 #include "io/formats/BasisFile.hpp"
 #include "io/formats/OperatorFile.hpp"
 #include "io/formats/OutputFile.hpp"
@@ -83,26 +84,15 @@ void describeReduction(io::OutputSet& files, const analysis::ReductionOptions& o
   }
 }
 
-// The reduced operators for the basis V, or why there are none (`note`); a failure to train them
-// is a warning: the basis is written all the same.
-std::optional<core::ReducedOperators> operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators,
-                                                   bool quiet, std::string& opsNote) {
-  std::optional<core::ReducedOperators> ops;
-  if (noOperators) {
-    opsNote = "not built (--no-operators)";
-  } else if (const std::string why = analysis::operatorsUnsupported(model); !why.empty()) {
-    opsNote = "not built: " + why;
-  } else {
-    try {
-      Progress progress("operators", !quiet);
-      ops = analysis::trainOperators(model, V);
-      progress.finish();
-      opsNote = analysis::describeOperators(*ops);
-    } catch (const std::exception& e) {
-      opsNote = std::string("not built: ") + e.what();
-      if (!quiet) std::cerr << "flexmb: warning: reduced operators " << opsNote << "; the basis is written\n";
-    }
-  }
+// The reduced operators for the basis V (analysis::operatorsBesideBasis) with a progress line; a
+// failure to train them is a warning: the basis is written all the same.
+analysis::BasisOperators operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators,
+                                      bool quiet) {
+  Progress progress("operators", !quiet && !noOperators);
+  analysis::BasisOperators ops = analysis::operatorsBesideBasis(model, V, !noOperators, "(--no-operators)");
+  progress.finish();
+  if (ops.failed && !quiet)
+    std::cerr << "flexmb: warning: reduced operators " << ops.note << "; the basis is written\n";
   return ops;
 }
 
@@ -200,16 +190,10 @@ int runReduce(const std::vector<std::string>& args) {
     return kNumericalFailure;
   }
   // The reduced operators beside the basis: their failure leaves the basis written, and says why.
-  std::string opsNote;
+  const analysis::BasisOperators ops = operatorsFor(model, r.V, noOperators, m.quiet);
   const std::string opsPath = io::operatorPathFor(out);
-  const std::optional<core::ReducedOperators> ops = operatorsFor(model, r.V, noOperators, m.quiet, opsNote);
-  files.setting("reduced operators", ops ? opsPath + ": " + opsNote : opsNote);
   try {
-    io::writeBasis(files.temporaryPath(out), r.V, {r.method, m.file, r.parameters, r.large, r.scaledSingularValues});
-    if (ops) io::writeOperators(files.temporaryPath(opsPath), *ops);
-    std::string kept;
-    for (int i : r.large) kept += (kept.empty() ? "" : ",") + std::to_string(i + 1);
-    files.setting("identity columns (--large, 1-based)", kept.empty() ? std::string("none") : kept);
+    analysis::writeReduction(files, out, m.file, r, ops);
     files.commit("complete");
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
@@ -217,10 +201,10 @@ int runReduce(const std::vector<std::string>& args) {
   }
   std::cout << "basis " << r.V.rows() << " x " << r.V.cols() << " (" << r.large.size()
             << " identity columns) written to " << out << "\n";
-  if (ops)
-    std::cout << "reduced operators written to " << opsPath << ": " << opsNote << "\n";
+  if (ops.operators)
+    std::cout << "reduced operators written to " << opsPath << ": " << ops.note << "\n";
   else
-    std::cout << "reduced operators " << opsNote << "\n";
+    std::cout << "reduced operators " << ops.note << "\n";
   std::cout << "wrote " << files.manifestPath() << "\n";
   if (r.scaledSingularValues.size()) {
     std::cout << "scaled singular values:";

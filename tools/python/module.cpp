@@ -23,6 +23,7 @@
 #include "analysis/Modes.hpp"
 #include "analysis/ReducedOperators.hpp"
 #include "analysis/Reduction.hpp"
+#include "analysis/ReductionFiles.hpp"
 #include "analysis/RunSize.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
@@ -360,8 +361,7 @@ struct TransferResultPy {
 struct ReduceResult {
   ModelPtr model;
   analysis::ReductionResult basis;
-  std::shared_ptr<const core::ReducedOperators> operators;  // null: not built (operatorsNote says why)
-  std::string operatorsNote;
+  analysis::BasisOperators operators;            // its reduced operators, or why there are none
   std::vector<analysis::TargetCandidate> tried;  // target: the candidates, smallest first
   bool full = false;                             // target: no basis smaller than the full model meets it
   std::string note;
@@ -719,7 +719,7 @@ void bindReduce(py::module_& m) {
       .def_property_readonly("large", [](const ReduceResult& r) { return r.basis.large; })
       .def_property_readonly("full", [](const ReduceResult& r) { return r.full; })
       .def_property_readonly("note", [](const ReduceResult& r) { return r.note; })
-      .def_property_readonly("operators", [](const ReduceResult& r) { return r.operatorsNote; })
+      .def_property_readonly("operators", [](const ReduceResult& r) { return r.operators.note; })
       .def_property_readonly("tried",
                              [](const ReduceResult& r) {
                                std::vector<std::pair<int, std::optional<double>>> out;
@@ -735,12 +735,7 @@ void bindReduce(py::module_& m) {
         files.checkWritable();
         files.setting("command", "reduce (Python)");
         files.setting("model", r.model->sourceFile);
-        const std::string opsPath = io::operatorPathFor(path);
-        files.setting("reduced operators", r.operators ? opsPath + ": " + r.operatorsNote : r.operatorsNote);
-        const auto& b = r.basis;
-        io::writeBasis(files.temporaryPath(path), b.V,
-                       {b.method, r.model->sourceFile, b.parameters, b.large, b.scaledSingularValues});
-        if (r.operators) io::writeOperators(files.temporaryPath(opsPath), *r.operators);
+        analysis::writeReduction(files, path, r.model->sourceFile, r.basis, r.operators);
         return files.commit("complete");
       });
   m.def("reduce", [](const ModelHandle& handle, const analysis::ReductionOptions& options, std::optional<double> target,
@@ -767,20 +762,10 @@ void bindReduce(py::module_& m) {
         py::gil_scoped_acquire gil;
         throw py::value_error(e.what());
       }
-      if (r.full) {
-        r.operatorsNote = "not built: no basis";
-      } else if (!operators) {
-        r.operatorsNote = "not built (operators=False)";
-      } else if (const std::string why = analysis::operatorsUnsupported(*model); !why.empty()) {
-        r.operatorsNote = "not built: " + why;
-      } else {
-        try {
-          r.operators = std::make_shared<const core::ReducedOperators>(analysis::trainOperators(*model, r.basis.V));
-          r.operatorsNote = analysis::describeOperators(*r.operators);
-        } catch (const std::exception& e) {
-          r.operatorsNote = std::string("not built: ") + e.what();
-        }
-      }
+      if (r.full)
+        r.operators.note = "not built: no basis";
+      else
+        r.operators = analysis::operatorsBesideBasis(*model, r.basis.V, operators, "(operators=False)");
     }
     return r;
   });
@@ -866,7 +851,6 @@ void bindSimulate(py::module_& m) {
     opt.integrator = *chosen;
     opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
     opt.basis = basisArgument(basis, *model);
-    std::string operatorNote;
     if (basisFile) {
       try {
         opt.basis = io::readBasisFor(*basisFile, model->numDofs());
@@ -883,7 +867,7 @@ void bindSimulate(py::module_& m) {
       if (!choice.refusal.empty()) throw py::value_error("basis: " + choice.refusal);
       opt.operators = choice.operators;
     } else if (reduced && !fullKinematics) {
-      opt.operators = reduced->operators;
+      opt.operators = reduced->operators.operators;
     }
     opt.accuracyCheck = accuracyCheck;
     // The file's stages that run, with the Python user functions installed in a copy of them.

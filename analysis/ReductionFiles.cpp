@@ -1,0 +1,43 @@
+#include "analysis/ReductionFiles.hpp"
+
+#include "analysis/ReducedOperators.hpp"
+#include "io/formats/BasisFile.hpp"
+#include "io/formats/OperatorFile.hpp"
+
+namespace flexmb::analysis {
+
+BasisOperators operatorsBesideBasis(const core::Model& model, const Eigen::MatrixXd& V, bool asked,
+                                    const std::string& notAsked) {
+  BasisOperators b;
+  if (!asked) {
+    b.note = "not built " + notAsked;
+  } else if (const std::string why = operatorsUnsupported(model); !why.empty()) {
+    b.note = "not built: " + why;
+  } else {
+    try {
+      b.operators = std::make_shared<const core::ReducedOperators>(trainOperators(model, V));
+      b.note = describeOperators(*b.operators);
+    } catch (const std::exception& e) {
+      b.note = std::string("not built: ") + e.what();
+      b.failed = true;
+    }
+  }
+  return b;
+}
+
+void writeReduction(io::OutputSet& files, const std::string& path, const std::string& modelFile,
+                    const ReductionResult& basis, const BasisOperators& ops) {
+  const std::string opsPath = io::operatorPathFor(path);
+  files.setting("reduced operators", ops.operators ? opsPath + ": " + ops.note : ops.note);
+  io::writeBasis(files.temporaryPath(path), basis.V,
+                 {basis.method, modelFile, basis.parameters, basis.large, basis.scaledSingularValues});
+  if (ops.operators) io::writeOperators(files.temporaryPath(opsPath), *ops.operators);
+  std::string kept;
+  for (int i : basis.large) {  // piecewise: GCC 12's -Wrestrict false positive on s += a + b
+    if (!kept.empty()) kept += ',';
+    kept += std::to_string(i + 1);
+  }
+  files.setting("identity columns (--large, 1-based)", kept.empty() ? std::string("none") : kept);
+}
+
+}  // namespace flexmb::analysis
