@@ -14,8 +14,8 @@ namespace flexmb::analysis {
 
 struct BasisOperators {
   std::shared_ptr<const core::ReducedOperators> operators;  // null: none (note says why)
-  std::string note;     // describeOperators, or "not built: why"
-  bool failed = false;  // the training failed: a warning, the basis stands
+  std::string note;                                         // describeOperators, or "not built: why"
+  bool failed = false;                                      // the training failed: a warning, the basis stands
 };
 
 // The operators for V unless not asked (notAsked: the note then, e.g. "(--no-operators)"), or the

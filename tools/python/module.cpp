@@ -106,11 +106,12 @@ class InterruptScope {
 py::object package() { return py::module_::import("flexmb"); }
 
 // ---- models ---------------------------------------------------------------------------------------
-// io::DatError as flexmb.InputError(message, file, line, reason).
+// f(), with io::DatError as flexmb.InputError(message, file, line, reason) and io::TemplateError
+// as InputError(message, line).
 template <class F>
-ModelHandle readModel(F&& read) {
+auto asInputError(F&& f) {
   try {
-    return ModelHandle{std::make_shared<const std::vector<io::AnalysisStage>>(read())};
+    return f();
   } catch (const io::DatError& e) {
     py::object exc = package().attr("InputError")(e.what());
     exc.attr("file") = e.file();
@@ -124,6 +125,11 @@ ModelHandle readModel(F&& read) {
     PyErr_SetObject(package().attr("InputError").ptr(), exc.ptr());
     throw py::error_already_set();
   }
+}
+
+template <class F>
+ModelHandle readModel(F&& read) {
+  return asInputError([&] { return ModelHandle{std::make_shared<const std::vector<io::AnalysisStage>>(read())}; });
 }
 
 py::list elementList(const core::Model& m) {
@@ -469,16 +475,13 @@ void bindModel(py::module_& m) {
     return readModel([&] { return io::readDatStagesString(text, name); });
   });
   m.def("instantiate", [](const std::string& text, const std::string& name, const io::ParameterValues& values) {
-    std::string modelText;
-    readModel([&] {
+    return asInputError([&] {
       io::ModelTemplate t(text, name);
       std::vector<std::string> names;
       for (const auto& [k, v] : values) names.push_back(k);
       t.check(names);
-      modelText = t.instantiate(values);
-      return std::vector<io::AnalysisStage>(1);
+      return t.instantiate(values);
     });
-    return modelText;
   });
 
   m.def("read_basis", [](const std::string& path, int dofs) {
