@@ -455,11 +455,10 @@ void timeOneEvaluation(const core::Model& model, const Eigen::MatrixXd& V, Reduc
 
 // The mass terms in one pass (a column of packed coefficients A_p each): Mr = sum A_p phi_p,
 // dMr/dt = sum A_p dphi_p/dt, and per term coef_p = A_p . w (w: packed 1/2 etad etad^T, so that
-// coef_p = 1/2 etad^T Mr_p etad). M: the number of reduced coordinates when fixed.
-template <int M>
-void massPass(const double* mass, const double* grad, const double* phi, const double* etad, const double* w, int terms,
-              double* Mp, double* Mdp, double* coef, int mRuntime = M) {
-  const int m = M == Eigen::Dynamic ? mRuntime : M, packed = m * (m + 1) / 2;
+// coef_p = 1/2 etad^T Mr_p etad). For more than six reduced coordinates (fewer: fusedAccelerations).
+void massPass(int m, const double* mass, const double* grad, const double* phi, const double* etad, const double* w,
+              int terms, double* Mp, double* Mdp, double* coef) {
+  const int packed = m * (m + 1) / 2;
   for (int j = 0; j < packed; ++j) Mp[j] = Mdp[j] = 0.0;
   for (int p = 0; p < terms; ++p, mass += packed, grad += m) {
     double rate = 0.0;
@@ -475,35 +474,68 @@ void massPass(const double* mass, const double* grad, const double* phi, const d
   }
 }
 
-// massPass for m reduced coordinates, in fixed-length loops for the usual sizes. (Measured: an
-// x86-64-v3 (AVX2, FMA) clone of it changed no evaluation's time; the term table and the time
-// functions of the loads cost as much.)
-void massPassFor(int m, const double* mass, const double* grad, const double* phi, const double* etad, const double* w,
-                 int terms, double* Mp, double* Mdp, double* coef) {
-  switch (m) {
-    case 1:
-      return massPass<1>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    case 2:
-      return massPass<2>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    case 3:
-      return massPass<3>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    case 4:
-      return massPass<4>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    case 5:
-      return massPass<5>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    case 6:
-      return massPass<6>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef);
-    default:
-      return massPass<Eigen::Dynamic>(mass, grad, phi, etad, w, terms, Mp, Mdp, coef, m);
-  }
-}
+// Everything one right-hand side reads from the operators, with the Chebyshev tables of this call.
+struct TermPass {
+  const int* offsets;  // per term, its M entries into the tables
+  const double *T, *dT;
+  int terms, massTerms, dampingTerms;
+  const double *mass, *damping;  // packed columns per term
+  const double* scalar;          // per term: -U_p + sum_l a_l(t) phi_lp
+};
 
-// Mr x = f by a fixed-size Cholesky; false when Mr is not positive definite.
+// Mr(zeta) zetadd = f in one pass over the terms, nothing stored per term: each term's value and
+// gradient (prefix and suffix products of its Chebyshev factors), then its share of Mr, dMr/dt,
+// Cr and of the generalised force -grad U + sum a_k grad phi_k + 1/2 grad(zetad^T Mr zetad);
+// then - dMr/dt zetad - Cr zetad and a fixed-size Cholesky. False: Mr not positive definite.
 template <int M>
-bool solveFixed(const Eigen::MatrixXd& Mr, const Eigen::VectorXd& f, Eigen::VectorXd& x) {
+bool fusedAccelerations(const TermPass& in, const double* zetad, double* zetadd) {
+  constexpr int K = M * (M + 1) / 2;
+  double w[K], Mp[K] = {}, Mdp[K] = {}, Cp[K] = {}, force[M] = {};
+  for (int a = 0, k = 0; a < M; ++a)
+    for (int b = a; b < M; ++b, ++k) w[k] = (a == b ? 0.5 : 1.0) * zetad[a] * zetad[b];
+  const int* off = in.offsets;
+  for (int p = 0; p < in.terms; ++p, off += M) {
+    double left[M + 1], g[M];
+    left[0] = 1.0;
+    for (int i = 0; i < M; ++i) left[i + 1] = left[i] * in.T[off[i]];
+    const double value = left[M];
+    double right = 1.0;
+    for (int i = M - 1; i >= 0; --i) {
+      g[i] = left[i] * in.dT[off[i]] * right;
+      right *= in.T[off[i]];
+    }
+    double c = in.scalar[p];
+    if (p < in.massTerms) {
+      const double* A = in.mass + static_cast<long>(p) * K;
+      double rate = 0.0, quadratic = 0.0;
+      for (int i = 0; i < M; ++i) rate += g[i] * zetad[i];
+      for (int j = 0; j < K; ++j) {
+        Mp[j] += A[j] * value;
+        Mdp[j] += A[j] * rate;
+        quadratic += A[j] * w[j];
+      }
+      c += quadratic;
+    }
+    if (p < in.dampingTerms) {
+      const double* D = in.damping + static_cast<long>(p) * K;
+      for (int j = 0; j < K; ++j) Cp[j] += D[j] * value;
+    }
+    for (int i = 0; i < M; ++i) force[i] += g[i] * c;
+  }
+  Eigen::Matrix<double, M, M> Mr, Mdot, Cr;
+  for (int a = 0, k = 0; a < M; ++a)
+    for (int b = a; b < M; ++b, ++k) {
+      Mr(a, b) = Mr(b, a) = Mp[k];
+      Mdot(a, b) = Mdot(b, a) = Mdp[k];
+      Cr(a, b) = Cr(b, a) = Cp[k];
+    }
+  const Eigen::Map<const Eigen::Matrix<double, M, 1>> v(zetad);
+  Eigen::Matrix<double, M, 1> f = Eigen::Map<Eigen::Matrix<double, M, 1>>(force) - Mdot * v;
+  if (in.dampingTerms) f -= Cr * v;
   const Eigen::LLT<Eigen::Matrix<double, M, M>> llt(Mr);
   if (llt.info() != Eigen::Success) return false;
-  x = llt.solve(Eigen::Matrix<double, M, 1>(f));
+  Eigen::Map<Eigen::Matrix<double, M, 1>> out(zetadd);
+  out = llt.solve(f);
   return true;
 }
 
@@ -770,13 +802,13 @@ OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperat
   const int P = ops.terms();
   phi_.setZero(P);
   coef_.setZero(P);
+  scalar_.setZero(P);
   grad_.setZero(m_, P);
   weights_.resize(nPacked_);
   Mpacked_.resize(nPacked_);
   packed_.resize(nPacked_);
   force_.resize(m_);
   etadd_.resize(m_);
-  a_.resize(static_cast<int>(ops.loads.size()));
   M_.resize(m_, m_);
   Md_.resize(m_, m_);
   MD_.resize(nPacked_, 2);
@@ -797,7 +829,58 @@ void OperatorDynamics::unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, E
     for (int b = a; b < m_; ++b) S(a, b) = S(b, a) = packed[k++];
 }
 
+template <int M>
+bool OperatorDynamics::rhsFixed(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
+  using Vector = Eigen::Matrix<double, M, 1>;
+  const Eigen::Map<const Eigen::Matrix<double, M, M>> R(ops_.rotation.data());
+  const Vector zeta = R.transpose() * (y.template head<M>() - Eigen::Map<const Vector>(ops_.centre.data()));
+  const Vector zetad = R.transpose() * y.template segment<M>(M);
+  lastOutside_ = basis_.outside(zeta);
+  if (lastOutside_ >= 0) {
+    lastEta_ = zeta;
+    return false;
+  }
+  basis_.tables(zeta, scratch_);
+  loadScalars(t);
+  const TermPass in{
+      basis_.termOffsets(), scratch_.T.data(),   scratch_.dT.data(), static_cast<int>(scalar_.size()), nM_, nC_,
+      ops_.mass.data(),     ops_.damping.data(), scalar_.data()};
+  Vector zetadd;
+  if (!fusedAccelerations<M>(in, zetad.data(), zetadd.data())) {
+    lastEta_ = zeta;
+    lastOutside_ = m_;  // not positive definite: treated as outside the range
+    return false;
+  }
+  dydt.resize(2 * M);
+  dydt.template head<M>() = y.template segment<M>(M);
+  dydt.template segment<M>(M).noalias() = R * zetadd;
+  return true;
+}
+
+void OperatorDynamics::loadScalars(double t) {
+  scalar_.setZero();
+  scalar_.head(nU_) = -ops_.potential;
+  for (size_t l = 0; l < loadFunctions_.size(); ++l)
+    scalar_.head(nL_).noalias() += loadFunctions_[l]->value(t) * ops_.loadFields.col(static_cast<Eigen::Index>(l));
+}
+
 bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt) {
+  switch (m_) {  // one fused pass in fixed-size loops for the usual reduced sizes
+    case 1:
+      return rhsFixed<1>(t, y, dydt);
+    case 2:
+      return rhsFixed<2>(t, y, dydt);
+    case 3:
+      return rhsFixed<3>(t, y, dydt);
+    case 4:
+      return rhsFixed<4>(t, y, dydt);
+    case 5:
+      return rhsFixed<5>(t, y, dydt);
+    case 6:
+      return rhsFixed<6>(t, y, dydt);
+    default:
+      break;
+  }
   // The operators' own coordinates zeta = R^T (eta - c) (the pilot's principal directions).
   shifted_ = y.head(m_) - ops_.centre;
   zeta_.noalias() = ops_.rotation.transpose() * shifted_;
@@ -817,15 +900,14 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
     for (int b = a; b < m_; ++b) weights_[k++] = (a == b ? 0.5 : 1.0) * etad[a] * etad[b];
   double* Mp = MD_.col(0).data();
   double* Mdp = MD_.col(1).data();
-  massPassFor(m_, ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp,
-              coef_.data());
+  massPass(m_, ops_.mass.data(), grad_.data(), phi_.data(), etad.data(), weights_.data(), nM_, Mp, Mdp, coef_.data());
   std::fill(coef_.data() + nM_, coef_.data() + coef_.size(), 0.0);
   unpack(MD_.col(0), M_);
   unpack(MD_.col(1), Md_);
   // Generalised force: -grad U + sum_k a_k(t) grad phi_k + 1/2 grad(etad^T Mr etad) in one pass
   // over the gradient table; then the rest of the velocity terms, - dMr/dt etad.
-  coef_.head(nU_) -= ops_.potential;
-  for (int l = 0; l < a_.size(); ++l) coef_.head(nL_).noalias() += loadFunctions_[l]->value(t) * ops_.loadFields.col(l);
+  loadScalars(t);
+  coef_ += scalar_;
   force_.setZero();
   const int P = static_cast<int>(coef_.size());
   for (int p = 0; p < P; ++p) {
@@ -839,34 +921,11 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
     unpack(packed_, C_);
     force_.noalias() -= C_ * etad;
   }
-  bool definite = false;
-  switch (m_) {  // fixed-size Cholesky for the usual reduced sizes
-    case 1:
-      definite = M_(0, 0) > 0.0;
-      etadd_[0] = force_[0] / M_(0, 0);
-      break;
-    case 2:
-      definite = solveFixed<2>(M_, force_, etadd_);
-      break;
-    case 3:
-      definite = solveFixed<3>(M_, force_, etadd_);
-      break;
-    case 4:
-      definite = solveFixed<4>(M_, force_, etadd_);
-      break;
-    case 5:
-      definite = solveFixed<5>(M_, force_, etadd_);
-      break;
-    case 6:
-      definite = solveFixed<6>(M_, force_, etadd_);
-      break;
-    default:
-      llt_.compute(M_);
-      definite = llt_.info() == Eigen::Success;
-      if (definite) {
-        etadd_ = force_;
-        llt_.solveInPlace(etadd_);
-      }
+  llt_.compute(M_);
+  const bool definite = llt_.info() == Eigen::Success;
+  if (definite) {
+    etadd_ = force_;
+    llt_.solveInPlace(etadd_);
   }
   if (!definite) {
     lastEta_ = eta;

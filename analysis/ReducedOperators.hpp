@@ -110,6 +110,9 @@ class OperatorDynamics {
 
  private:
   void evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, bool gradient);
+  template <int M>
+  bool rhsFixed(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt);
+  void loadScalars(double t);  // scalar_: -U_p + sum_l a_l(t) phi_lp per term
   void unpack(const Eigen::Ref<const Eigen::VectorXd>& packed, Eigen::MatrixXd& S) const;
 
   const ReducedOperators& ops_;
@@ -120,7 +123,7 @@ class OperatorDynamics {
   std::vector<double> loadSigns_;
   solvers::ChebyshevBasis::Scratch scratch_;
   int nU_, nM_, nC_, nL_;  // terms of each field
-  Eigen::VectorXd phi_, coef_, weights_, packed_, Mpacked_, force_, etadd_, a_;
+  Eigen::VectorXd phi_, coef_, scalar_, weights_, packed_, Mpacked_, force_, etadd_;
   Eigen::MatrixXd grad_, M_, Md_, C_, MD_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd lastEta_, zeta_, zetad_, shifted_;

@@ -77,6 +77,8 @@ ChebyshevBasis::ChebyshevBasis(Eigen::VectorXd lo, Eigen::VectorXd hi, Eigen::Ma
 void ChebyshevBasis::setOffsets() {
   const int m = variables();
   maxDegree_ = exponents_.size() ? exponents_.maxCoeff() : 0;
+  degreeOf_.assign(static_cast<size_t>(m), 0);
+  for (int i = 0; i < m; ++i) degreeOf_[static_cast<size_t>(i)] = exponents_.col(i).maxCoeff();
   offsets_.assign(exponents_.size(), 0);
   for (int p = 0; p < size(); ++p)
     for (int i = 0; i < m; ++i) offsets_[p * m + i] = exponents_(p, i) + i * (maxDegree_ + 1);
@@ -90,9 +92,8 @@ int ChebyshevBasis::outside(const Eigen::Ref<const Eigen::VectorXd>& eta, double
   return -1;
 }
 
-void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
-                              Eigen::MatrixXd* gradT, int count) const {
-  const int m = variables(), P = count < 0 ? size() : std::min(count, size()), n = maxDegree_ + 1;
+void ChebyshevBasis::tables(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s) const {
+  const int m = variables(), n = maxDegree_ + 1;
   if (s.T.rows() != n || s.T.cols() != m) {
     s.T.resize(n, m);  // column i: T_0..T_p of variable i (contiguous)
     s.dT.resize(n, m);
@@ -104,17 +105,24 @@ void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scra
     const double xi = (2.0 * eta[i] - lo_[i] - hi_[i]) / (hi_[i] - lo_[i]);
     double* T = &s.T(0, i);
     double* dT = &s.dT(0, i);
+    const int used = degreeOf_[static_cast<size_t>(i)] + 1;  // no term reads beyond its own highest degree
     T[0] = 1.0;
     dT[0] = 0.0;
-    if (n > 1) {
+    if (used > 1) {
       T[1] = xi;
       dT[1] = scale;
     }
-    for (int k = 1; k + 1 < n; ++k) {
+    for (int k = 1; k + 1 < used; ++k) {
       T[k + 1] = 2.0 * xi * T[k] - T[k - 1];
       dT[k + 1] = 2.0 * scale * T[k] + 2.0 * xi * dT[k] - dT[k - 1];
     }
   }
+}
+
+void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
+                              Eigen::MatrixXd* gradT, int count) const {
+  const int m = variables(), P = count < 0 ? size() : std::min(count, size());
+  tables(eta, s);
   double* grad = gradT ? gradT->data() : nullptr;
   switch (m) {  // fixed-size loops for the usual reduced sizes
     case 1:

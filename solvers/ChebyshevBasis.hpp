@@ -39,6 +39,10 @@ class ChebyshevBasis {
   // gradients as columns: gradT(j, p) = d phi_p / d eta_j (m x size()).
   void evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
                 Eigen::MatrixXd* gradT, int count = -1) const;
+  // The tables alone (s.T, s.dT at eta), for a caller that walks the terms itself: term p's factor
+  // of variable i is s.T.data()[termOffsets()[p * m + i]] (its derivative: s.dT at the same entry).
+  void tables(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s) const;
+  const int* termOffsets() const { return offsets_.data(); }
 
   // A sample point from u in [0, 1)^m under the arcsine density on the box.
   Eigen::VectorXd arcsinePoint(const Eigen::Ref<const Eigen::VectorXd>& u) const;
@@ -50,6 +54,7 @@ class ChebyshevBasis {
   Eigen::MatrixXi exponents_;
   std::vector<int> offsets_;  // per term, k_i + i (p_max + 1): its entries in the tables (column i: variable i)
   int maxDegree_ = 0;
+  std::vector<int> degreeOf_;  // per variable, its highest exponent in the set
 };
 
 // The i-th point (i >= 1) of the Halton sequence in m dimensions (bases: the first m primes).

@@ -119,18 +119,22 @@ TEST(ReducedOperators, MatchEquation19AtStatesOutsideTheTrainingSet) {
   EXPECT_LT(worst, 10 * ops.tolerance);
 }
 
-TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) {
-  Guidance& g = guidance();
-  analysis::OperatorDynamics od(g.model, g.ops);
-  const int m = g.ops.size();
+namespace {
+
+// The right-hand side against the fitted energies it derives from (massMatrix and potential, which
+// evaluate the fields term by term and not through the right-hand side's fused pass): at rest with
+// the time loads off (t_off), M etadd = -grad U by central differences of U; in motion, Lagrange's
+// equations of T = 1/2 etad^T M etad by differences of M.
+void expectLagrangeConsistent(const core::Model& model, const analysis::ReducedOperators& ops, double tOff) {
+  analysis::OperatorDynamics od(model, ops);
+  const int m = ops.size();
   // Directions and sizes in eta of the operators' box (its frame is the pilot's principal axes).
-  const Eigen::VectorXd mid = g.ops.centre + g.ops.rotation * (0.5 * (g.ops.lower + g.ops.upper));
-  const Eigen::VectorXd w = (g.ops.rotation * (g.ops.upper - g.ops.lower).asDiagonal()).cwiseAbs().rowwise().maxCoeff();
+  const Eigen::VectorXd mid = ops.centre + ops.rotation * (0.5 * (ops.lower + ops.upper));
+  const Eigen::VectorXd w = (ops.rotation * (ops.upper - ops.lower).asDiagonal()).cwiseAbs().rowwise().maxCoeff();
   Eigen::VectorXd y(2 * m), dy(2 * m);
   y.head(m) = mid + 0.21 * w;
   y.tail(m).setZero();
-  // At rest and with the loads off (t after the pulse): M etadd = -grad U.
-  ASSERT_TRUE(od.rhs(0.15, y, dy));
+  ASSERT_TRUE(od.rhs(tOff, y, dy));
   Eigen::MatrixXd M;
   od.massMatrix(y.head(m), M);
   const Eigen::VectorXd force = M * dy.tail(m);
@@ -140,12 +144,11 @@ TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) 
     a[j] += h;
     b[j] -= h;
     const double fd = -(od.potential(a) - od.potential(b)) / (2 * h);
-    EXPECT_NEAR(force[j], fd, 1e-6 * force.norm()) << j;
+    EXPECT_NEAR(force[j], fd, 1e-6 * force.norm()) << "m = " << m << ", coordinate " << j;
   }
-  // Velocity terms: Lagrange's equations of T = 1/2 etad^T M etad, by differences of M along the
-  // motion: M etadd + dM/dt etad - 1/2 d/deta (etad^T M etad) = -grad U.
+  // M etadd + dM/dt etad - 1/2 d/deta (etad^T M etad) = -grad U.
   y.tail(m) = 30.0 * w.cwiseProduct(Eigen::VectorXd::LinSpaced(m, 1.0, -0.5));
-  ASSERT_TRUE(od.rhs(0.15, y, dy));
+  ASSERT_TRUE(od.rhs(tOff, y, dy));
   const Eigen::VectorXd etad = y.tail(m);
   const double h = 1e-6;
   Eigen::MatrixXd Mp, Mm;
@@ -165,7 +168,37 @@ TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) 
   od.massMatrix(y.head(m), M);
   const Eigen::VectorXd lhs = M * dy.tail(m) + Mdot_etad - dT;
   EXPECT_LT((lhs - force).norm(), 1e-5 * (force.norm() + Mdot_etad.norm()))
-      << lhs.transpose() << " | " << force.transpose();
+      << "m = " << m << ": " << lhs.transpose() << " | " << force.transpose();
+}
+
+// Operators with made-up fields (total degree 2 in m coordinates, a rotated frame, a mass matrix
+// kept positive definite by its constant term): the right-hand side's code for any m, whatever
+// training would give.
+analysis::ReducedOperators madeUpOperators(int m) {
+  const solvers::ChebyshevBasis basis(Eigen::VectorXd::Constant(m, -1.0), Eigen::VectorXd::Constant(m, 2.0),
+                                      std::vector<int>(static_cast<size_t>(m), 2));
+  analysis::ReducedOperators ops;
+  ops.lower = basis.lower();
+  ops.upper = basis.upper();
+  ops.exponents = basis.exponents();
+  ops.centre = Eigen::VectorXd::LinSpaced(m, 0.1, 0.3);
+  ops.rotation = Eigen::MatrixXd::Random(m, m).householderQr().householderQ();
+  const int P = basis.size(), packed = m * (m + 1) / 2;
+  ops.potential = Eigen::VectorXd::Random(P);
+  ops.mass = 0.05 * Eigen::MatrixXd::Random(packed, P - 1);  // one term fewer: a shorter field
+  for (int a = 0, k = 0; a < m; ++a)
+    for (int b = a; b < m; ++b, ++k) ops.mass(k, 0) = a == b ? 2.0 : 0.0;
+  ops.dofs = m;
+  return ops;
+}
+
+}  // namespace
+
+TEST(ReducedOperators, ForcesAndVelocityTermsAreDerivativesOfTheFittedEnergies) {
+  Guidance& g = guidance();
+  expectLagrangeConsistent(g.model, g.ops, 0.15);  // t = 0.15 s: after the load pulse
+  // Made-up fields through the fixed-size passes (m = 1, 2, 6) and the general one (m = 7).
+  for (int m : {1, 2, 6, 7}) expectLagrangeConsistent(g.model, madeUpOperators(m), 0.15);
 }
 
 TEST(ReducedOperators, ConserveEnergyOfAnUnforcedUndampedRun) {
