@@ -534,9 +534,39 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   return o;
 }
 
+View panelView(const MechanismGeometry& g, const ShapePanel& panel, View requested) {
+  if (requested != View::Auto || !g.spatial()) return resolveView(requested, g);
+  const ShapeLayer* reference = nullptr;
+  for (const ShapeLayer& l : panel.layers)
+    if (l.reference && l.x.size() == g.model().nx) {
+      reference = &l;
+      break;
+    }
+  double extent[3] = {0.0, 0.0, 0.0};
+  for (const ShapeLayer& l : panel.layers) {
+    if (!reference || l.reference || l.x.size() != g.model().nx) continue;
+    for (int node = 0; node < static_cast<int>(g.model().nodes.size()); ++node) {
+      if (!g.isPositionNode(node)) continue;
+      const Point3 a = g.nodePoint(node, l.x), b = g.nodePoint(node, reference->x);
+      extent[0] = std::max(extent[0], std::abs(a.x - b.x));
+      extent[1] = std::max(extent[1], std::abs(a.y - b.y));
+      extent[2] = std::max(extent[2], std::abs(a.z - b.z));
+    }
+  }
+  const double largest = std::max({extent[0], extent[1], extent[2]});
+  if (!(largest > 0.0)) return View::Isometric;
+  const double flat = 0.02 * largest;
+  if (extent[2] <= flat) return View::XY;
+  if (extent[1] <= flat) return View::XZ;
+  if (extent[0] <= flat) return View::YZ;
+  return View::Isometric;
+}
+
 std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) {
-  const View view = resolveView(fig.view, g);
   const int n = static_cast<int>(fig.panels.size());
+  std::vector<View> views(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+    views[static_cast<size_t>(i)] = panelView(g, fig.panels[static_cast<size_t>(i)], fig.view);
   const int cols = std::max(1, fig.columns > 0 ? fig.columns : std::min(3, n));
   const int rowsN = std::max(1, (n + cols - 1) / cols);
   const double pw = std::max(160, fig.panelWidth), ph = std::max(120, fig.panelHeight);
@@ -551,6 +581,7 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
   std::vector<Point2> all;
   for (int i = 0; i < n; ++i) {
     size_t colourIndex = 0;
+    const View view = views[static_cast<size_t>(i)];
     for (const ShapeLayer& l : fig.panels[i].layers) {
       if (l.x.size() != g.model().nx) continue;
       pts[i].push_back(projected(g, l.x, view));
@@ -574,6 +605,7 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
               "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
   for (int i = 0; i < n; ++i) {
     const ShapePanel& panel = fig.panels[i];
+    const View view = views[static_cast<size_t>(i)];
     Frame f = unit;
     const double panelTop = top + (i / cols) * ph;
     f.left = (i % cols) * pw, f.top = panelTop + 24;
@@ -599,6 +631,17 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
              (l.reference ? " stroke-dasharray=\"4 3\"" : "") + "/>\n";
         o += text(f.left + 36, legendY + 4, l.label, "font-size=\"10\"");
         legendY += 12;
+      }
+    }
+    // The reference's centre lines once more over the solid shapes, so that a shape never hides the
+    // configuration it is measured from (a leaf bent out of plane covers its own rest position).
+    if (spatial) {
+      k = 0;
+      for (const ShapeLayer& l : panel.layers) {
+        if (l.x.size() != g.model().nx) continue;
+        if (l.reference && panel.layers.size() > 1)
+          o += "<g class=\"reference-over\">\n" + drawPrimitives(prims[i][k], view, f, 1.2, true) + "</g>\n";
+        ++k;
       }
     }
     o += "</g>\n";

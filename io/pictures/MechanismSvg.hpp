@@ -7,7 +7,8 @@
 //     they are attached to, and a table listing every node and element with the role of each
 //     coordinate and deformation.
 //   * renderShapesSvg: panels of configurations over each other (a reference in dashed grey, then
-//     deformed configurations or mode shapes in colour), all panels at one scale.
+//     deformed configurations or mode shapes in colour), all panels at one scale, each in its own
+//     projection (panelView) with its axes drawn.
 // Equal scales on both axes; y (or z) up. Output is deterministic and self-contained.
 #include <string>
 #include <vector>
@@ -56,6 +57,12 @@ std::string elementRole(const core::Model& model, int element);
 const char* deformationRoleWord(core::Role r);
 // A nodal coordinate's role: fixed, input, DOF (DYNX), free (calculable).
 const char* coordinateRoleWord(core::Role r);
+
+// The projection of one panel of a shape figure: the figure's view when one is set; with Auto, for a
+// spatial model, the plane the panel moves in (its shapes against its reference layer: xy when no
+// position node moves along z by more than 2 % of the largest displacement, likewise xz and yz),
+// else iso; xy for planar models. So the cross-spring pivot's rotation mode is drawn face-on.
+View panelView(const MechanismGeometry& geometry, const ShapePanel& panel, View requested);
 
 std::string renderModelSvg(const MechanismGeometry& geometry, const ModelDrawing& drawing);
 std::string renderShapesSvg(const MechanismGeometry& geometry, const ShapeFigure& figure);

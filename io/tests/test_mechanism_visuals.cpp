@@ -199,6 +199,55 @@ TEST(MechanismSvg, ShapeFigureHasOnePanelPerEntryAndOneScale) {
   EXPECT_NE(svg.find("stroke-dasharray"), std::string::npos);
 }
 
+// Every spatial position node of the cross-spring pivot moved by f(x, y, z) -> displacement.
+template <class Move>
+Eigen::VectorXd movedPivot(const core::Model& m, Move move) {
+  Eigen::VectorXd x = m.x0;
+  for (const core::Node& n : m.nodes) {
+    if (n.kind != core::NodeKind::SpatialPosition) continue;
+    const Eigen::Vector3d p = m.x0.segment<3>(n.firstCoord);
+    x.segment<3>(n.firstCoord) += move(p);
+  }
+  return x;
+}
+
+TEST(MechanismSvg, EachPanelIsDrawnInThePlaneItMovesIn) {
+  const core::Model m = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot.dat");
+  const io::MechanismGeometry g(m);
+  ASSERT_TRUE(g.spatial());
+  auto panel = [&](const Eigen::VectorXd& x) { return io::ShapePanel{"", {{m.x0, "", "", true}, {x, "", "", false}}}; };
+  // The pivot's working motion, a rotation about z (small: the z coordinates do not change): xy.
+  const Eigen::VectorXd turned =
+      movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(-0.05 * p.y(), 0.05 * p.x(), 0.0); });
+  EXPECT_EQ(io::panelView(g, panel(turned), io::View::Auto), io::View::XY);
+  // (The pivot's nodes lie in z = 0.) Motion along z growing with x: seen in xz; along y and z: yz;
+  // in every direction: iso.
+  EXPECT_EQ(
+      io::panelView(g, panel(movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, 0, p.x()); })),
+                    io::View::Auto),
+      io::View::XZ);
+  EXPECT_EQ(
+      io::panelView(g, panel(movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, p.x(), p.y()); })),
+                    io::View::Auto),
+      io::View::YZ);
+  const Eigen::VectorXd twisted =
+      movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.y(), p.x(), p.x() + p.y()); });
+  EXPECT_EQ(io::panelView(g, panel(twisted), io::View::Auto), io::View::Isometric);
+  // A panel without motion, and a view the user set, are not guessed.
+  EXPECT_EQ(io::panelView(g, io::ShapePanel{"", {{m.x0, "", "", true}}}, io::View::Auto), io::View::Isometric);
+  EXPECT_EQ(io::panelView(g, panel(twisted), io::View::XZ), io::View::XZ);
+  // In the figure: the rotation's panel carries the xy axes (no z arrow drawn in its plane) and the
+  // reference is drawn again over the solid shapes.
+  io::ShapeFigure f;
+  f.panels.push_back(panel(turned));
+  f.panels.push_back(panel(twisted));
+  const std::string svg = io::renderShapesSvg(g, f);
+  EXPECT_NE(svg.find("class=\"reference-over\""), std::string::npos);
+  io::ShapeFigure fixed = f;
+  fixed.view = io::View::Isometric;
+  EXPECT_NE(io::renderShapesSvg(g, fixed), svg);  // auto drew the first panel in another projection
+}
+
 TEST(VtkWriter, SeriesHasOneWellFormedVtuPerOutputTime) {
   const core::Model m = twoLink();
   core::Trajectory traj = risingNode(m, 5, 3, 0.1, true);  // node 5 moves up

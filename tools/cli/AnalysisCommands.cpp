@@ -30,6 +30,11 @@ namespace po = boost::program_options;
 namespace flexmb::cli {
 
 namespace {
+
+// What --view auto means for the shape figures (io::panelView).
+constexpr const char* kShapeViewAuto =
+    "each panel of a spatial model in the plane of its own motion where it moves in one, else iso; xy for planar "
+    "models";
 void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   o << "  mode   f [Hz]          omega [rad/s]\n";
   for (Eigen::Index i = 0; i < omega.size(); ++i) {
@@ -70,9 +75,11 @@ int runModes(const std::vector<std::string>& args) {
       "also write a 3-D page that plays each mode shape (default <model>_modes.html)")(
       "vtk", po::value(&vtk)->implicit_value("<model>_modes"),
       "also write the mode shapes as a ParaView series <prefix>.pvd (default <model>_modes)");
+  std::string viewName;
+  addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg] "
-                             "[--html [file.html]] [--vtk [prefix]]"))
+                             "[--view xy|xz|yz|iso] [--html [file.html]] [--vtk [prefix]]"))
     return *rc;
   const std::string stem = std::filesystem::path(m.file).stem().string();
   if (html == "<model>_modes.html") html = stem + "_modes.html";
@@ -124,7 +131,7 @@ int runModes(const std::vector<std::string>& args) {
   bool complete = true;
   if (!svg.empty())
     complete &= tryProduct(files, "the figure " + svg, [&] {
-      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set});
+      writeShapeFigure(svg, model, "Mode shapes of " + m.file, {}, {set}, viewNamed(viewName));
       std::cout << "wrote " << svg << "\n";
       files.record(svg);
     });
@@ -206,12 +213,13 @@ void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int 
 
 // The pictures of a static run asked for (--svg, --html, --vtk), each on its own (tryProduct): false
 // when one failed.
-bool writeStaticPictures(io::OutputSet& files, const std::string& svg, const std::string& html, const std::string& vtk,
-                         const core::Model& model, const std::string& modelFile, const analysis::StaticRun& run) {
+bool writeStaticPictures(io::OutputSet& files, const std::string& svg, io::View view, const std::string& html,
+                         const std::string& vtk, const core::Model& model, const std::string& modelFile,
+                         const analysis::StaticRun& run) {
   bool complete = true;
   if (!svg.empty())
     complete &= tryProduct(files, "the figure " + svg, [&] {
-      if (!writeStaticFigure(svg, model, modelFile, run)) throw ProductFailed("see above");
+      if (!writeStaticFigure(svg, model, modelFile, run, view)) throw ProductFailed("see above");
       files.record(svg);
     });
   if (!html.empty())
@@ -253,10 +261,12 @@ int runStatic(const std::vector<std::string>& args) {
       "also write a 3-D page that plays the load steps and the last one's mode shapes (default: beside the CSV)")(
       "vtk", po::value(&vtk)->implicit_value("<prefix>"),
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
-  if (auto rc =
-          parseCommand(args, d, m,
-                       "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--format "
-                       "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--html [file.html]] [--vtk [prefix]]"))
+  std::string viewName;
+  addViewOption(d, viewName, kShapeViewAuto);
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--format "
+                             "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--view xy|xz|yz|iso] [--html "
+                             "[file.html]] [--vtk [prefix]]"))
     return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
@@ -345,7 +355,7 @@ int runStatic(const std::vector<std::string>& args) {
     complete = false;
   }
   sayRemovedStale(files.removedStale());
-  complete &= writeStaticPictures(files, svg, html, vtk, model, m.file, run);
+  complete &= writeStaticPictures(files, svg, viewNamed(viewName), html, vtk, model, m.file, run);
   try {
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";
@@ -381,8 +391,11 @@ int runSweep(const std::vector<std::string>& args) {
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG")(
       "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file");
+  std::string viewName;
+  addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N]"))
+                             "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N] "
+                             "[--svg file.svg] [--view xy|xz|yz|iso]"))
     return *rc;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
@@ -463,7 +476,7 @@ int runSweep(const std::vector<std::string>& args) {
   bool complete = true;  // the picture on its own: a failure leaves the CSV and the manifest
   if (!svg.empty())
     complete = tryProduct(files, "the figure " + svg, [&] {
-      if (!writeSweepFigure(svg, model, m.file, r, o.t)) throw ProductFailed("see above");
+      if (!writeSweepFigure(svg, model, m.file, r, o.t, viewNamed(viewName))) throw ProductFailed("see above");
       files.record(svg);
     });
   try {

@@ -12,6 +12,7 @@
 #include "core/model/Model.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/OutputFile.hpp"
+#include "io/pictures/MechanismGeometry.hpp"
 
 namespace flexmb::cli {
 
@@ -71,6 +72,11 @@ std::optional<int> parseCommand(const std::vector<std::string>& args, boost::pro
 std::function<void(const double&)> positive(const char* option);  // finite and > 0
 std::function<void(const double&)> finite(const char* option);
 std::function<void(const int&)> atLeast(const char* option, int minimum);
+
+// --view of the picture commands (show, modes, static, sweep): auto, xy, xz, yz or iso, anything else
+// a usage error; viewNamed reads the checked value (empty: auto).
+void addViewOption(boost::program_options::options_description& d, std::string& viewName, const char* autoMeaning);
+io::View viewNamed(const std::string& name);
 
 // Ctrl-C and SIGTERM: the first signal sets the flag (an analysis stops at its next check and writes
 // what it has; analysis::interruptCause names the signal); a second one ends the program at once.

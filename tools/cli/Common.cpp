@@ -89,6 +89,22 @@ std::function<void(const int&)> atLeast(const char* option, int minimum) {
   };
 }
 
+io::View viewNamed(const std::string& name) {
+  if (name == "xy") return io::View::XY;
+  if (name == "xz") return io::View::XZ;
+  if (name == "yz") return io::View::YZ;
+  if (name == "iso") return io::View::Isometric;
+  return io::View::Auto;
+}
+
+void addViewOption(po::options_description& d, std::string& viewName, const char* autoMeaning) {
+  d.add_options()("view", po::value(&viewName)->notifier([](const std::string& v) {
+    if (v != "auto" && v != "xy" && v != "xz" && v != "yz" && v != "iso")
+      throw po::error("--view must be auto, xy, xz, yz or iso, not '" + v + "'");
+  }),
+                  (std::string("projection: auto (default: ") + autoMeaning + "), xy, xz, yz or iso").c_str());
+}
+
 po::options_description commonModelOptions(ModelOptions& m) {
   po::options_description d("options");
   d.add_options()("dialect", po::value(&m.dialect), "force the dialect: 95 or 2013")(

@@ -15,22 +15,6 @@ namespace po = boost::program_options;
 namespace flexmb::cli {
 
 namespace {
-bool parseView(const std::string& s, io::View& v) {
-  if (s.empty() || s == "auto")
-    v = io::View::Auto;
-  else if (s == "xy")
-    v = io::View::XY;
-  else if (s == "xz")
-    v = io::View::XZ;
-  else if (s == "yz")
-    v = io::View::YZ;
-  else if (s == "iso")
-    v = io::View::Isometric;
-  else
-    return false;
-  return true;
-}
-
 std::string joined(const std::vector<std::string>& v, size_t shown) {
   std::string s;
   for (size_t i = 0; i < std::min(shown, v.size()); ++i) s += (i ? ", " : "") + v[i];
@@ -44,18 +28,14 @@ int runShow(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   std::string out, viewName, html;
   d.add_options()("out,o", po::value(&out), "SVG file to write (default: <model>_model.svg in the current folder)")(
-      "view", po::value(&viewName),
-      "projection: auto (default: xy for planar, iso for spatial models), xy, xz, yz or iso")(
       "html", po::value(&html)->implicit_value("<model>_model.html"),
       "also write the model as a 3-D page to rotate and zoom in a browser (default <model>_model.html)");
+  addViewOption(d, viewName, "xy for planar, iso for spatial models");
   if (auto rc = parseCommand(
           args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso] [--html [page.html]]"))
     return *rc;
   io::ModelDrawing drawing;
-  if (!parseView(viewName, drawing.view)) {
-    std::cerr << "flexmb: --view must be auto, xy, xz, yz or iso, not '" << viewName << "'\n";
-    return kUsageError;
-  }
+  drawing.view = viewNamed(viewName);
   core::Model model;
   if (!loadModel(m, model)) return kInputError;
   if (out.empty()) out = std::filesystem::path(m.file).stem().string() + "_model.svg";

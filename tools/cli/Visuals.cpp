@@ -188,9 +188,11 @@ bool writeModesVtk(const std::string& prefix, const core::Model& model, const Mo
 }
 
 void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
-                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets) {
+                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets,
+                      io::View view) {
   io::ShapeFigure fig;
   fig.title = title;
+  fig.view = view;
   io::ShapePanel configs;
   configs.title = configurations.empty()       ? "initial configuration"
                   : configurations.size() == 1 ? configurations[0].label
@@ -227,11 +229,15 @@ void writeShapeFigure(const std::string& path, const core::Model& model, const s
       "mode shapes x + s F_q v drawn with the largest nodal displacement at 12% of the model size "
       "(rotations at most 0.3 rad); dashed grey: the configuration they belong to");
   const io::MechanismGeometry geometry(model);
+  if (geometry.spatial() && view == io::View::Auto)
+    fig.notes.push_back(
+        "each panel in the plane it moves in where it has one, else iso (axes at its lower right; --view sets one "
+        "for all)");
   io::writeShapesSvg(path, geometry, fig);
 }
 
 bool writeStaticFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
-                       const analysis::StaticRun& run) {
+                       const analysis::StaticRun& run, io::View view) {
   try {
     std::vector<NamedConfiguration> configs;
     for (const auto& st : run.steps) configs.push_back({loadLabel(st), st.x});
@@ -242,7 +248,7 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
       sets.push_back(
           {loadLabel(st), st.eta, st.frequencies.modes, st.frequencies.omega, model.settings.t0, st.loadFactor});
     }
-    writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets);
+    writeShapeFigure(path, model, "Static equilibria of " + modelFile, configs, sets, view);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << path << ": " << e.what() << "\n";
     return false;
@@ -252,7 +258,7 @@ bool writeStaticFigure(const std::string& path, const core::Model& model, const 
 }
 
 bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
-                      const analysis::SweepResult& sweep, double t) {
+                      const analysis::SweepResult& sweep, double t, io::View view) {
   try {
     std::vector<Eigen::VectorXd> qs;
     for (const auto& p : sweep.points) qs.push_back(p.q);
@@ -268,7 +274,7 @@ bool writeSweepFigure(const std::string& path, const core::Model& model, const s
       const auto& p = sweep.points[i];
       sets.push_back({"value " + io::shortNumber(p.value, 6), p.q, p.modes, p.omega, t, 0.0});
     }
-    writeShapeFigure(path, model, "Sweep of " + modelFile, configs, sets);
+    writeShapeFigure(path, model, "Sweep of " + modelFile, configs, sets, view);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << path << ": " << e.what() << "\n";
     return false;

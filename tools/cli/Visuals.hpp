@@ -11,6 +11,7 @@
 #include "analysis/Sweep.hpp"
 #include "core/dynamics/Trajectory.hpp"
 #include "core/model/Model.hpp"
+#include "io/pictures/MechanismGeometry.hpp"
 
 namespace flexmb::cli {
 
@@ -35,8 +36,11 @@ struct NamedConfiguration {
 // (dashed grey) and the given configurations over it (light to dark blue), then one panel per mode
 // of each mode set: the configuration (dashed grey) and x + s F_q v (s: scaledShape). Positions and
 // F_q are recomputed from q by the model's kinematics. Throws std::runtime_error on failures.
+// view: the projection of every panel; Auto: each panel in the plane of its own motion where it
+// moves in one (io::panelView), else iso (spatial models), xy (planar ones).
 void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
-                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets);
+                      const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets,
+                      io::View view = io::View::Auto);
 
 // Nodal coordinates of each q at time t by the model's kinematics, solved in order (each solve
 // starts from the previous one, as a continuation does).
@@ -46,9 +50,9 @@ std::vector<Eigen::VectorXd> positionsOf(const core::Model& model, const std::ve
 // sweep --svg: the configurations of every point and the mode shapes at the first and the last.
 // Both print "wrote <path>", or the error (false).
 bool writeStaticFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
-                       const analysis::StaticRun& run);
+                       const analysis::StaticRun& run, io::View view = io::View::Auto);
 bool writeSweepFigure(const std::string& path, const core::Model& model, const std::string& modelFile,
-                      const analysis::SweepResult& sweep, double t);
+                      const analysis::SweepResult& sweep, double t, io::View view = io::View::Auto);
 
 // The 3-D page (io/pictures/HtmlAnimation.hpp) and the ParaView series (io/pictures/VtkWriter.hpp) of the other
 // analyses:

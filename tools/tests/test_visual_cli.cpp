@@ -274,6 +274,18 @@ TEST(VisualCli, SpatialModelsAreDrawnInThreeDimensions) {
   EXPECT_EQ(count(s, "class=\"panel\""), 4u);
   EXPECT_GT(count(s, "class=\"face\""), 100u);
   EXPECT_GE(count(slurp(dir.path / "m.pvd"), "<DataSet "), 3u);
+  // Auto: each panel in the plane it moves in (the note says so); --view sets one for all (issue 35).
+  EXPECT_NE(s.find("each panel in the plane it moves in"), std::string::npos);
+  r = run("cd " + dir.path.string() + " && " + kFlexmb + " modes " + pivot + " --nev 3 --svg mxz.svg --view xz -q");
+  ASSERT_EQ(r.first, 0) << r.second;
+  const std::string xz = slurp(dir.path / "mxz.svg");
+  EXPECT_NE(xz, s);
+  EXPECT_EQ(xz.find("each panel in the plane it moves in"), std::string::npos);
+  for (const std::string command : {" modes ", " static ", " sweep --node 2 --from 0 --to 0.01 "}) {
+    const auto bad = run(kFlexmb + command + pivot + " --svg b.svg --view top");
+    EXPECT_EQ(bad.first, 2) << command << bad.second;
+    EXPECT_NE(bad.second.find("--view must be auto, xy, xz, yz or iso, not 'top'"), std::string::npos) << bad.second;
+  }
   s = slurp(dir.path / "m.html");
   EXPECT_NE(s.find("\"name\":\"mode 3, "), std::string::npos);
   r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + pivot + " --nev 2 --svg s.svg --html --vtk -q");
