@@ -451,6 +451,7 @@ std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss) {
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
   const Eigen::Index m = ss.A.rows() / 2;
   double lo = 1.0, hi = 1e3;
+  std::vector<double> resonances;  // undamped eigenfrequencies [rad/s] (all of a small model)
   if (m > 0) {
     // Undamped frequencies: w^2 the eigenvalues of -A21 = M0^-1 K (exact for small models; for
     // large ones the extremes by power iteration on -A21 and its inverse).
@@ -460,6 +461,7 @@ Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
       const Eigen::VectorXcd ev = K.eigenvalues();
       for (Eigen::Index i = 0; i < ev.size(); ++i)
         if (ev[i].real() > 0) w2.push_back(ev[i].real());
+      for (const double v : w2) resonances.push_back(std::sqrt(v));
     } else {
       Eigen::VectorXd v = Eigen::VectorXd::Ones(m);
       double top = 0.0;
@@ -487,9 +489,24 @@ Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
     }
   }
   const int n = 400;
-  Eigen::VectorXd w(n);
+  std::vector<double> w(n);
   for (int k = 0; k < n; ++k) w[k] = lo * std::pow(hi / lo, static_cast<double>(k) / (n - 1));
-  return w;
+  // A lightly damped peak is narrower than the log grid's 2-3 % steps: points closing in on each
+  // undamped eigenfrequency (the lowest 30 in range) draw it, and with damping the frequency itself
+  // (undamped, H is infinite there: the closest points are 1e-4 off).
+  std::sort(resonances.begin(), resonances.end());
+  int refined = 0;
+  for (const double wn : resonances) {
+    if (!(wn > lo && wn < hi) || ++refined > 30) continue;
+    for (const double s : {3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4}) {
+      w.push_back(wn * (1.0 - s));
+      w.push_back(wn * (1.0 + s));
+    }
+    if (!undamped(ss)) w.push_back(wn);
+  }
+  std::sort(w.begin(), w.end());
+  w.erase(std::unique(w.begin(), w.end()), w.end());
+  return Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
 }
 
 }  // namespace flexmb::analysis

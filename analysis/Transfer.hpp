@@ -78,8 +78,10 @@ bool undamped(const StateSpace& ss);
 // when A is singular (a free motion without stiffness).
 std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss);
 
-// Angular frequencies for a Bode plot: 400 log-spaced points two decades around the poles' range
-// (from their imaginary parts; 1..1e3 rad/s without poles).
+// Angular frequencies for a Bode plot: 400 log-spaced points a decade beyond the undamped
+// eigenfrequencies' range (1..1e3 rad/s without any), and, for a model of up to 300 degrees of
+// freedom, 12 more closing in on each of its lowest 30 eigenfrequencies in range (to 1e-4 of it), so
+// a lightly damped peak is drawn at its height.
 Eigen::VectorXd bodeFrequencies(const StateSpace& ss);
 
 }  // namespace flexmb::analysis

@@ -131,18 +131,36 @@ const DATA = @DATA@;
       return { d: [cb * ca, cb * sa, sb], r: [-sa, ca, 0], u: [-sb * ca, -sb * sa, cb] };
     }
     const dot = (p, q) => p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-    function fit() {  // the whole sequence in view, about its 3-D centre
+    // A frame's points, with the corners of the cross-sections where solids are drawn (a leaf's
+    // width can be most of a flexure's extent).
+    function framePoints(j) {
+      const f = magnified(seq.frames[j]), out = [];
+      for (let i = 0; i < f.length; i += 3) out.push([f[i], f[i + 1], f[i + 2]]);
+      if (!$("solids").checked) return out;
+      const ax = seq.axes[j];
+      for (const e of DATA.elements) {
+        if (e.joint || !e.sec || !e.framed) continue;
+        const a = 0.5 * e.sec[1], b = 0.5 * (e.sec[0] === 1 ? e.sec[2] : e.sec[1]);
+        for (let k = 0; k < e.n; ++k) {
+          const i = e.first + k, s = 6 * framedAt.get(i);
+          for (const c of [[a, b], [-a, b], [-a, -b], [a, -b]])
+            out.push([0, 1, 2].map((d) => f[3 * i + d] + c[0] * ax[s + d] + c[1] * ax[s + 3 + d]));
+        }
+      }
+      return out;
+    }
+    function fit() {  // the whole sequence in view, cross-sections included, about its 3-D centre
       const cam = camera();
       let lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-      const frames = seq.frames.map(magnified);
+      const frames = seq.frames.map((_, j) => framePoints(j));
       for (const f of frames)
-        for (let i = 0; i < f.length; i += 3)
-          for (let k = 0; k < 3; ++k) { lo[k] = Math.min(lo[k], f[i + k]); hi[k] = Math.max(hi[k], f[i + k]); }
+        for (const q of f)
+          for (let k = 0; k < 3; ++k) { lo[k] = Math.min(lo[k], q[k]); hi[k] = Math.max(hi[k], q[k]); }
       centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])];
       let u0 = Infinity, u1 = -Infinity, v0 = Infinity, v1 = -Infinity;
       for (const f of frames)
-        for (let i = 0; i < f.length; i += 3) {
-          const p = [f[i] - centre[0], f[i + 1] - centre[1], f[i + 2] - centre[2]];
+        for (const q of f) {
+          const p = [q[0] - centre[0], q[1] - centre[1], q[2] - centre[2]];
           const u = dot(p, cam.r), v = dot(p, cam.u);
           u0 = Math.min(u0, u); u1 = Math.max(u1, u); v0 = Math.min(v0, v); v1 = Math.max(v1, v);
         }
