@@ -114,6 +114,7 @@ void addSectionForceMaxima(const core::Model& m, const Eigen::VectorXd& sigma,
           column = "max_bending_moment", scale = l0;
           break;
         case core::DeformationKind::Rotation:
+        case core::DeformationKind::Warping:
         case core::DeformationKind::Other:
           break;
       }

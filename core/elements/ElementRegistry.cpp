@@ -167,6 +167,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       w.deformationNames.push_back("warping p");
       w.deformationNames.push_back("warping q");
       w.deformationKinds = spatialBeamKinds;
+      w.deformationKinds.insert(w.deformationKinds.end(), {K::Warping, K::Warping});
       w.deformationKinds.insert(w.deformationKinds.end(), {K::Other, K::Other});
       w.vector = yAxis;
       w.createWithVector = &SpatialWarpingBeam::create;

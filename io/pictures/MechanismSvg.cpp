@@ -305,9 +305,10 @@ std::string coordinateList(const core::Model& m, int node) {
   return s;
 }
 
-// The symbol of an orientation node's coordinates: theta (planar angle) or lambda (Euler parameters).
+// The symbol of a node's coordinates other than a position: theta (planar angle), lambda (Euler
+// parameters) or w (a BEAMW warping node's rate of twist).
 const char* orientationSymbol(const core::Node& n) {
-  return n.kind == core::NodeKind::EulerParameters ? "\u03bb" : "\u03b8";
+  return n.kind == core::NodeKind::EulerParameters ? "\u03bb" : n.kind == core::NodeKind::Warping ? "w" : "\u03b8";
 }
 
 // A small triad of the global axes in the corner of a spatial picture (x, y, z as projected).
@@ -380,7 +381,13 @@ std::string nodeRole(const core::Model& m, int node) {
 std::string elementRole(const core::Model& m, int element) {
   const core::ElementEntry& el = m.elements[element];
   bool input = false, dof = false, released = false;
+  // A BEAMW's warping is released wherever the section may warp, also in a body that is otherwise
+  // rigid: the element's role is that of its other deformations.
+  bool onlyWarping = true;
+  for (int i = 0; i < el.type->numDeformations(); ++i)
+    onlyWarping = onlyWarping && el.type->deformationKind(i) == core::DeformationKind::Warping;
   for (int i = 0; i < el.type->numDeformations(); ++i) {
+    if (!onlyWarping && el.type->deformationKind(i) == core::DeformationKind::Warping) continue;
     const core::Role r = m.eRole[el.firstDef + i];
     input = input || r == core::Role::Input;
     dof = dof || r == core::Role::Dynamic;
@@ -405,8 +412,13 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   }
   rows.push_back({"", "#000000"});
   rows.push_back({"elements (nodes; deformations: role)", "#000000"});
+  int internal = 0;
   for (size_t e = 0; e < m.elements.size(); ++e) {
     const core::ElementEntry& el = m.elements[e];
+    if (el.type->internal) {  // flexmb's own (the Euler parameters' normalisation), not the user's
+      ++internal;
+      continue;
+    }
     std::string s = "  " + std::to_string(el.label) + " " + el.type->keyword + " (";
     for (size_t k = 0; k < el.nodes.size(); ++k) {  // piecewise: GCC 12's -Wrestrict (tools/README.md)
       if (k) s += ' ';
@@ -415,8 +427,21 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     s += "): ";
     for (int d = 0; d < el.type->numDeformations(); ++d)
       s += (d ? ", " : "") + el.type->deformationNames[d] + " " + deformationRoleWord(m.eRole[el.firstDef + d]);
-    rows.push_back({s, elementColor(elementRole(m, static_cast<int>(e)))});
+    // Long rows (a BEAMW has eight deformations) continue on indented lines after a comma.
+    const std::string colour = elementColor(elementRole(m, static_cast<int>(e)));
+    constexpr size_t kRowChars = 100;
+    while (s.size() > kRowChars) {
+      const size_t cut = s.rfind(", ", kRowChars);
+      if (cut == std::string::npos || cut < 8) break;
+      rows.push_back({s.substr(0, cut + 1), colour});
+      s = "      " + s.substr(cut + 2);
+    }
+    rows.push_back({s, colour});
   }
+  if (internal)
+    rows.push_back({"  (and " + std::to_string(internal) +
+                        " normalisation constraints of the Euler parameters that flexmb adds, not listed)",
+                    "#555555"});
   size_t longest = 0;
   for (const auto& r : rows) longest = std::max(longest, r.first.size());
   const double drawW = 720, tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
@@ -502,6 +527,9 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   // Legend under the drawing.
   const double ly = top + drawH + 18;
   double lx = 20;
+  std::string warpingNote;
+  for (const core::Node& n : m.nodes)
+    if (n.kind == core::NodeKind::Warping) warpingNote = "w: warping nodes (BEAMW's rate of twist); ";
   o += "<g class=\"legend\" font-size=\"10\">\n";
   for (const char* r : {"rigid", "DOF", "released", "input"}) {
     o += "<line x1=\"" + num(lx) + "\" y1=\"" + num(ly) + "\" x2=\"" + num(lx + 22) + "\" y2=\"" + num(ly) +
@@ -516,10 +544,10 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     lx += 135;
   }
   o += text(20, ly + 44,
-            spatial
-                ? "\u03bb: orientation nodes (Euler parameters) attached there; view " + std::string(viewName(view)) +
-                      (view == View::Isometric ? " (azimuth -37.5, elevation 30 degrees, as MATLAB's view(3))" : "")
-                : std::string("\u03b8: orientation nodes attached there"),
+            spatial ? "\u03bb: orientation nodes (Euler parameters) attached there; " + warpingNote + "view " +
+                          std::string(viewName(view)) +
+                          (view == View::Isometric ? " (azimuth -37.5, elevation 30 degrees, as MATLAB's view(3))" : "")
+                    : std::string("\u03b8: orientation nodes attached there"),
             "fill=\"#555555\"");
   o += "</g>\n";
   if (spatial) o += axisTriad(view, 40, top + drawH - 30);

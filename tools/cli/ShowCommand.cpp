@@ -54,11 +54,14 @@ int runShow(const std::vector<std::string>& args) {
   const analysis::ModelCheck check = analysis::checkModel(model);
   if (check.kinematicsError.empty()) {
     const core::KinematicReport& r = check.kinematics;
+    // The user's elements: not the normalisation constraints flexmb adds per orientation node.
+    int userElements = 0;
+    for (const auto& el : model.elements) userElements += el.type->internal ? 0 : 1;
     std::vector<std::string> dofs;
     for (const auto& q : model.dofs)
       dofs.push_back(q.isDeformation ? model.deformationName(q.index) : model.coordName(q.index));
     drawing.notes.push_back(std::to_string(r.positionNodes) + " position and " + std::to_string(r.orientationNodes) +
-                            " orientation nodes, " + std::to_string(r.elements) + " elements; " +
+                            " orientation nodes, " + std::to_string(userElements) + " elements; " +
                             std::to_string(r.dof) + " degrees of freedom");
     if (!dofs.empty()) drawing.notes.push_back("DOF: " + joined(dofs, 4));
     wellPosed = r.wellPosed();

@@ -308,6 +308,37 @@ TEST(VisualCli, ThePivotsRotationModeIsSeenToRotate) {
   EXPECT_GT(visible, grey / 4) << px.second;  // ... and the rest shape is seen beside it
 }
 
+TEST(VisualCli, ShowNamesBeamwRolesAndWarpingNodesAsTheyAre) {
+  // Issue 35: the BEAMW pivot's rigid platform was coloured as released (its warping is released,
+  // as in every BEAMW), warping nodes were labelled with a planar rotation's theta, the element rows
+  // ran past the picture's right edge, and the normalisation elements flexmb adds were counted and
+  // listed as the user's.
+  TempDir dir;
+  const fs::path svg = dir.path / "bw.svg";
+  const auto [rc, out] =
+      run(kFlexmb + " show " + kData + "spatial/cross_spring_pivot_beamw.dat -q --out " + svg.string());
+  ASSERT_EQ(rc, 0) << out;
+  const std::string s = slurp(svg);
+  EXPECT_NE(s.find(", 7 elements;"), std::string::npos);
+  EXPECT_EQ(s.find("L2MIN1"), std::string::npos);
+  EXPECT_NE(s.find("and 6 normalisation constraints"), std::string::npos);
+  EXPECT_NE(s.find(">  w15 (0): DOF<"), std::string::npos);
+  EXPECT_EQ(s.find("\u03b815"), std::string::npos);
+  // Element 4, the platform: rigid apart from its warping, drawn and listed in the rigid colour.
+  const size_t row = s.find(">  4 BEAMW (4 5 6 7 8 9): elongation rigid");
+  ASSERT_NE(row, std::string::npos);
+  const size_t tag = s.rfind("<text", row);
+  EXPECT_NE(s.substr(tag, row - tag).find("fill=\"#444444\""), std::string::npos) << s.substr(tag, 200);
+  // No table row wider than the picture: every row at most 100 characters plus its indent.
+  size_t longest = 0;
+  for (size_t at = 0; (at = s.find(">  ", at)) != std::string::npos; ++at)
+    longest = std::max(longest, s.find("</text>", at) - at);
+  EXPECT_LE(longest, 110u);
+  const size_t wAt = s.find("width=\"");
+  ASSERT_NE(wAt, std::string::npos);
+  EXPECT_LT(std::atof(s.c_str() + wAt + 7), 1400.0);
+}
+
 TEST(VisualCli, ThePageOpensWithTheWholeModelInView) {
   // The cross-spring pivot's leaves are 50 mm wide against 100 mm long: fitted to the centre lines
   // alone, the page cut the leaves and the platform off (issue 35).
