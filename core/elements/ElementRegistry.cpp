@@ -168,7 +168,6 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       w.deformationNames.push_back("warping q");
       w.deformationKinds = spatialBeamKinds;
       w.deformationKinds.insert(w.deformationKinds.end(), {K::Warping, K::Warping});
-      w.deformationKinds.insert(w.deformationKinds.end(), {K::Other, K::Other});
       w.vector = yAxis;
       w.createWithVector = &SpatialWarpingBeam::create;
       w.inertia = sectionMass;

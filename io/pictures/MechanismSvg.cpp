@@ -447,8 +447,14 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   const double drawW = 720, tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
   const double top = 40 + 14.0 * static_cast<double>(drawing.notes.size()) + 10;
   const double legendH = 74;
-  const double drawH = std::max(480.0, 14.0 * static_cast<double>(rows.size()) + 20 - legendH);
-  const double W = drawW + tableW, H = top + drawH + legendH;
+  // Beside the drawing while the table is about as tall; below it for a large model, so that the
+  // first screen shows the mechanism and not a column of node rows.
+  const double tableH = 14.0 * static_cast<double>(rows.size()) + 20;
+  const bool tableBelow = tableH > 480.0 + legendH + 140.0;
+  const double drawH = tableBelow ? 480.0 : std::max(480.0, tableH - legendH);
+  const double tableX = tableBelow ? 20.0 : drawW, tableY = tableBelow ? top + drawH + legendH + 10 : top;
+  const double W = tableBelow ? std::max(drawW, 20 + tableW) : drawW + tableW,
+               H = tableBelow ? tableY + tableH : top + drawH + legendH;
 
   std::string o = header(W, H);
   o += text(W / 2, 24, drawing.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
@@ -477,6 +483,10 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   const std::string halo = spatial ? " stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"" : "";
   // Element numbers in brackets at the middle of each element, offset to its left side.
   o += "<g class=\"element-labels\" font-size=\"10\">\n";
+  std::vector<Point2> elementLabels;
+  int thinnedElements = 0;
+  // Numbers are thinned on large models only: a small one keeps every number, overlapping or not.
+  const bool thin = g.elements().size() > 20;
   for (const DrawnElement& d : g.elements()) {
     const core::ElementEntry& el = m.elements[d.element];
     const std::string c = elementColor(elementRole(m, d.element));
@@ -491,6 +501,13 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
       const double len = std::max(std::hypot(xe, ye), 1e-9);
       x = 0.5 * (xa + xb) + 10 * ye / len, y = 0.5 * (ya + yb) - 10 * xe / len + 4;
     }
+    // Like the node numbers below: a number that would overlap one already placed is left out.
+    if (thin && std::any_of(elementLabels.begin(), elementLabels.end(),
+                            [&](const Point2& q) { return std::abs(q.u - x) < 18.0 && std::abs(q.v - y) < 12.0; })) {
+      ++thinnedElements;
+      continue;
+    }
+    elementLabels.push_back({x, y});
     o += text(x, y, "[" + std::to_string(el.label) + "]",
               "text-anchor=\"middle\" fill=\"" + std::string(c) + "\"" + halo);
   }
@@ -501,13 +518,29 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   for (size_t i = 0; i < m.nodes.size(); ++i)
     if (!g.isPositionNode(static_cast<int>(i)) && g.anchor(static_cast<int>(i)) >= 0)
       orientationAt[g.anchor(static_cast<int>(i))].push_back(static_cast<int>(i));
+  // Numbers that would overlap one already placed are left out (every node is in the table): those
+  // of nodes with a role first, then the free ones in order, so an edge-on leaf keeps some.
+  std::vector<size_t> order;
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t i = 0; i < m.nodes.size(); ++i)
+      if (g.isPositionNode(static_cast<int>(i)) && (nodeRole(m, static_cast<int>(i)) == "free") == (pass == 1))
+        order.push_back(i);
+  std::vector<Point2> placed;
+  int thinned = 0;
   o += "<g class=\"nodes\">\n";
-  for (size_t i = 0; i < m.nodes.size(); ++i) {
-    if (!g.isPositionNode(static_cast<int>(i))) continue;
+  for (const size_t i : order) {
     const Point2 p = project(g.nodePoint(static_cast<int>(i), m.x0), view);
     const double x = f.px(p), y = f.py(p);
     const std::string role = nodeRole(m, static_cast<int>(i));
     o += nodeMarker(x, y, role);
+    const bool crowded = std::any_of(placed.begin(), placed.end(), [&](const Point2& q) {
+      return std::abs(q.u - x) < 16.0 && std::abs(q.v - y) < 12.0;
+    });
+    if (thin && crowded) {
+      ++thinned;
+      continue;
+    }
+    placed.push_back({x, y});
     o += text(x + 6, y - 6, std::to_string(m.nodes[i].label),
               "font-weight=\"bold\" fill=\"" + std::string(nodeColor(role)) + "\"" + halo);
     auto it = orientationAt.find(static_cast<int>(i));
@@ -522,6 +555,11 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     }
     o += "</text>\n";
   }
+  if (thinned || thinnedElements)
+    o += text(90, top + drawH - 8,
+              std::to_string(thinned) + " node and " + std::to_string(thinnedElements) +
+                  " element numbers left out where they would overlap (every one is in the table)",
+              "fill=\"#555555\" font-size=\"10\"");
   o += "</g>\n";
 
   // Legend under the drawing.
@@ -555,7 +593,7 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   // Table.
   o += "<g class=\"table\" font-family=\"DejaVu Sans Mono, monospace\" font-size=\"10\">\n";
   for (size_t i = 0; i < rows.size(); ++i)
-    o += text(drawW, top + 10 + 14.0 * static_cast<double>(i), rows[i].first,
+    o += text(tableX, tableY + 10 + 14.0 * static_cast<double>(i), rows[i].first,
               "fill=\"" + rows[i].second + "\"" +
                   (i == 0 || rows[i].first.rfind("elements", 0) == 0 ? " font-weight=\"bold\"" : ""));
   o += "</g>\n</svg>\n";

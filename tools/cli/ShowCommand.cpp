@@ -86,6 +86,19 @@ int runShow(const std::vector<std::string>& args) {
   }
   std::cout << "wrote " << out << "\n";
   if (!html.empty() && !writeModelPage(html, model, drawing.title)) return kWriteFailed;
+  // The manifest beside the picture (<picture>_run.txt), as every command that writes files has.
+  try {
+    io::OutputSet files((std::filesystem::path(out).parent_path() / std::filesystem::path(out).stem()).string());
+    files.setting("command", "show");
+    files.setting("model", m.file);
+    files.setting("view", viewName.empty() ? "auto" : viewName);
+    files.record(out);
+    if (!html.empty()) files.record(html);
+    std::cout << "wrote " << files.writeManifest("complete") << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kWriteFailed;
+  }
   if (!wellPosed)
     std::cerr << "flexmb: the kinematic check found problems (see the notes in the picture, or run flexmb check)\n";
   return 0;

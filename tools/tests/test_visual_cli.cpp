@@ -124,6 +124,10 @@ TEST(VisualCli, ShowDrawsTheModelWithNumbersAndRoles) {
   const auto [rc, out] = run(kFlexmb + " show " + kData + "manipulator.dat --out " + svg.string());
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("wrote " + svg.string()), std::string::npos);
+  // Its manifest beside it, as every command that writes files has (issue 35).
+  const std::string manifest = slurp(dir.path / "m_run.txt");
+  EXPECT_NE(manifest.find("command: show"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("file: m.svg"), std::string::npos) << manifest;
   const std::string s = slurp(svg);
   for (int e : {1, 2, 11, 14, 21, 24}) EXPECT_NE(s.find(">[" + std::to_string(e) + "]<"), std::string::npos) << e;
   EXPECT_NE(s.find("18 degrees of freedom"), std::string::npos);
@@ -337,6 +341,29 @@ TEST(VisualCli, ShowNamesBeamwRolesAndWarpingNodesAsTheyAre) {
   const size_t wAt = s.find("width=\"");
   ASSERT_NE(wAt, std::string::npos);
   EXPECT_LT(std::atof(s.c_str() + wAt + 7), 1400.0);
+}
+
+TEST(VisualCli, ALargeModelIsDrawnFirstWithNumbersThatDoNotPileUp) {
+  // Issue 35: the cross-spring pivot (41 beams) was a 1612 x 2464 page whose first screen was the
+  // node table, and the numbers along an edge-on leaf piled up.
+  TempDir dir;
+  const fs::path svg = dir.path / "p.svg";
+  const auto [rc, out] = run(kFlexmb + " show " + kData + "spatial/cross_spring_pivot.dat -q --out " + svg.string());
+  ASSERT_EQ(rc, 0) << out;
+  const std::string s = slurp(svg);
+  // The table below the drawing: its heading lower than the legend, the page no wider than the drawing.
+  const size_t heading = s.find(">nodes (coordinates: role)<"), legend = s.find("<g class=\"legend\"");
+  ASSERT_NE(heading, std::string::npos);
+  ASSERT_NE(legend, std::string::npos);
+  auto yOf = [&](size_t at) {
+    const size_t y = s.rfind(" y=\"", at);
+    return std::atof(s.c_str() + y + 4);
+  };
+  EXPECT_GT(yOf(heading), yOf(s.find("element: rigid", legend)));
+  const size_t wAt = s.find("width=\"");
+  EXPECT_LE(std::atof(s.c_str() + wAt + 7), 1000.0);
+  EXPECT_NE(s.find("numbers left out where they would overlap"), std::string::npos);
+  EXPECT_NE(s.find(", 41 elements;"), std::string::npos);  // the 42 normalisations are not counted
 }
 
 TEST(VisualCli, ThePageOpensWithTheWholeModelInView) {
