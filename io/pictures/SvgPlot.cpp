@@ -424,9 +424,25 @@ std::string renderSvg(const Plot& plot) {
   std::string head;
   double cursor = 8;
   if (!plot.title.empty()) {
-    cursor += 16;
-    head += "<text class=\"title\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
-            "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" + xmlEscape(plot.title) + "</text>\n";
+    // A title wider than the page (a long model path) continues on further lines, broken after a
+    // space or a slash.
+    const double titleScale = 15.0 * 1.1 / 11.0;  // bold 15 px against textWidth's 11 px glyphs
+    std::vector<std::string> lines{""};
+    std::string_view rest = plot.title;
+    while (!rest.empty()) {
+      const std::size_t space = rest.find_first_of(" /");
+      const std::string_view word = rest.substr(0, space == std::string_view::npos ? rest.size() : space + 1);
+      rest.remove_prefix(word.size());
+      if (!lines.back().empty() && textWidth(lines.back() + std::string(word)) * titleScale > W - 20)
+        lines.emplace_back();
+      lines.back() += word;
+    }
+    for (std::string& line : lines) {
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      cursor += 16;
+      head += "<text class=\"title\" x=\"" + fixed2(W / 2) + "\" y=\"" + fixed2(cursor) +
+              "\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">" + xmlEscape(line) + "</text>\n";
+    }
     cursor += 4;
   }
   for (const std::string& note : plot.notes) {

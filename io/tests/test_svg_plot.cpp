@@ -213,6 +213,32 @@ TEST(SvgPlot, DocumentParsesAndHasTheExpectedElements) {
   EXPECT_NE(svg.find("#0072B2"), std::string::npos);  // automatic palette colour
 }
 
+TEST(SvgPlot, ALongTitleContinuesOnLinesThatFitThePage) {
+  // Issue 35: a Bode diagram's title with the model's path ran off both sides of the 720 px page.
+  Plot p = samplePlot();
+  p.title =
+      "rotation z node 4 / INPUTF 1: moment z node 4 (/a/long/path/to/the/models/of/a/user/spatial/"
+      "cross_spring_pivot_transfer.dat)";
+  const std::string svg = renderSvg(p);
+  std::vector<std::string> lines;
+  for (size_t at = 0; (at = svg.find("class=\"title\"", at)) != std::string::npos; ++at) {
+    const size_t open = svg.find('>', at), close = svg.find("</text>", at);
+    lines.push_back(svg.substr(open + 1, close - open - 1));
+  }
+  ASSERT_GE(lines.size(), 2u) << svg.substr(0, 800);
+  std::string joined, title;
+  for (const std::string& l : lines) {
+    joined += l;
+    EXPECT_LE(l.size() * 15 * 0.6, static_cast<size_t>(p.width) - 20) << l;  // bold 15 px glyphs ~9 px
+  }
+  for (char c : p.title)
+    if (c != ' ') title += c;
+  joined.erase(std::remove(joined.begin(), joined.end(), ' '), joined.end());
+  EXPECT_EQ(joined, title);  // every character, in order (broken after spaces and slashes)
+  TempDir dir;
+  EXPECT_TRUE(analyze(dir, p).parsed);
+}
+
 TEST(SvgPlot, NaNBreaksLineAndLogDropsNonPositive) {
   TempDir dir;
   Plot p;
