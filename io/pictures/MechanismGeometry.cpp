@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/elements/CoRotatedCurve.hpp"
 #include "core/elements/EulerParameters.hpp"
@@ -343,8 +344,9 @@ double modelSize(const core::Model& model, const Eigen::VectorXd& x) {
   return r > 1e-12 ? r : 1.0;
 }
 
-Eigen::VectorXd scaledShape(const core::Model& model, const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
-                            double fraction) {
+namespace {
+// The largest nodal displacement and rotation (rad) in a change dx of the nodal coordinates.
+std::pair<double, double> largestMotion(const core::Model& model, const Eigen::VectorXd& dx) {
   double maxDisp = 0.0, maxRot = 0.0;
   for (const core::Node& n : model.nodes) {
     if (core::isTranslational(n.kind))
@@ -354,6 +356,30 @@ Eigen::VectorXd scaledShape(const core::Model& model, const Eigen::VectorXd& x, 
     else if (n.kind == core::NodeKind::EulerParameters)  // |d lambda| = half the rotation angle
       maxRot = std::max(maxRot, 2 * dx.segment(n.firstCoord, 4).norm());
   }
+  return {maxDisp, maxRot};
+}
+}  // namespace
+
+double magnification(const core::Model& model, const Eigen::VectorXd& x0, const std::vector<Eigen::VectorXd>& xs) {
+  double maxDisp = 0.0, maxRot = 0.0;
+  for (const Eigen::VectorXd& x : xs) {
+    if (x.size() != x0.size()) continue;
+    const auto [d, r] = largestMotion(model, x - x0);
+    maxDisp = std::max(maxDisp, d), maxRot = std::max(maxRot, r);
+  }
+  const double size = modelSize(model, x0);
+  if (!(maxDisp > 0.0) || !(size > 0.0) || maxDisp >= 0.05 * size) return 1.0;
+  double k = 0.12 * size / maxDisp;
+  if (maxRot > 0.0) k = std::min(k, 0.3 / maxRot);
+  // Down to 1, 2 or 5 times a power of ten: a factor a reader takes in at a glance.
+  const double decade = std::pow(10.0, std::floor(std::log10(k)));
+  const double step = k >= 5 * decade ? 5 * decade : k >= 2 * decade ? 2 * decade : decade;
+  return step >= 2.0 ? step : 1.0;
+}
+
+Eigen::VectorXd scaledShape(const core::Model& model, const Eigen::VectorXd& x, const Eigen::VectorXd& dx,
+                            double fraction) {
+  const auto [maxDisp, maxRot] = largestMotion(model, dx);
   double s = 0.0;
   if (maxDisp > 0) s = fraction * modelSize(model, x) / maxDisp;
   if (maxRot > 0 && (s == 0.0 || s * maxRot > 0.3)) s = 0.3 / maxRot;

@@ -126,6 +126,11 @@ double modelSize(const core::Model& model, const Eigen::VectorXd& x);
 // of gyration (EM, then ESTIFF), else a line.
 DrawnSection elementSection(const core::Model& model, int element);
 
+// The factor small deflections are drawn magnified by (load steps, sweep points, against x0): 1 when
+// the largest displacement is 5 % of modelSize or more; else 1, 2 or 5 times a power of ten, at most
+// what brings it to 12 % and the largest rotation to 0.3 rad (as the mode shapes are drawn).
+double magnification(const core::Model& model, const Eigen::VectorXd& x0, const std::vector<Eigen::VectorXd>& xs);
+
 // x + s dx with s chosen so that the largest nodal displacement is `fraction` of modelSize(x)
 // and the largest rotation at most 0.3 rad (mode shapes are drawn at this amplitude; the rotation
 // of an Euler-parameter node is 2 |d lambda|).

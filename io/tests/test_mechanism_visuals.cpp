@@ -151,6 +151,24 @@ TEST(MechanismGeometry, ScaledShapeUsesTheRequestedFraction) {
   EXPECT_NEAR(r[m.nodes[m.nodeByLabel.at(4)].firstCoord] - m.x0[m.nodes[m.nodeByLabel.at(4)].firstCoord], 0.3, 1e-12);
 }
 
+TEST(MechanismGeometry, SmallDeflectionsAreMagnifiedByARoundFactor) {
+  const core::Model m = cantilever();
+  const double size = io::modelSize(m, m.x0);
+  const int tipY = m.nodes[m.nodeByLabel.at(3)].firstCoord + 1;
+  auto deflected = [&](double d) {
+    Eigen::VectorXd x = m.x0;
+    x[tipY] += d;
+    return x;
+  };
+  // 1 % of the size: magnified to at most 12 %, by 1, 2 or 5 times a power of ten.
+  const double k = io::magnification(m, m.x0, {deflected(0.002 * size), deflected(0.01 * size)});
+  EXPECT_EQ(k, 10.0);
+  EXPECT_EQ(io::magnification(m, m.x0, {deflected(0.004 * size)}), 20.0);  // 30 -> 20
+  // Visible as it is (5 % and more), or no motion at all: drawn at true scale.
+  EXPECT_EQ(io::magnification(m, m.x0, {deflected(0.06 * size)}), 1.0);
+  EXPECT_EQ(io::magnification(m, m.x0, {m.x0}), 1.0);
+}
+
 TEST(MechanismSvg, ModelPictureNamesEveryNodeElementAndRole) {
   const core::Model m = twoLink();
   const io::MechanismGeometry g(m);

@@ -198,11 +198,18 @@ void writeShapeFigure(const std::string& path, const core::Model& model, const s
                   : configurations.size() == 1 ? configurations[0].label
                                                : "configurations";
   configs.layers.push_back({model.x0, "initial configuration", "", true});
+  // A flexure's load steps deflect it by a few per cent of its size at most: drawn magnified, said.
+  std::vector<Eigen::VectorXd> xs;
+  for (const NamedConfiguration& c : configurations) xs.push_back(c.x);
+  const double k = io::magnification(model, model.x0, xs);
+  if (k > 1.0) configs.title += " (displacements x " + io::shortNumber(k, 3) + ")";
   for (size_t i = 0; i < configurations.size(); ++i) {
     // Legend entries for the first and the last only (the panel has room for three).
     const bool named = i == 0 || i + 1 == configurations.size();
-    configs.layers.push_back(
-        {configurations[i].x, named ? configurations[i].label : "", sequenceColor(i, configurations.size()), false});
+    const Eigen::VectorXd x = configurations[i].x.size() == model.x0.size()
+                                  ? model.x0 + k * (configurations[i].x - model.x0)
+                                  : configurations[i].x;
+    configs.layers.push_back({x, named ? configurations[i].label : "", sequenceColor(i, configurations.size()), false});
   }
   fig.panels.push_back(configs);
 

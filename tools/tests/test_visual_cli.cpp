@@ -443,6 +443,8 @@ TEST(VisualCli, SpatialModelsAreDrawnInThreeDimensions) {
   r = run("cd " + dir.path.string() + " && " + kFlexmb + " static " + pivot + " --nev 2 --svg s.svg --html --vtk -q");
   ASSERT_EQ(r.first, 0) << r.second;
   EXPECT_EQ(count(slurp(dir.path / "s.svg"), "class=\"panel\""), 3u);
+  // Its load steps deflect it by a few per cent: drawn magnified, the factor in the panel's title.
+  EXPECT_NE(slurp(dir.path / "s.svg").find("configurations (displacements x "), std::string::npos);
   // ITERSTEP's 9 steps: SPACAR's load steps 0..9.
   EXPECT_EQ(count(slurp(dir.path / "cross_spring_pivot_coarse_static.pvd"), "<DataSet "), 10u);
   s = slurp(dir.path / "cross_spring_pivot_coarse_static.html");
