@@ -77,6 +77,7 @@ view <button type="button" data-view="iso">iso</button><button type="button" dat
 <button type="button" id="fit">fit</button>
 <label><input type="checkbox" id="numbers"> numbers</label>
 <label><input type="checkbox" id="solids" checked> cross-sections</label>
+<label><input type="checkbox" id="reference" checked> initial configuration</label>
 <label id="fileColorsLabel"><input type="checkbox" id="fileColors"> file colours</label>
 <label>displacements x <select id="magnify"><option>1</option><option>10</option><option>100</option><option>1000</option></select></label>
 <span id="hint">drag: rotate, wheel: zoom, shift-drag: pan</span>
@@ -104,6 +105,7 @@ const DATA = @DATA@;
     let az = 0, el = 0, scale = 1, panX = 0, panY = 0, centre = [0, 0, 0];
     let seq = null, frame = 0, playing = !("pause" in hash), last = null, clockTime = 0;
     $("numbers").checked = DATA.numbers || ("numbers" in hash);
+    if ("noreference" in hash) $("reference").checked = false;
     const anyFileColour = DATA.elements.some((e) => e.file);
     if (!anyFileColour) $("fileColorsLabel").style.display = "none";
     for (const r of DATA.legend) {
@@ -285,6 +287,23 @@ const DATA = @DATA@;
         }
       }
       ctx.globalAlpha = 1;
+      // The initial configuration's centre lines, dashed over the shapes: what a deformation is
+      // measured from stays visible, also behind a solid leaf.
+      if ($("reference").checked && DATA.ref && DATA.ref.length === f.length) {
+        ctx.strokeStyle = "#888888"; ctx.lineWidth = 1.2; ctx.setLineDash([6, 4]);
+        for (const e of DATA.elements) {
+          if (e.joint || e.n < 2) continue;
+          ctx.beginPath();
+          for (let j = 0; j < e.n; ++j) {
+            const i = 3 * (e.first + j);
+            const p = [DATA.ref[i] - centre[0], DATA.ref[i + 1] - centre[1], DATA.ref[i + 2] - centre[2]];
+            const x = W / 2 + panX + scale * dot(p, cam.r), y = H / 2 + panY - scale * dot(p, cam.u);
+            if (j === 0) ctx.moveTo(x, y); else ctx.lineTo(x, y);
+          }
+          ctx.stroke();
+        }
+        ctx.setLineDash([]);
+      }
       for (const n of DATA.nodes) {
         const p = P(n.point), x = p[0], y = p[1];
         if (n.fixed) {
@@ -393,7 +412,7 @@ const DATA = @DATA@;
     seqSel.addEventListener("change", () => selectSequence(Number(seqSel.value)));
     for (const b of document.querySelectorAll("button[data-view]")) b.addEventListener("click", () => setView(b.dataset.view));
     $("fit").addEventListener("click", () => { fit(); draw(); });
-    for (const id of ["numbers", "solids", "fileColors"]) $(id).addEventListener("change", draw);
+    for (const id of ["numbers", "solids", "fileColors", "reference"]) $(id).addEventListener("change", draw);
     $("magnify").addEventListener("change", () => { fit(); draw(); });
     if ("magnify" in hash) $("magnify").value = hash.magnify;
 

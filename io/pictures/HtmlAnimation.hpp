@@ -14,6 +14,7 @@
 // On load it sets document.title to "ok" when the first frame was drawn, or "error: <message>" on any
 // JavaScript error (what the headless-browser test reads). The URL fragment selects a state for
 // scripted views: #seq=K (0-based), #frame=K, #pause, #view=xy|xz|yz|iso, #magnify=K, #numbers,
+// #noreference (the initial configuration's dashed centre lines off),
 // #drag=DX,DY (a mouse drag by
 // DX, DY pixels through the page's own handlers; the title then reads "ok az=A el=E" in degrees).
 #include <Eigen/Core>

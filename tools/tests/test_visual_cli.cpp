@@ -390,6 +390,29 @@ TEST(VisualCli, ThePageOpensWithTheWholeModelInView) {
   in >> w >> h >> mech >> border;
   EXPECT_GT(mech, 20000) << px.second;  // drawn, and large
   EXPECT_EQ(border, 0) << px.second;    // nothing runs off the canvas
+
+  // A mode shape bent out of plane (mode 4 at its largest): the initial configuration's dashed
+  // centre lines are drawn over the solid leaves, and are gone with #noreference.
+  const auto modes = run("cd " + dir.path.string() + " && " + kFlexmb + " modes " + kData +
+                         "spatial/cross_spring_pivot.dat --html m.html --out m -q");
+  ASSERT_EQ(modes.first, 0) << modes.second;
+  auto dashed = [&](const std::string& fragment, const std::string& name) {
+    const fs::path shot = dir.path / (name + ".png"), prof = dir.path / ("profile_" + name);
+    fs::create_directories(prof);
+    run("timeout 120 " + browser(exe, prof,
+                                 "--hide-scrollbars --window-size=1000,720 --screenshot=" + shot.string() +
+                                     " 'file://" + (dir.path / "m.html").string() + fragment + "'"));
+    const fs::path count = dir.path / "count.py";
+    std::ofstream(count) << kPngPixels;
+    const auto r = run("/usr/bin/python3 " + count.string() + " " + shot.string() + " 888888");
+    std::istringstream is(r.second);
+    int sw = 0, sh = 0, grey = 0;
+    is >> sw >> sh >> grey;
+    return grey;
+  };
+  const int with = dashed("#pause&seq=3&frame=6", "with"),
+            without = dashed("#pause&seq=3&frame=6&noreference", "without");
+  EXPECT_GT(with, without + 150) << with << " against " << without;
 }
 
 TEST(VisualCli, SpatialModelsAreDrawnInThreeDimensions) {
