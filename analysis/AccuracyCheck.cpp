@@ -49,6 +49,12 @@ void AccuracyWindowRecorder::observe(double t, const Eigen::VectorXd& y, const E
   }
 }
 
+bool AccuracyWindowRecorder::wantsAt(double t) const {
+  for (const Slot& s : slots_)
+    if ((!s.started && t >= s.start) || (s.started && !s.ended && t >= s.window.ta + length_ * (1 - 1e-9))) return true;
+  return false;
+}
+
 std::vector<AccuracyWindow> AccuracyWindowRecorder::complete() const {
   std::vector<AccuracyWindow> w;
   for (const Slot& s : slots_)

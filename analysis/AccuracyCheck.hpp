@@ -43,6 +43,9 @@ class AccuracyWindowRecorder {
  public:
   AccuracyWindowRecorder(double t0, double tEnd);
   void observe(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& x);
+  // Whether observe at t would keep the state (a window's start or end): a run that computes x
+  // only where needed asks first.
+  bool wantsAt(double t) const;
   std::vector<AccuracyWindow> complete() const;
 
  private:

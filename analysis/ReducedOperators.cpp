@@ -46,11 +46,13 @@ void packSymmetric(const Eigen::MatrixXd& A, Eigen::Ref<Eigen::VectorXd> v) {
 // Everything the operators fit, at one configuration (zero velocity) of the full model.
 struct OperatorSample {
   Eigen::VectorXd eta;
-  Eigen::VectorXd force;      // -grad U = (F_q V)^T f_const - (E_q V)^T sigma_const
-  Eigen::VectorXd mass;       // packed Mr
-  Eigen::VectorXd damping;    // packed Cr (empty without damping)
-  Eigen::VectorXd loadValue;  // phi_k
-  Eigen::MatrixXd loadGrad;   // m x loads
+  Eigen::VectorXd force;        // -grad U = (F_q V)^T f_const - (E_q V)^T sigma_const
+  Eigen::VectorXd mass;         // packed Mr
+  Eigen::VectorXd damping;      // packed Cr (empty without damping)
+  Eigen::VectorXd loadValue;    // phi_k
+  Eigen::MatrixXd loadGrad;     // m x loads
+  Eigen::VectorXd outputValue;  // the tracked x_i / e_k
+  Eigen::MatrixXd outputGrad;   // m x outputs: rows of F_q V / E_q V
 };
 
 // Solves the full kinematics at q = q0 + W zeta and projects mass, damping and loads on W (Eq. 19
@@ -58,8 +60,14 @@ struct OperatorSample {
 class OperatorSampler {
  public:
   OperatorSampler(const core::Model& model, const Eigen::MatrixXd& W, const Eigen::VectorXd& q0,
-                  const std::vector<OperatorLoad>& loads)
-      : model_(model), V_(W), q0_(q0), loads_(loads), workspace_(model), gtf_(workspace_.kinematics()) {
+                  const std::vector<OperatorLoad>& loads, const std::vector<core::OperatorOutput>& outputs)
+      : model_(model),
+        V_(W),
+        q0_(q0),
+        loads_(loads),
+        outputs_(outputs),
+        workspace_(model),
+        gtf_(workspace_.kinematics()) {
     gtf_.setRelativeTolerance(1e-12);
     start_ = gtf_.x();
   }
@@ -132,6 +140,15 @@ class OperatorSampler {
         s.loadGrad.col(k) = g;
       }
     }
+    const int no = static_cast<int>(outputs_.size());
+    s.outputValue.resize(no);
+    s.outputGrad.resize(m, no);
+    for (int k = 0; k < no; ++k) {
+      const bool def = outputs_[k].kind == core::OperatorOutput::Kind::Deformation;
+      const int i = outputs_[k].index;
+      s.outputValue[k] = def ? e[i] : x[i];
+      s.outputGrad.col(k) = def ? EqV_.row(i).transpose() : FqV_.row(i).transpose();
+    }
     return true;
   }
 
@@ -158,6 +175,7 @@ class OperatorSampler {
   const Eigen::MatrixXd V_;
   const Eigen::VectorXd q0_;
   const std::vector<OperatorLoad>& loads_;
+  const std::vector<core::OperatorOutput>& outputs_;
   core::Workspace workspace_;
   core::GeometricTransferFunctions gtf_;
   Eigen::VectorXd start_;
@@ -214,14 +232,17 @@ double pilotRange(const core::Model& model, const Eigen::MatrixXd& V, const Oper
 }
 
 // The data groups the operators fit, each measured against its own largest value: the force
-// (grad U), the mass, the damping and the load fields' gradients.
-enum Group { kForce, kMass, kDamping, kLoads, kGroups };
+// (grad U), the mass, the damping and the load fields' gradients; and the tracked outputs, each
+// against its own range (outputScale; fitted as outputs / outputScale).
+enum Group { kForce, kMass, kDamping, kLoads, kOutputs, kGroups };
 
 // Samples at which the fields are fitted, and held-out ones at which the fits are judged.
 struct Samples {
   std::vector<OperatorSample> train, check;
-  double scale[kGroups] = {0, 0, 0, 0};  // each group's largest norm over both
+  double scale[kGroups] = {0, 0, 0, 0, 1};  // each group's largest norm over both
+  Eigen::VectorXd outputScale;              // each output's range over both (floored, see rescale)
   void rescale() {
+    rescaleOutputs();
     for (const auto* list : {&train, &check})
       for (const OperatorSample& d : *list) {
         scale[kForce] = std::max(scale[kForce], d.force.norm());
@@ -230,6 +251,20 @@ struct Samples {
         for (int k = 0; k < d.loadGrad.cols(); ++k) scale[kLoads] = std::max(scale[kLoads], d.loadGrad.col(k).norm());
       }
   }
+  // An output's range, at least 1e-3 of the widest range of its kind (a coordinate that hardly
+  // moves is fitted to the motion of the others, not to its own rounding).
+  void rescaleOutputs() {
+    const int no = static_cast<int>(check.front().outputValue.size());
+    Eigen::VectorXd lo = Eigen::VectorXd::Constant(no, INFINITY), hi = Eigen::VectorXd::Constant(no, -INFINITY);
+    for (const auto* list : {&train, &check})
+      for (const OperatorSample& d : *list) {
+        lo = lo.cwiseMin(d.outputValue);
+        hi = hi.cwiseMax(d.outputValue);
+      }
+    outputScale = no ? Eigen::VectorXd(hi - lo) : Eigen::VectorXd();
+    const double widest = no ? outputScale.maxCoeff() : 0.0;
+    for (int k = 0; k < no; ++k) outputScale[k] = std::max({outputScale[k], 1e-3 * widest, 1e-300});
+  }
 };
 
 // One group's least-squares system at the training samples: value rows (mass, damping, load
@@ -237,13 +272,15 @@ struct Samples {
 struct GroupSystem {
   Eigen::MatrixXd A, b;
 };
-GroupSystem groupSystem(const solvers::ChebyshevBasis& basis, const std::vector<OperatorSample>& train, Group g) {
+GroupSystem groupSystem(const solvers::ChebyshevBasis& basis, const Samples& s, Group g) {
+  const std::vector<OperatorSample>& train = s.train;
   const int m = basis.variables(), P = basis.size(), n = static_cast<int>(train.size());
-  const bool values = g != kForce, gradients = g == kForce || g == kLoads;
-  const int cols = g == kForce   ? 1
-                   : g == kLoads ? static_cast<int>(train.front().loadGrad.cols())
-                   : g == kMass  ? static_cast<int>(train.front().mass.size())
-                                 : static_cast<int>(train.front().damping.size());
+  const bool values = g != kForce, gradients = g == kForce || g == kLoads || g == kOutputs;
+  const int cols = g == kForce     ? 1
+                   : g == kLoads   ? static_cast<int>(train.front().loadGrad.cols())
+                   : g == kOutputs ? static_cast<int>(train.front().outputGrad.cols())
+                   : g == kMass    ? static_cast<int>(train.front().mass.size())
+                                   : static_cast<int>(train.front().damping.size());
   GroupSystem sys;
   sys.A.resize((values ? n : 0) + (gradients ? n * m : 0), P);
   sys.b.resize(sys.A.rows(), cols);
@@ -255,14 +292,19 @@ GroupSystem groupSystem(const solvers::ChebyshevBasis& basis, const std::vector<
     basis.evaluate(d.eta, scratch, phi, gradients ? &grad : nullptr);
     if (values) {
       sys.A.row(r) = phi.transpose();
-      sys.b.row(r++) = g == kMass      ? d.mass.transpose()
-                       : g == kDamping ? d.damping.transpose()
-                                       : d.loadValue.transpose();
+      if (g == kOutputs)
+        sys.b.row(r++) = d.outputValue.cwiseQuotient(s.outputScale).transpose();
+      else
+        sys.b.row(r++) = g == kMass      ? d.mass.transpose()
+                         : g == kDamping ? d.damping.transpose()
+                                         : d.loadValue.transpose();
     }
     if (gradients) {
       sys.A.middleRows(r, m) = grad;
       if (g == kForce)
         sys.b.middleRows(r, m) = -d.force;
+      else if (g == kOutputs)
+        sys.b.middleRows(r, m) = d.outputGrad * s.outputScale.cwiseInverse().asDiagonal();
       else
         sys.b.middleRows(r, m) = d.loadGrad;
       r += m;
@@ -294,6 +336,8 @@ double heldOutError(const solvers::ChebyshevBasis& basis, const Samples& s, cons
     else if (g == kLoads)
       for (int k = 0; k < coef.cols(); ++k)
         e = std::max(e, (grad.leftCols(P) * coef.col(k) - d.loadGrad.col(k)).norm());
+    else if (g == kOutputs)
+      e = (coef.transpose() * phi.head(P) - d.outputValue.cwiseQuotient(s.outputScale)).cwiseAbs().maxCoeff();
     else
       e = (coef.transpose() * phi.head(P) - (g == kMass ? d.mass : d.damping)).norm();
     worst = std::max(worst, e);
@@ -308,7 +352,7 @@ struct FieldFit {
   double error = 0.0;
 };
 FieldFit fitGroup(const solvers::ChebyshevBasis& basis, const Samples& s, Group g, double tolerance, int most) {
-  const GroupSystem sys = groupSystem(basis, s.train, g);
+  const GroupSystem sys = groupSystem(basis, s, g);
   FieldFit best;
   best.error = std::numeric_limits<double>::infinity();
   int last = 0;
@@ -335,6 +379,7 @@ std::vector<Group> allGroupsOf(const Samples& s) {
   std::vector<Group> g = inertiaGroupsOf(s);
   g.push_back(kForce);
   if (s.check.front().loadGrad.cols()) g.push_back(kLoads);
+  if (s.check.front().outputGrad.cols()) g.push_back(kOutputs);
   return g;
 }
 
@@ -398,7 +443,7 @@ std::vector<std::vector<int>> adaptiveTerms(Samples& s, const std::function<void
     bool met = true;
     Eigen::VectorXd score = Eigen::VectorXd::Zero(static_cast<int>(margin.size()));
     for (Group g : groups) {
-      const GroupSystem sys = groupSystem(basis, s.train, g);
+      const GroupSystem sys = groupSystem(basis, s, g);
       const Eigen::MatrixXd c = solveGroup(sys, L, g);
       met = met && heldOutError(current, s, c, g) <= o.tolerance;
       const Eigen::MatrixXd residual = sys.b - sys.A.leftCols(L) * c;
@@ -576,6 +621,12 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
         << ") they do not have";
       return s.str();
     }
+  for (const core::OperatorOutput& q : ops.outputs)
+    if (q.index >= (q.kind == core::OperatorOutput::Kind::Deformation ? model.ne : model.nx)) {
+      s << "they track " << core::operatorOutputKeyword(q.kind) << " index " << q.index + 1 << ", beyond the model's "
+        << (q.kind == core::OperatorOutput::Kind::Deformation ? model.ne : model.nx);
+      return s.str();
+    }
   // The physics: accelerations at the range's centre, at rest and at t0, against Eq. 19's.
   const int m = ops.size();
   Eigen::VectorXd y(2 * m), a(2 * m), b(2 * m);
@@ -599,12 +650,24 @@ std::string operatorsMismatch(const core::Model& model, const Eigen::MatrixXd& V
   return "";
 }
 
+std::string describeTrackedOutputs(const core::TrackedOutputs& tracked, const ReducedOperators& ops) {
+  std::ostringstream s;
+  s << tracked.quantities.size() << " quantities at " << tracked.fromOperators + tracked.fromKinematics
+    << " output times: " << tracked.fromOperators << " from the operators' output fields (fit "
+    << text::significant(ops.outputError, 2) << " of each one's range at held-out configurations), "
+    << tracked.fromKinematics << " from the full kinematics (outside their range)";
+  return s.str();
+}
+
 std::string describeOperators(const ReducedOperators& ops) {
   auto g2 = [](double v) { return text::significant(v, 2); };
   std::ostringstream t;
   t << ops.terms() << " terms, fit " << g2(ops.forceError) << " (force) / " << g2(ops.massError)
-    << " (mass) of their largest in the range, target " << g2(ops.tolerance) << "; one evaluation "
-    << g2(ops.operatorSeconds * 1e6) << " us against " << g2(ops.equation19Seconds * 1e6)
+    << " (mass) of their largest in the range, target " << g2(ops.tolerance);
+  if (!ops.outputs.empty())
+    t << "; " << ops.outputs.size() << " tracked outputs on " << ops.outputFields.rows() << " terms, fit "
+      << g2(ops.outputError) << " of each one's range";
+  t << "; one evaluation " << g2(ops.operatorSeconds * 1e6) << " us against " << g2(ops.equation19Seconds * 1e6)
     << " us for Eq. 19; trained in " << g2(ops.trainingSeconds) << " s (" << ops.trainingSamples << " + "
     << ops.validationSamples << " configurations); range: " << ops.range;
   return t.str();
@@ -669,7 +732,11 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
     if (std::isnan(opt.tolerance)) opt.tolerance = 1e-6;
   }
   ops.tolerance = opt.tolerance;
-  OperatorSampler sampler(model, V * ops.rotation, V * ops.centre, ops.loads);
+  for (const core::OperatorOutput& q : o.outputs)
+    if (q.index < 0 || q.index >= (q.kind == core::OperatorOutput::Kind::Deformation ? model.ne : model.nx))
+      throw std::invalid_argument("operator output index out of range");
+  ops.outputs = o.outputs;
+  OperatorSampler sampler(model, V * ops.rotation, V * ops.centre, ops.loads, ops.outputs);
 
   // Samples from the arcsine density (Halton), chained nearest-first so that Newton starts close.
   long next = 1;
@@ -741,6 +808,11 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
     const FieldFit l = fitGroup(basis, samples, kLoads, opt.tolerance, allTerms);
     ops.loadFields = l.coef;
     ops.forceError = std::max(ops.forceError, l.error);
+  }
+  if (!ops.outputs.empty()) {
+    const FieldFit q = fitGroup(basis, samples, kOutputs, opt.tolerance, allTerms);
+    ops.outputFields = q.coef * samples.outputScale.asDiagonal();
+    ops.outputError = q.error;
   }
   ops.trainingSamples = static_cast<int>(samples.train.size());
   ops.validationSamples = static_cast<int>(samples.check.size());
@@ -967,6 +1039,105 @@ double OperatorDynamics::energy(const Eigen::VectorXd& y) {
   Eigen::MatrixXd M;
   massMatrix(y.head(m_), M);
   return 0.5 * y.tail(m_).dot(M * y.tail(m_)) + ops_.potential.dot(phi_.head(nU_));
+}
+
+std::vector<core::OperatorOutput> trackedQuantities(const core::Model& model, const std::vector<int>& nodeLabels,
+                                                    const std::vector<int>& elementLabels) {
+  std::vector<core::OperatorOutput> out;
+  for (int label : nodeLabels) {
+    const auto it = model.nodeByLabel.find(label);
+    if (it == model.nodeByLabel.end())
+      throw std::invalid_argument("node " + std::to_string(label) + " is not in " + model.sourceFile);
+    const core::Node& n = model.nodes[it->second];
+    for (int i = 0; i < n.dim(); ++i) out.push_back({core::OperatorOutput::Kind::Coordinate, n.firstCoord + i});
+  }
+  for (int label : elementLabels) {
+    const auto it = model.elementByLabel.find(label);
+    if (it == model.elementByLabel.end())
+      throw std::invalid_argument("element " + std::to_string(label) + " is not in " + model.sourceFile);
+    const core::ElementEntry& E = model.elements[it->second];
+    for (int i = 0; i < E.impl->numDeformations(); ++i)
+      out.push_back({core::OperatorOutput::Kind::Deformation, E.firstDef + i});
+  }
+  return out;
+}
+
+OperatorOutputMap::OperatorOutputMap(const core::Model& model, const ReducedOperators& ops)
+    : ops_(ops), stresses_(model), basis_(ops.lower, ops.upper, ops.exponents) {
+  const int no = size(), m = ops.size(), P = static_cast<int>(ops.outputFields.rows());
+  elementColumns_.resize(no);
+  for (int k = 0; k < no; ++k) {
+    if (ops.outputs[k].kind != core::OperatorOutput::Kind::Deformation) continue;
+    const core::ElementEntry& E = model.elements[model.eOwnerElement[ops.outputs[k].index]];
+    std::vector<int> cols;
+    for (int i = 0; i < E.impl->numDeformations(); ++i) {
+      const auto at = std::find_if(ops.outputs.begin(), ops.outputs.end(), [&](const core::OperatorOutput& q) {
+        return q.kind == core::OperatorOutput::Kind::Deformation && q.index == E.firstDef + i;
+      });
+      if (at == ops.outputs.end()) {
+        cols.clear();
+        break;
+      }
+      cols.push_back(static_cast<int>(at - ops.outputs.begin()));
+    }
+    elementColumns_[k] = std::move(cols);
+  }
+  zeta_.resize(m);
+  zetad_.resize(m);
+  zetadd_.resize(m);
+  phi_.resize(P);
+  dphi_.resize(P);
+  ddphi_.resize(P);
+  int widest = 0;
+  for (const auto& E : model.elements) widest = std::max(widest, E.impl->numDeformations());
+  e_.resize(widest);
+  ed_.resize(widest);
+}
+
+bool OperatorOutputMap::evaluate(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd,
+                                 core::TrackedOutputs& into) {
+  const int m = ops_.size(), no = size(), P = static_cast<int>(ops_.outputFields.rows());
+  zeta_.noalias() = ops_.rotation.transpose() * (y.head(m) - ops_.centre);
+  if (basis_.outside(zeta_) >= 0) return false;
+  zetad_.noalias() = ops_.rotation.transpose() * y.tail(m);
+  zetadd_.noalias() = ops_.rotation.transpose() * etadd;
+  basis_.pathDerivatives(zeta_, zetad_, zetadd_, scratch_, phi_, dphi_, ddphi_, P);
+  Eigen::VectorXd value = ops_.outputFields.transpose() * phi_, rate = ops_.outputFields.transpose() * dphi_,
+                  acceleration = ops_.outputFields.transpose() * ddphi_;
+  Eigen::VectorXd stress = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
+  for (int k = 0; k < no; ++k) {
+    const std::vector<int>& cols = elementColumns_[k];
+    if (cols.empty()) continue;
+    for (size_t j = 0; j < cols.size(); ++j)
+      e_[static_cast<int>(j)] = value[cols[j]], ed_[static_cast<int>(j)] = rate[cols[j]];
+    stress[k] = stresses_.stressOf(t, ops_.outputs[k].index, e_.data(), ed_.data());
+  }
+  into.value.push_back(std::move(value));
+  into.rate.push_back(std::move(rate));
+  into.acceleration.push_back(std::move(acceleration));
+  into.stress.push_back(std::move(stress));
+  ++into.fromOperators;
+  return true;
+}
+
+void OperatorOutputMap::fromStates(const core::StateOutputs& s, core::TrackedOutputs& into) const {
+  const int no = size();
+  Eigen::VectorXd value(no), rate(no), acceleration(no),
+      stress = Eigen::VectorXd::Constant(no, std::numeric_limits<double>::quiet_NaN());
+  for (int k = 0; k < no; ++k) {
+    const int i = ops_.outputs[k].index;
+    if (ops_.outputs[k].kind == core::OperatorOutput::Kind::Deformation) {
+      value[k] = s.e[i], rate[k] = s.ed[i], acceleration[k] = s.edd[i];
+      if (!elementColumns_[k].empty()) stress[k] = s.sig[i];
+    } else {
+      value[k] = s.x[i], rate[k] = s.xd[i], acceleration[k] = s.xdd[i];
+    }
+  }
+  into.value.push_back(std::move(value));
+  into.rate.push_back(std::move(rate));
+  into.acceleration.push_back(std::move(acceleration));
+  into.stress.push_back(std::move(stress));
+  ++into.fromKinematics;
 }
 
 }  // namespace flexmb::analysis

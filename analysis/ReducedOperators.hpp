@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dynamics/Stresses.hpp"
 #include "core/dynamics/Trajectory.hpp"
 #include "core/model/Model.hpp"
 #include "core/model/ReducedOperators.hpp"
@@ -68,6 +69,10 @@ std::string describeOperators(const ReducedOperators& ops);
 // screen and the manifest.
 std::string describeOperatorUse(const core::OperatorUse& use, const ReducedOperators& ops);
 
+// "4 quantities at 701 output times: 701 from the operators' output fields (fit ...), 0 from the full
+// kinematics" (simulate --outputs tracked).
+std::string describeTrackedOutputs(const core::TrackedOutputs& tracked, const ReducedOperators& ops);
+
 struct OperatorTrainingOptions {
   // The trained range (in eta; the frame is then the identity); empty: from a pilot reduced run
   // (Eq. 19, ode45 at pilotRelTol over the model's time span), in the frame of its states'
@@ -85,7 +90,16 @@ struct OperatorTrainingOptions {
   double tolerance = std::numeric_limits<double>::quiet_NaN();
   int maxTerms = 300;
   int maxDegree = 14;
+  // Quantities to fit as well (x_i, e_k: `reduce --track`), judged at the same tolerance relative to
+  // each one's range; they do not enter the right-hand side.
+  std::vector<core::OperatorOutput> outputs;
 };
+
+// The x_i / e_k of a trajectory's tracked outputs for nodes and elements given by their labels
+// (all coordinates of each node, all deformations of each element). Throws std::invalid_argument
+// naming a label the model does not have.
+std::vector<core::OperatorOutput> trackedQuantities(const core::Model& model, const std::vector<int>& nodeLabels,
+                                                    const std::vector<int>& elementLabels);
 
 // Throws std::invalid_argument for an unsupported model (operatorsUnsupported) and
 // std::runtime_error when the range's configurations cannot be solved.
@@ -128,6 +142,28 @@ class OperatorDynamics {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd lastEta_, zeta_, zetad_, shifted_;
   int lastOutside_ = -1;
+};
+
+// The operators' tracked outputs along a run (simulate --outputs tracked): values, rates and
+// accelerations as the fitted fields' exact time derivatives (ChebyshevBasis::pathDerivatives), and the
+// deformations' stresses from them (core::Stresses::stressOf): a cost per output time independent
+// of the mesh. Nothing is allocated per call.
+class OperatorOutputMap {
+ public:
+  OperatorOutputMap(const core::Model& model, const ReducedOperators& ops);
+  int size() const { return static_cast<int>(ops_.outputs.size()); }
+  // False (outputs untouched) when eta lies outside the trained range.
+  bool evaluate(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& etadd, core::TrackedOutputs& into);
+  // The same quantities from the full model's outputs at a state (outside the trained range).
+  void fromStates(const core::StateOutputs& s, core::TrackedOutputs& into) const;
+
+ private:
+  const ReducedOperators& ops_;
+  core::Stresses stresses_;
+  solvers::ChebyshevBasis basis_;
+  solvers::ChebyshevBasis::Scratch scratch_;
+  std::vector<std::vector<int>> elementColumns_;  // per output: its element's deformations' columns (empty: none)
+  Eigen::VectorXd zeta_, zetad_, zetadd_, phi_, dphi_, ddphi_, e_, ed_;
 };
 
 }  // namespace flexmb::analysis

@@ -72,6 +72,17 @@ ErrorScale errorScaleOf(const core::Model& model, double motion) {
 }
 }  // namespace
 
+std::vector<int> reductionSamples(int n, int maxSamples) {
+  std::vector<int> samples;
+  if (n <= maxSamples) {
+    for (int k = 0; k < n; ++k) samples.push_back(k);
+  } else {
+    for (int s = 0; s < maxSamples; ++s)
+      samples.push_back(static_cast<int>((static_cast<long>(s) * (n - 1)) / (maxSamples - 1)));
+  }
+  return samples;
+}
+
 double motionScale(const core::Model& model, const core::Trajectory& run) {
   double worst = 0.0;
   if (run.states.empty()) return worst;
@@ -109,14 +120,7 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
     if (isPositionCoordinate(model, i)) positions.push_back(i);
   if (keep) *keep = ResidualDeflections{free, {}, {}, {}, e.scale};
 
-  const int n = static_cast<int>(run.states.size());
-  std::vector<int> samples;
-  if (n <= maxSamples) {
-    for (int k = 0; k < n; ++k) samples.push_back(k);
-  } else {
-    for (int s = 0; s < maxSamples; ++s)
-      samples.push_back(static_cast<int>((static_cast<long>(s) * (n - 1)) / (maxSamples - 1)));
-  }
+  const std::vector<int> samples = reductionSamples(static_cast<int>(run.states.size()), maxSamples);
   try {
     core::Linearization lin(model);
     core::LinearizedSystem sys;

@@ -41,8 +41,13 @@ struct ResidualDeflections {
   double scale = 1.0;
 };
 
+// The output times (indices among n) the estimate samples: all when n <= maxSamples, else
+// maxSamples spread evenly, the first and the last among them.
+constexpr int kReductionSamples = 40;
+std::vector<int> reductionSamples(int n, int maxSamples = kReductionSamples);
+
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
-                                              const core::Trajectory& run, int maxSamples = 40,
+                                              const core::Trajectory& run, int maxSamples = kReductionSamples,
                                               ResidualDeflections* keep = nullptr);
 
 // The estimate a basis W (with the same held coordinates, e.g. more columns of the same kind)

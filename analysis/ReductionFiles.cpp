@@ -7,7 +7,7 @@
 namespace flexmb::analysis {
 
 BasisOperators operatorsBesideBasis(const core::Model& model, const Eigen::MatrixXd& V, bool asked,
-                                    const std::string& notAsked) {
+                                    const std::string& notAsked, const std::vector<core::OperatorOutput>& outputs) {
   BasisOperators b;
   if (!asked) {
     b.note = "not built " + notAsked;
@@ -15,7 +15,9 @@ BasisOperators operatorsBesideBasis(const core::Model& model, const Eigen::Matri
     b.note = "not built: " + why;
   } else {
     try {
-      b.operators = std::make_shared<const core::ReducedOperators>(trainOperators(model, V));
+      OperatorTrainingOptions o;
+      o.outputs = outputs;
+      b.operators = std::make_shared<const core::ReducedOperators>(trainOperators(model, V, o));
       b.note = describeOperators(*b.operators);
     } catch (const std::exception& e) {
       b.note = std::string("not built: ") + e.what();

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "analysis/Reduction.hpp"
 #include "core/model/Model.hpp"
@@ -19,9 +20,9 @@ struct BasisOperators {
 };
 
 // The operators for V unless not asked (notAsked: the note then, e.g. "(--no-operators)"), or the
-// model is one they do not support, or their training fails.
+// model is one they do not support, or their training fails; with the tracked outputs (reduce --track).
 BasisOperators operatorsBesideBasis(const core::Model& model, const Eigen::MatrixXd& V, bool asked,
-                                    const std::string& notAsked);
+                                    const std::string& notAsked, const std::vector<core::OperatorOutput>& outputs = {});
 
 // The basis file at path (its header names modelFile), the operators beside it
 // (io::operatorPathFor) and the manifest's settings; the caller commits the set.

@@ -37,7 +37,7 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
                "--abstol; opts.reltol and opts.abstol in spacar()) and compare",
            "", ""});
   }
-  if (opt.basis && !traj.states.empty()) {
+  if (opt.basis && (!traj.states.empty() || !traj.tracked.empty())) {
     const core::ReductionEstimate& re = traj.reduction;
     const std::string text = describeReductionError(re);
     notes.push_back({Kind::Result, "reduction error estimate: " + text, "reduction error estimate", text});

@@ -221,9 +221,13 @@ class StageRun {
     if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
     if (opt.operators && opt.basis) {
       traj_.operators.used = true;
-      if (opt.integrator == Integrator::Ode45 && !set_.bdf)
+      if (opt.integrator == Integrator::Ode45 && !set_.bdf) {
         operators_.emplace(model, *opt.operators);
-      else
+        if (opt.trackedOutputs && opt.keepStates && !end && !opt.operators->outputs.empty()) {
+          outputMap_.emplace(model, *opt.operators);
+          traj_.tracked.quantities = opt.operators->outputs;
+        }
+      } else
         traj_.operators.notUsed = "the reduced operators serve ode45 only: Eq. 19 throughout";
     }
     eomEta_ = y0_.head(eom_.size());
@@ -244,6 +248,8 @@ class StageRun {
     // Also for a run that stopped: the states it reached say how good the basis was so far.
     if (opt_.basis && opt_.reductionEstimate && opt_.keepStates && !traj_.states.empty())
       traj_.reduction = estimateReductionError(model_, *opt_.basis, traj_);
+    else if (opt_.basis && opt_.reductionEstimate && outputMap_ && !traj_.time.empty())
+      traj_.reduction = estimateFromSamples();
     return std::move(traj_);
   }
 
@@ -397,6 +403,7 @@ class StageRun {
       skipObservation_ = false;
       return true;
     }
+    if (outputMap_) return observeTracked(t, y);
     if (end_) end_->y = y;
     if (opt_.keepStates) {
       core::StateOutputs out;
@@ -427,6 +434,54 @@ class StageRun {
     tReached_ = t;
     if (opt_.progress) progress_.update(t, eom_.evaluations(), accepted_);
     return true;
+  }
+
+  // An output time of a run with tracked outputs: the operators' output fields at the state (their
+  // accelerations from the operators' right-hand side); the full kinematics only where the state
+  // is outside the trained range or the accuracy check keeps the configuration.
+  bool observeTracked(double t, const Eigen::VectorXd& y) {
+    core::TrackedOutputs& tr = traj_.tracked;
+    const int m = eom_.size();
+    if (trackedRate_.size() != y.size()) trackedRate_.resize(y.size());
+    const bool fitted = operators_->rhs(t, y, trackedRate_) && outputMap_->evaluate(t, y, trackedRate_.tail(m), tr);
+    if (!fitted || (windows_ && windows_->wantsAt(t))) {
+      core::StateOutputs out;
+      try {
+        probe_.outputs(t, y, out);
+      } catch (const std::exception& e) {
+        return stop(std::string(e.what()) + " (at t = " + text::shortest(t) + "; results before it are kept)");
+      }
+      if (!fitted) outputMap_->fromStates(out, tr);
+      if (windows_) windows_->observe(t, y, out.x);
+    }
+    if (!tr.value.back().allFinite() || !tr.rate.back().allFinite() || !tr.acceleration.back().allFinite()) {
+      for (auto* v : {&tr.value, &tr.rate, &tr.acceleration, &tr.stress}) v->pop_back();
+      return stop("non-finite tracked outputs at t = " + text::shortest(t) + "; results before it are kept");
+    }
+    tr.reduced.push_back(y);
+    traj_.time.push_back(t);
+    tReached_ = t;
+    if (opt_.progress) progress_.update(t, eom_.evaluations(), accepted_);
+    return true;
+  }
+
+  // The reduction error estimate of a run with tracked outputs: the full outputs at the estimate's
+  // samples only (analysis::reductionSamples), solved in time order from one to the next.
+  core::ReductionEstimate estimateFromSamples() {
+    core::Trajectory sampled;
+    try {
+      for (int k : reductionSamples(static_cast<int>(traj_.time.size()))) {
+        core::StateOutputs out;
+        probe_.outputs(traj_.time[k], traj_.tracked.reduced[k], out);
+        sampled.time.push_back(traj_.time[k]);
+        sampled.states.push_back(std::move(out));
+      }
+    } catch (const std::exception& e) {
+      core::ReductionEstimate r;
+      r.note = std::string("the full kinematics at a sample failed: ") + e.what();
+      return r;
+    }
+    return estimateReductionError(model_, *opt_.basis, sampled);
   }
 
   bool stop(const std::string& reason) {
@@ -468,8 +523,10 @@ class StageRun {
   core::EquationsOfMotion eom_, probe_;
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;
-  std::optional<OperatorDynamics> operators_;  // reduced operators, when given (ode45)
-  Eigen::VectorXd eomEta_;                     // where eom_ last solved (the fallback's start)
+  std::optional<OperatorDynamics> operators_;   // reduced operators, when given (ode45)
+  std::optional<OperatorOutputMap> outputMap_;  // their tracked outputs (SimulationOptions::trackedOutputs)
+  Eigen::VectorXd trackedRate_;                 // dy/dt at an output time (the tracked accelerations)
+  Eigen::VectorXd eomEta_;                      // where eom_ last solved (the fallback's start)
   ProgressLine progress_;
   std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;

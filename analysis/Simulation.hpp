@@ -69,6 +69,11 @@ struct SimulationOptions {
   // Eq. 19 where the state lies in their trained range, and Eq. 19 elsewhere (Trajectory::operators
   // says how often and from when). Null: Eq. 19 throughout. BDF and auto runs use Eq. 19.
   std::shared_ptr<const core::ReducedOperators> operators;
+  // With operators that track outputs (flexmb reduce --track): the output times give
+  // Trajectory::tracked from their output fields instead of the full states (the full kinematics
+  // only where the state leaves the trained range, at the accuracy check's window ends and at the
+  // reduction estimate's samples). Ignored without such operators or when they are not used.
+  bool trackedOutputs = false;
   // How Eq. 13 is solved for the accelerations (core::DynamicsForm); reduced models always project.
   core::DynamicsForm dynamics = core::DynamicsForm::Automatic;
   bool progress = false;   // progress line on stderr for runs longer than a second

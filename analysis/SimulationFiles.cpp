@@ -56,6 +56,30 @@ io::CsvTable trajectoryFrequencyTable(const TrajectoryModes& modes, int columns)
   return t;
 }
 
+io::CsvTable trackedOutputTable(const core::Model& model, const core::Trajectory& traj) {
+  const core::TrackedOutputs& tr = traj.tracked;
+  const std::vector<std::string> xNames = io::coordinateColumnNames(model), eNames = io::deformationColumnNames(model);
+  io::CsvTable t;
+  t.columns.push_back("time");
+  for (const core::OperatorOutput& q : tr.quantities) {
+    const bool def = q.kind == core::OperatorOutput::Kind::Deformation;
+    const std::string& name = def ? eNames[q.index] : xNames[q.index];
+    for (const char* stem :
+         def ? std::vector<const char*>{"e:", "ed:", "edd:", "sig:"} : std::vector<const char*>{"x:", "xd:", "xdd:"})
+      t.columns.push_back(stem + name);
+  }
+  for (size_t k = 0; k < traj.time.size(); ++k) {
+    std::vector<double> row{traj.time[k]};
+    for (size_t j = 0; j < tr.quantities.size(); ++j) {
+      const int c = static_cast<int>(j);
+      row.insert(row.end(), {tr.value[k][c], tr.rate[k][c], tr.acceleration[k][c]});
+      if (tr.quantities[j].kind == core::OperatorOutput::Kind::Deformation) row.push_back(tr.stress[k][c]);
+    }
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
 io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& traj,
                              const std::vector<Eigen::VectorXd>& fxt) {
   io::CsvTable t;
@@ -72,6 +96,10 @@ io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& t
 void writeTrajectoryFiles(io::OutputSet& files, const core::Model& model, const core::Trajectory& traj,
                           const SimulationFiles& what) {
   if (traj.time.empty()) return;
+  if (!traj.tracked.empty()) {  // the tracked outputs stand for the states: one table
+    io::writeTextFile(files.temporaryFor("_tracked.csv"), io::formatCsv(trackedOutputTable(model, traj)));
+    return;
+  }
   if (what.csv) {
     if (what.fxt)
       io::writeTextFile(files.temporaryFor("_fxt.csv"), io::formatCsv(nodalForceTable(model, traj, *what.fxt)));
@@ -111,7 +139,12 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
   auto attempt = [&](const std::string& product, const std::function<void()>& step) {
     if (!files.attempt(product, step, err)) w.incomplete = true;
   };
-  const bool any = !traj.time.empty();
+  // Tracked outputs only (simulate --outputs tracked): no state to derive the other products from.
+  const bool any = !traj.time.empty() && traj.tracked.empty();
+  if (!traj.time.empty() && !traj.tracked.empty()) {
+    writeTrajectoryFiles(files, model, traj, what);
+    files.renameFiles();
+  }
   if (any) {
     writeTrajectoryFiles(files, model, traj, what);
     files.renameFiles();

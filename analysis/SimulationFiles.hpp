@@ -58,6 +58,9 @@ void describeIntegration(io::OutputSet& files, const core::Model& model, const S
 // configuration-frozen spectrum), n = columns; empty cells where fewer were found.
 io::CsvTable trajectoryFrequencyTable(const TrajectoryModes& modes, int columns);
 // <prefix>_fxt.csv: time and the total nodal force on every coordinate.
+// <prefix>_tracked.csv (simulate --outputs tracked): time, then per tracked coordinate x:, xd:, xdd:
+// and per tracked deformation e:, ed:, edd:, sig: with the column names of the _x / _e tables.
+io::CsvTable trackedOutputTable(const core::Model& model, const core::Trajectory& traj);
 io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& traj,
                              const std::vector<Eigen::VectorXd>& fxt);
 

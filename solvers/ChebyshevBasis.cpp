@@ -161,6 +161,43 @@ void ChebyshevBasis::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, Scra
   }
 }
 
+void ChebyshevBasis::pathDerivatives(const Eigen::Ref<const Eigen::VectorXd>& eta,
+                                     const Eigen::Ref<const Eigen::VectorXd>& v,
+                                     const Eigen::Ref<const Eigen::VectorXd>& a, Scratch& s,
+                                     Eigen::Ref<Eigen::VectorXd> phi, Eigen::Ref<Eigen::VectorXd> rate,
+                                     Eigen::Ref<Eigen::VectorXd> acceleration, int count) const {
+  const int m = variables(), P = count < 0 ? size() : std::min(count, size());
+  tables(eta, s);
+  if (s.d2T.rows() != s.T.rows() || s.d2T.cols() != m) s.d2T.resize(s.T.rows(), m);
+  // T''_{k+1} = 4 T'_k + 2 xi T''_k - T''_{k-1} (d/d xi), times (d xi / d eta)^2.
+  for (int i = 0; i < m; ++i) {
+    const double scale = 2.0 / (hi_[i] - lo_[i]);
+    const double xi = (2.0 * eta[i] - lo_[i] - hi_[i]) / (hi_[i] - lo_[i]);
+    const double* dT = &s.dT(0, i);
+    double* d2T = &s.d2T(0, i);
+    const int used = degreeOf_[static_cast<size_t>(i)] + 1;
+    d2T[0] = 0.0;
+    if (used > 1) d2T[1] = 0.0;
+    for (int k = 1; k + 1 < used; ++k) d2T[k + 1] = 4.0 * scale * dT[k] + 2.0 * xi * d2T[k] - d2T[k - 1];
+  }
+  // Each factor along the path: f + t f' v_i + t^2/2 (f'' v_i^2 + f' a_i); products truncated at t^2.
+  const int* off = offsets_.data();
+  for (int p = 0; p < P; ++p, off += m) {
+    double c0 = 1.0, c1 = 0.0, c2 = 0.0;
+    for (int i = 0; i < m; ++i) {
+      const int o = off[i];
+      const double f0 = s.T.data()[o], f1 = s.dT.data()[o] * v[i],
+                   f2 = 0.5 * (s.d2T.data()[o] * v[i] * v[i] + s.dT.data()[o] * a[i]);
+      c2 = c0 * f2 + c1 * f1 + c2 * f0;
+      c1 = c0 * f1 + c1 * f0;
+      c0 *= f0;
+    }
+    phi[p] = c0;
+    rate[p] = c1;
+    acceleration[p] = 2.0 * c2;
+  }
+}
+
 Eigen::VectorXd ChebyshevBasis::arcsinePoint(const Eigen::Ref<const Eigen::VectorXd>& u) const {
   Eigen::VectorXd eta(variables());
   for (int i = 0; i < variables(); ++i)

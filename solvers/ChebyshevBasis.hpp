@@ -17,6 +17,7 @@ class ChebyshevBasis {
   // Per-call tables (caller-owned, so that evaluation allocates nothing after the first call).
   struct Scratch {
     Eigen::MatrixXd T, dT;  // T_k(xi_i), d T_k / d eta_i: m x (p_max + 1)
+    Eigen::MatrixXd d2T;    // d^2 T_k / d eta_i^2 (pathDerivatives only)
     Eigen::VectorXd left;   // prefix products of one term
   };
 
@@ -43,6 +44,13 @@ class ChebyshevBasis {
   // of variable i is s.T.data()[termOffsets()[p * m + i]] (its derivative: s.dT at the same entry).
   void tables(const Eigen::Ref<const Eigen::VectorXd>& eta, Scratch& s) const;
   const int* termOffsets() const { return offsets_.data(); }
+  // Along a path eta(t) with rate v and acceleration a at eta: each of the first `count` terms' value,
+  // first and second time derivative (grad phi . v and v^T H v + grad phi . a), exact: the factors'
+  // second-order Taylor series in t multiplied out.
+  void pathDerivatives(const Eigen::Ref<const Eigen::VectorXd>& eta, const Eigen::Ref<const Eigen::VectorXd>& v,
+                       const Eigen::Ref<const Eigen::VectorXd>& a, Scratch& s, Eigen::Ref<Eigen::VectorXd> phi,
+                       Eigen::Ref<Eigen::VectorXd> rate, Eigen::Ref<Eigen::VectorXd> acceleration,
+                       int count = -1) const;
 
   // A sample point from u in [0, 1)^m under the arcsine density on the box.
   Eigen::VectorXd arcsinePoint(const Eigen::Ref<const Eigen::VectorXd>& u) const;

@@ -42,6 +42,16 @@ Guidance& guidance() {
   return g;
 }
 
+// Training on a third of the guidance's stroke (in eta, around the range's centre): a run leaves it.
+analysis::OperatorTrainingOptions thirdOfTheRange(const Guidance& g) {
+  analysis::OperatorTrainingOptions small;
+  const Eigen::VectorXd mid = g.ops.centre + g.ops.rotation * (0.5 * (g.ops.lower + g.ops.upper));
+  const Eigen::VectorXd half = (g.ops.rotation * (g.ops.upper - g.ops.lower).asDiagonal()).cwiseAbs().rowwise().sum();
+  small.lower = mid - half / 6.0;
+  small.upper = mid + half / 6.0;
+  return small;
+}
+
 }  // namespace
 
 TEST(ChebyshevBasis, FitsAPolynomialOfItsSetExactlyFromValuesOrGradients) {
@@ -81,6 +91,23 @@ TEST(ChebyshevBasis, FitsAPolynomialOfItsSetExactlyFromValuesOrGradients) {
   }
   EXPECT_EQ(b.outside(Eigen::Vector2d(2.1, 0.6)), 0);
   EXPECT_EQ(b.outside(Eigen::Vector2d(1.0, 0.6)), -1);
+}
+
+TEST(ChebyshevBasis, PathDerivativesAreTheTimeDerivativesOfTheTermsAlongAPath) {
+  const Eigen::Vector3d lo(-1.0, 0.5, -0.2), hi(2.0, 0.9, 0.3);
+  const solvers::ChebyshevBasis b(lo, hi, std::vector<int>{5, 3, 4});
+  const Eigen::Vector3d x(0.37, 0.61, 0.05), v(0.8, -0.3, 0.4), a(-0.5, 0.2, 1.1);
+  auto at = [&](double t) { return Eigen::Vector3d(x + t * v + 0.5 * t * t * a); };
+  solvers::ChebyshevBasis::Scratch s;
+  Eigen::VectorXd phi(b.size()), rate(b.size()), acc(b.size()), p(b.size()), m(b.size()), c(b.size());
+  b.pathDerivatives(x, v, a, s, phi, rate, acc);
+  const double h = 1e-4;
+  b.evaluate(at(h), s, p, nullptr);
+  b.evaluate(at(-h), s, m, nullptr);
+  b.evaluate(at(0.0), s, c, nullptr);
+  EXPECT_LT((phi - c).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT(((p - m) / (2 * h) - rate).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT(((p - 2 * c + m) / (h * h) - acc).cwiseAbs().maxCoeff(), 2e-4 * acc.cwiseAbs().maxCoeff());
 }
 
 TEST(ReducedOperators, MatchEquation19AtStatesOutsideTheTrainingSet) {
@@ -244,11 +271,7 @@ TEST(ReducedOperators, ConserveEnergyOfAnUnforcedUndampedRun) {
 TEST(ReducedOperators, RunFallsBackToEquation19OutsideTheTrainedRangeAndSaysWhen) {
   Guidance& g = guidance();
   // Operators trained on a third of the stroke: the run must leave the range and use Eq. 19.
-  analysis::OperatorTrainingOptions small;
-  const Eigen::VectorXd mid = g.ops.centre + g.ops.rotation * (0.5 * (g.ops.lower + g.ops.upper));
-  const Eigen::VectorXd half = (g.ops.rotation * (g.ops.upper - g.ops.lower).asDiagonal()).cwiseAbs().rowwise().sum();
-  small.lower = mid - half / 6.0;
-  small.upper = mid + half / 6.0;
+  const analysis::OperatorTrainingOptions small = thirdOfTheRange(g);
   auto ops = std::make_shared<analysis::ReducedOperators>(analysis::trainOperators(g.model, g.V, small));
   analysis::SimulationOptions with, without;
   with.basis = without.basis = g.V;
@@ -265,6 +288,105 @@ TEST(ReducedOperators, RunFallsBackToEquation19OutsideTheTrainedRangeAndSaysWhen
               a.operators.evaluations, a.operators.fallbacks, a.operators.firstFallback, a.operators.where.c_str(),
               diff);
   EXPECT_LT(diff, 1e-3);
+}
+
+// The guidance's operators that also fit the tip node's coordinates and element 1's deformations.
+analysis::ReducedOperators trackingOperators(const analysis::OperatorTrainingOptions& base = {}) {
+  Guidance& g = guidance();
+  analysis::OperatorTrainingOptions o = base;
+  o.outputs = analysis::trackedQuantities(g.model, {6}, {1});
+  return analysis::trainOperators(g.model, g.V, o);
+}
+
+// Largest |tracked - full| over the run, relative to the full quantity's range over the run.
+double trackedDifference(const core::Trajectory& tracked, const core::Trajectory& full, int column, char what) {
+  const core::OperatorOutput& q = tracked.tracked.quantities[column];
+  const bool def = q.kind == core::OperatorOutput::Kind::Deformation;
+  double worst = 0.0, lo = INFINITY, hi = -INFINITY;
+  for (size_t k = 0; k < full.time.size(); ++k) {
+    const core::StateOutputs& s = full.states[k];
+    const double ref = what == 'v'   ? (def ? s.e : s.x)[q.index]
+                       : what == 'r' ? (def ? s.ed : s.xd)[q.index]
+                       : what == 'a' ? (def ? s.edd : s.xdd)[q.index]
+                                     : s.sig[q.index];
+    const double got = what == 'v'   ? tracked.tracked.value[k][column]
+                       : what == 'r' ? tracked.tracked.rate[k][column]
+                       : what == 'a' ? tracked.tracked.acceleration[k][column]
+                                     : tracked.tracked.stress[k][column];
+    worst = std::max(worst, std::abs(got - ref));
+    lo = std::min(lo, ref);
+    hi = std::max(hi, ref);
+  }
+  return worst / std::max(hi - lo, 1e-300);
+}
+
+TEST(ReducedOperators, TrackedOutputsMatchTheFullKinematicsAtTheRunsStates) {
+  Guidance& g = guidance();
+  const auto ops = std::make_shared<analysis::ReducedOperators>(trackingOperators());
+  ASSERT_EQ(ops->outputs.size(), 5u);  // node 6: x, y; element 1: three deformations
+  EXPECT_LE(ops->outputError, ops->tolerance);
+  analysis::SimulationOptions tracked, all;
+  tracked.basis = all.basis = g.V;
+  tracked.operators = all.operators = ops;
+  tracked.trackedOutputs = true;
+  const core::Trajectory a = analysis::simulate(g.model, tracked), b = analysis::simulate(g.model, all);
+  ASSERT_TRUE(a.completed && b.completed) << a.stopReason << b.stopReason;
+  EXPECT_TRUE(a.states.empty());
+  ASSERT_EQ(a.time, b.time);  // the same run: the output fields change nothing in the integration
+  EXPECT_EQ(a.tracked.fromOperators, static_cast<long>(a.time.size()));
+  EXPECT_EQ(a.tracked.fromKinematics, 0);
+  const double x = trackedDifference(a, b, 0, 'v'), xd = trackedDifference(a, b, 0, 'r'),
+               xdd = trackedDifference(a, b, 0, 'a'), bend = trackedDifference(a, b, 3, 'v'),
+               bendRate = trackedDifference(a, b, 3, 'r'), stress = trackedDifference(a, b, 3, 's');
+  std::printf(
+      "tracked tip x: value %.2e, rate %.2e, acceleration %.2e of its range; element 1 bending %.2e, rate %.2e, "
+      "stress %.2e (output fit %.2e)\n",
+      x, xd, xdd, bend, bendRate, stress, ops->outputError);
+  EXPECT_LT(x, 20 * ops->tolerance);
+  EXPECT_LT(xd, 20 * ops->tolerance);
+  // The accelerations are the operators' (what the run integrates), not Eq. 19's at the same state.
+  EXPECT_LT(xdd, 0.01);
+  EXPECT_LT(bend, 20 * ops->tolerance);
+  EXPECT_LT(bendRate, 20 * ops->tolerance);
+  EXPECT_LT(stress, 20 * ops->tolerance);
+  // The reduction estimate from its samples' full kinematics: the same samples as from the states.
+  ASSERT_TRUE(a.reduction.estimated) << a.reduction.note;
+  ASSERT_TRUE(b.reduction.estimated) << b.reduction.note;
+  EXPECT_NEAR(a.reduction.estimate, b.reduction.estimate, 0.2 * b.reduction.estimate);
+}
+
+TEST(ReducedOperators, TrackedOutputsComeFromTheFullKinematicsOutsideTheTrainedRange) {
+  Guidance& g = guidance();
+  const analysis::OperatorTrainingOptions small = thirdOfTheRange(g);
+  analysis::SimulationOptions tracked, all;
+  tracked.basis = all.basis = g.V;
+  tracked.operators = all.operators = std::make_shared<analysis::ReducedOperators>(trackingOperators(small));
+  tracked.trackedOutputs = true;
+  tracked.reductionEstimate = all.reductionEstimate = false;
+  const core::Trajectory a = analysis::simulate(g.model, tracked), b = analysis::simulate(g.model, all);
+  ASSERT_TRUE(a.completed && b.completed);
+  EXPECT_GT(a.tracked.fromOperators, 0);
+  EXPECT_GT(a.tracked.fromKinematics, 0);
+  EXPECT_EQ(a.tracked.fromOperators + a.tracked.fromKinematics, static_cast<long>(a.time.size()));
+  EXPECT_LT(trackedDifference(a, b, 0, 'v'), 1e-3);
+  // The file keeps them; a damaged output line is refused.
+  const std::string text = io::formatOperators(*tracked.operators);
+  const core::ReducedOperators back = io::parseOperators(text, "t.operators");
+  EXPECT_EQ(io::formatOperators(back), text);
+  ASSERT_EQ(back.outputs.size(), 5u);
+  EXPECT_EQ(back.outputFields, tracked.operators->outputFields);
+  std::string bad = text;
+  bad.replace(bad.find("output x"), 8, "output q");
+  try {
+    io::parseOperators(bad, "t.operators");
+    ADD_FAILURE() << "an unknown output was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("t.operators:"), std::string::npos) << e.what();
+  }
+  core::ReducedOperators beyond = back;
+  beyond.outputs.front().index = g.model.nx;
+  EXPECT_NE(analysis::operatorsMismatch(g.model, g.V, beyond).find("track x index"), std::string::npos);
+  EXPECT_THROW(analysis::trackedQuantities(g.model, {999}, {}), std::invalid_argument);
 }
 
 TEST(ReducedOperators, AddAtMostATenthOfTheReductionError) {

@@ -36,4 +36,24 @@ void Stresses::evaluate(double t, const Eigen::VectorXd& e, const Eigen::VectorX
     if (active_[r.index]) sigma[r.index] += r.f->value(t);
 }
 
+double Stresses::stressOf(double t, int eIndex, const double* eElement, const double* edElement) const {
+  if (!active_[eIndex]) return 0.0;
+  const auto& E = model_.elements[model_.eOwnerElement[eIndex]];
+  const int nd = E.impl->numDeformations(), i = eIndex - E.firstDef;
+  auto reference = [&](int k) {
+    for (const auto& r : model_.references)
+      if (r.index == k) return r.f->value(t);
+    return 0.0;
+  };
+  double s = 0.0;
+  for (int j = 0; j < nd; ++j) {
+    if (E.hasStiffness && E.S(i, j) != 0.0) s += E.S(i, j) * (eElement[j] - reference(E.firstDef + j));
+    if (E.hasDamping && edElement) s += E.Sd(i, j) * edElement[j];
+  }
+  if (model_.sigma0.size() == model_.ne) s += model_.sigma0[eIndex];
+  for (const auto& r : model_.timeStresses)
+    if (r.index == eIndex) s += r.f->value(t);
+  return s;
+}
+
 }  // namespace flexmb::core

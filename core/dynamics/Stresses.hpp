@@ -15,6 +15,9 @@ class Stresses {
   bool hasDamping() const { return hasDamping_; }
   // ed may be null when there is no damping (or the rates are zero).
   void evaluate(double t, const Eigen::VectorXd& e, const Eigen::VectorXd* ed, Eigen::VectorXd& sigma) const;
+  // sigma of deformation eIndex alone, from its element's deformations and rates (the element's
+  // order; edElement may be null), as evaluate gives it: for output quantities without the full e.
+  double stressOf(double t, int eIndex, const double* eElement, const double* edElement) const;
   // The constitutive matrix restricted to active deformations, as (element, active mask).
   bool isActive(int eIndex) const { return active_[eIndex]; }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/dynamics/EquationsOfMotion.hpp"
+#include "core/model/ReducedOperators.hpp"
 
 namespace flexmb::core {
 
@@ -49,9 +50,23 @@ struct OperatorUse {
   std::string where;                                                // the coordinate outside the range there
 };
 
+// simulate --outputs tracked: the reduced operators' output fields at the output times in place of
+// the full StateOutputs (Trajectory::states stays empty), so that an output time costs nothing that
+// grows with the mesh. One row per output time, one entry per tracked quantity.
+struct TrackedOutputs {
+  std::vector<OperatorOutput> quantities;
+  std::vector<Eigen::VectorXd> value, rate, acceleration;  // x, xd, xdd or e, ed, edd
+  std::vector<Eigen::VectorXd> stress;                     // sig of the deformations (NaN for coordinates)
+  std::vector<Eigen::VectorXd> reduced;                    // y = [eta; etad]
+  long fromOperators = 0, fromKinematics = 0;              // rows from the fields; from the full kinematics
+                                                           // (the state outside the trained range)
+  bool empty() const { return quantities.empty(); }
+};
+
 struct Trajectory {
   std::vector<double> time;
   std::vector<StateOutputs> states;  // one per output time: x, xd, xdd, e, ed, edd, sig
+  TrackedOutputs tracked;            // instead of states (simulate --outputs tracked)
   long nsteps = 0, nfailed = 0, nfevals = 0;
   long nrhsfailed = 0;  // ode45: failed attempts whose right-hand side failed at a trial state
   // The integrator ("ode45", "bdf", or "ode45+bdf" for an auto run that switched) and, for bdf, its

@@ -19,6 +19,17 @@ inline const char* operatorLoadKeyword(OperatorLoad::Kind kind) {
   return kind == OperatorLoad::Kind::Stress ? "ESIGT" : kind == OperatorLoad::Kind::Reference ? "EREF" : "XFT";
 }
 
+// A quantity the operators also map eta to, so that a run can report it without the full kinematics
+// (simulate --outputs tracked): a nodal coordinate x_i or a deformation e_k.
+struct OperatorOutput {
+  enum class Kind { Coordinate, Deformation };
+  Kind kind = Kind::Coordinate;
+  int index = 0;
+};
+inline const char* operatorOutputKeyword(OperatorOutput::Kind kind) {
+  return kind == OperatorOutput::Kind::Deformation ? "e" : "x";
+}
+
 struct ReducedOperators {
   // The fields are polynomials in zeta = R^T (eta - c), the principal directions of the pilot run's
   // states (a tight box for correlated coordinates); R = I, c = 0 with a given range.
@@ -34,12 +45,15 @@ struct ReducedOperators {
   Eigen::MatrixXd damping;    // Cr, the same layout; empty without damping
   std::vector<OperatorLoad> loads;
   Eigen::MatrixXd loadFields;  // its terms x loads: phi_k
+  std::vector<OperatorOutput> outputs;
+  Eigen::MatrixXd outputFields;  // its terms x outputs: x_i(zeta) or e_k(zeta); not in the right-hand side
   // What it was made for and how well it fits (held-out samples, relative to the largest value).
   int dofs = 0;                // rows of V
   double basisChecksum = 0.0;  // analysis::basisChecksum(V)
   double tolerance = 0.0;      // the fit target it was trained for
   double forceError = 0.0;     // max |Q_fit - Q| / max |Q| over held-out configurations
   double massError = 0.0;      // max |Mr_fit - Mr|_F / max |Mr|_F over them
+  double outputError = 0.0;    // max |fit - value| over them / the output's range over all samples
   int trainingSamples = 0, validationSamples = 0;
   double trainingSeconds = 0.0;  // sampling, fitting and the range's pilot run
   // One evaluation, measured at training at the range's centre: operators and Eq. 19 (seconds).
@@ -47,7 +61,7 @@ struct ReducedOperators {
   std::string range;  // where the box came from, in words
 
   int size() const { return static_cast<int>(lower.size()); }
-  // The terms an evaluation computes: the longest field.
+  // The terms an evaluation of the right-hand side computes: the longest of its fields.
   int terms() const {
     return static_cast<int>(std::max({potential.size(), mass.cols(), damping.cols(), loadFields.rows()}));
   }

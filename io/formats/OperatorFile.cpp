@@ -101,6 +101,7 @@ std::string formatOperators(const core::ReducedOperators& o) {
   key("tolerance", text::g17(o.tolerance));
   key("force error", text::g17(o.forceError));
   key("mass error", text::g17(o.massError));
+  if (!o.outputs.empty()) key("output error", text::g17(o.outputError));
   key("training samples", std::to_string(o.trainingSamples));
   key("validation samples", std::to_string(o.validationSamples));
   key("training seconds", text::g17(o.trainingSeconds));
@@ -116,6 +117,12 @@ std::string formatOperators(const core::ReducedOperators& o) {
         .append(" ")
         .append(std::to_string(l.index))
         .append("\n");
+  for (const auto& q : o.outputs)
+    out.append("output ")
+        .append(core::operatorOutputKeyword(q.kind))
+        .append(" ")
+        .append(std::to_string(q.index))
+        .append("\n");
   appendBlock(out, "matrix", "centre", o.centre);
   appendBlock(out, "matrix", "rotation", o.rotation);
   appendBlock(out, "matrix", "lower", o.lower);
@@ -125,6 +132,7 @@ std::string formatOperators(const core::ReducedOperators& o) {
   appendBlock(out, "matrix", "mass", o.mass);
   appendBlock(out, "matrix", "damping", o.damping);
   appendBlock(out, "matrix", "loadFields", o.loadFields);
+  if (!o.outputs.empty()) appendBlock(out, "matrix", "outputFields", o.outputFields);
   return out;
 }
 
@@ -157,6 +165,8 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
         o.forceError = x;
       else if (k == "mass error")
         o.massError = x;
+      else if (k == "output error")
+        o.outputError = x;
       else if (k == "training samples")
         o.trainingSamples = static_cast<int>(x);
       else if (k == "validation samples")
@@ -190,10 +200,19 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
       o.loads.push_back(l);
       continue;
     }
+    if (kind == "output") {
+      long index = -1;
+      if (!(w >> index) || index < 0) p.fail("output without a non-negative index");
+      if (what != "x" && what != "e") p.fail("unknown output '" + what + "' (x or e)");
+      o.outputs.push_back(
+          {what == "e" ? core::OperatorOutput::Kind::Deformation : core::OperatorOutput::Kind::Coordinate,
+           static_cast<int>(index)});
+      continue;
+    }
     long rows = -1, cols = -1;
     if ((kind != "matrix" && kind != "ints") || !(w >> rows >> cols)) p.fail("expected 'matrix NAME ROWS COLS'");
-    static const char* known[] = {"centre",    "rotation", "lower",   "upper",     "exponents",
-                                  "potential", "mass",     "damping", "loadFields"};
+    static const char* known[] = {"centre",    "rotation", "lower",   "upper",      "exponents",
+                                  "potential", "mass",     "damping", "loadFields", "outputFields"};
     if (std::find(std::begin(known), std::end(known), what) == std::end(known)) p.fail("unknown block '" + what + "'");
     if (blocks.count(what)) p.fail("block '" + what + "' given twice");
     blocks[what] = p.block(rows, cols);
@@ -209,6 +228,7 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
   o.mass = blocks["mass"];
   o.damping = blocks.count("damping") ? blocks["damping"] : Eigen::MatrixXd();
   o.loadFields = blocks.count("loadFields") ? blocks["loadFields"] : Eigen::MatrixXd();
+  o.outputFields = blocks.count("outputFields") ? blocks["outputFields"] : Eigen::MatrixXd();
   const long m = o.lower.size(), P = o.exponents.rows();
   auto bad = [&](const std::string& why) { throw std::runtime_error(name + ": " + why); };
   if (m == 0 || o.upper.size() != m || o.centre.size() != m || o.rotation.rows() != m || o.rotation.cols() != m ||
@@ -221,8 +241,9 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
   const long packed = m * (m + 1) / 2;
   if (o.potential.size() > P || o.mass.rows() != packed || o.mass.cols() > P ||
       (o.damping.size() && (o.damping.rows() != packed || o.damping.cols() > P)) || o.loadFields.rows() > P ||
-      o.loadFields.cols() != static_cast<long>(o.loads.size()))
-    bad("the coefficient blocks do not fit the terms (exponents) and loads");
+      o.loadFields.cols() != static_cast<long>(o.loads.size()) || o.outputFields.rows() > P ||
+      o.outputFields.cols() != static_cast<long>(o.outputs.size()))
+    bad("the coefficient blocks do not fit the terms (exponents), loads and outputs");
   return o;
 }
 

@@ -33,35 +33,46 @@ void printCandidates(std::ostream& out, const analysis::TargetResult& tr) {
     out << line;
   }
 }
+// Integers separated by commas (--track, --track-elements, --large), appended to `values`.
+std::optional<int> parseIntegers(const char* option, const std::string& text, std::vector<int>& values) {
+  std::stringstream ss(text);
+  std::string tok;
+  while (std::getline(ss, tok, ',')) {
+    size_t used = 0;
+    int v = 0;
+    try {
+      v = std::stoi(tok, &used);
+    } catch (...) {
+      used = 0;
+    }
+    if (used == 0 || used != tok.size()) {
+      std::cerr << "flexmb: --" << option << ": '" << tok << "' is not an integer (integers separated by commas)\n";
+      return kUsageError;
+    }
+    values.push_back(v);
+  }
+  return std::nullopt;
+}
+
 // --large: 1-based degree-of-freedom indices separated by commas, into o.large (0-based).
 std::optional<int> parseLarge(const std::string& large, analysis::ReductionOptions& o) {
   if (large.empty()) return std::nullopt;
-  {
-    std::vector<int> idx;
-    std::stringstream ss(large);
-    std::string tok;
-    while (std::getline(ss, tok, ',')) {
-      size_t used = 0;
-      int v = -1;
-      try {
-        v = std::stoi(tok, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used == 0 || used != tok.size() || v < 0) {
-        std::cerr << "flexmb: --large: '" << tok << "' is not an index (1-based integers separated by commas)\n";
-        return kUsageError;
-      }
-      if (v == 0) {
-        std::cerr << "flexmb: --large: the indices are 1-based, as every number in flexmb (degree of freedom 1 is "
-                     "the first in `flexmb check`'s list); 0 is not one (earlier flexmb versions read them 0-based: "
-                     "add 1)\n";
-        return kUsageError;
-      }
-      idx.push_back(v - 1);
+  std::vector<int> idx;
+  if (auto rc = parseIntegers("large", large, idx)) return rc;
+  for (int& v : idx) {
+    if (v < 0) {
+      std::cerr << "flexmb: --large: " << v << " is not an index (1-based)\n";
+      return kUsageError;
     }
-    o.large = idx;
+    if (v == 0) {
+      std::cerr << "flexmb: --large: the indices are 1-based, as every number in flexmb (degree of freedom 1 is "
+                   "the first in `flexmb check`'s list); 0 is not one (earlier flexmb versions read them 0-based: "
+                   "add 1)\n";
+      return kUsageError;
+    }
+    --v;
   }
+  o.large = idx;
   return std::nullopt;
 }
 
@@ -86,10 +97,10 @@ void describeReduction(io::OutputSet& files, const analysis::ReductionOptions& o
 
 // The reduced operators for the basis V (analysis::operatorsBesideBasis) with a progress line; a
 // failure to train them is a warning: the basis is written all the same.
-analysis::BasisOperators operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators,
-                                      bool quiet) {
+analysis::BasisOperators operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators, bool quiet,
+                                      const std::vector<core::OperatorOutput>& tracked) {
   Progress progress("operators", !quiet && !noOperators);
-  analysis::BasisOperators ops = analysis::operatorsBesideBasis(model, V, !noOperators, "(--no-operators)");
+  analysis::BasisOperators ops = analysis::operatorsBesideBasis(model, V, !noOperators, "(--no-operators)", tracked);
   progress.finish();
   if (ops.failed && !quiet)
     std::cerr << "flexmb: warning: reduced operators " << ops.note << "; the basis is written\n";
@@ -102,7 +113,7 @@ int runReduce(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   analysis::ReductionOptions o;
-  std::string out, large;
+  std::string out, large, trackNodes, trackElements;
   double target = NAN;  // not given
   bool noOperators = false;
   d.add_options()("method", po::value(&o.method)->default_value("modal"), "modal or svd-modal")(
@@ -127,6 +138,12 @@ int runReduce(const std::vector<std::string>& args) {
       "choose the basis size from an error target EPS (0 < EPS < 1): the smallest basis of --method whose reduced run "
       "over the model's TIMESTEP span has a reduction error estimate of at most EPS (largest position deviation "
       "relative to the motion); --modes / --count are chosen")(
+      "track", po::value(&trackNodes),
+      "nodes (labels, comma-separated) whose coordinates the operators also fit, so that `simulate --basis FILE "
+      "--outputs tracked` reports their x, xd, xdd without the full kinematics")(
+      "track-elements", po::value(&trackElements),
+      "elements (labels, comma-separated) whose deformations the operators also fit (e, ed, edd and sig with "
+      "--outputs tracked)")(
       "no-operators", po::bool_switch(&noOperators),
       "do not build the reduced operators (basis.operators beside the basis: the reduced model's mass, potential and "
       "loads as polynomials in eta over the range of a pilot run, so that `simulate --basis` evaluates it without the "
@@ -143,8 +160,23 @@ int runReduce(const std::vector<std::string>& args) {
     return kUsageError;
   }
   if (auto rc = parseLarge(large, o)) return *rc;
+  std::vector<int> nodeLabels, elementLabels;
+  if (auto rc = parseIntegers("track", trackNodes, nodeLabels)) return *rc;
+  if (auto rc = parseIntegers("track-elements", trackElements, elementLabels)) return *rc;
+  if (noOperators && (!nodeLabels.empty() || !elementLabels.empty())) {
+    std::cerr
+        << "flexmb: --track and --track-elements fit outputs into the reduced operators: not with --no-operators\n";
+    return kUsageError;
+  }
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
+  std::vector<core::OperatorOutput> tracked;
+  try {
+    tracked = analysis::trackedQuantities(model, nodeLabels, elementLabels);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "flexmb: --track: " << e.what() << "\n";
+    return kInputError;
+  }
   if (o.large)
     for (int i : *o.large)
       if (i >= model.numDofs()) {
@@ -190,7 +222,10 @@ int runReduce(const std::vector<std::string>& args) {
     return kNumericalFailure;
   }
   // The reduced operators beside the basis: their failure leaves the basis written, and says why.
-  const analysis::BasisOperators ops = operatorsFor(model, r.V, noOperators, m.quiet);
+  const analysis::BasisOperators ops = operatorsFor(model, r.V, noOperators, m.quiet, tracked);
+  if (!tracked.empty() && !ops.operators)
+    std::cerr << "flexmb: warning: no reduced operators, so no tracked outputs (--track): simulate --outputs tracked "
+                 "will refuse this basis\n";
   const std::string opsPath = io::operatorPathFor(out);
   try {
     analysis::writeReduction(files, out, m.file, r, ops);

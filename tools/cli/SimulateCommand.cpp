@@ -43,7 +43,7 @@ struct SimulateArgs {
   ModelOptions m;
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
-  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45";
+  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45", outputs = "all";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
   std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
@@ -86,6 +86,11 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "full-kinematics", po::bool_switch(&a.fullKinematics),
       "with --basis FILE: Eq. 19 (the full kinematics at every evaluation) even where FILE's reduced operators "
       "(FILE.operators, written by flexmb reduce) hold, to compare the two on the same basis")(
+      "outputs", po::value(&a.outputs),
+      "all (default: every nodal coordinate, deformation and stress from the full kinematics at each output time) or "
+      "tracked (with --basis FILE whose operators track nodes or elements, flexmb reduce --track: only those, from "
+      "the operators' output fields, in <out>_tracked.csv; an output time then costs nothing that grows with the "
+      "mesh)")(
       "svd-path", po::value(&a.svdPath),
       "--basis auto: an SVD-modal basis over NODE,COMP,FROM,TO (10 equilibria, 3 modes each) instead of a modal one")(
       "dynamics", po::value(&a.dynamics),
@@ -139,6 +144,29 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
   if (a.basisFile == "auto" && std::isnan(a.target)) {
     std::cerr << "flexmb: --basis auto needs --target EPS (the reduction error to meet)\n";
     return kUsageError;
+  }
+  if (a.outputs != "all" && a.outputs != "tracked") {
+    std::cerr << "flexmb: --outputs must be all or tracked, not '" << a.outputs << "'\n";
+    return kUsageError;
+  }
+  if (a.outputs == "tracked") {
+    std::string clash;
+    if (a.basisFile.empty() || a.basisFile == "auto")
+      clash = "it needs --basis FILE (the operators beside FILE)";
+    else if (a.fullKinematics)
+      clash = "--full-kinematics computes every output from the full kinematics";
+    else if (a.chosen != analysis::Integrator::Ode45)
+      clash = "the reduced operators serve ode45 only";
+    else if (a.linearize > 0 || a.matrices)
+      clash = "--linearize and --matrices need the full states";
+    else if (!a.echo.empty() || a.vtk || a.html)
+      clash = "--echo, --vtk and --html need the full states";
+    else if (a.format == "mat")
+      clash = "the tracked outputs are written as CSV (--format csv, both or none)";
+    if (!clash.empty()) {
+      std::cerr << "flexmb: --outputs tracked: " << clash << "\n";
+      return kUsageError;
+    }
   }
   if (!a.svdPath.empty() && a.basisFile != "auto") {
     std::cerr << "flexmb: --svd-path applies to --basis auto\n";
@@ -359,6 +387,18 @@ int runSimulate(const std::vector<std::string>& args) {
     }
     opt.operators = choice.operators;
     operatorNote = choice.note;
+    if (a.outputs == "tracked") {
+      if (!opt.operators || opt.operators->outputs.empty()) {
+        std::cerr << "flexmb: --outputs tracked: "
+                  << (opt.operators ? io::operatorPathFor(a.basisFile) +
+                                          " tracks no output (flexmb reduce --track NODES "
+                                          "or --track-elements ELEMENTS builds them)"
+                                    : "the run uses " + choice.note)
+                  << "\n";
+        return kInputError;
+      }
+      opt.trackedOutputs = true;
+    }
   } else if (a.basisFile == "auto") {
     operatorNote = "Eq. 19 (--basis auto builds no reduced operators)";
   }
@@ -404,6 +444,11 @@ int runSimulate(const std::vector<std::string>& args) {
         opt.operators ? analysis::describeOperatorUse(traj.operators, *opt.operators) : operatorNote;
     std::cout << "reduced dynamics: " << text << "\n";
     files.setting("reduced dynamics", text);
+  }
+  if (!traj.tracked.empty()) {
+    const std::string text = analysis::describeTrackedOutputs(traj.tracked, *opt.operators);
+    std::cout << "tracked outputs: " << text << "\n";
+    files.setting("tracked outputs", text);
   }
   std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
   for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, a.target)) {

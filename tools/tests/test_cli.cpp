@@ -514,6 +514,49 @@ TEST_F(Cli, TutorialModels) {
 
 }  // namespace
 
+// The operators' output map (issue 33): reduce --track fits the chosen nodes' coordinates and
+// elements' deformations, simulate --outputs tracked writes only those, from the fields, and
+// refuses what it cannot give.
+TEST_F(Cli, TrackedOutputsAreWrittenWithoutTheFullStates) {
+  const std::string model = kData + "straight_guidance.dat";
+  Result r = flexmb("reduce " + model + " --modes 3 --track 6 --track-elements 1 --out m3.csv -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("5 tracked outputs"), std::string::npos) << r.out;
+  r = flexmb("simulate " + model + " --basis m3.csv --outputs tracked --out t -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("tracked outputs: 5 quantities at 201 output times: 201 from the operators' output fields"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("reduction error estimate:"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "t_x.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "t.mat"));
+  std::ifstream csv(dir_ / "t_tracked.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time,x:node6.x,xd:node6.x,xdd:node6.x,x:node6.y,", 0), 0u) << header;
+  EXPECT_NE(header.find("sig:PLBEAM1.e2_bending_p"), std::string::npos) << header;
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 201);
+  EXPECT_NE(slurp(dir_ / "t_run.txt").find("tracked outputs: 5 quantities"), std::string::npos);
+  // What it cannot give: refused before the run, naming why.
+  for (const std::string& bad : {std::string(" --html"), std::string(" --integrator bdf"), std::string(" --format mat"),
+                                 std::string(" --full-kinematics")}) {
+    r = flexmb("simulate " + model + " --basis m3.csv --outputs tracked -q" + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find("--outputs tracked:"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(flexmb("simulate " + model + " --outputs some").code, 2);
+  ASSERT_EQ(flexmb("reduce " + model + " --modes 3 --out plain.csv -q").code, 0);
+  r = flexmb("simulate " + model + " --basis plain.csv --outputs tracked -q");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("plain.operators tracks no output"), std::string::npos) << r.err;
+  r = flexmb("reduce " + model + " --modes 3 --track 99 --out x.csv -q");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("node 99 is not in"), std::string::npos) << r.err;
+  EXPECT_EQ(flexmb("reduce " + model + " --modes 3 --track 6 --no-operators --out x.csv -q").code, 2);
+}
+
 // Reduced operators (issue 33): reduce writes them beside the basis, simulate uses them and says so,
 // --full-kinematics compares on the same basis, and operators that do not fit are refused naming
 // what differs.
