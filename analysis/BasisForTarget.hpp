@@ -7,7 +7,7 @@
 // and estimated. The scan starts at a first guess (SVD-modal: the paper's 1% rule; modal: --modes):
 // when that meets the target it goes down one vector at a time while the smaller one still meets
 // it; else it goes up, each time to the first size whose estimate, predicted from the last run's
-// deflections (predictReductionError), is within half the target, and runs that. Where none smaller
+// deflections (predictReductionError), is within the target, and runs that. Where none smaller
 // than the full model meets it, the full model is the answer (`full`).
 #include <Eigen/Core>
 #include <functional>

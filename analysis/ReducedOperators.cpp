@@ -355,7 +355,7 @@ FieldFit fitGroup(const solvers::ChebyshevBasis& basis, const Samples& s, Group 
   const GroupSystem sys = groupSystem(basis, s, g);
   FieldFit best;
   best.error = std::numeric_limits<double>::infinity();
-  int last = 0;
+  int last = 0, below = 0;  // below: the longest leading part tried that does not meet the tolerance
   for (double share : {0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0}) {
     const int count = std::max(2, static_cast<int>(std::ceil(share * most)));
     if (count <= last || count > most) continue;
@@ -364,7 +364,23 @@ FieldFit fitGroup(const solvers::ChebyshevBasis& basis, const Samples& s, Group 
     const double e = heldOutError(basis, s, c, g);
     if (e < best.error) best = {c, e};
     if (e <= tolerance) break;
+    below = count;
   }
+  // Between the last part that fails and the first that meets, the shortest that meets (bisection:
+  // a term saved here is saved at every evaluation).
+  int hi = static_cast<int>(best.coef.rows());
+  if (best.error <= tolerance)
+    while (hi - below > 1) {
+      const int mid = (below + hi) / 2;
+      const Eigen::MatrixXd c = solveGroup(sys, mid, g);
+      const double e = heldOutError(basis, s, c, g);
+      if (e <= tolerance) {
+        best = {c, e};
+        hi = mid;
+      } else {
+        below = mid;
+      }
+    }
   return best;
 }
 

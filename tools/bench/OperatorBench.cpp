@@ -231,10 +231,10 @@ std::string operatorFigures(bool quick, const std::function<std::string(int)>& g
     const double rhs19 = perCall([&] { eomR.rhs(0.05, yR, dy); }, budget);
     const double rhsOps = perCall([&] { od.rhs(0.05, yR, dy); }, budget);
     std::printf(
-        "[operators] mesh n = %d (%d DOF): %d terms (%ld for Mr), training %.3f s; rhs full %.2f us, Eq. 19 %.2f us, "
-        "operators %.2f us\n",
-        n, m.numDofs(), ops.terms(), static_cast<long>(ops.mass.cols()), training, rhsFull * 1e6, rhs19 * 1e6,
-        rhsOps * 1e6);
+        "[operators] mesh n = %d (%d DOF): %d terms (%ld for Mr), fit tolerance %.2e, training %.3f s; rhs full %.2f "
+        "us, Eq. 19 %.2f us, operators %.2f us\n",
+        n, m.numDofs(), ops.terms(), static_cast<long>(ops.mass.cols()), ops.tolerance, training, rhsFull * 1e6,
+        rhs19 * 1e6, rhsOps * 1e6);
     md << "| " << n << " | " << m.numDofs() << " | " << ops.terms() << " / " << ops.mass.cols() << " | "
        << f("%.3f", training) << " | " << f("%.2f", rhsFull * 1e6) << " | " << f("%.2f", rhs19 * 1e6) << " | "
        << f("%.2f", rhsOps * 1e6) << " |\n";
