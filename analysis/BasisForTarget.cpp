@@ -64,7 +64,7 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     const core::Trajectory run = simulate(model, so);
     TargetCandidate c;
     c.vectors = k;
-    c.estimate = estimateReductionError(model, *so.basis, run, kCandidateSamples, &last);
+    c.estimate = estimateReductionError(model, *so.basis, run, kCandidateSamples, &last, kTransportSteps, o.target);
     c.fevals = run.nfevals;
     c.completed = run.completed;
     c.stopReason = run.stopReason;

@@ -1,20 +1,21 @@
 #pragma once
 // The reduction error of a reduced run (issue 32), estimated from the run itself and the full
-// model, without a full run: at output times, the full model's residual of Eq. 13 at the reduced
+// model, without a full run. At output times, the full model's residual of Eq. 13 at the reduced
 // state, Q(q, qd, qdd) with q = V eta (the generalised forces the reduced model leaves unbalanced;
-// V^T Q = 0 by Eq. 19), and the deflection the missing coordinates take under it, quasi-statically:
-//   (K + G + N) dq = Q  on the coordinates V does not hold exactly (its identity columns: the
-//   large-rotation coordinates of Eq. 20 are held, dq = 0 there),
-// mapped to the nodal positions, dx = F_q dq. The estimate is twice the largest |dx| over the
-// positions and the sampled output times (the factor calibrated in ReductionError.cpp), relative
-// to the run's motion (the largest displacement of any
-// position coordinate from its initial value; the model size where the motion is smaller than
-// 1e-3 of it). It is the residual flexibility of the modes the basis leaves out (the static
-// correction of modal truncation), which is what a basis of low modes misses when the loads and
-// inertia forces change slowly against those modes; it does not see phase errors of the kept
-// modes. Calibrated against full references in the validation report (effectivity = estimate /
-// true error, same measure).
+// V^T Q = 0 by Eq. 19), loads two measures of the error, both mapped to the nodal positions
+// (dx = F_q dq) and relative to the run's motion (the largest displacement of any position
+// coordinate from its initial value; the model size where the motion is smaller than 1e-3 of it):
+// - the quasi-static deflection of the coordinates V does not hold exactly, (K + G + N) dq = Q (its
+//   identity columns, the large-rotation coordinates of Eq. 20, held: dq = 0 there): the residual
+//   flexibility of the modes the basis leaves out, doubled;
+// - the error the full model linearised about the reduced trajectory carries along the run,
+//   M e'' + (C + D) e' + (K + G + N) e = Q(t) from e = e' = 0 (every coordinate), times 1.5: it also
+//   sees the dynamics of the omitted coordinates and a poor basis' own motion going wrong (a phase
+//   error of the kept modes), which the first does not.
+// The estimate is the larger (the factors calibrated in ReductionError.cpp against full references
+// in the validation report: effectivity = estimate / true error, same measure).
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,14 @@ struct ResidualDeflections {
 constexpr int kReductionSamples = 40;
 std::vector<int> reductionSamples(int n, int maxSamples = kReductionSamples);
 
+// The error carried along the run steps over at most transportSteps output times (each one
+// linearisation: the estimate's main cost); it is left out (carried = 0) where the quasi-static part
+// alone puts the estimate above decidedAbove (a candidate basis that fails its target anyway).
+constexpr int kTransportSteps = kReductionSamples;  // the same outputs: one linearisation each
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
                                               const core::Trajectory& run, int maxSamples = kReductionSamples,
-                                              ResidualDeflections* keep = nullptr);
+                                              ResidualDeflections* keep = nullptr, int transportSteps = kTransportSteps,
+                                              double decidedAbove = std::numeric_limits<double>::infinity());
 
 // The estimate a basis W (with the same held coordinates, e.g. more columns of the same kind)
 // would give, predicted from the deflections of another basis' run: what of each deflection W does

@@ -30,13 +30,15 @@ struct AccuracyEstimate {
 // the reduced states, its quasi-static deflection outside the basis, relative to the motion.
 struct ReductionEstimate {
   bool estimated = false;
-  double estimate = 0.0;  // largest position deflection / scale
-  double scale = 0.0;     // the motion (or model size) it is relative to, in m
-  std::string scaleText;  // "of the motion (0.0833 m)" or "of the model size (...)"
-  double atTime = 0.0;    // where the largest was found
-  int samples = 0;        // output times evaluated
-  double seconds = 0.0;   // its cost
-  std::string note;       // why not estimated
+  double estimate = 0.0;     // kSafety x the larger of quasiStatic and carried
+  double quasiStatic = 0.0;  // the largest quasi-static deflection outside the basis / scale
+  double carried = 0.0;      // the largest error the linearised full model carries along the run / scale
+  double scale = 0.0;        // the motion (or model size) it is relative to, in m
+  std::string scaleText;     // "of the motion (0.0833 m)" or "of the model size (...)"
+  double atTime = 0.0;       // where the largest was found
+  int samples = 0;           // output times evaluated
+  double seconds = 0.0;      // its cost
+  std::string note;          // why not estimated
 };
 
 // How a reduced run's right-hand side was evaluated (analysis/ReducedOperators.hpp): by the
