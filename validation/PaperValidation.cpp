@@ -478,6 +478,7 @@ class PaperValidation {
         const Run red = simulateModel("target", *c.model, tr.basis.V, 0);
         row.reducedWall = red.wall;
         row.estimate = red.reduction.estimate;
+        row.estimating = red.reduction.seconds;
         row.trueError = analysis::positionErrorAgainst(*c.model, red.traj, c.full->traj);
         if (!(row.trueError <= eps))
           failures.push_back(c.name + " target " + fmt(eps, 2) + ": true error " + fmt(row.trueError, 3) +
@@ -501,6 +502,13 @@ class PaperValidation {
             break;
           }
         }
+        if (!(row.estimate >= row.trueError && row.estimate <= 10 * row.trueError))
+          failures.push_back(c.name + " target " + fmt(eps, 2) + ": effectivity " +
+                             fmt(row.estimate / row.trueError, 3) + " outside 1..10");
+        if (row.smallest > 0 && row.vectors > row.smallest + 1)
+          failures.push_back(c.name + " target " + fmt(eps, 2) + ": " + std::to_string(row.vectors) +
+                             " vectors, more than one above the smallest that meets it (" +
+                             std::to_string(row.smallest) + ")");
         progress("target " + fmt(eps, 2) + " on the " + c.name + ": " + std::to_string(row.vectors) +
                  " vectors (smallest by brute force " + std::to_string(row.smallest) + "), true error " +
                  fmt(row.trueError, 3) + ", estimate " + fmt(row.estimate, 3));
@@ -593,16 +601,18 @@ class PaperValidation {
     rows("manipulator", mr);
     md << "\n## Reduction error estimate of every reduced run\n\n"
           "Each reduced run estimates its own reduction error (analysis/ReductionError.hpp): the full model's "
-          "residual of Eq. 13 at the reduced states, its quasi-static deflection outside the basis, the largest "
-          "position deflection over 40 output times, relative to the run's motion. The true error is measured the "
-          "same way against the full run (every position coordinate, every output time, of the full run's "
-          "motion). Effectivity = estimate / true error.\n\n"
-          "| model | vectors | true error | estimate | effectivity | estimate cost [s] | reduced run [s] | full run "
-          "[s] |\n|---|---|---|---|---|---|---|---|\n";
+          "residual of Eq. 13 at the reduced states loads the quasi-static deflection outside the basis and the "
+          "error the linearised full model carries along the run (both the largest position deflection over 40 "
+          "output times, relative to the run's motion); the estimate is the larger of twice the first and 1.5 "
+          "times the second. The true error is measured the same way against the full run (every position "
+          "coordinate, every output time, of the full run's motion). Effectivity = estimate / true error.\n\n"
+          "| model | vectors | true error | quasi-static | carried | estimate | effectivity | estimate cost [s] | "
+          "reduced run [s] | full run [s] |\n|---|---|---|---|---|---|---|---|---|---|\n";
     auto estimateRows = [&](const std::string& ex, const std::vector<Run>& rs) {
       for (size_t i = 1; i < rs.size(); ++i) {
         const Run& r = rs[i];
         md << "| " << ex << " " << r.name << " | " << r.dim << " | " << fmt(r.trueError, 3) << " | "
+           << fmt(r.reduction.quasiStatic, 3) << " | " << fmt(r.reduction.carried, 3) << " | "
            << (r.reduction.estimated ? fmt(r.reduction.estimate, 3) : "not estimated: " + r.reduction.note) << " | "
            << (r.reduction.estimated && r.trueError > 0 ? fmt(r.reduction.estimate / r.trueError, 3) : "-") << " | "
            << fmt(r.reduction.seconds, 3) << " | " << fmt(r.wall, 3) << " | " << fmt(rs[0].wall, 3) << " |\n";
@@ -620,21 +630,23 @@ class PaperValidation {
           "rule (SVD-modal) or 3 modes (modal). Vectors: reduced columns besides the identity columns of Eq. 20 "
           "(the manipulator's two hinges). Smallest: the smallest size whose true error meets EPS, found by running "
           "every size against the full run. Choosing: the candidates' runs and estimates besides the chosen size's "
-          "own run (which is the reduced run), as a fraction of one full run; all candidates: with it.\n\n"
+          "own run (which is the reduced run), as a fraction of one full run; with its estimate: choosing and "
+          "estimating; all candidates: with the chosen size's run.\n\n"
           "| model | EPS | vectors | smallest | true error | estimate | effectivity | candidates | choosing / full "
-          "run | all candidates / full run | reduced run [s] | full run [s] |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "run | choosing + estimating / full run | all candidates / full run | reduced run [s] | full run [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& t : targetRows) {
       md << "| " << t.name << " | " << fmt(t.eps, 2) << " | ";
       if (!t.note.empty()) {
-        md << t.note << " | | | | | " << t.candidates << " | " << fmt(t.choosing / t.fullWall, 3) << " | "
+        md << t.note << " | | | | | " << t.candidates << " | " << fmt(t.choosing / t.fullWall, 3) << " | | "
            << fmt(t.choosing / t.fullWall, 3) << " | | " << fmt(t.fullWall, 3) << " |\n";
         continue;
       }
       md << t.vectors << " | " << t.smallest << " | " << fmt(t.trueError, 3) << " | " << fmt(t.estimate, 3) << " | "
          << fmt(t.estimate / t.trueError, 3) << " | " << t.candidates << " | "
-         << fmt((t.choosing - t.chosenCandidate) / t.fullWall, 3) << " | " << fmt(t.choosing / t.fullWall, 3) << " | "
-         << fmt(t.reducedWall, 3) << " | " << fmt(t.fullWall, 3) << " |\n";
+         << fmt((t.choosing - t.chosenCandidate) / t.fullWall, 3) << " | "
+         << fmt((t.choosing - t.chosenCandidate + t.estimating) / t.fullWall, 3) << " | "
+         << fmt(t.choosing / t.fullWall, 3) << " | " << fmt(t.reducedWall, 3) << " | " << fmt(t.fullWall, 3) << " |\n";
     }
   }
 
@@ -786,7 +798,7 @@ class PaperValidation {
   struct TargetRow {
     std::string name, note;
     double eps = 0.0, trueError = NAN, estimate = NAN, choosing = 0.0, chosenCandidate = 0.0, reducedWall = 0.0,
-           fullWall = 0.0;
+           fullWall = 0.0, estimating = 0.0;
     int vectors = 0, smallest = 0, candidates = 0;
   };
   std::vector<TargetRow> targetRows;
