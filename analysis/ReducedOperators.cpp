@@ -31,8 +31,10 @@ int packedSize(int m) { return m * (m + 1) / 2; }
 constexpr double kToleranceShare = 0.03;
 // The inertia fields' (Mr, Cr) share of that tolerance. Measured (flexmb_bench, straight guidance
 // SVDm-5): the error a run adds follows the mass fit (held-out 2.4e-5: +17 % of the reduction
-// error; 9e-6: none), and a rough fit costs ode45 steps; a loose force fit does not.
-constexpr double kInertiaShare = 0.3;
+// error; 9e-6: none), and a rough fit costs ode45 steps; a loose force fit does not. 0.3 instead
+// of 0.4 left every bench error as it is but the 80-element guidance's mass fit stalled 1.3x
+// above its target from 33 to 78 terms (0.78 us an evaluation against 0.53 us).
+constexpr double kInertiaShare = 0.4;
 // Held-out configurations that judge the fits.
 constexpr int kHeldOut = 80;
 
