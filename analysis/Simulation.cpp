@@ -218,6 +218,7 @@ class StageRun {
       if (jacobian_) jacobian_->kinematics().setConfiguration(from->x);
     }
     y0_ = from ? from->y : eom_.initialState();
+    startX_ = probe_.kinematics().x();
     if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
     if (opt.operators && opt.basis) {
       traj_.operators.used = true;
@@ -469,6 +470,7 @@ class StageRun {
   // samples only (analysis::reductionSamples), solved in time order from one to the next.
   core::ReductionEstimate estimateFromSamples() {
     core::Trajectory sampled;
+    probe_.kinematics().setConfiguration(startX_);  // the samples go forward in time from the start
     try {
       for (int k : reductionSamples(static_cast<int>(traj_.time.size()))) {
         core::StateOutputs out;
@@ -526,6 +528,7 @@ class StageRun {
   std::optional<OperatorDynamics> operators_;   // reduced operators, when given (ode45)
   std::optional<OperatorOutputMap> outputMap_;  // their tracked outputs (SimulationOptions::trackedOutputs)
   Eigen::VectorXd trackedRate_;                 // dy/dt at an output time (the tracked accelerations)
+  Eigen::VectorXd startX_;                      // the configuration the run starts from
   Eigen::VectorXd eomEta_;                      // where eom_ last solved (the fallback's start)
   ProgressLine progress_;
   std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
