@@ -88,6 +88,15 @@ std::vector<int> reductionSamples(int n, int maxSamples) {
   return samples;
 }
 
+// K + G + N (+ the moments' load stiffness) of a linearisation in motion: the stiffness both
+// parts of the estimate load with the residual.
+Eigen::MatrixXd stiffnessInMotion(const core::LinearizedSystem& sys) {
+  Eigen::MatrixXd T = sys.K + sys.G;
+  if (sys.N.size()) T += sys.N;
+  if (sys.Gskew.size()) T += sys.Gskew;
+  return T;
+}
+
 // The reduction error carried along the run, its dynamics included: the full model linearised about
 // the reduced trajectory (Eq. 15-16), loaded by the residual Q of Eq. 13 at the reduced states,
 //   M e'' + (C + D) e' + (K + G + N) e = Q(t),   e = e' = 0 at the start,
@@ -104,9 +113,7 @@ class ErrorTransport {
   // largest |dx| of a position there.
   double step(double t, const core::LinearizedSystem& sys, const Eigen::MatrixXd& Fq) {
     const Eigen::Index m = sys.M.rows();
-    T_ = sys.K + sys.G;
-    if (sys.N.size()) T_ += sys.N;
-    if (sys.Gskew.size()) T_ += sys.Gskew;
+    T_ = stiffnessInMotion(sys);
     C_.setZero(m, m);
     if (sys.C.size()) C_ += sys.C;
     if (sys.D.size()) C_ += sys.D;
@@ -188,9 +195,7 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
     };
     // The quasi-static deflection at the linearised output k.
     auto deflect = [&](int k) {
-      Eigen::MatrixXd T = sys.K + sys.G;
-      if (sys.N.size()) T += sys.N;
-      if (sys.Gskew.size()) T += sys.Gskew;
+      const Eigen::MatrixXd T = stiffnessInMotion(sys);
       for (int a = 0; a < nf; ++a) {
         Qs[a] = sys.Q[free[a]];
         for (int b = 0; b < nf; ++b) Tss(a, b) = T(free[a], free[b]);
