@@ -11,10 +11,12 @@
 #include "analysis/Interrupt.hpp"
 #include "analysis/ReducedOperators.hpp"
 #include "analysis/ReductionError.hpp"
+#include "analysis/SparseIteration.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/kinematics/ElementValidity.hpp"
 #include "solvers/Bdf.hpp"
+#include "solvers/GeneralizedAlpha.hpp"
 #include "solvers/Ode45.hpp"
 #include "text/NumberText.hpp"
 
@@ -49,6 +51,8 @@ const char* integratorName(Integrator i) {
       return "bdf";
     case Integrator::Auto:
       return "auto";
+    case Integrator::GeneralizedAlpha:
+      return "galpha";
     case Integrator::Ode45:
       break;
   }
@@ -60,6 +64,9 @@ std::string integratorDescription(const SimulationOptions& o) {
                           ", Newton, dense LU, analytic Jacobian of Eq. 15)";
   const std::string ode45 = "ode45 (Dormand-Prince 5(4), MATLAB's step control)";
   if (o.integrator == Integrator::Bdf) return bdf;
+  if (o.integrator == Integrator::GeneralizedAlpha)
+    return "galpha (generalized-alpha, rho_inf " + text::shortest(o.rhoInf) +
+           ", error control on q, modified Newton with a reused iteration matrix)";
   if (o.integrator == Integrator::Auto)
     return "auto: " + ode45 + ", switching to " + bdf + " once ode45's step is bound by stability (" +
            std::to_string(StiffnessTest::kStiffSteps) + " steps at h |lambda| > 3.25)";
@@ -106,6 +113,7 @@ std::optional<Integrator> parseIntegrator(const std::string& name) {
   if (name == "ode45") return Integrator::Ode45;
   if (name == "bdf") return Integrator::Bdf;
   if (name == "auto") return Integrator::Auto;
+  if (name == "galpha") return Integrator::GeneralizedAlpha;
   return std::nullopt;
 }
 
@@ -121,6 +129,7 @@ struct StageSettings {
   double t0 = 0.0, tEnd = 0.0, relTol = 0.0, absTol = 0.0, maxStep = 0.0, kinematicTol = 0.0;
   std::vector<double> tspan;  // [t0, tEnd] (Refine output) or the output grid
   bool bdf = false;           // BDF from the start
+  bool alpha = false;         // generalized-alpha from the start
 
   StageSettings(const core::Model& model, const SimulationOptions& opt) {
     const auto& s = model.settings;
@@ -131,6 +140,7 @@ struct StageSettings {
     maxStep = opt.maxStep.value_or(s.hmax);
     kinematicTol = kinematicTolerance(s, relTol);
     bdf = opt.integrator == Integrator::Bdf;
+    alpha = opt.integrator == Integrator::GeneralizedAlpha;
     const int intervals = opt.intervals.value_or(s.outputIntervals);
     if (intervals <= 0) {
       tspan = {t0, tEnd};
@@ -211,7 +221,7 @@ class StageRun {
         tReached_(set_.t0) {
     eom_.kinematics().setRelativeTolerance(set_.kinematicTol);
     probe_.kinematics().setRelativeTolerance(set_.kinematicTol);
-    if (set_.bdf) startImplicit();
+    if (set_.bdf || set_.alpha) startImplicit();
     if (from) {  // Newton starts from where the previous stage ended (a mechanism may have turned far)
       eom_.kinematics().setConfiguration(from->x);
       probe_.kinematics().setConfiguration(from->x);
@@ -259,6 +269,8 @@ class StageRun {
     solvers::OdeResult r;
     if (set_.bdf) {
       r = integrateImplicit(set_.tspan, y0_);
+    } else if (set_.alpha) {
+      r = integrateAlpha(set_.tspan, y0_);
     } else {
       r = integrateExplicit();
       if (switchAt_) {  // auto: on with BDF from the accepted state where ode45 became stability-bound
@@ -307,6 +319,32 @@ class StageRun {
       kinematicsAsRhsError([&] { anchored_->accept(t, y); });
     };
     return solvers::Bdf(o).integrate(f, jac, tspan, y0, observer, accept);
+  }
+
+  // Generalized-alpha on the anchored equations of motion (as BDF: every evaluation starts the
+  // kinematics from the last accepted state).
+  solvers::OdeResult integrateAlpha(const std::vector<double>& tspan, const Eigen::VectorXd& y0) {
+    solvers::GeneralizedAlphaOptions o;
+    o.rhoInf = opt_.rhoInf;
+    o.relTol = set_.relTol;
+    o.absTol = set_.absTol;
+    o.maxStep = set_.maxStep;
+    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
+    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
+    auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
+      kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
+    };
+    auto accept = [this](double t, const Eigen::VectorXd& y) {
+      ++accepted_;
+      kinematicsAsRhsError([&] { anchored_->accept(t, y); });
+    };
+    if (!opt_.basis) {  // full models: the sparse iteration matrix (a few RHS instead of Eq. 15's hundreds)
+      SparseIteration system(
+          workspace_, f, accept, [this]() -> const Eigen::VectorXd& { return anchored_->anchor(); }, set_.kinematicTol);
+      return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, observer);
+    }
+    solvers::FirstOrderAsSecondOrder system(f, jac, eom_.size(), accept);
+    return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, observer);
   }
 
   // ode45 with the stiffness test on its accepted steps: auto stops it (and keeps the state) once
@@ -494,7 +532,7 @@ class StageRun {
 
   // Statistics and the stop reason of the run.
   void finish(const solvers::OdeResult& r, bool* interrupted) {
-    traj_.integrator = set_.bdf ? "bdf" : switchAt_ ? "ode45+bdf" : "ode45";
+    traj_.integrator = set_.bdf ? "bdf" : set_.alpha ? "galpha" : switchAt_ ? "ode45+bdf" : "ode45";
     traj_.stiffSince = stiffness_.since();
     traj_.stiffLambda = stiffness_.lambda();
     traj_.stiffBoundSteps = stiffness_.stiff() || switchAt_ ? stiffness_.boundSteps() : 0;

@@ -24,7 +24,10 @@ enum class Integrator {
   Bdf,    // implicit: CVODE BDF + Newton with the analytic Jacobian (solvers::Bdf), anchored kinematics
   // ode45 until its step is bound by stability rather than accuracy (StiffnessTest: the stiffest
   // mode, not the tolerance, sets the step), then Bdf from that accepted state to the end.
-  Auto
+  Auto,
+  // implicit: generalized-alpha (solvers::GeneralizedAlpha) with controlled high-frequency
+  // dissipation (rhoInf), modified Newton with a reused iteration matrix, anchored kinematics
+  GeneralizedAlpha
 };
 // Stiffness test on ode45's accepted steps (Hairer's test of DOPRI5, Hairer & Wanner, Solving ODEs
 // II, Sec. IV.2): a step whose h |lambda| (solvers::Ode45Options::stepMonitor) exceeds 3.25 sits at
@@ -49,7 +52,7 @@ class StiffnessTest {
   double since_ = 0.0, lambda_ = 0.0;
   long bound_ = 0;
 };
-// "ode45", "bdf" or "auto" (the command line's names); parseIntegrator returns nothing for other text.
+// "ode45", "bdf", "auto" or "galpha" (the command line's names); parseIntegrator returns nothing for other text.
 const char* integratorName(Integrator i);
 std::optional<Integrator> parseIntegrator(const std::string& name);
 struct SimulationOptions;
@@ -62,6 +65,8 @@ struct SimulationOptions {
   // modes of a full model bound CVODE's step (manipulator, RelTol 1e-3: 57,356 steps at order <= 5,
   // 463 at order <= 2; tools/bench/README.md).
   int bdfMaxOrder = 2;
+  // GeneralizedAlpha: the spectral radius at infinite step, 0 ... 1 (1: no numerical dissipation).
+  double rhoInf = 0.8;
   std::optional<double> tEnd, relTol, absTol, maxStep;
   std::optional<int> intervals;          // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model

@@ -101,7 +101,8 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
                                       const Eigen::VectorXd& y0, const OdeObserver& observer) const {
   checkTimeSpan(tspan, "generalized-alpha");
   const int m = sys.size();
-  if (m <= 0 || y0.size() != 2 * m) throw std::invalid_argument("generalized-alpha: y0 must hold [q; qd] of the system");
+  if (m <= 0 || y0.size() != 2 * m)
+    throw std::invalid_argument("generalized-alpha: y0 must hold [q; qd] of the system");
   if (!y0.allFinite()) throw std::invalid_argument("generalized-alpha: y0 is not finite");
   const double t0 = tspan.front(), tf = tspan.back(), span = std::fabs(tf - t0);
   const double tdir = tf > t0 ? 1.0 : -1.0;
@@ -138,8 +139,8 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
   Eigen::VectorXd accN(m), aN(m), vN(m), qN(m), f(m), r(m), dqv(2 * m), ref(2 * m), yOut(2 * m), aUse(m), err(m);
   double t = t0;
   double h = opt_.fixedStep ? hmax : std::min(hmax, opt_.initialStep > 0.0 ? opt_.initialStep : 1e-3 * span);
-  double hAccepted = h;             // the step a_n belongs to
-  double factorizedFor = -1.0;      // the step size of the current factorisation (-1: none)
+  double hAccepted = h;         // the step a_n belongs to
+  double factorizedFor = -1.0;  // the step size of the current factorisation (-1: none)
   bool haveJacobian = false, jacobianFresh = false, refresh = false, lastRejected = false;
   std::size_t next = 1;
   const bool everyStep = tspan.size() == 2;
@@ -222,9 +223,9 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
         continue;
       }
       if (opt_.fixedStep)
-        return stop(OdeStatus::ConvergenceFailure,
-                    "generalized-alpha stopped at t = " + text::shortest(t) + ": " + lastFailure +
-                        " with the fixed step " + text::shortest(h) + "; results up to there are kept");
+        return stop(OdeStatus::ConvergenceFailure, "generalized-alpha stopped at t = " + text::shortest(t) + ": " +
+                                                       lastFailure + " with the fixed step " + text::shortest(h) +
+                                                       "; results up to there are kept");
       h *= 0.25;
       continue;
     }
@@ -259,7 +260,8 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
     try {
       sys.accept(t, q, v);
     } catch (const RhsAbort& e) {
-      return stop(OdeStatus::RhsFailed, std::string(e.what()) + " (at the accepted state t = " + text::shortest(t) + ")");
+      return stop(OdeStatus::RhsFailed,
+                  std::string(e.what()) + " (at the accepted state t = " + text::shortest(t) + ")");
     } catch (const RhsError& e) {
       return stop(OdeStatus::RhsFailed, "generalized-alpha stopped at the accepted state t = " + text::shortest(t) +
                                             ": " + e.what() + "; results up to there are kept");
@@ -267,7 +269,8 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
     const bool done = !(tdir * (tf - t) > 0.0);
     if (everyStep) {
       yOut << q, v;
-      if (!observer(done ? tf : t, yOut)) return stop(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(t));
+      if (!observer(done ? tf : t, yOut))
+        return stop(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(t));
     } else {
       while (next < tspan.size() && (tdir * (t - tspan[next]) >= 0.0 || (done && next + 1 == tspan.size()))) {
         const double tq = tspan[next++];
@@ -279,7 +282,8 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
           yOut.head(m) = h00 * qPrev + (h10 * hs) * vPrev + h01 * q + (h11 * hs) * v;
           yOut.tail(m) = h00 * vPrev + (h10 * hs) * accPrev + h01 * v + (h11 * hs) * acc;
         }
-        if (!observer(tq, yOut)) return stop(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(tq));
+        if (!observer(tq, yOut))
+          return stop(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(tq));
       }
     }
     if (opt_.fixedStep) continue;

@@ -86,6 +86,8 @@ ConstrainedTangent::ConstrainedTangent(const Model& model, const NodalMatrices::
   }
   prow_.assign(prowFree_.size(), 0.0);
   rhs_.setZero(n_);
+  patternOuter_.assign(pattern.outerIndexPtr(), pattern.outerIndexPtr() + nx + 1);
+  patternInner_.assign(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros());
 }
 
 bool ConstrainedTangent::factorize(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf) {
@@ -115,6 +117,52 @@ bool ConstrainedTangent::factorizeMass(const NodalMatrices& nodal, const Geometr
 }
 
 bool ConstrainedTangent::factorizeFilled(const GeometricTransferFunctions& gtf) {
+  fillJacobians(gtf);
+  return lu_.factorize(values_.data());
+}
+
+void ConstrainedTangent::keep(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf) {
+  const std::size_t nnz = hSlot_.size();
+  if (static_cast<std::size_t>(nodal.M().nonZeros()) != nnz || static_cast<std::size_t>(nodal.K().nonZeros()) != nnz)
+    throw std::logic_error("ConstrainedTangent: nodal matrices off the analysed pattern");
+  keptMass_.assign(nodal.M().valuePtr(), nodal.M().valuePtr() + nnz);
+  keptStiffness_.assign(nodal.K().valuePtr(), nodal.K().valuePtr() + nnz);
+  const double* g = nodal.G().valuePtr();
+  for (std::size_t p = 0; p < nnz; ++p) keptStiffness_[p] += g[p];
+  if (nodal.hasMomentStiffness())
+    for (std::size_t p = 0; p < nnz; ++p) keptStiffness_[p] += nodal.W().valuePtr()[p];
+  if (nodal.hasDamping())
+    keptDamping_.assign(nodal.D().valuePtr(), nodal.D().valuePtr() + nnz);
+  else
+    keptDamping_.clear();
+  fillJacobians(gtf);
+}
+
+bool ConstrainedTangent::factorizeWeighted(double betaP, double gammaP) {
+  if (keptMass_.size() != hSlot_.size()) throw std::logic_error("ConstrainedTangent::factorizeWeighted before keep");
+  for (std::size_t p = 0; p < hSlot_.size(); ++p) {
+    if (hSlot_[p] < 0) continue;
+    double v = keptMass_[p] + betaP * keptStiffness_[p];
+    if (!keptDamping_.empty()) v += gammaP * keptDamping_[p];
+    values_[hSlot_[p]] = v;
+  }
+  return lu_.factorize(values_.data());
+}
+
+void ConstrainedTangent::massProduct(const Eigen::VectorXd& z, Eigen::VectorXd& w) const {
+  w.setZero(z.size());
+  for (std::size_t c = 0; c + 1 < patternOuter_.size(); ++c)
+    for (int p = patternOuter_[c]; p < patternOuter_[c + 1]; ++p) w[patternInner_[p]] += keptMass_[p] * z[c];
+}
+
+void ConstrainedTangent::solveNodal(const Eigen::VectorXd& w, Eigen::VectorXd& x) const {
+  rhs_.setZero();
+  for (Eigen::Index i = 0; i < w.size(); ++i)
+    if (freeOf_[i] >= 0) rhs_[freeOf_[i]] = w[i];
+  solveFilled(x);
+}
+
+void ConstrainedTangent::fillJacobians(const GeometricTransferFunctions& gtf) {
   for (const auto& e : entries_) {
     const double v = gtf.elementJacobian(e.element)(e.row, e.col);
     values_[e.slotC] = v;
@@ -125,7 +173,6 @@ bool ConstrainedTangent::factorizeFilled(const GeometricTransferFunctions& gtf) 
     const DefJac& J = gtf.elementJacobian(r.element);
     for (Eigen::Index c = 0; c < J.cols(); ++c) prow_[r.first + c] = J(r.row, c);
   }
-  return lu_.factorize(values_.data());
 }
 
 void ConstrainedTangent::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
@@ -144,6 +191,16 @@ void ConstrainedTangent::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) con
     else
       forEntry(r, [&](int f, double v) { rhs_[f] += b[j] * v; });
   }
+  solveFilled(x);
+}
+
+void ConstrainedTangent::solveFilled(Eigen::VectorXd& x) const {
+  const int nq = static_cast<int>(dofRows_.size());
+  auto forEntry = [&](const DofRow& r, auto&& fn) {
+    const int nc = static_cast<int>(model_.elements[r.element].coords.size());
+    for (int c = 0; c < nc; ++c)
+      if (prowFree_[r.first + c] >= 0) fn(prowFree_[r.first + c], prow_[r.first + c]);
+  };
   lu_.solve(rhs_.data(), 1);
   // x = P dx
   x.resize(nq);

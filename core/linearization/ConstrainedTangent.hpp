@@ -34,6 +34,16 @@ class ConstrainedTangent {
   bool factorizeMass(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf);
   // x = (Kbar + Gbar)^-1 b (or Mbar^-1 b) for b, x in q (full model), with the last factorisation.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+
+  // An implicit integrator's iteration matrix F_q^T H F_q with H = M_x + gammaP D_x + betaP (K_x +
+  // G_x + W_x): keep() copies the nodal matrices and the element Jacobians of gtf's configuration
+  // (the workspace's nodal matrices and the kinematics move on), factorizeWeighted forms H for a
+  // step size from the copies. solveNodal: x = P dx for [H C^T; C 0] [dx; mu] = [w; 0], a nodal
+  // load w (nx), i.e. x = (F_q^T H F_q)^-1 F_q^T w; massProduct: w = M_x z with the kept M_x.
+  void keep(const NodalMatrices& nodal, const GeometricTransferFunctions& gtf);
+  bool factorizeWeighted(double betaP, double gammaP);
+  void solveNodal(const Eigen::VectorXd& w, Eigen::VectorXd& x) const;
+  void massProduct(const Eigen::VectorXd& z, Eigen::VectorXd& w) const;
   int size() const { return n_; }
 
  private:
@@ -49,6 +59,9 @@ class ConstrainedTangent {
 
   // The constraint Jacobian C, C^T and P's rows from gtf's configuration, then the factorisation.
   bool factorizeFilled(const GeometricTransferFunctions& gtf);
+  void fillJacobians(const GeometricTransferFunctions& gtf);
+  // Solves with rhs_ holding the free part of the right-hand side; x = P dx.
+  void solveFilled(Eigen::VectorXd& x) const;
 
   const Model& model_;
   int nf_ = 0, n_ = 0;                // free coordinates; saddle-point size n_f + constraints
@@ -62,6 +75,9 @@ class ConstrainedTangent {
   std::vector<int> prowFree_;  // free index per copied entry (-1: not free)
   SparseLU lu_;
   mutable Eigen::VectorXd rhs_;
+  // keep(): the nodal pattern and the kept values of M_x, K_x + G_x + W_x and D_x.
+  std::vector<int> patternOuter_, patternInner_;
+  std::vector<double> keptMass_, keptStiffness_, keptDamping_;
 };
 
 }  // namespace flexmb::core

@@ -92,6 +92,31 @@ void Linearization::solveMass(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) cons
   }
 }
 
+void Linearization::iterationMatrix(double t, const Eigen::VectorXd& eta) {
+  if (basis()) throw std::logic_error("Linearization::iterationMatrix: full models only (no basis)");
+  staticResidual(t, eta, 0.0, 1.0, scratch_.Q);
+  geometricStiffness(scratch_, false);  // K_x, G_x (and D_x) with the reaction stresses of r_
+  nodal_.assembleMass(gtf_.x());
+  if (!iteration_) iteration_ = std::make_unique<ConstrainedTangent>(model_, nodal_.K());
+  iteration_->keep(nodal_, gtf_);
+  iterationTime_ = t;
+  gtf_.velocities(t, Eigen::VectorXd::Zero(model_.numDofs()), iterationRest_);
+}
+
+bool Linearization::factorizeIteration(double betaP, double gammaP) {
+  if (!iteration_) throw std::logic_error("Linearization::factorizeIteration before iterationMatrix");
+  return iteration_->factorizeWeighted(betaP, gammaP);
+}
+
+void Linearization::solveIteration(const Eigen::VectorXd& r, Eigen::VectorXd& x) {
+  if (!iteration_) throw std::logic_error("Linearization::solveIteration before iterationMatrix");
+  // Mbar r = F_q^T M_x (F_q r): the nodal load M_x F_q r in the saddle-point right-hand side.
+  gtf_.velocities(iterationTime_, r, nodalVelocity_);
+  nodalVelocity_ -= iterationRest_;
+  iteration_->massProduct(nodalVelocity_, nodalLoad_);
+  iteration_->solveNodal(nodalLoad_, x);
+}
+
 void Linearization::generalizedForces(Eigen::VectorXd& Q) {
   // Q = (F_q V)^T r without F_q (one transposed solve instead of n_q): J^T lambda = r_c gives the
   // DYNE components (lambda on their rows: F_q e_j solves J dx_c = e_j), r - D_x^T lambda the DYNX

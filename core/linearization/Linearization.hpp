@@ -122,6 +122,16 @@ class Linearization {
   bool factorizeMass();
   void solveMass(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
 
+  // An implicit integrator's iteration matrix S = Mbar + gammaP Dbar + betaP (Kbar + Gbar + Gskew)
+  // of a full model in the same saddle-point form (no F_q, no C and N: a modified Newton iteration
+  // converges without them). iterationMatrix places the model at eta and keeps the nodal matrices
+  // there (G with the reaction stresses of f - D_x^T sigma, which the inertia forces balance in
+  // motion); factorizeIteration forms S for a step (false when singular); solveIteration gives
+  // x = S^-1 Mbar r. Full models only (throws with a basis); iterationMatrix throws KinematicsError.
+  void iterationMatrix(double t, const Eigen::VectorXd& eta);
+  bool factorizeIteration(double betaP, double gammaP);
+  void solveIteration(const Eigen::VectorXd& r, Eigen::VectorXd& x);
+
  private:
   Linearization(std::unique_ptr<Workspace> own, Workspace* shared, std::optional<Eigen::MatrixXd> basis);
   mutable double loadFactor_ = 0.0, initialFactor_ = 1.0;  // of the last appliedForces
@@ -173,8 +183,11 @@ class Linearization {
   bool transferRows_ = false;  // FqVrows_ is FqV_'s copy
   Eigen::MatrixXd Gq_;         // the projected G_x of a Newton tangent taken through the deformations
   NodalMatrices::Sparse KG_;
-  std::unique_ptr<ConstrainedTangent> constrainedTangent_;  // made at the first staticTangent
-  std::unique_ptr<ConstrainedTangent> constrainedMass_;     // made at the first factorizeMass
+  std::unique_ptr<ConstrainedTangent> constrainedTangent_;     // made at the first staticTangent
+  std::unique_ptr<ConstrainedTangent> constrainedMass_;        // made at the first factorizeMass
+  std::unique_ptr<ConstrainedTangent> iteration_;              // made at the first iterationMatrix
+  double iterationTime_ = 0.0;                                 // its time (input rates of the velocities)
+  Eigen::VectorXd iterationRest_, nodalVelocity_, nodalLoad_;  // F_q r from velocities(r) - velocities(0)
   Eigen::VectorXd f_;
   LinearizedSystem scratch_;
   Eigen::MatrixXd dxd_, dxdd_, Y_, Z_, R_, Ed_;  // motion terms

@@ -47,7 +47,8 @@ struct AlphaRun {
   OdeResult result;
 };
 
-AlphaRun integrate(const Oscillators& o, GeneralizedAlphaOptions opt, const std::vector<double>& tspan, const VectorXd& y0) {
+AlphaRun integrate(const Oscillators& o, GeneralizedAlphaOptions opt, const std::vector<double>& tspan,
+                   const VectorXd& y0) {
   FirstOrderAsSecondOrder sys(o.rhs(), o.jacobian(), o.m());
   AlphaRun run;
   run.result = GeneralizedAlpha(opt).integrate(sys, tspan, y0, [&](double t, const VectorXd& y) {
@@ -125,12 +126,9 @@ TEST(GeneralizedAlpha, KeepsTheEnergyOfResolvedModesAndDampsTheUnresolved) {
   const Oscillators o{{1.0, 1e5}, {0.0, 0.0}};
   VectorXd y0(4);
   y0 << 1.0, 1e-5, 0.0, 0.0;
-  auto energy = [&](const VectorXd& y, int i) {
-    return 0.5 * (o.w[i] * o.w[i] * y[i] * y[i] + y[2 + i] * y[2 + i]);
-  };
+  auto energy = [&](const VectorXd& y, int i) { return 0.5 * (o.w[i] * o.w[i] * y[i] * y[i] + y[2 + i] * y[2 + i]); };
   const AlphaRun conservative = integrate(o, fixed(0.05, 1.0), {0.0, 20.0}, y0);
-  for (int i = 0; i < 2; ++i)
-    EXPECT_NEAR(energy(conservative.y.back(), i) / energy(y0, i), 1.0, 1e-9) << "mode " << i;
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(energy(conservative.y.back(), i) / energy(y0, i), 1.0, 1e-9) << "mode " << i;
   const double rho = 0.7;
   const AlphaRun damped = integrate(o, fixed(0.05, rho), {0.0, 20.0}, y0);
   EXPECT_NEAR(energy(damped.y.back(), 0) / energy(y0, 0), 1.0, 2e-3);  // 400 steps, 3 periods
@@ -188,10 +186,11 @@ TEST(GeneralizedAlpha, AFailingRightHandSideStopsWithTheResultsSoFar) {
   VectorXd y0(2);
   y0 << 1.0, 0.0;
   std::vector<double> seen;
-  const OdeResult r = GeneralizedAlpha().integrate(sys, {0.0, 0.25, 0.5, 0.75, 1.0}, y0, [&](double t, const VectorXd&) {
-    seen.push_back(t);
-    return true;
-  });
+  const OdeResult r =
+      GeneralizedAlpha().integrate(sys, {0.0, 0.25, 0.5, 0.75, 1.0}, y0, [&](double t, const VectorXd&) {
+        seen.push_back(t);
+        return true;
+      });
   EXPECT_EQ(r.status, OdeStatus::StepSizeUnderflow);
   EXPECT_NE(r.message.find("no solution here"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("results up to there are kept"), std::string::npos) << r.message;

@@ -43,6 +43,7 @@ struct SimulateArgs {
   ModelOptions m;
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
+  double rhoInf = NAN;  // --rho-inf (NaN: not given)
   std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45", outputs = "all";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
@@ -67,7 +68,12 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "integrator", po::value(&a.integrator),
       "ode45 (default: explicit, MATLAB's ode45 step by step), bdf (implicit: SUNDIALS CVODE's BDF with the "
       "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step) or auto "
-      "(ode45, switching to bdf once ode45's step is bound by stability rather than accuracy; says when)")(
+      "(ode45, switching to bdf once ode45's step is bound by stability rather than accuracy; says when) or galpha "
+      "(implicit generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, "
+      "large steps on stiff spatial models)")(
+      "rho-inf", po::value(&a.rhoInf),
+      "with --integrator galpha: the spectral radius at infinite step, 0 to 1 (default 0.8; 1: no numerical "
+      "dissipation, energy kept; smaller: the unresolved high frequencies damped faster)")(
       "bdf-order", po::value(&a.bdfOrder)->notifier(atLeast("bdf-order", 1)),
       "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
       "step but let undamped stiff modes bound the step)")(
@@ -115,10 +121,18 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
   }
   const std::optional<analysis::Integrator> chosen = analysis::parseIntegrator(a.integrator);
   if (!chosen) {
-    std::cerr << "flexmb: --integrator must be ode45, bdf or auto, not '" << a.integrator << "'\n";
+    std::cerr << "flexmb: --integrator must be ode45, bdf, auto or galpha, not '" << a.integrator << "'\n";
     return kUsageError;
   }
   a.chosen = *chosen;
+  if (!std::isnan(a.rhoInf) && !(a.rhoInf >= 0.0 && a.rhoInf <= 1.0)) {
+    std::cerr << "flexmb: --rho-inf must lie in [0, 1], not " << a.rhoInf << "\n";
+    return kUsageError;
+  }
+  if (!std::isnan(a.rhoInf) && a.chosen != analysis::Integrator::GeneralizedAlpha) {
+    std::cerr << "flexmb: --rho-inf needs --integrator galpha\n";
+    return kUsageError;
+  }
   if (a.bdfOrder > 5) {
     std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << a.bdfOrder << "\n";
     return kUsageError;
@@ -222,6 +236,7 @@ analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
   analysis::SimulationOptions opt;
   opt.integrator = a.chosen;
   if (a.bdfOrder > 0) opt.bdfMaxOrder = a.bdfOrder;
+  if (!std::isnan(a.rhoInf)) opt.rhoInf = a.rhoInf;
   if (a.tEnd > 0) opt.tEnd = a.tEnd;
   if (a.relTol > 0) opt.relTol = a.relTol;
   if (a.absTol > 0) opt.absTol = a.absTol;
