@@ -11,8 +11,11 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -21,10 +24,12 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "analysis/AccuracyCheck.hpp"
@@ -32,12 +37,15 @@
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"
+#include "analysis/SparseIteration.hpp"
 #include "analysis/StateJacobian.hpp"
 #include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/kinematics/GeometricTransferFunctions.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/pictures/SvgPlot.hpp"
 #include "solvers/Bdf.hpp"
+#include "solvers/GeneralizedAlpha.hpp"
 #include "solvers/Ode45.hpp"
 
 #ifndef FLEXMB_SOURCE_DIR
@@ -184,7 +192,8 @@ Run runOde45(const Problem& p, double relTol, double absTol, double capSeconds) 
 // difference quotients (2m right-hand sides per Jacobian). maxOrder: the highest BDF order. Every
 // evaluation starts the kinematics from the last accepted state (analysis::AnchoredDynamics; README
 // "Warm start anchor"), part of the timed work.
-Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bool analytic, int maxOrder) {
+Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bool analytic, int maxOrder,
+           bool alpha = false) {
   Run r;
   const auto start = Clock::now();
   core::Workspace workspace(*p.model);  // shared by eom and jacobian, as simulate does
@@ -229,7 +238,24 @@ Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bo
   o.maxStep = p.model->settings.hmax;  // as analysis::simulate (0: 0.1 of the span)
   o.maxOrder = maxOrder;
   const VectorXd y0 = eom.initialState();
-  const solvers::OdeResult res = solvers::Bdf(o).integrate(f, J, p.tspan, y0, observer, accept);
+  solvers::OdeResult res;
+  if (alpha) {  // generalized-alpha, as simulate --integrator galpha runs it
+    solvers::GeneralizedAlphaOptions ao;
+    ao.relTol = relTol;
+    ao.absTol = absTol;
+    ao.maxStep = o.maxStep;
+    if (!p.basis) {
+      analysis::SparseIteration system(
+          workspace, f, accept, [&]() -> const VectorXd& { return dynamics.anchor(); },
+          analysis::kinematicTolerance(p.model->settings, relTol));
+      res = solvers::GeneralizedAlpha(ao).integrate(system, p.tspan, y0, observer);
+    } else {
+      solvers::FirstOrderAsSecondOrder system(f, J, eom.size(), accept);
+      res = solvers::GeneralizedAlpha(ao).integrate(system, p.tspan, y0, observer);
+    }
+  } else {
+    res = solvers::Bdf(o).integrate(f, J, p.tspan, y0, observer, accept);
+  }
   r.wall = since(start);
   r.fevals = res.stats.nfevals;
   r.jacFevals = res.stats.njacfevals;
@@ -240,7 +266,7 @@ Run runBdf(const Problem& p, double relTol, double absTol, double capSeconds, bo
     r.ok = false;
     r.reason = res.message.empty() ? "integrator stopped" : res.message;
   }
-  // Our own count (every call) must agree with CVODE's.
+  // Our own count (every call) must agree with the integrator's.
   if (calls != r.fevals && r.ok)
     std::fprintf(stderr, "warning: CVODE counted %ld evaluations, the right-hand side saw %ld\n", r.fevals, calls);
   return r;
@@ -270,7 +296,8 @@ std::vector<Eigen::Vector2d> responses(const Problem& p, const Run& r, int nodeL
 // The accuracy check simulate runs (analysis/AccuracyCheck.hpp) on a completed run: its windows
 // from the stored states, run again at a 100x tighter tolerance with the same integrator (CVODE:
 // simulate's, the analytic Jacobian at the variant's highest order). Outside the timing.
-core::AccuracyEstimate accuracyOf(const Problem& p, const Run& r, double relTol, double absTol, int bdfOrder) {
+core::AccuracyEstimate accuracyOf(const Problem& p, const Run& r, double relTol, double absTol, int bdfOrder,
+                                  bool alpha = false) {
   const core::Model& m = *p.model;
   analysis::AccuracyWindowRecorder rec(p.tspan.front(), p.tspan.back());
   core::EquationsOfMotion probe(m, p.basis);
@@ -283,7 +310,9 @@ core::AccuracyEstimate accuracyOf(const Problem& p, const Run& r, double relTol,
   o.basis = p.basis;
   o.relTol = relTol;
   o.absTol = absTol;
-  if (bdfOrder > 0) {
+  if (alpha) {
+    o.integrator = analysis::Integrator::GeneralizedAlpha;
+  } else if (bdfOrder > 0) {
     o.integrator = analysis::Integrator::Bdf;
     o.bdfMaxOrder = bdfOrder;
   }
@@ -343,17 +372,22 @@ struct Method {
   std::string basisNote;  // size and build time
   int bdfOrder = 0;       // CVODE: the highest BDF order (0: ode45)
   bool analytic = false;  // CVODE: the analytic Jacobian (else difference quotients)
+  bool alpha = false;     // generalized-alpha instead of CVODE
 };
 
 // The CVODE variants on the full models: CVODE's defaults with its difference-quotient Jacobian, the
 // same with the analytic Jacobian, and `simulate --integrator bdf` (analytic, orders <= 2).
+// Last, flexmb's generalized-alpha (simulate --integrator galpha; its accuracy check runs BDF2).
 struct CvodeVariant {
   const char* name;
   int order;
   bool analytic;
+  bool alpha = false;
 };
-constexpr CvodeVariant kCvode[] = {
-    {"CVODE-BDF DQ J", 5, false}, {"CVODE-BDF analytic J", 5, true}, {"CVODE-BDF2 analytic J", 2, true}};
+constexpr CvodeVariant kCvode[] = {{"CVODE-BDF DQ J", 5, false},
+                                   {"CVODE-BDF analytic J", 5, true},
+                                   {"CVODE-BDF2 analytic J", 2, true},
+                                   {"generalized-alpha", 2, true, true}};
 
 struct Options {
   bool quick = false;
@@ -642,7 +676,8 @@ int main(int argc, char** argv) {
       ro.modes = 2;
       addBasis("MODAL-2", ro);
     }
-    for (const CvodeVariant& v : kCvode) methods.push_back({"full", v.name, std::nullopt, "", v.order, v.analytic});
+    for (const CvodeVariant& v : kCvode)
+      methods.push_back({"full", v.name, std::nullopt, "", v.order, v.analytic, v.alpha});
 
     // ---- sweeps
     for (const Method& m : methods) {
@@ -681,7 +716,7 @@ int main(int argc, char** argv) {
         }
         auto once = [&]() {
           try {
-            return cv ? runBdf(prob, tol, tol * absFactor, hardCap, m.analytic, m.bdfOrder)
+            return cv ? runBdf(prob, tol, tol * absFactor, hardCap, m.analytic, m.bdfOrder, m.alpha)
                       : runOde45(prob, tol, tol * absFactor, hardCap);
           } catch (const std::exception& e) {  // set-up or initial kinematics: a failed run, not a crash
             Run bad;
@@ -720,7 +755,7 @@ int main(int argc, char** argv) {
           }
           if (pt.status == "ok") {  // "ok" means converged, as simulate's accuracy check says it
             try {
-              const core::AccuracyEstimate acc = accuracyOf(prob, r, tol, tol * absFactor, m.bdfOrder);
+              const core::AccuracyEstimate acc = accuracyOf(prob, r, tol, tol * absFactor, m.bdfOrder, m.alpha);
               pt.estimate = acc.checked ? acc.estimate : NAN;
               if (!acc.converged()) {
                 pt.status = "not converged";
@@ -795,6 +830,154 @@ int main(int argc, char** argv) {
       io::writeSvg(opt.out + "/" + name, plot);
       svgFiles[cs.key + (kind == 0 ? "" : "_fevals")] = name;
     }
+  }
+
+  // ---------------------------------------------------------------- the elbow (stiff spatial dynamics)
+  // Simo & Vu-Quoc's right-angle cantilever (datfiles/spatial/elbow.dat, 2 x 10 BEAMs; elbow_fine.dat,
+  // 2 x 20): the out-of-plane displacement of the elbow and the tip against the stored converged
+  // reference (datfiles/spatial/elbow_reference.csv), per integrator and tolerance.
+  struct ElbowPoint {
+    std::string file, integrator;
+    double relTol = 0, wall = NAN, error = NAN;
+    long fevals = 0, njac = 0, nsteps = 0;
+    std::string note;
+  };
+  std::vector<ElbowPoint> elbow;
+  std::string elbowCost;  // the iteration matrix's cost in right-hand sides
+  if (opt.only.empty() || opt.only.find("elbow") != std::string::npos) {
+    std::vector<std::array<double, 3>> refRows;  // t, elbow z, tip z
+    {
+      std::ifstream in(src + "/datfiles/spatial/elbow_reference.csv");
+      std::string line;
+      while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#' || line[0] == 't') continue;
+        std::array<double, 3> r{};
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf", &r[0], &r[1], &r[2]) == 3) refRows.push_back(r);
+      }
+    }
+    double lo = 1e300, hi = -1e300;
+    for (const auto& r : refRows) lo = std::min(lo, r[2]), hi = std::max(hi, r[2]);
+    const double range = hi - lo;
+    struct ElbowRun {
+      const char* file;
+      int elbowNode, tipNode;
+      analysis::Integrator integrator;
+      std::vector<double> tols;
+    };
+    std::vector<ElbowRun> plan = {
+        {"elbow.dat", 21, 41, analysis::Integrator::GeneralizedAlpha, {1e-2, 1e-3, 1e-4, 1e-5}},
+        {"elbow.dat", 21, 41, analysis::Integrator::Bdf, {1e-2, 1e-3}},
+        {"elbow.dat", 21, 41, analysis::Integrator::Ode45, {1e-3}},
+        {"elbow_fine.dat", 41, 81, analysis::Integrator::GeneralizedAlpha, {1e-3}}};
+    if (!opt.quick) plan[1].tols.push_back(1e-4);
+    for (const ElbowRun& er : plan) {
+      const core::Model model = io::readDatFile(src + "/datfiles/spatial/" + er.file);
+      const int ze = model.nodes[model.nodeByLabel.at(er.elbowNode)].firstCoord + 2;
+      const int zt = model.nodes[model.nodeByLabel.at(er.tipNode)].firstCoord + 2;
+      for (double tol : er.tols) {
+        ElbowPoint pt;
+        pt.file = er.file;
+        pt.integrator = analysis::integratorName(er.integrator);
+        pt.relTol = tol;
+        analysis::SimulationOptions so;
+        so.integrator = er.integrator;
+        so.relTol = tol;
+        so.absTol = 1e-3 * tol;
+        std::atomic<bool> stopFlag{false};
+        so.interrupt = &stopFlag;
+        std::thread watchdog;  // the cap: ode45 on the elbow takes minutes at tight tolerances
+        bool done = false;
+        std::mutex mu;
+        std::condition_variable cv;
+        watchdog = std::thread([&] {
+          std::unique_lock<std::mutex> lock(mu);
+          if (!cv.wait_for(lock, std::chrono::duration<double>(hardCap), [&] { return done; })) stopFlag = true;
+        });
+        const auto t0 = Clock::now();
+        core::Trajectory run;
+        try {
+          run = analysis::simulate(model, so);
+        } catch (const std::exception& e) {
+          run.completed = false;
+          run.stopReason = e.what();
+        }
+        pt.wall = since(t0);
+        {
+          std::lock_guard<std::mutex> lock(mu);
+          done = true;
+        }
+        cv.notify_all();
+        watchdog.join();
+        pt.fevals = run.nfevals;
+        pt.njac = run.njacevals;
+        pt.nsteps = run.nsteps;
+        if (run.completed && run.time.size() == refRows.size() && range > 0) {
+          double worst = 0.0;
+          for (size_t i = 0; i < refRows.size(); ++i)
+            worst = std::max(
+                {worst, std::abs(run.states[i].x[ze] - refRows[i][1]), std::abs(run.states[i].x[zt] - refRows[i][2])});
+          pt.error = worst / range;
+        } else {
+          pt.note = stopFlag ? "stopped at the " + fmt("%.0f", hardCap) + " s cap" : run.stopReason;
+        }
+        std::printf("[elbow] %s %s RelTol %s: %s s, %ld steps, %ld fevals, %ld Jacobians, error %s%s\n", er.file,
+                    pt.integrator.c_str(), tolText(tol).c_str(), secText(pt.wall).c_str(), pt.nsteps, pt.fevals,
+                    pt.njac, std::isfinite(pt.error) ? sci(pt.error).c_str() : "-",
+                    pt.note.empty() ? "" : (" (" + pt.note + ")").c_str());
+        std::fflush(stdout);
+        elbow.push_back(pt);
+      }
+    }
+    // The iteration matrix's cost in right-hand sides (a state of the run at t = 1.5 s: bent and moving).
+    for (const char* file : {"elbow.dat", "elbow_fine.dat"}) {
+      const core::Model model = io::readDatFile(src + "/datfiles/spatial/" + file);
+      core::Workspace ws(model);
+      core::EquationsOfMotion eom(ws);
+      core::Linearization lin(ws);
+      analysis::StateJacobian dense(ws, std::nullopt);
+      const int m = eom.size();
+      VectorXd y = eom.initialState(), dy(2 * m);
+      y.head(m).setConstant(2e-3);
+      y.tail(m).setConstant(1e-2);
+      Eigen::MatrixXd J(2 * m, 2 * m);
+      auto perCall = [](int n, auto&& fn) {
+        fn();
+        const auto t0 = Clock::now();
+        for (int i = 0; i < n; ++i) fn();
+        return since(t0) / n;
+      };
+      const double rhs = perCall(200, [&] { eom.rhs(1.5, y, dy); });
+      const VectorXd q = y.head(m);
+      const double iteration = perCall(50, [&] {
+        lin.iterationMatrix(1.5, q);
+        lin.factorizeIteration(0.01, 0.1);
+      });
+      const double eq15 = perCall(3, [&] { dense.evaluate(1.5, y, dy, J); });
+      std::printf(
+          "[elbow] %s: one right-hand side %s us; the sparse iteration matrix (evaluated and factorised) %s "
+          "us = %.1f right-hand sides; the dense Jacobian of Eq. 15 %s us = %.0f right-hand sides\n",
+          file, fmt("%.1f", rhs * 1e6).c_str(), fmt("%.1f", iteration * 1e6).c_str(), iteration / rhs,
+          fmt("%.0f", eq15 * 1e6).c_str(), eq15 / rhs);
+      elbowCost += std::string(elbowCost.empty() ? "" : "; ") + file + ": one right-hand side " +
+                   fmt("%.1f", rhs * 1e6) + " us, the sparse iteration matrix " + fmt("%.1f", iteration / rhs) +
+                   " right-hand sides, the dense Jacobian of Eq. 15 " + fmt("%.0f", eq15 / rhs);
+    }
+    io::Plot plot;
+    plot.title = "Work-precision: elbow (Simo & Vu-Quoc), 2 x 10 BEAMs, 30 s";
+    plot.x = {"error: max over output times of |z - reference| (elbow and tip) / tip range", true, std::nullopt,
+              std::nullopt};
+    plot.y = {"wall time [s]", true, std::nullopt, std::nullopt};
+    plot.notes.push_back("reference: datfiles/spatial/elbow_reference.csv (generalized-alpha, RelTol 1e-7)");
+    for (const char* integ : {"galpha", "bdf", "ode45"}) {
+      io::Series se;
+      se.label = integ;
+      se.markers = true;
+      for (const ElbowPoint& p : elbow)
+        if (p.file == "elbow.dat" && p.integrator == integ && std::isfinite(p.error))
+          se.x.push_back(p.error), se.y.push_back(p.wall);
+      if (!se.x.empty()) plot.series.push_back(se);
+    }
+    io::writeSvg(opt.out + "/wp_elbow.svg", plot);
   }
 
   // ---------------------------------------------------------------- RHS cost scaling
@@ -1000,6 +1183,22 @@ int main(int argc, char** argv) {
          << (std::isfinite(p.reduction) ? sci(p.reduction, 1) : std::string("-")) << " |\n";
     }
     md << "\n";
+  }
+  if (!elbow.empty()) {
+    md << "### Stiff spatial dynamics: the elbow of Simo & Vu-Quoc\n\n"
+       << "datfiles/spatial/elbow.dat (2 x 10 BEAMs, 120 DOF) and elbow_fine.dat (2 x 20, 240 DOF), 30 s, output "
+          "every 0.1 s, AbsTol = 1e-3 RelTol. Error: the largest deviation of the elbow's and the tip's "
+          "out-of-plane displacement from datfiles/spatial/elbow_reference.csv, relative to the tip's range. ode45 "
+          "and BDF runs are capped at "
+       << fmt("%.0f", hardCap) << " s.\n\n"
+       << "| model | integrator | RelTol | wall [s] | steps | fevals | Jacobians | error "
+          "|\n|---|---|---|---|---|---|---|---|\n";
+    for (const ElbowPoint& p : elbow)
+      md << "| " << p.file << " | " << p.integrator << " | " << tolText(p.relTol) << " | " << secText(p.wall) << " | "
+         << p.nsteps << " | " << p.fevals << " | " << p.njac << " | "
+         << (std::isfinite(p.error) ? sci(p.error) : p.note) << " |\n";
+    md << "\nCost of one iteration matrix (at a bent, moving state): " << elbowCost << ".\n\n";
+    md << "![work-precision elbow](wp_elbow.svg)\n\n";
   }
   md << "### Right-hand-side cost against model size\n\n";
   md << "Straight guidance with n PLBEAM elements per flexure (geometry, material, load and DYNE/RLSE pattern of "

@@ -430,12 +430,16 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   EXPECT_EQ(rows("a/straight_guidance_x.csv"), rows("b/straight_guidance_x.csv"));
   EXPECT_EQ(rows("b/straight_guidance_x.csv").size(), 11u);
 
-  for (const std::string bad : {"--integrator foo", "--integrator BDF", "--integrator ''",
-                                "--integrator bdf --bdf-order 6", "--integrator bdf --bdf-order 0", "--bdf-order 3"}) {
+  for (const std::string bad :
+       {"--integrator foo", "--integrator BDF", "--integrator ''", "--integrator bdf --bdf-order 6",
+        "--integrator bdf --bdf-order 0", "--bdf-order 3", "--integrator galpha --rho-inf 1.5",
+        "--integrator galpha --rho-inf -0.1", "--rho-inf 0.5"}) {
     r = flexmb("simulate " + kData + "portal.dat -q --format none " + bad);
     EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
-    EXPECT_NE(r.err.find(bad.find("order") != std::string::npos ? "bdf-order" : "integrator"), std::string::npos)
-        << bad << ": " << r.err;
+    const char* named = bad.find("order") != std::string::npos ? "bdf-order"
+                        : bad.find("rho") != std::string::npos ? "rho-inf"
+                                                               : "integrator";
+    EXPECT_NE(r.err.find(named), std::string::npos) << bad << ": " << r.err;
     EXPECT_EQ(r.out.find("successful steps"), std::string::npos) << "ran anyway with " << bad;
   }
   // --dynamics (issue 13): the saddle-point and projected forms run the same model; a bad value is a
