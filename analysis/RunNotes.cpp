@@ -17,7 +17,7 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
   if (!std::isnan(traj.switchedAt)) {
     std::ostringstream sw;
     sw << "ode45 until t = " << traj.switchedAt << " s, where its step was bound by stability (|lambda| about "
-       << traj.stiffLambda << " 1/s); bdf from there on";
+       << traj.stiffLambda << " 1/s); galpha from there on";
     notes.push_back({Kind::Note, sw.str(), "auto switch", sw.str()});
   }
   // A reduced run's accuracy check measures the integration error only (its windows run with the

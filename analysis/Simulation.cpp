@@ -59,16 +59,21 @@ const char* integratorName(Integrator i) {
   return "ode45";
 }
 
+namespace {
+std::string alphaDescription(const SimulationOptions& o) {
+  return "galpha (generalized-alpha, rho_inf " + text::shortest(o.rhoInf) +
+         ", error control on q, modified Newton with a reused iteration matrix)";
+}
+}  // namespace
+
 std::string integratorDescription(const SimulationOptions& o) {
   const std::string bdf = "bdf (" + solvers::Bdf::library() + ": BDF orders 1-" + std::to_string(o.bdfMaxOrder) +
                           ", Newton, dense LU, analytic Jacobian of Eq. 15)";
   const std::string ode45 = "ode45 (Dormand-Prince 5(4), MATLAB's step control)";
   if (o.integrator == Integrator::Bdf) return bdf;
-  if (o.integrator == Integrator::GeneralizedAlpha)
-    return "galpha (generalized-alpha, rho_inf " + text::shortest(o.rhoInf) +
-           ", error control on q, modified Newton with a reused iteration matrix)";
+  if (o.integrator == Integrator::GeneralizedAlpha) return alphaDescription(o);
   if (o.integrator == Integrator::Auto)
-    return "auto: " + ode45 + ", switching to " + bdf + " once ode45's step is bound by stability (" +
+    return "auto: " + ode45 + ", switching to " + alphaDescription(o) + " once ode45's step is bound by stability (" +
            std::to_string(StiffnessTest::kStiffSteps) + " steps at h |lambda| > 3.25)";
   return ode45;
 }
@@ -101,11 +106,11 @@ std::string formatStatistics(const core::Trajectory& run, Integrator integrator)
   s << (implicit ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
   if (!std::isnan(run.switchedAt))
     s << "(auto: ode45's step was bound by stability at t = " << run.switchedAt << " s (|lambda| about "
-      << run.stiffLambda << " 1/s): bdf from there on)\n";
+      << run.stiffLambda << " 1/s): galpha from there on)\n";
   else if (integrator == Integrator::Ode45 && run.stiffBoundSteps >= kStiffHintSteps)
     s << "(ode45's step was bound by stability from t = " << run.stiffSince << " s on (" << run.stiffBoundSteps
       << " steps at the stability limit of |lambda| about " << run.stiffLambda
-      << " 1/s): --integrator bdf or auto would be faster)\n";
+      << " 1/s): --integrator galpha or auto would be faster)\n";
   return s.str();
 }
 
@@ -166,7 +171,7 @@ class ProgressLine {
     if (notedStiff_ || !printed_ || test.boundSteps() < kStiffHintSteps) return;
     std::fprintf(stderr,
                  "\nflexmb: note: since t = %.6g s ode45's step is bound by stability, not accuracy (%ld steps at "
-                 "the stability limit of the stiffest mode, |lambda| about %.3g 1/s): --integrator bdf or "
+                 "the stability limit of the stiffest mode, |lambda| about %.3g 1/s): --integrator galpha or "
                  "--integrator auto would be faster.\n",
                  test.since(), test.boundSteps(), test.lambda());
     notedStiff_ = true;
@@ -273,7 +278,7 @@ class StageRun {
       r = integrateAlpha(set_.tspan, y0_);
     } else {
       r = integrateExplicit();
-      if (switchAt_) {  // auto: on with BDF from the accepted state where ode45 became stability-bound
+      if (switchAt_) {  // auto: on with galpha from the accepted state where ode45 became stability-bound
         traj_.switchedAt = *switchAt_;
         std::vector<double> rest{*switchAt_};
         if (set_.tspan.size() == 2) {
@@ -286,7 +291,7 @@ class StageRun {
           startImplicit();
           jacobian_->kinematics().setConfiguration(eom_.kinematics().x());
           skipObservation_ = true;  // the switch state: output already given by ode45, or not an output time
-          r2 = integrateImplicit(rest, ySwitch_);
+          r2 = integrateAlpha(rest, ySwitch_);
         }
         r2.stats.nsteps += r.stats.nsteps, r2.stats.nfailed += r.stats.nfailed, r2.stats.nfevals += r.stats.nfevals;
         r2.stats.nrhsfailed += r.stats.nrhsfailed;
@@ -532,7 +537,7 @@ class StageRun {
 
   // Statistics and the stop reason of the run.
   void finish(const solvers::OdeResult& r, bool* interrupted) {
-    traj_.integrator = set_.bdf ? "bdf" : set_.alpha ? "galpha" : switchAt_ ? "ode45+bdf" : "ode45";
+    traj_.integrator = set_.bdf ? "bdf" : set_.alpha ? "galpha" : switchAt_ ? "ode45+galpha" : "ode45";
     traj_.stiffSince = stiffness_.since();
     traj_.stiffLambda = stiffness_.lambda();
     traj_.stiffBoundSteps = stiffness_.stiff() || switchAt_ ? stiffness_.boundSteps() : 0;

@@ -108,9 +108,10 @@ TEST(GeneralizedAlphaDynamics, ElbowMatchesItsConvergedReference) {
     peak[1][1] = std::max(peak[1][1], std::abs(ga.states[k].x[zt]));
   }
   const double range = 8.2540 + 9.7277;  // the reference tip's, max - min
-  std::printf("  elbow, galpha at the defaults: %ld steps, %ld evaluations, %ld iteration matrices; deviation %.2e of "
-              "the tip range; peaks elbow %.4f / %.4f, tip %.4f / %.4f\n",
-              ga.nsteps, ga.nfevals, ga.njacevals, worst / range, peak[0][1], peak[0][0], peak[1][1], peak[1][0]);
+  std::printf(
+      "  elbow, galpha at the defaults: %ld steps, %ld evaluations, %ld iteration matrices; deviation %.2e of "
+      "the tip range; peaks elbow %.4f / %.4f, tip %.4f / %.4f\n",
+      ga.nsteps, ga.nfevals, ga.njacevals, worst / range, peak[0][1], peak[0][0], peak[1][1], peak[1][0]);
   EXPECT_LT(worst / range, 0.01);
   for (int i = 0; i < 2; ++i) EXPECT_NEAR(peak[i][1] / peak[i][0], 1.0, 0.01);
   EXPECT_LT(ga.njacevals, 200);  // reused: one iteration matrix serves many steps

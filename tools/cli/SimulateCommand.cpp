@@ -68,11 +68,11 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "integrator", po::value(&a.integrator),
       "ode45 (default: explicit, MATLAB's ode45 step by step), bdf (implicit: SUNDIALS CVODE's BDF with the "
       "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step) or auto "
-      "(ode45, switching to bdf once ode45's step is bound by stability rather than accuracy; says when) or galpha "
+      "(ode45, switching to galpha once ode45's step is bound by stability rather than accuracy; says when) or galpha "
       "(implicit generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, "
       "large steps on stiff spatial models)")(
       "rho-inf", po::value(&a.rhoInf),
-      "with --integrator galpha: the spectral radius at infinite step, 0 to 1 (default 0.8; 1: no numerical "
+      "with --integrator galpha or auto: the spectral radius at infinite step, 0 to 1 (default 0.8; 1: no numerical "
       "dissipation, energy kept; smaller: the unresolved high frequencies damped faster)")(
       "bdf-order", po::value(&a.bdfOrder)->notifier(atLeast("bdf-order", 1)),
       "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
@@ -129,16 +129,17 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
     std::cerr << "flexmb: --rho-inf must lie in [0, 1], not " << a.rhoInf << "\n";
     return kUsageError;
   }
-  if (!std::isnan(a.rhoInf) && a.chosen != analysis::Integrator::GeneralizedAlpha) {
-    std::cerr << "flexmb: --rho-inf needs --integrator galpha\n";
+  if (!std::isnan(a.rhoInf) && a.chosen != analysis::Integrator::GeneralizedAlpha &&
+      a.chosen != analysis::Integrator::Auto) {
+    std::cerr << "flexmb: --rho-inf needs --integrator galpha or auto\n";
     return kUsageError;
   }
   if (a.bdfOrder > 5) {
     std::cerr << "flexmb: --bdf-order must be 1 to 5, not " << a.bdfOrder << "\n";
     return kUsageError;
   }
-  if (a.bdfOrder > 0 && a.chosen == analysis::Integrator::Ode45) {
-    std::cerr << "flexmb: --bdf-order needs --integrator bdf or auto\n";
+  if (a.bdfOrder > 0 && a.chosen != analysis::Integrator::Bdf) {
+    std::cerr << "flexmb: --bdf-order needs --integrator bdf\n";
     return kUsageError;
   }
   if (a.dynamics == "projected")

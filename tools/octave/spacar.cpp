@@ -66,10 +66,11 @@ void readBack(const std::string& path, Variables& vars, bool skipTime) {
 }
 
 // spacar(mode, name, opts): the fields of opts (names case-insensitive), all optional:
-//   integrator  'ode45' (default), 'bdf' or 'auto' (analysis::Integrator)
+//   integrator  'ode45' (default), 'bdf', 'auto' or 'galpha' (analysis::Integrator)
+//   rhoinf      galpha: the spectral radius at infinite step, 0 to 1 (default 0.8)
 //   reltol, abstol, maxstep, tend   positive numbers overriding the file's ERROR / TIMESTEP / HMAX
 //   intervals   output intervals (a whole number >= 0; 0: every step)
-//   bdforder    the highest BDF order, 1 to 5 (bdf and auto)
+//   bdforder    the highest BDF order, 1 to 5 (bdf)
 //   target      a reduction error target (0 < target < 1): the run is reduced with the smallest modal
 //               basis whose reduction error estimate meets it (analysis/BasisForTarget.hpp)
 // Returns an error message (empty: fine).
@@ -86,7 +87,7 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
       const std::string value = text ? text : "";
       mxFree(text);
       const auto integrator = analysis::parseIntegrator(value);
-      if (!integrator) return "spacar: opts.integrator must be 'ode45', 'bdf' or 'auto'";
+      if (!integrator) return "spacar: opts.integrator must be 'ode45', 'bdf', 'auto' or 'galpha'";
       opt.integrator = *integrator;
       continue;
     }
@@ -98,6 +99,9 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
     } else if (name == "bdforder") {
       if (!(x >= 1 && x <= 5 && x == std::floor(x))) return "spacar: opts.bdforder must be 1, 2, 3, 4 or 5";
       opt.bdfMaxOrder = static_cast<int>(x);
+    } else if (name == "rhoinf") {
+      if (!(x >= 0 && x <= 1)) return "spacar: opts.rhoinf must lie in [0, 1]";
+      opt.rhoInf = x;
     } else if (name == "target") {
       if (!(x > 0 && x < 1)) return "spacar: opts.target must be a number between 0 and 1 (the reduction error)";
       target = x;
@@ -106,7 +110,7 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
       (name == "reltol" ? opt.relTol : name == "abstol" ? opt.absTol : name == "maxstep" ? opt.maxStep : opt.tEnd) = x;
     } else {
       return "spacar: unknown option '" + name +
-             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, target)";
+             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, rhoinf, target)";
     }
   }
   return "";
@@ -159,7 +163,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
       << " failed attempts, " << traj.nfevals << " function evaluations ("
-      << (traj.integrator == "ode45+bdf" ? "auto: ode45, then bdf" : traj.integrator) << ")\n";
+      << (traj.integrator == "ode45+galpha" ? "auto: ode45, then galpha" : traj.integrator) << ")\n";
   // Where the time goes: the interpreter (user functions) against flexmb itself.
   if (user.active()) {
     const double inUser = user.stressCalls().seconds + user.inputCalls().seconds;
@@ -180,7 +184,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   if (std::isnan(traj.switchedAt) && opt.integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
     out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
         << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda << " 1/s): spacar("
-        << mode << ", '" << name << "', struct('integrator', 'auto')) or 'bdf' would be "
+        << mode << ", '" << name << "', struct('integrator', 'auto')) or 'galpha' would be "
         << "faster\n";
   analysis::SpacarOutputOptions so;
   so.transferFunctions = (model.settings.transferFunctionLevel >= 1);

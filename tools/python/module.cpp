@@ -850,7 +850,7 @@ void bindSimulate(py::module_& m) {
     const ModelPtr model = handle.last();
     analysis::SimulationOptions opt;
     const auto chosen = analysis::parseIntegrator(integrator);
-    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf' or 'auto', not '" + integrator + "'");
+    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + integrator + "'");
     opt.integrator = *chosen;
     opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
     opt.basis = basisArgument(basis, *model);

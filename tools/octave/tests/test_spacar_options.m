@@ -1,6 +1,6 @@
 function test_spacar_options(src, flexmb)
 % spacar(mode, name, opts): the integrator and its settings from Octave (issue 23). The stiff damped
-% probe (datfiles/tests/damped_probe.dat) with opts.integrator 'bdf' and 'auto' equals a
+% probe (datfiles/tests/damped_probe.dat) with opts.integrator 'bdf', 'auto' and 'galpha' equals a
 % tight-tolerance BDF reference and the Kelvin-Voigt creep law of its tip; tend / intervals set the
 % span and the output grid; bad options are usage errors. Ctrl-C (SIGINT to Octave) during a run,
 % inside flexmb and inside a user function, stops it with the identifier flexmb:spacar:interrupted
@@ -14,8 +14,10 @@ function test_spacar_options(src, flexmb)
   t0 = tic;
   a = spacar(-1, 'damped_probe', struct('Integrator', 'auto'));
   ta = toc(t0);
+  g = spacar(-1, 'damped_probe', struct('integrator', 'galpha', 'rhoinf', 0.5));
   r = spacar(-1, 'damped_probe', struct('integrator', 'bdf', 'reltol', 1e-9, 'abstol', 1e-16, 'bdforder', 5));
-  assert(b.tdef == 101 && a.tdef == 101 && r.tdef == 101, 'steps: %d %d %d', b.tdef, a.tdef, r.tdef);
+  assert(b.tdef == 101 && a.tdef == 101 && r.tdef == 101 && g.tdef == 101, 'steps: %d %d %d %d', b.tdef, a.tdef, ...
+         r.tdef, g.tdef);
   tip = b.lnp(3, 2);
   yr = r.x(:, tip);
   db = max(abs(b.x(:, tip) - yr)) / abs(yr(end));
@@ -26,14 +28,16 @@ function test_spacar_options(src, flexmb)
   dr = max(abs(yr(2:end) - creep) ./ creep);
   fprintf('damped probe: bdf %.3f s, auto %.3f s; vs reference (bdf order 5, RelTol 1e-9): bdf %.2e, auto %.2e; reference vs creep law %.2e\n', ...
           tb, ta, db, da, dr);
-  assert(db < 1e-3 && da < 1e-3, 'bdf / auto differ from the reference by %g / %g', db, da);
+  dg = max(abs(g.x(:, tip) - yr)) / abs(yr(end));
+  assert(db < 1e-3 && da < 1e-3 && dg < 1e-3, 'bdf / auto / galpha differ from the reference by %g / %g / %g', ...
+         db, da, dg);
   assert(dr < 1e-2, 'the reference differs from the creep law by %g', dr);
   % tend and intervals.
   c = spacar(-1, 'damped_probe', struct('integrator', 'bdf', 'tend', 0.002, 'intervals', 4));
   assert(c.tdef == 5 && abs(c.time(end) - 0.002) < 1e-15, 'tend / intervals: %d steps to %g', c.tdef, c.time(end));
   % Bad options.
   bad = {struct('integrator', 'rk4'), struct('reltol', -1), struct('intervals', 1.5), struct('bdforder', 6), ...
-         struct('stepsize', 1), 3};
+         struct('stepsize', 1), struct('integrator', 'galpha', 'rhoinf', 1.5), 3};
   for k = 1:numel(bad)
     try
       spacar(-1, 'damped_probe', bad{k});
