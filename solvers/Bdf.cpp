@@ -22,11 +22,6 @@ namespace {
 
 using text::shortest;
 
-double epsAt(double t) {  // spacing of doubles at |t|
-  const double a = std::fabs(t);
-  return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
-}
-
 // The SUNDIALS objects of one run, released in the right order whatever happens.
 struct Sundials {
   SUNContext ctx = nullptr;
@@ -191,7 +186,7 @@ void configureCvode(Sundials& sd, Session& session, bool analyticJacobian, const
   const double hmax = opt.maxStep > 0.0 ? std::min(span, opt.maxStep) : 0.1 * span;
   // hmin as Ode45's 16 eps(t) (at the larger end): a step below it means the tolerance cannot be
   // met, instead of a crawl to h ~ 1e-19 through repeated failures.
-  const double hmin = 16.0 * epsAt(std::max(std::fabs(t0), std::fabs(tf)));
+  const double hmin = 16.0 * spacingOfDoublesAt(std::max(std::fabs(t0), std::fabs(tf)));
   check(CVodeSetErrHandlerFn(sd.mem, errorHandler, &session), "CVodeSetErrHandlerFn");
   check(CVodeInit(sd.mem, rhsCallback, t0, sd.y), "CVodeInit");
   check(CVodeSStolerances(sd.mem, opt.relTol, opt.absTol), "CVodeSStolerances");

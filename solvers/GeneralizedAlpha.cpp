@@ -79,13 +79,8 @@ GeneralizedAlpha::GeneralizedAlpha(GeneralizedAlphaOptions options) : opt_(std::
 
 namespace {
 
-double epsAt(double t) {
-  const double a = std::fabs(t);
-  return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
-}
-
 // Weighted RMS of v against atol + rtol |ref|.
-double wrms(const Eigen::VectorXd& v, const Eigen::VectorXd& ref, double rtol, double atol) {
+double weightedRms(const Eigen::VectorXd& v, const Eigen::VectorXd& ref, double rtol, double atol) {
   if (v.size() == 0) return 0.0;
   double s = 0.0;
   for (Eigen::Index i = 0; i < v.size(); ++i) {
@@ -110,7 +105,7 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
   if (span / hmax > 1e9)
     throw std::invalid_argument("generalized-alpha: the step size limit " + text::shortest(hmax) + " needs more than " +
                                 "1e9 steps over " + text::shortest(span) + " s");
-  const double hmin = 16.0 * epsAt(std::max(std::fabs(t0), std::fabs(tf)));
+  const double hmin = 16.0 * spacingOfDoublesAt(std::max(std::fabs(t0), std::fabs(tf)));
   const GeneralizedAlphaParameters p(opt_.rhoInf);
   const double errC = std::fabs(p.errorCoefficient());
   const double mix = (1.0 - p.alphaF) / (1.0 - p.alphaM);  // d a_{n+1} / d qdd_{n+1}
@@ -194,7 +189,7 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
         accN -= r;
         dqv << betaP * r, gammaP * r;
         ref << qN, vN;
-        const double norm = wrms(dqv, ref, opt_.relTol, opt_.absTol);
+        const double norm = weightedRms(dqv, ref, opt_.relTol, opt_.absTol);
         if (!std::isfinite(norm)) throw RhsError("the Newton iteration diverged");
         // Converged when the correction (in q and qd, against the tolerance) is small, or, once
         // the contraction rate is known, the remaining error it predicts (CVODE's test).
@@ -235,7 +230,7 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
     if (!opt_.fixedStep) {
       err = (errC * hs * hs) * (aN - aUse);
       ref.head(m) = q.cwiseAbs().cwiseMax(qN.cwiseAbs());
-      const double e = wrms(err, ref.head(m), opt_.relTol, opt_.absTol);
+      const double e = weightedRms(err, ref.head(m), opt_.relTol, opt_.absTol);
       ratio = e > 0.0 ? 0.9 * std::pow(e, -1.0 / 3.0) : 5.0;
       if (e > 1.0) {
         ++st.nfailed;

@@ -34,12 +34,6 @@ constexpr double BI[7][4] = {{1.0, -183.0 / 64, 37.0 / 12, -145.0 / 128},
                              {0.0, 3.0 / 2, -4.0, 5.0 / 2}};
 constexpr double kPow = 1.0 / 5;
 
-// MATLAB's eps(t): spacing of doubles at |t| (eps(0) is the smallest subnormal).
-double epsAt(double t) {
-  const double a = std::fabs(t);
-  return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
-}
-
 using text::shortest;
 
 }  // namespace
@@ -109,7 +103,7 @@ class Ode45Run {
     bool done = false;
     while (true) {
       // Step 3: clip the step, the 1.1 rule.
-      const double hmin = 16.0 * epsAt(t_);
+      const double hmin = 16.0 * spacingOfDoublesAt(t_);
       absh_ = std::min(hmax_, std::max(hmin, absh_));
       h_ = tdir_ * absh_;
       if (1.1 * absh_ >= std::fabs(tf_ - t_)) {
@@ -199,7 +193,7 @@ class Ode45Run {
 
   // Step 2: the initial step.
   double initialStep() const {
-    const double hmin = 16.0 * epsAt(t_);
+    const double hmin = 16.0 * spacingOfDoublesAt(t_);
     if (opt_.initialStep > 0.0) return std::min(hmax_, std::max(hmin, opt_.initialStep));
     double absh = std::min(hmax_, std::fabs(tspan_[1] - tspan_[0]));
     double rh = 0.0;

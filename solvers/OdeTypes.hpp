@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -59,6 +60,13 @@ using OdeObserver = std::function<bool(double t, const Eigen::VectorXd& y)>;
 // Called with a state (t, y) of the solution: the accepted ones (t0 included) or the one a rejected
 // step is retried from. Throwing RhsError stops the run (status RhsFailed) with its message.
 using OdeStepHook = std::function<void(double t, const Eigen::VectorXd& y)>;
+
+// MATLAB's eps(t): the spacing of doubles at |t| (eps(0) is the smallest subnormal). The integrators'
+// minimum step is 16 eps(t).
+inline double spacingOfDoublesAt(double t) {
+  const double a = std::fabs(t);
+  return std::nextafter(a, std::numeric_limits<double>::infinity()) - a;
+}
 
 // The output times an integrator accepts: at least two, distinct finite end points, strictly
 // monotonic. Throws std::invalid_argument naming the integrator (`who`).

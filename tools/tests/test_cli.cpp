@@ -473,6 +473,31 @@ TEST_F(Cli, InterruptKeepsTheResultsSoFarWithBdf) {
                                       "--intervals 10000");
 }
 
+// --integrator galpha (issue 38): the same output times as ode45, its statistics and the integrator
+// in the manifest; SPACAR95 analysis blocks continue each other; Ctrl-C keeps the results so far.
+TEST_F(Cli, GeneralizedAlphaWritesTheSameFileSet) {
+  Result r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --out s45");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --integrator galpha --rho-inf 0.9 --out sga");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto times = [&](const char* file) {  // the first column of each row
+    std::ifstream in(dir_ / file);
+    std::vector<std::string> t;
+    for (std::string line; std::getline(in, line);) t.push_back(line.substr(0, line.find(',')));
+    return t;
+  };
+  EXPECT_EQ(times("s45_x.csv"), times("sga_x.csv"));
+  EXPECT_NE(r.out.find("Jacobian evaluations"), std::string::npos) << r.out;
+  const std::string text = slurp(dir_ / "sga_run.txt");
+  EXPECT_NE(text.find("integrator: galpha (generalized-alpha, rho_inf 0.9"), std::string::npos) << text;
+}
+
+TEST_F(Cli, InterruptKeepsTheResultsSoFarWithGeneralizedAlpha) {
+  expectInterruptKeepsTheResultsSoFar(kData +
+                                      "manipulator.dat -q --integrator galpha --t-end 500 --max-step 0.001 "
+                                      "--intervals 10000");
+}
+
 // The tutorial models: the cantilever's tip deflection against beam theory, the loop's DOF count.
 TEST_F(Cli, TutorialModels) {
   Result r = flexmb("check " + kData + "cantilever.dat");
