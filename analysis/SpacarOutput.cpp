@@ -91,7 +91,7 @@ io::SpacarResults spacarFromStatics(const core::Model& model, const StaticRun& r
     out.xd = out.xdd = Eigen::VectorXd::Zero(model.nx);
     out.ed = out.edd = Eigen::VectorXd::Zero(model.ne);
     io::SpacarStep st = stateStep(model, L, rq, model.settings.t0, s.loadFactor, out, o, s.initialFactor);
-    setMatrices(st, s.system);
+    if (o.matrices) setMatrices(st, s.system);
     st.freq = s.frequencies.omega / kTwoPi;
     r.time.push_back(run.loadSteps > 0 ? static_cast<double>(s.loadStep) / run.loadSteps : 0.0);
     r.steps.push_back(std::move(st));

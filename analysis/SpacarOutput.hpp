@@ -19,6 +19,7 @@ namespace flexmb::analysis {
 struct SpacarOutputOptions {
   bool transferFunctions = false;
   bool jacobian = false;
+  bool matrices = true;  // the system matrices M0 .. N0 of each step (static runs: flexmb static --matrices)
 };
 
 // Mode 1 (and 3, 4 with `modes`: its matrices and frequencies per step). `mode` is written as is.

@@ -243,8 +243,12 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
-  std::string out, svg, html, vtk, format = "both";
+  std::string out, svg, html, vtk, format = "both", matrices = "all";
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
+      "matrices", po::value(&matrices),
+      "with SPACAR's files: all (default, as SPACAR writes them and SPACAR Light reads them: M0 .. N0 of every load "
+      "step in the .sbm, the transfer functions dx and D = de/dx of every step in the .sbd) or none (the states, "
+      "stresses, forces and frequencies only: a large model's files shrink from tens of MB to a few)")(
       "format", po::value(&format),
       "csv (the load steps' table), mat (SPACAR's <model>.sbd / .sbm, which SPACAR's scripts read), both (default, "
       "as SPACAR writes its files) or none")(
@@ -264,12 +268,21 @@ int runStatic(const std::vector<std::string>& args) {
   std::string viewName;
   addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] [--format "
+                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] "
+                             "[--matrices all|none] [--format "
                              "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--view xy|xz|yz|iso] [--html "
                              "[file.html]] [--vtk [prefix]]"))
     return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
+    return kUsageError;
+  }
+  if (matrices != "all" && matrices != "none") {
+    std::cerr << "flexmb: --matrices must be all or none, not '" << matrices << "'\n";
+    return kUsageError;
+  }
+  if (ltv && matrices == "none") {
+    std::cerr << "flexmb: --ltv writes the matrices of every load step: it cannot go with --matrices none\n";
     return kUsageError;
   }
   if (ltv && (format == "csv" || format == "none")) {
@@ -309,6 +322,7 @@ int runStatic(const std::vector<std::string>& args) {
   files.setting("load steps", std::to_string(n));
   files.setting("nev", std::to_string(nev));
   files.setting("format", format);
+  files.setting("matrices", matrices);
   if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
 
   installInterruptHandler();
@@ -341,8 +355,9 @@ int runStatic(const std::vector<std::string>& args) {
   bool complete = !writeSpacar || tryProduct(files, "SPACAR's .sbd/.sbm", [&] {
     const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
     analysis::SpacarOutputOptions spo;
-    spo.transferFunctions = true;  // few steps; compliance scripts (SPACAR Light) read dx in statics
-    spo.jacobian = true;
+    // SPACAR's set unless --matrices none: SPACAR Light reads dx and bigd of the load steps in the .sbd
+    // and m0, k0, g0, n0 of every step in the .sbm (spacarlight.m).
+    spo.transferFunctions = spo.jacobian = spo.matrices = matrices == "all";
     const io::SpacarResults sr =
         ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
     const std::string tempBase = io::temporaryName(base);

@@ -2,6 +2,7 @@
 // files a run writes against the in-process analysis of the same model.
 #include <gtest/gtest.h>
 #include <matio.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -96,4 +97,51 @@ TEST(CliModels, SpaLightPivotFilesPassCheckAndStatic) {
               0)
         << "see " << log;
   }
+}
+
+// static --matrices (issue 38): all (the default, SPACAR's set: M0 .. N0 of every load step in the
+// .sbm, dx and bigd in the .sbd, as SPACAR Light reads them) or none (states, stresses and
+// frequencies only); bad values and --ltv with none are usage errors.
+TEST(CliModels, StaticMatricesAllOrNone) {
+  const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / "static_matrices";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string flexmb = std::string(FLEXMB_BINARY_DIR) + "/flexmb";
+  const std::string model = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_coarse.dat";
+  const std::string log = (dir / "log.txt").string();
+  auto has = [](const std::filesystem::path& file, const char* name) {
+    mat_t* mat = Mat_Open(file.c_str(), MAT_ACC_RDONLY);
+    if (!mat) return false;
+    matvar_t* v = Mat_VarReadInfo(mat, name);
+    const bool found = v != nullptr;
+    if (v) Mat_VarFree(v);
+    Mat_Close(mat);
+    return found;
+  };
+  for (const std::string which : {"all", "none"}) {
+    const std::filesystem::path sub = dir / which;
+    std::filesystem::create_directories(sub);
+    const std::string cmd = flexmb + " static '" + model + "' -q --matrices " + which + " --out '" + sub.string() +
+                            "/' > '" + log + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(log).rdbuf();
+    const bool all = which == "all";
+    const std::filesystem::path sbd = sub / "cross_spring_pivot_coarse.sbd",
+                                sbm = sub / "cross_spring_pivot_coarse.sbm";
+    EXPECT_TRUE(has(sbd, "x")) << which;
+    EXPECT_TRUE(has(sbd, "sig")) << which;
+    EXPECT_EQ(has(sbd, "dx"), all) << which;
+    EXPECT_EQ(has(sbd, "bigd"), all) << which;
+    for (const char* m : {"M0", "K0", "G0", "N0"}) EXPECT_EQ(has(sbm, m), all) << which << " " << m;
+    EXPECT_TRUE(has(sbm, "freq")) << which;
+  }
+  for (const std::string bad : {" --matrices some", " --ltv --matrices none"}) {
+    const std::string cmd =
+        flexmb + " static '" + model + "' -q --out '" + dir.string() + "/'" + bad + " > '" + log + "' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(rc), 2) << bad;
+    std::ifstream in(log);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("--matrices"), std::string::npos) << text;
+  }
+  std::filesystem::remove_all(dir);
 }
