@@ -846,12 +846,14 @@ void bindSimulate(py::module_& m) {
                        std::optional<double> absTol, std::optional<double> maxStep, std::optional<int> intervals,
                        const std::string& integrator, const std::optional<Eigen::MatrixXd>& basis,
                        const std::optional<std::string>& basisFile, const ReduceResult* reduced, bool fullKinematics,
-                       std::optional<py::function> usersig, std::optional<py::function> userinp, bool accuracyCheck) {
+                       std::optional<py::function> usersig, std::optional<py::function> userinp, bool accuracyCheck,
+                       std::optional<double> rhoInf) {
     const ModelPtr model = handle.last();
     analysis::SimulationOptions opt;
     const auto chosen = analysis::parseIntegrator(integrator);
     if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + integrator + "'");
     opt.integrator = *chosen;
+    if (rhoInf) opt.rhoInf = *rhoInf;
     opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
     opt.basis = basisArgument(basis, *model);
     if (basisFile) {

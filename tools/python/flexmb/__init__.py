@@ -138,8 +138,11 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
 
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
-             basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False):
+             basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
+
+    integrator: "ode45", "bdf", "auto" or "galpha" (generalized-alpha); rho_inf (0 ... 1, default 0.8):
+    galpha's spectral radius at infinite step (with galpha or auto only).
 
     basis: a reduced run q = V eta. An array (ndof x k) runs Eq. 19; a basis file (`flexmb reduce`'s)
     or a `flexmb.reduce` result run with their reduced operators, as `flexmb simulate --basis` does
@@ -159,6 +162,11 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     if userinp is not None and not model.inputs:
         raise ValueError(f"userinp: {model.file} has no inputs (INPUTX / INPUTE) to drive")
     _need(integrator, str, "integrator")
+    if rho_inf is not None:
+        if integrator not in ("galpha", "auto"):
+            raise ValueError(f"rho_inf: needs integrator='galpha' or 'auto', not {integrator!r}")
+        if isinstance(rho_inf, bool) or not isinstance(rho_inf, (int, float)) or not 0 <= rho_inf <= 1:
+            raise ValueError(f"rho_inf: expected a number in [0, 1], got {rho_inf!r}")
     array, path, reduced = None, None, None
     if isinstance(basis, _core.ReduceResult):
         reduced = basis
@@ -171,7 +179,7 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     return _core.simulate(model, _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol"),
                           _positive(max_step, "max_step"), None if intervals is None else _count(intervals, "intervals", 0),
                           integrator, array, path, reduced, bool(full_kinematics), usersig, userinp,
-                          bool(accuracy_check))
+                          bool(accuracy_check), None if rho_inf is None else float(rho_inf))
 
 
 def validate(source, out, *, sweep_steps=21, quiet=True):

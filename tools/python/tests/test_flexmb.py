@@ -78,6 +78,8 @@ def test_bad_arguments_raise_type_and_value_errors_naming_the_argument():
         (lambda: flexmb.simulate(m, reltol="1e-3"), TypeError, "reltol"),
         (lambda: flexmb.simulate(m, integrator="rk4"), ValueError, "integrator"),
         (lambda: flexmb.simulate(m, usersig=3), TypeError, "usersig"),
+        (lambda: flexmb.simulate(m, integrator="galpha", rho_inf=1.5), ValueError, "rho_inf"),
+        (lambda: flexmb.simulate(m, rho_inf=0.5), ValueError, "rho_inf"),
         (lambda: flexmb.modes(m, basis=np.zeros((5, 2))), ValueError, "basis"),
         (lambda: flexmb.modes(m, basis="no_such_basis.csv"), ValueError, "basis"),
         (lambda: flexmb.reduce(m, method="pod"), ValueError, "method"),
@@ -323,3 +325,15 @@ def test_threads_run_variants_in_parallel_with_the_serial_results():
         parallel = list(pool.map(lambda t: flexmb.static(flexmb.variant(template, t=t), nev=2).freq, thicknesses))
     for a, b in zip(serial, parallel):
         assert np.array_equal(a, b)
+
+
+def test_generalized_alpha_runs_the_elbow_to_its_reference():
+    """integrator="galpha" (issue 38): the elbow of Simo & Vu-Quoc against its stored converged response."""
+    m = flexmb.read(model_path("datfiles", "spatial", "elbow.dat"))
+    r = flexmb.simulate(m, integrator="galpha", rho_inf=0.8)
+    assert r.integrator == "galpha"
+    ref = np.loadtxt(model_path("datfiles", "spatial", "elbow_reference.csv"), delimiter=",", comments="#", skiprows=5)
+    tip = list(m.coordinates).index("x(node 41, z)")
+    x = np.asarray(r.x)
+    assert x.shape[0] == ref.shape[0]
+    assert np.max(np.abs(x[:, tip] - ref[:, 2])) < 0.01 * (ref[:, 2].max() - ref[:, 2].min())
