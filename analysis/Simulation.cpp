@@ -314,16 +314,30 @@ class StageRun {
     o.absTol = set_.absTol;
     o.maxStep = set_.maxStep;
     o.maxOrder = opt_.bdfMaxOrder;
-    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
-    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
-    auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
+    const ImplicitCallables c = implicitCallables();
+    return solvers::Bdf(o).integrate(c.f, c.jacobian, tspan, y0, c.observer, c.accept);
+  }
+
+  // What both implicit integrators call: the right-hand side, the output times, the Jacobian of
+  // Eq. 15 and the accepted states (the anchor of the kinematics), kinematic failures as RhsError.
+  struct ImplicitCallables {
+    solvers::OdeRhs f;
+    solvers::OdeObserver observer;
+    solvers::OdeJacobian jacobian;
+    solvers::OdeStepHook accept;
+  };
+  ImplicitCallables implicitCallables() {
+    ImplicitCallables c;
+    c.f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
+    c.observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
+    c.jacobian = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
       kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
     };
-    auto accept = [this](double t, const Eigen::VectorXd& y) {
+    c.accept = [this](double t, const Eigen::VectorXd& y) {
       ++accepted_;
       kinematicsAsRhsError([&] { anchored_->accept(t, y); });
     };
-    return solvers::Bdf(o).integrate(f, jac, tspan, y0, observer, accept);
+    return c;
   }
 
   // Generalized-alpha on the anchored equations of motion (as BDF: every evaluation starts the
@@ -334,22 +348,15 @@ class StageRun {
     o.relTol = set_.relTol;
     o.absTol = set_.absTol;
     o.maxStep = set_.maxStep;
-    auto f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
-    auto observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
-    auto jac = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
-      kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
-    };
-    auto accept = [this](double t, const Eigen::VectorXd& y) {
-      ++accepted_;
-      kinematicsAsRhsError([&] { anchored_->accept(t, y); });
-    };
+    const ImplicitCallables c = implicitCallables();
     if (!opt_.basis) {  // full models: the sparse iteration matrix (a few RHS instead of Eq. 15's hundreds)
       SparseIteration system(
-          workspace_, f, accept, [this]() -> const Eigen::VectorXd& { return anchored_->anchor(); }, set_.kinematicTol);
-      return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, observer);
+          workspace_, c.f, c.accept, [this]() -> const Eigen::VectorXd& { return anchored_->anchor(); },
+          set_.kinematicTol);
+      return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, c.observer);
     }
-    solvers::FirstOrderAsSecondOrder system(f, jac, eom_.size(), accept);
-    return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, observer);
+    solvers::FirstOrderAsSecondOrder system(c.f, c.jacobian, eom_.size(), c.accept);
+    return solvers::GeneralizedAlpha(o).integrate(system, tspan, y0, c.observer);
   }
 
   // ode45 with the stiffness test on its accepted steps: auto stops it (and keeps the state) once
