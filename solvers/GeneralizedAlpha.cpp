@@ -28,6 +28,7 @@ FirstOrderAsSecondOrder::FirstOrderAsSecondOrder(OdeRhs f, OdeJacobian jacobian,
   dy_.resize(2 * m);
   J_.resize(2 * m, 2 * m);
   S_.resize(m, m);
+  x_.resize(m);
 }
 
 void FirstOrderAsSecondOrder::acceleration(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
@@ -54,7 +55,10 @@ bool FirstOrderAsSecondOrder::factorize(double betaP, double gammaP) {
   return std::isfinite(lu_.rcond()) && lu_.rcond() > 1e3 * std::numeric_limits<double>::epsilon();
 }
 
-void FirstOrderAsSecondOrder::solve(Eigen::VectorXd& r) { r = lu_.solve(r); }
+void FirstOrderAsSecondOrder::solve(Eigen::VectorXd& r) {
+  x_.noalias() = lu_.solve(r);
+  r = x_;
+}
 
 void FirstOrderAsSecondOrder::accept(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   if (!accepted_) return;
@@ -131,7 +135,9 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
   a = acc;
   if (!observer(t0, y0)) return stop(OdeStatus::Stopped, "stopped by the observer at t = " + text::shortest(t0));
 
+  // Every vector a step needs, allocated once (the step loop allocates nothing).
   Eigen::VectorXd accN(m), aN(m), vN(m), qN(m), f(m), r(m), dqv(2 * m), ref(2 * m), yOut(2 * m), aUse(m), err(m);
+  Eigen::VectorXd qPrev(m), vPrev(m), accPrev(m);
   double t = t0;
   double h = opt_.fixedStep ? hmax : std::min(hmax, opt_.initialStep > 0.0 ? opt_.initialStep : 1e-3 * span);
   double hAccepted = h;         // the step a_n belongs to
@@ -243,7 +249,7 @@ OdeResult GeneralizedAlpha::integrate(SecondOrderSystem& sys, const std::vector<
     // Accepted.
     ++st.nsteps;
     const double tPrev = t;
-    const Eigen::VectorXd qPrev = q, vPrev = v, accPrev = acc;
+    qPrev = q, vPrev = v, accPrev = acc;
     t = tN;
     q = qN;
     v = vN;

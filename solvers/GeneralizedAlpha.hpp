@@ -77,7 +77,7 @@ class FirstOrderAsSecondOrder : public SecondOrderSystem {
   OdeJacobian jac_;
   OdeStepHook accepted_;
   int m_;
-  Eigen::VectorXd y_, dy_;
+  Eigen::VectorXd y_, dy_, x_;
   Eigen::MatrixXd J_, S_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
