@@ -375,7 +375,7 @@ void writeMat(const std::string& path, const Model& model, const Trajectory& tra
 
   std::vector<std::pair<const char*, long>> stats = {
       {"nsteps", traj.nsteps}, {"nfailed", traj.nfailed}, {"nfevals", traj.nfevals}};
-  if (traj.integrator == "bdf") {  // the implicit integrator's own counts
+  if (traj.integrator != "ode45") {  // the implicit integrators' own counts (bdf, galpha, auto's switch)
     stats.emplace_back("njacevals", traj.njacevals);
     stats.emplace_back("nlinsetups", traj.nlinsetups);
   }

@@ -662,7 +662,7 @@ std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArg
       "reltol", po::value(&sa.relTol)->notifier(positive("reltol")), "simulate: relative tolerance")(
       "abstol", po::value(&sa.absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
       "intervals", po::value(&sa.intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
-      "integrator", po::value(&sa.integrator), "simulate: ode45 (default) or bdf")(
+      "integrator", po::value(&sa.integrator), "simulate: ode45 (default), bdf, auto or galpha (as flexmb simulate)")(
       "target", po::value(&sa.target)->notifier(finite("target")),
       "simulate: reduce each variant with the smallest modal basis whose reduction error estimate meets this "
       "target (0 < EPS < 1; columns sim_basis_vectors, sim_reduction_estimate)")(
@@ -727,7 +727,7 @@ std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, Stu
     analysis::SimulationOptions o;
     const auto in = analysis::parseIntegrator(sa.integrator);
     if (!in) {
-      std::cerr << "flexmb: --integrator must be ode45 or bdf, not '" << sa.integrator << "'\n";
+      std::cerr << "flexmb: --integrator must be ode45, bdf, auto or galpha, not '" << sa.integrator << "'\n";
       return kUsageError;
     }
     o.integrator = *in;

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/SparseIteration.hpp"
 #include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/dynamics/Workspace.hpp"
 #include "core/tests/ModelTexts.hpp"
@@ -154,5 +155,40 @@ TEST(NoAllocation, ASecondEvaluatorOnASharedWorkspaceCostsLessMemory) {
         "own\n",
         file, shared, own);
     EXPECT_LT(shared, own);
+  }
+}
+
+// Generalized-alpha's iteration (issue 38): after a first step has sized everything, the Newton
+// iteration's calls (accelerations, refactorising the sparse iteration matrix for a new step size,
+// solving with it) allocate nothing, on a planar and a spatial full model.
+TEST(NoAllocation, GeneralizedAlphaIterationsAllocateNothing) {
+  for (const char* file : {"straight_guidance.dat", "spatial/elbow.dat"}) {
+    SCOPED_TRACE(file);
+    const core::Model m = io::readDatFile(dat(file));
+    core::Workspace ws(m);
+    core::EquationsOfMotion eom(ws);
+    Eigen::VectorXd anchor;
+    analysis::SparseIteration system(
+        ws, [&](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { eom.rhs(t, y, dy); },
+        [](double, const Eigen::VectorXd&) {}, [&]() -> const Eigen::VectorXd& { return anchor; }, 1e-10);
+    const int n = system.size();
+    const Eigen::VectorXd y0 = eom.initialState();
+    Eigen::VectorXd q = y0.head(n), qd = Eigen::VectorXd::Constant(n, 1e-3), qdd(n), r(n);
+    system.acceleration(0.01, q, qd, qdd);
+    system.jacobian(0.01, q, qd, qdd);
+    ASSERT_TRUE(system.factorize(1e-6, 1e-3));
+    r = qdd;
+    system.solve(r);
+    allocations = 0;
+    counting = true;
+    for (int i = 1; i <= 20; ++i) {
+      q[0] += 1e-8;
+      system.acceleration(0.01 + 1e-4 * i, q, qd, qdd);
+      if (i % 5 == 0) system.factorize(1e-6 * i, 1e-3 * i);  // a new step size
+      r = qdd;
+      system.solve(r);
+    }
+    counting = false;
+    EXPECT_EQ(allocations, 0);
   }
 }
