@@ -3,6 +3,8 @@
 // ode45 at a tight tolerance, and the elbow of Simo & Vu-Quoc against its stored converged reference.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +15,7 @@
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
 #include "core/dynamics/Inertia.hpp"
+#include "core/linearization/Linearization.hpp"
 #include "core/tests/Energy.hpp"
 #include "io/formats/DatReader.hpp"
 
@@ -151,4 +154,34 @@ TEST(GeneralizedAlphaDynamics, ElbowEnergyIsKeptOrDissipatedAsRhoInfSays) {
   }
   EXPECT_LT(drift[0], 5e-5);
   EXPECT_LT(drift[1], 5e-4);
+}
+
+// The sparse iteration matrix (Linearization::iterationMatrix, saddle-point form without F_q) is the
+// dense S = Mbar + gammaP Dbar + betaP (Kbar + Gbar + Gskew) of Eq. 16 at the same state:
+// solveIteration(r) = S^-1 Mbar r, on the guidance (planar) and the elbow bent by its load (spatial).
+TEST(GeneralizedAlphaDynamics, SparseIterationMatrixIsTheDenseOne) {
+  for (const char* file : {"straight_guidance.dat", "spatial/elbow.dat"}) {
+    SCOPED_TRACE(file);
+    const core::Model m = io::readDatFile(dat(file));
+    core::Linearization sparse(m), dense(m);
+    const int n = sparse.size();
+    Eigen::VectorXd eta = sparse.kinematics().initialDofs();
+    for (int i = 0; i < n; ++i) eta[i] += 1e-3 * std::sin(1.0 + i);  // a deformed state
+    const double t = 0.5, betaP = 1e-4, gammaP = 2e-2;
+    sparse.iterationMatrix(t, eta);
+    ASSERT_TRUE(sparse.factorizeIteration(betaP, gammaP));
+    dense.kinematics().solvePositions(t, eta);
+    Eigen::VectorXd f;
+    dense.appliedForces(t, 0.0, f);
+    core::LinearizedSystem sys;
+    dense.atRest(t, eta, f, sys);
+    Eigen::MatrixXd S = sys.M + betaP * (sys.K + sys.G);
+    if (sys.Gskew.size()) S += betaP * sys.Gskew;
+    if (sys.D.size()) S += gammaP * sys.D;
+    Eigen::VectorXd r(n), x;
+    for (int i = 0; i < n; ++i) r[i] = std::cos(0.3 * i);
+    sparse.solveIteration(r, x);
+    const Eigen::VectorXd expected = S.partialPivLu().solve(sys.M * r);
+    EXPECT_LT((x - expected).norm(), 1e-9 * expected.norm()) << (x - expected).norm() << " of " << expected.norm();
+  }
 }
