@@ -12,6 +12,7 @@
 #include "core/kinematics/ElementValidity.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "solvers/EigenSolver.hpp"
+#include "solvers/KineticStability.hpp"
 
 namespace flexmb::analysis {
 
@@ -366,6 +367,11 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
       if (sparse) {
         st.newton.stable = solvers::isPositiveDefinite(sys.K + sys.G);
         stiffnessScale = stiffnessForce(model, sys.K);  // for the next step, which starts here
+      }
+      // Dead moments make the load circulatory (Gskew): the kinetic criterion decides (KineticStability.hpp).
+      if (sys.Gskew.size() && !sys.Gskew.isZero(0.0) && sys.M.rows() > 0) {
+        st.kinetic = solvers::kineticStability(sys.K + sys.G + sys.Gskew, sys.M);
+        if (st.kinetic->verdict != solvers::KineticVerdict::Undecided) st.newton.stable = st.kinetic->stable();
       }
       st.e = lin.kinematics().e();
       st.sigma = sys.sigma;

@@ -22,12 +22,14 @@
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/Modes.hpp"
 #include "core/linearization/Linearization.hpp"
 #include "io/formats/CsvTable.hpp"
+#include "solvers/KineticStability.hpp"
 #include "solvers/StaticEquilibrium.hpp"
 
 namespace flexmb::analysis {
@@ -55,8 +57,11 @@ struct StaticStep {
   int loadStep = -1;           // SPACAR's load step 0..nsteps (-1: a ramp step before load step 0)
   Eigen::VectorXd eta, x, e, sigma;
   Frequencies frequencies;
-  Eigen::VectorXd buckling;       // load factors (only when asked for)
-  solvers::StaticResult newton;   // of the last (sub-)step
+  Eigen::VectorXd buckling;      // load factors (only when asked for)
+  solvers::StaticResult newton;  // of the last (sub-)step; newton.stable: see `kinetic`
+  // Under dead moments (a non-zero Gskew) the kinetic criterion on K + G + Gskew, M, which then sets
+  // newton.stable (unless Undecided); otherwise empty and newton.stable is K + G positive definite.
+  std::optional<solvers::KineticStability> kinetic;
   int iterations = 0;             // Newton iterations of this load step, failed and sub-step attempts included
   core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };

@@ -1,6 +1,8 @@
 // Lowest eigenpairs of A v = lambda B v: ARPACK shift-invert (mode 3) and dense fallback. See EigenSolver.hpp.
 #include "solvers/EigenSolver.hpp"
 
+#include "solvers/ArpackLock.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -105,11 +107,6 @@ void finalize(EigenResult& r, const Apply& applyA, const Apply& applyB, double d
   }
 }
 
-std::mutex& arpackMutex() {
-  static std::mutex m;
-  return m;
-}
-
 std::string arpackAupdMessage(int info) {
   switch (info) {
     case 1:
@@ -175,6 +172,11 @@ void checkPencil(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const char*
 }
 
 }  // namespace
+
+std::mutex& arpackMutex() {
+  static std::mutex m;
+  return m;
+}
 
 Eigen::VectorXd EigenResult::hz() const { return omega / (2.0 * 3.14159265358979323846); }
 

@@ -199,9 +199,18 @@ void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int 
     else
       screen << "initial loads ramp";
     screen << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
-           << "): " << st.iterations << " Newton iterations" << (st.newton.stable ? "" : " (UNSTABLE equilibrium)")
-           << "\n";
+           << "): " << st.iterations << " Newton iterations";
+    if (!st.newton.stable)
+      screen << " (UNSTABLE equilibrium"
+             << (st.kinetic ? ": " + st.kinetic->describe() + " under the dead moments" : "") << ")";
+    screen << "\n";
     if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
+    // The frequencies come from the symmetric part K0 + G0 (a semi-tangential moment's tangent); say
+    // which criterion the flag used where the two can disagree.
+    const bool negative = st.frequencies.omega.size() && st.frequencies.omega.minCoeff() < 0.0;
+    if (st.kinetic && (negative || !st.newton.stable))
+      screen << "  stability under the dead moments (kinetic: eigenvalues of K0 + G0 + Gskew, M0 nearest zero): "
+             << st.kinetic->describe() << "; the frequencies above are those of K0 + G0 alone\n";
     if (buckling > 0) {
       screen << "  buckling load factors:";
       for (Eigen::Index i = 0; i < st.buckling.size(); ++i) screen << " " << st.buckling[i];
