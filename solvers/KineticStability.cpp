@@ -89,8 +89,8 @@ bool arpackNearestZero(const Eigen::MatrixXd& A, const Eigen::MatrixXd& M, doubl
       z(static_cast<std::size_t>(n) * (nev + 1)), workev(3 * static_cast<std::size_t>(ncv));
   a_int info2 = 0;
   arpack::neupd(0, arpack::howmny::ritz_vectors, select.data(), dr.data(), di.data(), z.data(), n, 0.0, 0.0,
-                workev.data(), arpack::bmat::identity, n, arpack::which::largest_magnitude, nev, 0.0, resid.data(),
-                ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info2);
+                workev.data(), arpack::bmat::identity, n, arpack::which::largest_magnitude, nev, 0.0, resid.data(), ncv,
+                v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info2);
   if (info2 != 0) {
     message = "ARPACK dneupd info " + std::to_string(info2);
     return false;

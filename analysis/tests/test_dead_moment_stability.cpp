@@ -36,7 +36,8 @@ analysis::StaticRun cantilever(int n, double EIy, const Eigen::Vector3d& axis, i
   std::ostringstream s;
   s.precision(17);
   for (int i = 1; i <= n + 1; ++i) s << "X " << 2 * i - 1 << " " << (i - 1.0) / n << " 0 0\n";
-  for (int e = 1; e <= n; ++e) s << "BEAM " << e << " " << 2 * e - 1 << " " << 2 * e << " " << 2 * e + 1 << " " << 2 * e + 2 << " 0 1 0\n";
+  for (int e = 1; e <= n; ++e)
+    s << "BEAM " << e << " " << 2 * e - 1 << " " << 2 * e << " " << 2 * e + 1 << " " << 2 * e + 2 << " 0 1 0\n";
   for (int e = 1; e <= n; ++e) s << "DYNE " << e << " 1 2 3 4 5 6\n";
   s << "FIX 1\nFIX 2\nEND\nHALT\n";
   for (int e = 1; e <= n; ++e) {
