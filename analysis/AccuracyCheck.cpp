@@ -68,7 +68,8 @@ std::vector<AccuracyWindow> AccuracyWindowRecorder::complete() const {
 
 namespace {
 core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOptions& options, double t0, double tEnd,
-                                  const std::vector<AccuracyWindow>& windows, core::AccuracyEstimate a) {
+                                  const std::vector<AccuracyWindow>& windows, double galphaFrom,
+                                  core::AccuracyEstimate a) {
   const double absTol = options.absTol.value_or(model.settings.absTol);
   core::EquationsOfMotion probe(model, options.basis, options.dynamics);
   core::StateOutputs ref;
@@ -86,6 +87,7 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
     o.progress = false;
     o.keepStates = false;
     o.accuracyCheck = false;
+    if (o.integrator == Integrator::Auto && w.ta >= galphaFrom) o.integrator = Integrator::GeneralizedAlpha;
     Eigen::VectorXd yEnd;
     const core::Trajectory r = simulateFrom(span, o, w.ya, w.xa, yEnd);
     if (!r.completed || yEnd.size() != w.yb.size()) {
@@ -110,7 +112,7 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
 }  // namespace
 
 core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationOptions& options, double t0, double tEnd,
-                                     const std::vector<AccuracyWindow>& windows) {
+                                     const std::vector<AccuracyWindow>& windows, double galphaFrom) {
   core::AccuracyEstimate a;
   const double relTol = options.relTol.value_or(model.settings.relTol);
   a.referenceRelTol = relTol / kAccuracyReferenceFactor;
@@ -122,7 +124,7 @@ core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationO
   // The check is a step after a completed run: whatever goes wrong in it (a kinematic Newton
   // iteration, a user function) is its own failure, said as such, never the run's.
   try {
-    return runWindows(model, options, t0, tEnd, windows, a);
+    return runWindows(model, options, t0, tEnd, windows, galphaFrom, a);
   } catch (const std::exception& e) {
     a.checked = false;
     a.note = std::string("the check failed: ") + e.what();

@@ -19,6 +19,7 @@
 // on every full model) and miss the drift of the slow motion; the energy balance needs a
 // conservative model (the paper's two are driven by a force and by controllers).
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "core/dynamics/Trajectory.hpp"
@@ -65,9 +66,13 @@ constexpr double kAccuracyReferenceFactor = 100.0;
 // estimates the global error over [t0, tEnd]. limit: the estimate above which the run is not
 // converged, 10 RelTol (a converged run's error is of the order of its tolerance) but at least 1e-6.
 // Never throws for a numerical failure: a check that cannot run returns checked = false with the
-// reason in note, and the run it checks stands.
+// reason in note, and the run it checks stands. galphaFrom: where an auto run switched to galpha;
+// its windows from there on are run again with galpha, the integrator that made them (auto would
+// restart ode45, which at the 100x tighter tolerance can stay accuracy-bound for the whole window:
+// 11 s of ode45 on the elbow's windows where galpha takes 0.1 s).
 core::AccuracyEstimate checkAccuracy(const core::Model& model, const SimulationOptions& options, double t0, double tEnd,
-                                     const std::vector<AccuracyWindow>& windows);
+                                     const std::vector<AccuracyWindow>& windows,
+                                     double galphaFrom = std::numeric_limits<double>::infinity());
 
 // The check's result in one line for the screen and the manifest: "converged: ...", "NOT
 // CONVERGED: ..." or "not checked: <reason>".

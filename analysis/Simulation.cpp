@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -74,20 +75,27 @@ std::string integratorDescription(const SimulationOptions& o) {
   if (o.integrator == Integrator::GeneralizedAlpha) return alphaDescription(o);
   if (o.integrator == Integrator::Auto)
     return "auto: " + ode45 + ", switching to " + alphaDescription(o) + " once ode45's step is bound by stability (" +
-           std::to_string(StiffnessTest::kStiffSteps) + " steps at h |lambda| > 3.25)";
+           std::to_string(StiffnessTest::kStiffSteps) + " steps at h |lambda| > 3.25, or " +
+           std::to_string(StiffnessTest::kWindowHits) + " of " + std::to_string(StiffnessTest::kWindow) +
+           " at h |lambda| > 0.9: undamped stiff modes)";
   return ode45;
 }
 
 bool StiffnessTest::step(double t, double h, double hLambda) {
-  if (hLambda > kBoundary) {
+  const bool beyond = hLambda > kOscillatoryBoundary;
+  windowHits_ += static_cast<int>(beyond) - static_cast<int>(window_[static_cast<std::size_t>(windowPos_)]);
+  window_[static_cast<std::size_t>(windowPos_)] = beyond;
+  windowPos_ = (windowPos_ + 1) % kWindow;
+  const bool oscillatory = ++seen_ >= kWindow && windowHits_ >= kWindowHits;
+  if (hLambda > kBoundary || oscillatory) {
     calm_ = 0;
     lambda_ = hLambda / h;
     if (stiff_) {
       ++bound_;
-    } else if (++hits_ >= kStiffSteps) {
+    } else if (oscillatory || ++hits_ >= kStiffSteps) {
       stiff_ = true;
       since_ = t;
-      bound_ = hits_;
+      bound_ = oscillatory ? windowHits_ : hits_;
     }
   } else if (++calm_ >= kCalmSteps) {
     hits_ = 0;
@@ -260,7 +268,8 @@ class StageRun {
           std::string(e.what()) + " after t = " + text::shortest(tReached_) + "; results before it are kept";
     }
     if (windows_ && traj_.completed)
-      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete());
+      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete(),
+                                     switchAt_ ? *switchAt_ : std::numeric_limits<double>::infinity());
     // Also for a run that stopped: the states it reached say how good the basis was so far.
     if (opt_.basis && opt_.reductionEstimate && opt_.keepStates && !traj_.states.empty())
       traj_.reduction = estimateReductionError(model_, *opt_.basis, traj_);
@@ -588,7 +597,7 @@ class StageRun {
   long calls_ = 0, accepted_ = 0;  // accepted steps (ode45's and BDF's)
   bool stoppedByUser_ = false;
   StiffnessTest stiffness_;
-  std::optional<double> switchAt_;  // auto: the time ode45 stopped to hand over to BDF
+  std::optional<double> switchAt_;  // auto: the time ode45 stopped to hand over to galpha
   Eigen::VectorXd ySwitch_;         // and its state there
   bool skipObservation_ = false;    // the next observation is the BDF start at the switch
   double tReached_;

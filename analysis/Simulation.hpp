@@ -3,6 +3,7 @@
 // for stiff models, the implicit BDF integrator (SUNDIALS CVODE) with the analytic Jacobian of
 // analysis::StateJacobian (Eq. 15).
 #include <Eigen/Core>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -32,14 +33,21 @@ enum class Integrator {
 };
 // Stiffness test on ode45's accepted steps (Hairer's test of DOPRI5, Hairer & Wanner, Solving ODEs
 // II, Sec. IV.2): a step whose h |lambda| (solvers::Ode45Options::stepMonitor) exceeds 3.25 sits at
-// the explicit method's stability boundary (about 3.3 for Dormand-Prince). The run counts as
-// stability-bound after kStiffSteps such steps with never kCalmSteps ordinary ones in a row between
-// them: an accuracy-bound step stays below the boundary, so the boundary is not met that often by
-// chance, while a stiff run meets it at nearly every step (its controller keeps hitting it).
+// the explicit method's stability boundary (about 3.3 for Dormand-Prince on the negative real axis).
+// The run counts as stability-bound after kStiffSteps such steps with never kCalmSteps ordinary ones
+// in a row between them: an accuracy-bound step stays below the boundary, so the boundary is not met
+// that often by chance, while a stiff run meets it at nearly every step (its controller keeps hitting it).
+// Undamped stiff modes have eigenvalues on the imaginary axis, where Dormand-Prince's stability region
+// ends at h |lambda| = 1.0 (|R(iy)| > 1 beyond y = 0.998): there the controller holds h |lambda| near
+// 1-1.6 and Hairer's 3.25 is met only now and then (the elbow: 10 % of its steps, a switch only after
+// 1.6 s). So a second, oscillatory, criterion: kWindowHits of the last kWindow steps beyond
+// kOscillatoryBoundary. Measured on the shipped models at default tolerances: stiff runs (elbow,
+// guidance, manipulator, cross-spring pivot) reach 42-50 of 50 within their first 500 steps; non-stiff ones
+// (fourbar, slider-crank, wire guidance) at most 16 of 50 (accuracy-bound steps: h |lambda| about 0.25).
 class StiffnessTest {
  public:
-  static constexpr double kBoundary = 3.25;
-  static constexpr int kStiffSteps = 15, kCalmSteps = 6;
+  static constexpr double kBoundary = 3.25, kOscillatoryBoundary = 0.9;
+  static constexpr int kStiffSteps = 15, kCalmSteps = 6, kWindow = 50, kWindowHits = 40;
   // One accepted step ending at t; true while the run is stability-bound.
   bool step(double t, double h, double hLambda);
   bool stiff() const { return stiff_; }
@@ -52,6 +60,9 @@ class StiffnessTest {
   bool stiff_ = false;
   double since_ = 0.0, lambda_ = 0.0;
   long bound_ = 0;
+  std::array<bool, kWindow> window_{};  // the last kWindow steps: h |lambda| > kOscillatoryBoundary
+  int windowPos_ = 0, windowHits_ = 0;
+  long seen_ = 0;
 };
 // "ode45", "bdf", "auto" or "galpha" (the command line's names); parseIntegrator returns nothing for other text.
 const char* integratorName(Integrator i);

@@ -77,7 +77,7 @@ struct Trajectory {
   long njacevals = 0, nlinsetups = 0;
   // ode45's step bound by stability (the stiffest mode) rather than accuracy: from stiffSince on,
   // stiffBoundSteps steps at the boundary, |lambda| about stiffLambda (1/s); stiffBoundSteps = 0:
-  // never. switchedAt: the time an auto run went on with bdf (NaN: it did not).
+  // never. switchedAt: the time an auto run went on with galpha (NaN: it did not).
   double stiffSince = 0.0, stiffLambda = 0.0;
   long stiffBoundSteps = 0;
   double switchedAt = std::numeric_limits<double>::quiet_NaN();

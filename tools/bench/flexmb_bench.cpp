@@ -868,7 +868,9 @@ int main(int argc, char** argv) {
         {"elbow.dat", 21, 41, analysis::Integrator::GeneralizedAlpha, {1e-2, 1e-3, 1e-4, 1e-5}},
         {"elbow.dat", 21, 41, analysis::Integrator::Bdf, {1e-2, 1e-3}},
         {"elbow.dat", 21, 41, analysis::Integrator::Ode45, {1e-3}},
-        {"elbow_fine.dat", 41, 81, analysis::Integrator::GeneralizedAlpha, {1e-3}}};
+        {"elbow.dat", 21, 41, analysis::Integrator::Auto, {1e-3}},
+        {"elbow_fine.dat", 41, 81, analysis::Integrator::GeneralizedAlpha, {1e-3}},
+        {"elbow_fine.dat", 41, 81, analysis::Integrator::Auto, {1e-3}}};
     if (!opt.quick) plan[1].tols.push_back(1e-4);
     for (const ElbowRun& er : plan) {
       const core::Model model = io::readDatFile(src + "/datfiles/spatial/" + er.file);
@@ -968,7 +970,7 @@ int main(int argc, char** argv) {
               std::nullopt};
     plot.y = {"wall time [s]", true, std::nullopt, std::nullopt};
     plot.notes.push_back("reference: datfiles/spatial/elbow_reference.csv (generalized-alpha, RelTol 1e-7)");
-    for (const char* integ : {"galpha", "bdf", "ode45"}) {
+    for (const char* integ : {"galpha", "bdf", "ode45", "auto"}) {
       io::Series se;
       se.label = integ;
       se.markers = true;
