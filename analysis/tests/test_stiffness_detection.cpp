@@ -43,7 +43,8 @@ TEST(StiffnessDetection, UndampedStiffModesAtTheImaginaryAxisBoundary) {
   // h |lambda| between 0.95 and 1.6 on 4 of every 5 steps (the elbow's pattern): stiff after the
   // first window of 50 steps, although Hairer's 3.25 is never met.
   analysis::StiffnessTest test;
-  const int first = firstStiff(test, 1000, [](int k) { return k % 5 == 4 ? 0.6 : 0.95 + 0.65 * ((k * 7) % 10) / 10.0; });
+  const int first =
+      firstStiff(test, 1000, [](int k) { return k % 5 == 4 ? 0.6 : 0.95 + 0.65 * ((k * 7) % 10) / 10.0; });
   EXPECT_EQ(first, 50);
   EXPECT_NEAR(test.since(), 0.05, 1e-12);
 }

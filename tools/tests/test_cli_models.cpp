@@ -145,3 +145,37 @@ TEST(CliModels, StaticMatricesAllOrNone) {
   }
   std::filesystem::remove_all(dir);
 }
+
+// A dead end torque on a cantilever of equal bending stiffnesses flutters at any torque (Nikolai;
+// analysis/tests/test_dead_moment_stability.cpp): the static screen output names the verdict, the
+// eigenvalue and the criterion, and says which matrices the printed frequencies come from.
+TEST(CliModels, StaticFlagUnderADeadMomentNamesTheKineticVerdict) {
+  const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / "static_dead_moment";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ostringstream dat;
+  const int n = 4;
+  for (int i = 1; i <= n + 1; ++i) dat << "X " << 2 * i - 1 << " " << (i - 1.0) / n << " 0 0\n";
+  for (int e = 1; e <= n; ++e)
+    dat << "BEAM " << e << " " << 2 * e - 1 << " " << 2 * e << " " << 2 * e + 1 << " " << 2 * e + 2 << " 0 1 0\n";
+  for (int e = 1; e <= n; ++e) dat << "DYNE " << e << " 1 2 3 4 5 6\n";
+  dat << "FIX 1\nFIX 2\nEND\nHALT\n";
+  for (int e = 1; e <= n; ++e) dat << "ESTIFF " << e << " 1e7 10 1 1 0 0\nEM " << e << " 1 1e-3 1e-3 1e-3 0\n";
+  dat << "DELXF " << 2 * (n + 1) << " 1 0 0\nITERSTEP 50 2\nEND\nEND\n";
+  const std::filesystem::path file = dir / "torque.dat";
+  std::ofstream(file) << dat.str();
+  const std::string log = (dir / "log.txt").string();
+  const std::string cmd = std::string(FLEXMB_BINARY_DIR) + "/flexmb static '" + file.string() + "' --out '" +
+                          dir.string() + "/' > '" + log + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(log).rdbuf();
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("(UNSTABLE equilibrium: flutter (lambda = "), std::string::npos) << text;
+  EXPECT_NE(text.find("under the dead moments)"), std::string::npos) << text;
+  EXPECT_NE(text.find("the frequencies above are those of K0 + G0 alone"), std::string::npos) << text;
+  const std::size_t step0 = text.find("load step 0 of 2");
+  ASSERT_NE(step0, std::string::npos) << text;
+  const std::string line0 = text.substr(step0, text.find('\n', step0) - step0);
+  EXPECT_EQ(line0.find("UNSTABLE"), std::string::npos) << "no moment at load step 0, no flag: " << line0;
+  std::filesystem::remove_all(dir);
+}
