@@ -388,6 +388,12 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
   return run;
 }
 
+std::string stabilityVerdict(const StaticStep& step) {
+  if (step.kinetic && step.kinetic->verdict != solvers::KineticVerdict::Undecided)
+    return step.kinetic->stable() ? "stable" : step.kinetic->describe() + " under the dead moments";
+  return step.newton.stable ? "stable" : "K0 + G0 not positive definite";
+}
+
 io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling) {
   Eigen::Index nev = 0;
   for (const auto& st : run.steps) nev = std::max(nev, st.frequencies.omega.size());

@@ -66,6 +66,10 @@ struct StaticStep {
   core::LinearizedSystem system;  // M0, K0, G0, ... in the equilibrium (SPACAR's .sbm)
 };
 
+// The step's stability in words, for every front end: "stable", "K0 + G0 not positive definite",
+// "flutter (lambda = a +- bi (rad/s)^2) under the dead moments", "divergence (...) under the dead moments".
+std::string stabilityVerdict(const StaticStep& step);
+
 struct StaticRun {
   std::vector<StaticStep> steps;  // every computed step, initial-load ramp steps included
   int loadSteps = 0;              // nsteps: the run has load steps 0..nsteps

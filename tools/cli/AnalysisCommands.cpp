@@ -201,8 +201,7 @@ void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int 
     screen << " (initial loads x " << st.initialFactor << ", DEL* increments x " << st.loadFactor
            << "): " << st.iterations << " Newton iterations";
     if (!st.newton.stable)
-      screen << " (UNSTABLE equilibrium"
-             << (st.kinetic ? ": " + st.kinetic->describe() + " under the dead moments" : "") << ")";
+      screen << " (UNSTABLE equilibrium" << (st.kinetic ? ": " + analysis::stabilityVerdict(st) : "") << ")";
     screen << "\n";
     if (st.frequencies.omega.size()) printFrequencies(screen, st.frequencies.omega);
     // The frequencies come from the symmetric part K0 + G0 (a semi-tangential moment's tangent); say

@@ -547,6 +547,18 @@ void bindStatic(py::module_& m) {
       .def_readonly("sig", &StaticResult::sig)
       .def_readonly("freq", &StaticResult::freq)
       .def_readonly("buckling", &StaticResult::bucklingFactors)
+      .def_property_readonly("stable",
+                             [](const StaticResult& r) {
+                               std::vector<bool> v;
+                               for (const auto& st : r.run.steps) v.push_back(st.newton.stable);
+                               return v;
+                             })
+      .def_property_readonly("stability",
+                             [](const StaticResult& r) {
+                               std::vector<std::string> v;
+                               for (const auto& st : r.run.steps) v.push_back(analysis::stabilityVerdict(st));
+                               return v;
+                             })
       .def_property_readonly("completed", [](const StaticResult& r) { return r.run.completed; })
       .def_property_readonly("stop_reason", [](const StaticResult& r) { return r.run.stopReason; })
       .def_property_readonly("load_step",

@@ -121,6 +121,28 @@ def test_static_writes_the_command_lines_table(work, name):
     assert np.array_equal(np.atleast_1d(table["load_factor"]), r.load_factor)
 
 
+def test_static_stability_is_the_kinetic_verdict_under_dead_moments(tmp_path):
+    # A cantilever of equal bending stiffnesses under a dead end torque flutters at any torque
+    # (analysis/tests/test_dead_moment_stability.cpp); load step 0 carries no torque.
+    n = 4
+    lines = [f"X {2 * i - 1} {(i - 1) / n} 0 0" for i in range(1, n + 2)]
+    lines += [f"BEAM {e} {2 * e - 1} {2 * e} {2 * e + 1} {2 * e + 2} 0 1 0" for e in range(1, n + 1)]
+    lines += [f"DYNE {e} 1 2 3 4 5 6" for e in range(1, n + 1)]
+    lines += ["FIX 1", "FIX 2", "END", "HALT"]
+    for e in range(1, n + 1):
+        lines += [f"ESTIFF {e} 1e7 10 1 1 0 0", f"EM {e} 1 1e-3 1e-3 1e-3 0"]
+    lines += [f"DELXF {2 * (n + 1)} 1 0 0", "ITERSTEP 50 2", "END", "END"]
+    path = tmp_path / "torque.dat"
+    path.write_text("\n".join(lines) + "\n")
+    r = flexmb.static(flexmb.read(str(path)), nev=2)
+    assert len(r.stable) == len(r.stability) == len(r.load_factor) == 3
+    assert r.stable[0] and r.stability[0] == "stable"
+    assert not r.stable[-1]
+    assert r.stability[-1].startswith("flutter (lambda = ") and r.stability[-1].endswith("under the dead moments")
+    g = flexmb.static(flexmb.read(model_path("datfiles", "straight_guidance.dat")), nev=1)
+    assert all(g.stable) and set(g.stability) == {"stable"}
+
+
 def test_modes_write_the_command_lines_table(work):
     path = model_path("datfiles", "manipulator.dat")
     cli("modes", path, "--nev", "4", "--out", str(work / "cli" / "m"))
