@@ -391,7 +391,10 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
 std::string stabilityVerdict(const StaticStep& step) {
   if (step.kinetic && step.kinetic->verdict != solvers::KineticVerdict::Undecided)
     return step.kinetic->stable() ? "stable" : step.kinetic->describe() + " under the dead moments";
-  return step.newton.stable ? "stable" : "K0 + G0 not positive definite";
+  const std::string energy = step.newton.stable ? "stable" : "K0 + G0 not positive definite";
+  if (!step.kinetic) return energy;
+  return energy + " (energy criterion: the kinetic test for the dead moments could not be made, " +
+         step.kinetic->message + ")";
 }
 
 io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling) {

@@ -67,7 +67,9 @@ struct StaticStep {
 };
 
 // The step's stability in words, for every front end: "stable", "K0 + G0 not positive definite",
-// "flutter (lambda = a +- bi (rad/s)^2) under the dead moments", "divergence (...) under the dead moments".
+// "flutter (lambda = a +- bi (rad/s)^2) under the dead moments", "divergence (...) under the dead moments";
+// where the kinetic test could not be made (a mass matrix not positive definite) the energy criterion's
+// verdict and why.
 std::string stabilityVerdict(const StaticStep& step);
 
 struct StaticRun {

@@ -32,7 +32,7 @@ constexpr double kPi = std::numbers::pi;
 // A cantilever of n BEAMs along x (L = 1, EIz = 1, EIy given, GIt = 10, rhoA = 1, rotary inertias
 // 1e-3), clamped at x = 0, with an end moment (global components) of 2 pi EI / L times `axis`
 // reached in `steps` load steps.
-analysis::StaticRun cantilever(int n, double EIy, const Eigen::Vector3d& axis, int steps) {
+analysis::StaticRun cantilever(int n, double EIy, const Eigen::Vector3d& axis, int steps, bool mass = true) {
   std::ostringstream s;
   s.precision(17);
   for (int i = 1; i <= n + 1; ++i) s << "X " << 2 * i - 1 << " " << (i - 1.0) / n << " 0 0\n";
@@ -42,7 +42,7 @@ analysis::StaticRun cantilever(int n, double EIy, const Eigen::Vector3d& axis, i
   s << "FIX 1\nFIX 2\nEND\nHALT\n";
   for (int e = 1; e <= n; ++e) {
     s << "ESTIFF " << e << " 1e7 10 " << EIy << " 1 0 0\n";
-    s << "EM " << e << " 1 1e-3 1e-3 1e-3 0\n";
+    if (mass) s << "EM " << e << " 1 1e-3 1e-3 1e-3 0\n";
   }
   const Eigen::Vector3d M = 2 * kPi * axis;
   s << "DELXF " << 2 * (n + 1) << " " << M[0] << " " << M[1] << " " << M[2] << "\n";
@@ -133,4 +133,21 @@ TEST(DeadMomentStability, RollUpIsStablePastPiEIOverLUntilItFlutters) {
   EXPECT_FALSE(atLoad(run, 0.9).newton.stable);
   EXPECT_EQ(atLoad(run, 0.9).kinetic->verdict, solvers::KineticVerdict::Flutter);
   std::printf("roll-up, 16 BEAM: first flutter at s = 0.%d (M = %.1f pi EI/L)\n", firstFlutter, 0.2 * firstFlutter);
+}
+
+TEST(DeadMomentStability, WithoutMassTheEnergyCriterionStandsAndSaysWhy) {
+  // No EM: M0 = 0, the kinetic test cannot be made; the flag is the energy criterion's, and the
+  // verdict in words says so (never a silent switch of criterion).
+  const analysis::StaticRun run = cantilever(8, 1.0, Eigen::Vector3d::UnitX(), 5, false);
+  ASSERT_TRUE(run.completed) << run.stopReason;
+  for (const auto& st : run.steps) {
+    if (st.loadFactor == 0.0) continue;
+    ASSERT_TRUE(st.kinetic);
+    EXPECT_EQ(st.kinetic->verdict, solvers::KineticVerdict::Undecided);
+    const std::string verdict = analysis::stabilityVerdict(st);
+    EXPECT_NE(verdict.find("could not be made"), std::string::npos) << verdict;
+    EXPECT_NE(verdict.find("mass matrix is not positive definite"), std::string::npos) << verdict;
+    // The energy criterion: T = 2 pi EI/L s turns K0 + G0 indefinite past s = 0.5 (pi EI/L).
+    EXPECT_EQ(st.newton.stable, st.loadFactor < 0.5) << "s " << st.loadFactor << ": " << verdict;
+  }
 }

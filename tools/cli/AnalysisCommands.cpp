@@ -207,7 +207,7 @@ void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int 
     // The frequencies come from the symmetric part K0 + G0 (a semi-tangential moment's tangent); say
     // which criterion the flag used where the two can disagree.
     const bool negative = st.frequencies.omega.size() && st.frequencies.omega.minCoeff() < 0.0;
-    if (st.kinetic && (negative || !st.newton.stable))
+    if (st.kinetic && (negative || !st.newton.stable || st.kinetic->verdict == solvers::KineticVerdict::Undecided))
       screen << "  stability under the dead moments (kinetic: eigenvalues of K0 + G0 + Gskew, M0 nearest zero): "
              << st.kinetic->describe() << "; the frequencies above are those of K0 + G0 alone\n";
     if (buckling > 0) {
