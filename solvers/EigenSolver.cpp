@@ -1,7 +1,7 @@
 // Lowest eigenpairs of A v = lambda B v: ARPACK shift-invert (mode 3) and dense fallback. See EigenSolver.hpp.
 #include "solvers/EigenSolver.hpp"
 
-#include "solvers/ArpackLock.hpp"
+#include "solvers/ArpackCommon.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -35,22 +35,6 @@ double median(std::vector<double> v) {
   if (v.size() % 2 == 1) return hi;
   const double lo = *std::max_element(v.begin(), v.begin() + mid);
   return 0.5 * (lo + hi);
-}
-
-// Positive diagonal scale s of the pencil: median(A_ii/B_ii) over B_ii > 0 if positive, else
-// median |A_ii/B_ii|; 0 if neither is positive (caller falls back).
-double diagonalScale(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  std::vector<double> r, ra;
-  for (Eigen::Index i = 0; i < a.size(); ++i) {
-    if (b[i] > 0.0 && std::isfinite(a[i]) && std::isfinite(b[i])) {
-      r.push_back(a[i] / b[i]);
-      ra.push_back(std::abs(a[i] / b[i]));
-    }
-  }
-  const double m = median(r);
-  if (m > 0.0) return m;
-  const double ma = median(ra);
-  return ma > 0.0 ? ma : 0.0;
 }
 
 // Sorts (lambda, vectors) ascending, fills flags, omega, residuals and orthogonality.
@@ -176,6 +160,24 @@ void checkPencil(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const char*
 std::mutex& arpackMutex() {
   static std::mutex m;
   return m;
+}
+
+void fillStartVector(double* x, int n) {
+  for (int i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+}
+
+double diagonalScale(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  std::vector<double> r, ra;
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    if (b[i] > 0.0 && std::isfinite(a[i]) && std::isfinite(b[i])) {
+      r.push_back(a[i] / b[i]);
+      ra.push_back(std::abs(a[i] / b[i]));
+    }
+  }
+  const double m = median(r);
+  if (m > 0.0) return m;
+  const double ma = median(ra);
+  return ma > 0.0 ? ma : 0.0;
 }
 
 Eigen::VectorXd EigenResult::hz() const { return omega / (2.0 * 3.14159265358979323846); }
@@ -401,7 +403,7 @@ double lowestShift(ShiftInvertOperator& op, double sigma, double s) {
   const int n = op.size();
   // Inverse iteration at sigma, Rayleigh quotient rho, sigma <- -0.1 |rho| while it moves down.
   Eigen::VectorXd x(n), t(n), y(n), ax(n);
-  for (int i = 0; i < n; ++i) x[i] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+  fillStartVector(x.data(), n);
   for (int round = 0; round < 12; ++round) {
     for (int it = 0; it < 3; ++it) {
       op.applyB(x.data(), t.data());
@@ -476,8 +478,7 @@ EigenResult solveArpack(ShiftInvertOperator& op, const EigenOptions& opt) {
   const int lworkl = ncv * (ncv + 8);
   std::vector<double> resid(static_cast<std::size_t>(n)), v(static_cast<std::size_t>(n) * ncv),
       workd(3 * static_cast<std::size_t>(n)), workl(static_cast<std::size_t>(lworkl)), tmp(static_cast<std::size_t>(n));
-  // deterministic start vector: all ones plus a fixed, non-periodic sine pattern
-  for (int i = 0; i < n; ++i) resid[static_cast<std::size_t>(i)] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+  fillStartVector(resid.data(), n);
   a_int iparam[11] = {0};
   a_int ipntr[14] = {0};
   iparam[0] = 1;                  // exact shifts

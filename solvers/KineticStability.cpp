@@ -13,23 +13,13 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solvers/ArpackLock.hpp"
+#include "solvers/ArpackCommon.hpp"
 
 namespace flexmb::solvers {
 
 namespace {
 
 constexpr double kKineticTol = 1e-8;  // relative to the spectrum scale, as EigenSolver's flags
-
-double medianAbsRatio(const Eigen::MatrixXd& A, const Eigen::MatrixXd& M) {
-  std::vector<double> r;
-  for (Eigen::Index i = 0; i < A.rows(); ++i)
-    if (M(i, i) > 0.0 && std::isfinite(A(i, i))) r.push_back(std::abs(A(i, i) / M(i, i)));
-  if (r.empty()) return 0.0;
-  const auto mid = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
-  std::nth_element(r.begin(), mid, r.end());
-  return *mid;
-}
 
 // The nev eigenvalues nearest zero, by a dense general eigensolver on L^-1 A L^-T (M = L L^T).
 bool denseNearestZero(const Eigen::MatrixXd& A, const Eigen::LLT<Eigen::MatrixXd>& llt, int nev,
@@ -59,7 +49,7 @@ bool arpackNearestZero(const Eigen::MatrixXd& A, const Eigen::MatrixXd& M, doubl
   const int lworkl = 3 * ncv * ncv + 6 * ncv;
   std::vector<double> resid(static_cast<std::size_t>(n)), v(static_cast<std::size_t>(n) * ncv),
       workd(3 * static_cast<std::size_t>(n)), workl(static_cast<std::size_t>(lworkl));
-  for (int i = 0; i < n; ++i) resid[static_cast<std::size_t>(i)] = 1.0 + 0.5 * std::sin(0.7 * i + 0.3);
+  fillStartVector(resid.data(), n);
   a_int iparam[11] = {0};
   a_int ipntr[14] = {0};
   iparam[0] = 1;     // exact shifts
@@ -148,7 +138,7 @@ KineticStability kineticStability(const Eigen::MatrixXd& A, const Eigen::MatrixX
     r.message = "the mass matrix is not positive definite";
     return r;
   }
-  const double diagonal = medianAbsRatio(A, M);
+  const double diagonal = diagonalScale(A.diagonal(), M.diagonal());
   bool done = false;
   if (n >= std::max<Eigen::Index>(denseBelow, 2 * nev + 4)) {
     const double sigma = -1e-3 * (diagonal > 0.0 ? diagonal : 1.0);

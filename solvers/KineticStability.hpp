@@ -15,7 +15,8 @@
 // eigensolver. A coalescence among higher modes is not seen. Damping (D) is not included: the verdict
 // is that of the undamped motion, as the natural frequencies are.
 //
-// Thresholds, relative to scale = max(median |A_ii / M_ii|, largest |lambda| returned):
+// Thresholds, relative to scale = max(the diagonal scale of EigenSolver (median A_ii / M_ii), largest
+// |lambda| returned):
 //   divergence : a lambda with |Im| <= 1e-8 scale and Re < -1e-8 scale;
 //   flutter    : a lambda with |Im| > 1e-8 scale.
 // M must be positive definite (else Undecided, with the reason); sizes must agree (std::invalid_argument).
