@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "analysis/ReductionError.hpp"
@@ -53,6 +54,7 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
   const Eigen::Index nl = static_cast<Eigen::Index>(whole.large.size());
   const int available = std::min(most, static_cast<int>(whole.V.cols() - nl));
   ResidualDeflections last;  // of the last candidate run: predicts the larger ones
+  std::map<int, std::pair<core::Trajectory, DeferredAccuracy>> kept;  // keepChosenRun: the runs by size
   auto tryVectors = [&](int k) -> const TargetCandidate& {
     const auto t0 = std::chrono::steady_clock::now();
     SimulationOptions so = o.run;
@@ -61,7 +63,9 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     so.accuracyCheck = false;
     so.reductionEstimate = false;
     so.progress = false;
-    const core::Trajectory run = simulate(model, so);
+    DeferredAccuracy windows;
+    if (o.keepChosenRun) so.deferAccuracy = &windows;
+    core::Trajectory run = simulate(model, so);
     TargetCandidate c;
     c.vectors = k;
     c.estimate = estimateReductionError(model, *so.basis, run, kCandidateSamples, &last, kTransportSteps, o.target);
@@ -69,6 +73,8 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     c.completed = run.completed;
     c.stopReason = run.stopReason;
     c.seconds = since(t0);
+    if (o.keepChosenRun && c.completed && c.estimate.estimated && c.estimate.estimate <= o.target)
+      kept[k] = {std::move(run), std::move(windows)};
     res.tried.push_back(c);
     if (o.onCandidate) o.onCandidate(k, c.estimate.estimated ? c.estimate.estimate : NAN);
     return res.tried.back();
@@ -113,6 +119,10 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     for (auto& [name, value] : res.basis.parameters)
       if ((name == "r" && whole.method == "modal") || name == "kept") value = std::to_string(k);
     res.basis.parameters.push_back({"target", text::shortest(o.target)});
+    if (auto it = kept.find(k); it != kept.end()) {
+      res.run = std::move(it->second.first);
+      res.runAccuracy = std::move(it->second.second);
+    }
   }
   if (!res.met) {
     res.full = true;

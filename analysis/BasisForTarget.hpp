@@ -28,6 +28,9 @@ struct TargetOptions {
   SimulationOptions run;   // the integrator and tolerances of the candidate runs (basis set here)
   int maxVectors = 0;      // reduced columns to try at most (0: every small coordinate but one)
   std::function<void(int vectors, double estimate)> onCandidate;  // progress
+  // Keep the chosen candidate's run (TargetResult::run) with its accuracy check's windows, so that
+  // the run asked for is not integrated a second time.
+  bool keepChosenRun = false;
 };
 
 struct TargetCandidate {
@@ -46,6 +49,10 @@ struct TargetResult {
   std::vector<TargetCandidate> tried;
   double buildSeconds = 0.0, seconds = 0.0;  // the basis of all candidates; everything
   std::string note;                          // why the full model (or what limited the scan)
+  // keepChosenRun: the chosen candidate's run (no accuracy check and no reduction estimate of its
+  // own yet) and its accuracy windows.
+  std::optional<core::Trajectory> run;
+  DeferredAccuracy runAccuracy;
 };
 
 // Throws std::invalid_argument for a target outside (0, 1) or a model without degrees of freedom

@@ -1,6 +1,7 @@
 #include "analysis/ReductionFiles.hpp"
 
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorPolicy.hpp"
+#include "analysis/OperatorTraining.hpp"
 #include "io/formats/BasisFile.hpp"
 #include "io/formats/OperatorFile.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "analysis/Reduction.hpp"
 #include "core/model/Model.hpp"
-#include "core/model/ReducedOperators.hpp"
+#include "core/model/ReducedOperatorData.hpp"
 #include "io/formats/OutputFile.hpp"
 
 namespace flexmb::analysis {

@@ -10,7 +10,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Interrupt.hpp"
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorDynamics.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/SparseIteration.hpp"
 #include "analysis/StateJacobian.hpp"
@@ -242,7 +242,7 @@ class StageRun {
     }
     y0_ = from ? from->y : eom_.initialState();
     startX_ = probe_.kinematics().x();
-    if (opt.accuracyCheck && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
+    if ((opt.accuracyCheck || opt.deferAccuracy) && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
     if (opt.operators && opt.basis) {
       traj_.operators.used = true;
       if (opt.integrator == Integrator::Ode45 && !set_.bdf) {
@@ -267,9 +267,11 @@ class StageRun {
       traj_.stopReason =
           std::string(e.what()) + " after t = " + text::shortest(tReached_) + "; results before it are kept";
     }
-    if (windows_ && traj_.completed)
-      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete(),
-                                     switchAt_ ? *switchAt_ : std::numeric_limits<double>::infinity());
+    const double galphaFrom = switchAt_ ? *switchAt_ : std::numeric_limits<double>::infinity();
+    if (windows_ && traj_.completed && opt_.deferAccuracy)
+      *opt_.deferAccuracy = {true, set_.t0, set_.tEnd, galphaFrom, windows_->complete()};
+    else if (windows_ && traj_.completed)
+      traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete(), galphaFrom);
     // Also for a run that stopped: the states it reached say how good the basis was so far.
     if (opt_.basis && opt_.reductionEstimate && opt_.keepStates && !traj_.states.empty())
       traj_.reduction = estimateReductionError(model_, *opt_.basis, traj_);

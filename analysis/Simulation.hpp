@@ -6,15 +6,17 @@
 #include <array>
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "analysis/AccuracyCheck.hpp"
 #include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/dynamics/Trajectory.hpp"
 #include "core/model/Model.hpp"
-#include "core/model/ReducedOperators.hpp"
+#include "core/model/ReducedOperatorData.hpp"
 #include "io/formats/DatReader.hpp"
 #include "solvers/Ode45.hpp"
 
@@ -71,6 +73,15 @@ struct SimulationOptions;
 // The integrator and its settings in words (the run manifest), e.g. "ode45 (Dormand-Prince 5(4), ...)".
 std::string integratorDescription(const SimulationOptions& options);
 
+// The accuracy check's windows of a run, kept for a check made later (BasisForTarget's candidates:
+// the chosen candidate's run is the job's run, checked once it is chosen instead of run again).
+struct DeferredAccuracy {
+  bool recorded = false;  // the run completed and its windows are here
+  double t0 = 0.0, tEnd = 0.0;
+  double galphaFrom = std::numeric_limits<double>::infinity();  // an auto run's switch
+  std::vector<AccuracyWindow> windows;
+};
+
 struct SimulationOptions {
   Integrator integrator = Integrator::Ode45;
   // Bdf: the highest BDF order. 2 (A-stable) by default: with orders 3-5 the undamped high-frequency
@@ -102,6 +113,8 @@ struct SimulationOptions {
   // The a-posteriori accuracy check (analysis/AccuracyCheck.hpp) into Trajectory::accuracy, for a
   // run that completes and keeps its states.
   bool accuracyCheck = false;
+  // Set: the run records the check's windows here instead of checking (single-stage runs).
+  DeferredAccuracy* deferAccuracy = nullptr;
   // The reduction error estimate (analysis/ReductionError.hpp) into Trajectory::reduction, for a
   // reduced run (basis) that keeps its states: on by default, as every reduced run must say it.
   bool reductionEstimate = true;

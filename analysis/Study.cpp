@@ -1,8 +1,7 @@
 #include "analysis/Study.hpp"
 
-#include "analysis/RunSize.hpp"
+#include "analysis/SimulateJob.hpp"
 
-#include "analysis/BasisForTarget.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -293,6 +292,45 @@ std::vector<std::pair<std::string, double>> nodeStiffness(const core::Model& mod
   return out;
 }
 
+namespace {
+// The simulate job every front end runs (analysis/SimulateJob.hpp), on a variant's model, and its
+// summary quantities. A variant that cannot finish or fit fails with the reason instead of holding
+// its worker.
+void simulateVariant(const core::Model& model, const StudyAnalyses& a, VariantResults& r) {
+  auto& q = r.quantities;
+  SimulateRequest request;
+  request.run = *a.simulation;
+  request.run.progress = false;
+  request.run.interrupt = nullptr;
+  if (a.reductionTarget) {  // the variant's own basis for the target (none: the full model)
+    request.basisFile = "auto";
+    request.target = *a.reductionTarget;
+  }
+  auto one = std::make_shared<std::vector<io::AnalysisStage>>(1);
+  one->front().model = model;
+  one->front().runs = true;
+  SimulateJob job(ModelSource{model.sourceFile, {}, one, nullptr}, std::move(request));
+  if (job.status() == JobStatus::InputError) throw std::runtime_error(firstError(job.diagnostics()));
+  if (job.run() == JobStatus::Failed) throw std::runtime_error(firstError(job.diagnostics()));
+  if (a.reductionTarget) {
+    const bool met = job.options().basis.has_value();
+    q.emplace_back("sim_basis_vectors", met ? static_cast<double>(job.options().basis->cols()) : kNaN);
+    if (!met) r.notes.push_back("simulate: " + job.targetNote());
+  }
+  r.trajectory = std::move(job.trajectory());
+  const core::Trajectory& tr = *r.trajectory;
+  if (a.reductionTarget)
+    q.emplace_back("sim_reduction_estimate", tr.reduction.estimated ? tr.reduction.estimate : kNaN);
+  q.emplace_back("sim_t_end", tr.time.empty() ? kNaN : tr.time.back());
+  q.emplace_back("sim_steps", static_cast<double>(tr.nsteps));
+  q.emplace_back("sim_fevals", static_cast<double>(tr.nfevals));
+  double d = tr.states.empty() ? kNaN : 0.0;
+  for (const auto& s : tr.states) d = std::max(d, maxDisplacement(model, s.x));
+  q.emplace_back("sim_max_displacement", d);
+  if (!tr.completed) r.failure = "simulate: " + tr.stopReason;
+}
+}  // namespace
+
 VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, const io::ParameterValues& parameters) {
   VariantResults r;
   auto& q = r.quantities;
@@ -398,35 +436,7 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
     });
   }
   if (a.simulation) {
-    stage("simulate", [&] {
-      SimulationOptions o = *a.simulation;
-      o.progress = false;
-      o.interrupt = nullptr;
-      if (a.reductionTarget) {  // the variant's own basis for the target (none: the full model)
-        TargetOptions to;
-        to.target = *a.reductionTarget;
-        to.run = o;
-        const TargetResult chosen = basisForTarget(model, to);
-        if (chosen.met) o.basis = chosen.basis.V;
-        q.emplace_back("sim_basis_vectors", chosen.met ? static_cast<double>(chosen.basis.V.cols()) : kNaN);
-        if (!chosen.met) r.notes.push_back("simulate: " + chosen.note);
-      }
-      // The checks every front end makes before a run (analysis/RunSize.hpp): a variant that cannot
-      // finish or fit fails with the reason instead of holding its worker.
-      if (const RunSizeCheck size = checkRunSize(model, o); !size.refusal.empty())
-        throw std::runtime_error(size.refusal);
-      r.trajectory = simulate(model, o);
-      const core::Trajectory& tr = *r.trajectory;
-      if (a.reductionTarget)
-        q.emplace_back("sim_reduction_estimate", tr.reduction.estimated ? tr.reduction.estimate : kNaN);
-      q.emplace_back("sim_t_end", tr.time.empty() ? kNaN : tr.time.back());
-      q.emplace_back("sim_steps", static_cast<double>(tr.nsteps));
-      q.emplace_back("sim_fevals", static_cast<double>(tr.nfevals));
-      double d = tr.states.empty() ? kNaN : 0.0;
-      for (const auto& s : tr.states) d = std::max(d, maxDisplacement(model, s.x));
-      q.emplace_back("sim_max_displacement", d);
-      if (!tr.completed) r.failure = "simulate: " + tr.stopReason;
-    });
+    stage("simulate", [&] { simulateVariant(model, a, r); });
   }
   if (r.failure.empty())
     for (const auto& [name, expression] : a.derived) {

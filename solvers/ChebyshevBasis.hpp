@@ -1,11 +1,11 @@
 #pragma once
 // Polynomials in m variables on a box lo <= eta <= hi: sums of products of Chebyshev polynomials
 // T_k(xi_i), xi_i = (2 eta_i - lo_i - hi_i) / (hi_i - lo_i), over a set of exponent rows (the
-// reduced operators choose theirs adaptively, analysis/ReducedOperators.cpp; the anisotropic
+// reduced operators' training on the analysis floor chooses theirs adaptively; the anisotropic
 // total-degree set {k : sum_i k_i / p_i <= 1} is the simple alternative). The reduced operators
-// (analysis/ReducedOperators.hpp) are coefficient vectors on one such basis, so an evaluation costs
-// O(terms x m) whatever the mesh. Fitting is weighted-free least squares on values and/or
-// gradients; samples drawn from the arcsine (Chebyshev) density keep it well conditioned
+// are coefficient vectors on one such basis, so an evaluation costs O(terms x m) whatever the
+// mesh. Fitting is weighted-free least squares on values and/or gradients; samples drawn from the
+// arcsine (Chebyshev) density keep it well conditioned
 // (Cohen & Migliorati, SMAI J. Comput. Math. 3, 2017).
 #include <Eigen/Core>
 #include <vector>

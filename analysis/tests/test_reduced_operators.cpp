@@ -6,7 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorDynamics.hpp"
+#include "analysis/OperatorPolicy.hpp"
+#include "analysis/OperatorTraining.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"

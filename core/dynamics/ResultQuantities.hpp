@@ -34,7 +34,7 @@ class ResultQuantities {
   ResultQuantities(const ResultQuantities&) = delete;
   ResultQuantities& operator=(const ResultQuantities&) = delete;
   // Positions and Jacobians at (t, q), input coordinates at load factor s and initial-load factor
-  // mu (statics, analysis/Statics.hpp). near (size nx): the configuration Newton starts from, the
+  // mu (the analysis floor's statics). near (size nx): the configuration Newton starts from, the
   // state's own where it is known (a mechanism far from its initial configuration); otherwise the
   // last one solved. Throws KinematicsError.
   void setState(double t, const Eigen::VectorXd& q, double inputLoadFactor = 0.0, double initialFactor = 1.0,

@@ -6,11 +6,11 @@
 #include <vector>
 
 #include "core/dynamics/EquationsOfMotion.hpp"
-#include "core/model/ReducedOperators.hpp"
+#include "core/model/ReducedOperatorData.hpp"
 
 namespace flexmb::core {
 
-// The a-posteriori accuracy check of a simulation (analysis/AccuracyCheck.hpp): short windows of
+// The a-posteriori accuracy check of a simulation (the analysis floor's): short windows of
 // the run integrated again at a tighter tolerance from the run's own states, compared at their ends.
 struct AccuracyEstimate {
   bool checked = false;        // false: not run (not asked for, the run stopped, no window fitted)
@@ -26,8 +26,8 @@ struct AccuracyEstimate {
   std::string note;  // why it was not run, or what limited it
 };
 
-// The reduction error of a reduced run (analysis/ReductionError.hpp): the full model's residual at
-// the reduced states, its quasi-static deflection outside the basis, relative to the motion.
+// The reduction error of a reduced run (the analysis floor estimates it): the full model's residual
+// at the reduced states, its quasi-static deflection outside the basis, relative to the motion.
 struct ReductionEstimate {
   bool estimated = false;
   double estimate = 0.0;     // kSafety x the larger of quasiStatic and carried
@@ -41,7 +41,7 @@ struct ReductionEstimate {
   std::string note;          // why not estimated
 };
 
-// How a reduced run's right-hand side was evaluated (analysis/ReducedOperators.hpp): by the
+// How a reduced run's right-hand side was evaluated (the analysis floor's choice): by the
 // precomputed operators, and by Eq. 19 (the full kinematics) where the state left their range.
 struct OperatorUse {
   bool used = false;     // the run had operators

@@ -196,8 +196,8 @@ struct ParameterSpec {
 };
 
 // What a deformation measures (the registry says it per deformation): analyses that read section
-// forces go by it (analysis/Study.cpp), not by the deformation's name. Beams measure torsion and
-// bending as l0 times an angle, so their generalised stresses are moments over l0.
+// forces go by it (the analysis floor's design studies), not by the deformation's name. Beams
+// measure torsion and bending as l0 times an angle, so their generalised stresses are moments over l0.
 enum class DeformationKind { Elongation, Torsion, Bending, BendingY, BendingZ, Rotation, Warping, Other };
 
 struct ElementTypeInfo {

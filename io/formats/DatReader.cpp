@@ -1090,8 +1090,7 @@ core::Dialect detectDialect(std::string_view text, const std::string& virtualFil
   return r.detect();
 }
 
-namespace {
-std::string readText(const std::string& path) {
+std::string readDatText(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw DatError(path, 0, "", "cannot read '" + path + "': it is a directory");
@@ -1102,14 +1101,13 @@ std::string readText(const std::string& path) {
   if (in.bad()) throw DatError(path, 0, "", "cannot read '" + path + "'");
   return ss.str();
 }
-}  // namespace
 
 std::vector<AnalysisStage> readDatStages(const std::string& path, const ReadOptions& options) {
-  return readDatStagesString(readText(path), path, options);
+  return readDatStagesString(readDatText(path), path, options);
 }
 
 core::Model readDatFile(const std::string& path, const ReadOptions& options) {
-  return readDatString(readText(path), path, options);
+  return readDatString(readDatText(path), path, options);
 }
 
 }  // namespace flexmb::io

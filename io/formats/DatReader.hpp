@@ -21,7 +21,7 @@
 //     block continues from its end: the current time advances to the end time and the inputs given
 //     by value and rate (x + v (t - TIME) + a (t - TIME)^2/2) restart from their values there.
 //     Initial values (E, ED, EDD, STARTDE) after a stage that ran are an error: the state carries
-//     over (analysis/Simulation's simulateStages).
+//     over (the analysis floor's stage chain).
 // Dialect: from the keywords used (SPACAR95-only versus 2013-only, see KeywordTable); neither gives
 // SPACAR 2013+; both is an error naming one keyword of each. ReadOptions::dialect skips detection
 // (and the mixing check): it only decides the dialect-dependent readings (TIMESTEP field order,
@@ -71,6 +71,9 @@ struct AnalysisStage {
   bool runs = false;  // the block gave TIMESTEP: an analysis runs over [settings.t0, settings.tEnd]
   int endLine = 0;    // the END that closed the block
 };
+
+// The file's text, read in one open (throws DatError: no such file, a directory, unreadable).
+std::string readDatText(const std::string& path);
 
 // Every stage of a file, in order (at least one).
 std::vector<AnalysisStage> readDatStages(const std::string& path, const ReadOptions& options = {});

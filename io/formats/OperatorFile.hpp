@@ -18,7 +18,7 @@
 // or short block, and blocks whose sizes do not fit each other.
 #include <string>
 
-#include "core/model/ReducedOperators.hpp"
+#include "core/model/ReducedOperatorData.hpp"
 
 namespace flexmb::io {
 

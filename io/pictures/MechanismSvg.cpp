@@ -396,11 +396,13 @@ std::string elementRole(const core::Model& m, int element) {
   return input ? "input" : dof ? "DOF" : released ? "released" : "rigid";
 }
 
-std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawing) {
-  const core::Model& m = g.model();
-  const View view = resolveView(drawing.view, g);
-  // The table: one line per node and per element.
-  std::vector<std::pair<std::string, std::string>> rows;  // (text, colour)
+namespace {
+
+using TableRows = std::vector<std::pair<std::string, std::string>>;  // (text, colour)
+
+// The table: one line per node and per element.
+TableRows modelTable(const core::Model& m) {
+  TableRows rows;
   rows.push_back({"nodes (coordinates: role)", "#000000"});
   for (size_t i = 0; i < m.nodes.size(); ++i) {
     const core::Node& n = m.nodes[i];
@@ -442,51 +444,80 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     rows.push_back({"  (and " + std::to_string(internal) +
                         " normalisation constraints of the Euler parameters that flexmb adds, not listed)",
                     "#555555"});
+  return rows;
+}
+
+// Where the drawing, its legend and the table go.
+struct ModelLayout {
+  double drawW = 720, top = 0, legendH = 74, drawH = 0, tableX = 0, tableY = 0, W = 0, H = 0;
+};
+
+ModelLayout modelLayout(const TableRows& rows, size_t notes) {
+  ModelLayout l;
   size_t longest = 0;
   for (const auto& r : rows) longest = std::max(longest, r.first.size());
-  const double drawW = 720, tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
-  const double top = 40 + 14.0 * static_cast<double>(drawing.notes.size()) + 10;
-  const double legendH = 74;
+  const double drawW = l.drawW, tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
+  const double top = 40 + 14.0 * static_cast<double>(notes) + 10;
+  const double legendH = l.legendH;
   // Beside the drawing while the table is about as tall; below it for a large model, so that the
   // first screen shows the mechanism and not a column of node rows.
   const double tableH = 14.0 * static_cast<double>(rows.size()) + 20;
   const bool tableBelow = tableH > 480.0 + legendH + 140.0;
-  const double drawH = tableBelow ? 480.0 : std::max(480.0, tableH - legendH);
-  const double tableX = tableBelow ? 20.0 : drawW, tableY = tableBelow ? top + drawH + legendH + 10 : top;
-  const double W = tableBelow ? std::max(drawW, 20 + tableW) : drawW + tableW,
-               H = tableBelow ? tableY + tableH : top + drawH + legendH;
+  l.top = top;
+  l.drawH = tableBelow ? 480.0 : std::max(480.0, tableH - legendH);
+  l.tableX = tableBelow ? 20.0 : drawW, l.tableY = tableBelow ? top + l.drawH + legendH + 10 : top;
+  l.W = tableBelow ? std::max(drawW, 20 + tableW) : drawW + tableW;
+  l.H = tableBelow ? l.tableY + tableH : top + l.drawH + legendH;
+  return l;
+}
 
-  std::string o = header(W, H);
-  o += text(W / 2, 24, drawing.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
-  for (size_t i = 0; i < drawing.notes.size(); ++i)
-    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), drawing.notes[i],
+// The title and the lines under it, centred on a picture W wide.
+std::string titleLines(double W, const std::string& title, const std::vector<std::string>& notes) {
+  std::string o = text(W / 2, 24, title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
+  for (size_t i = 0; i < notes.size(); ++i)
+    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), notes[i],
               "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
+  return o;
+}
 
-  const std::vector<Point2> pts = projected(g, m.x0, view);
-  std::vector<Point2> all = pts;
+// The model in its initial configuration: its projected points, the frame that fits them (and the
+// nodes and solids) into the drawing's box, and the elements drawn.
+struct ModelPicture {
+  std::vector<Point2> pts;
+  Frame f;
+  std::string elements;
+};
+
+ModelPicture drawModel(const MechanismGeometry& g, View view, const ModelLayout& l) {
+  const core::Model& m = g.model();
+  ModelPicture pic;
+  pic.pts = projected(g, m.x0, view);
+  std::vector<Point2> all = pic.pts;
   for (size_t i = 0; i < m.nodes.size(); ++i)
     if (g.anchor(static_cast<int>(i)) >= 0) all.push_back(project(g.nodePoint(static_cast<int>(i), m.x0), view));
-  const bool spatial = g.spatial();
   std::vector<Primitive> prims;
-  if (spatial) {
+  if (g.spatial()) {
     spatialPrimitives(
         g, m.x0, view, [&](int e) { return std::string(elementColor(elementRole(m, e))); }, true, prims);
     projectedPoints(prims, view, all);
   }
-  const Frame f = fit(all, 10, top, drawW - 20, drawH, 50);
-  if (spatial)
-    o += "<g class=\"elements\">\n" + drawPrimitives(prims, view, f, 3, false) + "</g>\n";
+  pic.f = fit(all, 10, l.top, l.drawW - 20, l.drawH, 50);
+  if (g.spatial())
+    pic.elements = "<g class=\"elements\">\n" + drawPrimitives(prims, view, pic.f, 3, false) + "</g>\n";
   else
-    o += "<g class=\"elements\">\n" + drawElements(g, pts, f, "", 3, false, true) + "</g>\n";
+    pic.elements = "<g class=\"elements\">\n" + drawElements(g, pic.pts, pic.f, "", 3, false, true) + "</g>\n";
+  return pic;
+}
 
-  // Labels over the drawn solids of a spatial model get a white halo.
-  const std::string halo = spatial ? " stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"" : "";
-  // Element numbers in brackets at the middle of each element, offset to its left side.
-  o += "<g class=\"element-labels\" font-size=\"10\">\n";
+// Element numbers in brackets at the middle of each element, offset to its left side; on large
+// models (thin) a number that would overlap one already placed is left out (counted in `thinned`).
+std::string elementNumbers(const MechanismGeometry& g, const ModelPicture& pic, const std::string& halo, bool thin,
+                           int& thinned) {
+  const core::Model& m = g.model();
+  const std::vector<Point2>& pts = pic.pts;
+  const Frame& f = pic.f;
+  std::string o = "<g class=\"element-labels\" font-size=\"10\">\n";
   std::vector<Point2> elementLabels;
-  int thinnedElements = 0;
-  // Numbers are thinned on large models only: a small one keeps every number, overlapping or not.
-  const bool thin = g.elements().size() > 20;
   for (const DrawnElement& d : g.elements()) {
     const core::ElementEntry& el = m.elements[d.element];
     const std::string c = elementColor(elementRole(m, d.element));
@@ -501,25 +532,30 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
       const double len = std::max(std::hypot(xe, ye), 1e-9);
       x = 0.5 * (xa + xb) + 10 * ye / len, y = 0.5 * (ya + yb) - 10 * xe / len + 4;
     }
-    // Like the node numbers below: a number that would overlap one already placed is left out.
+    // Like the node numbers: a number that would overlap one already placed is left out.
     if (thin && std::any_of(elementLabels.begin(), elementLabels.end(),
                             [&](const Point2& q) { return std::abs(q.u - x) < 18.0 && std::abs(q.v - y) < 12.0; })) {
-      ++thinnedElements;
+      ++thinned;
       continue;
     }
     elementLabels.push_back({x, y});
     o += text(x, y, "[" + std::to_string(el.label) + "]",
               "text-anchor=\"middle\" fill=\"" + std::string(c) + "\"" + halo);
   }
-  o += "</g>\n";
+  return o + "</g>\n";
+}
 
-  // Nodes: markers and numbers; orientation nodes listed beside the position node they belong to.
+// Nodes: markers and numbers; orientation nodes listed beside the position node they belong to. On
+// large models (thin) numbers that would overlap one already placed are left out (every node is in
+// the table), said under the drawing (at noteY) with the element numbers left out.
+std::string nodeNumbers(const MechanismGeometry& g, View view, const Frame& f, const std::string& halo, bool thin,
+                        int thinnedElements, double noteY) {
+  const core::Model& m = g.model();
   std::map<int, std::vector<int>> orientationAt;
   for (size_t i = 0; i < m.nodes.size(); ++i)
     if (!g.isPositionNode(static_cast<int>(i)) && g.anchor(static_cast<int>(i)) >= 0)
       orientationAt[g.anchor(static_cast<int>(i))].push_back(static_cast<int>(i));
-  // Numbers that would overlap one already placed are left out (every node is in the table): those
-  // of nodes with a role first, then the free ones in order, so an edge-on leaf keeps some.
+  // Those of nodes with a role first, then the free ones in order, so an edge-on leaf keeps some.
   std::vector<size_t> order;
   for (int pass = 0; pass < 2; ++pass)
     for (size_t i = 0; i < m.nodes.size(); ++i)
@@ -527,7 +563,7 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
         order.push_back(i);
   std::vector<Point2> placed;
   int thinned = 0;
-  o += "<g class=\"nodes\">\n";
+  std::string o = "<g class=\"nodes\">\n";
   for (const size_t i : order) {
     const Point2 p = project(g.nodePoint(static_cast<int>(i), m.x0), view);
     const double x = f.px(p), y = f.py(p);
@@ -556,19 +592,21 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
     o += "</text>\n";
   }
   if (thinned || thinnedElements)
-    o += text(90, top + drawH - 8,
+    o += text(90, noteY,
               std::to_string(thinned) + " node and " + std::to_string(thinnedElements) +
                   " element numbers left out where they would overlap (every one is in the table)",
               "fill=\"#555555\" font-size=\"10\"");
-  o += "</g>\n";
+  return o + "</g>\n";
+}
 
-  // Legend under the drawing.
-  const double ly = top + drawH + 18;
+// The legend under the drawing (its first line at ly): element and node roles, the orientation
+// nodes' symbol and a spatial model's view.
+std::string modelLegend(const core::Model& m, View view, bool spatial, double ly) {
   double lx = 20;
   std::string warpingNote;
   for (const core::Node& n : m.nodes)
     if (n.kind == core::NodeKind::Warping) warpingNote = "w: warping nodes (BEAMW's rate of twist); ";
-  o += "<g class=\"legend\" font-size=\"10\">\n";
+  std::string o = "<g class=\"legend\" font-size=\"10\">\n";
   for (const char* r : {"rigid", "DOF", "released", "input"}) {
     o += "<line x1=\"" + num(lx) + "\" y1=\"" + num(ly) + "\" x2=\"" + num(lx + 22) + "\" y2=\"" + num(ly) +
          "\" stroke=\"" + elementColor(r) + "\" stroke-width=\"3\"/>\n";
@@ -587,17 +625,37 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
                           (view == View::Isometric ? " (azimuth -37.5, elevation 30 degrees, as MATLAB's view(3))" : "")
                     : std::string("\u03b8: orientation nodes attached there"),
             "fill=\"#555555\"");
-  o += "</g>\n";
-  if (spatial) o += axisTriad(view, 40, top + drawH - 30);
+  return o + "</g>\n";
+}
 
-  // Table.
-  o += "<g class=\"table\" font-family=\"DejaVu Sans Mono, monospace\" font-size=\"10\">\n";
+std::string tableText(const TableRows& rows, double x, double y) {
+  std::string o = "<g class=\"table\" font-family=\"DejaVu Sans Mono, monospace\" font-size=\"10\">\n";
   for (size_t i = 0; i < rows.size(); ++i)
-    o += text(tableX, tableY + 10 + 14.0 * static_cast<double>(i), rows[i].first,
+    o += text(x, y + 10 + 14.0 * static_cast<double>(i), rows[i].first,
               "fill=\"" + rows[i].second + "\"" +
                   (i == 0 || rows[i].first.rfind("elements", 0) == 0 ? " font-weight=\"bold\"" : ""));
-  o += "</g>\n</svg>\n";
-  return o;
+  return o + "</g>\n";
+}
+
+}  // namespace
+
+std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawing) {
+  const View view = resolveView(drawing.view, g);
+  const TableRows rows = modelTable(g.model());
+  const ModelLayout l = modelLayout(rows, drawing.notes.size());
+  std::string o = header(l.W, l.H) + titleLines(l.W, drawing.title, drawing.notes);
+  const ModelPicture pic = drawModel(g, view, l);
+  o += pic.elements;
+  // Labels over the drawn solids of a spatial model get a white halo.
+  const std::string halo = g.spatial() ? " stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"" : "";
+  // Numbers are thinned on large models only: a small one keeps every number, overlapping or not.
+  const bool thin = g.elements().size() > 20;
+  int thinnedElements = 0;
+  o += elementNumbers(g, pic, halo, thin, thinnedElements);
+  o += nodeNumbers(g, view, pic.f, halo, thin, thinnedElements, l.top + l.drawH - 8);
+  o += modelLegend(g.model(), view, g.spatial(), l.top + l.drawH + 18);
+  if (g.spatial()) o += axisTriad(view, 40, l.top + l.drawH - 30);
+  return o + tableText(rows, l.tableX, l.tableY) + "</svg>\n";
 }
 
 View panelView(const MechanismGeometry& g, const ShapePanel& panel, View requested) {
@@ -664,11 +722,7 @@ std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) 
   }
   const Frame unit = fit(all, 0, 0, pw, ph - 96, 14);  // room for the title and three legend lines
 
-  std::string o = header(W, H);
-  o += text(W / 2, 24, fig.title, "text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\"");
-  for (size_t i = 0; i < fig.notes.size(); ++i)
-    o += text(W / 2, 42 + 14.0 * static_cast<double>(i), fig.notes[i],
-              "class=\"note\" text-anchor=\"middle\" fill=\"#555555\"");
+  std::string o = header(W, H) + titleLines(W, fig.title, fig.notes);
   for (int i = 0; i < n; ++i) {
     const ShapePanel& panel = fig.panels[i];
     const View view = views[static_cast<size_t>(i)];

@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorDynamics.hpp"
+#include "analysis/OperatorPolicy.hpp"
+#include "analysis/OperatorTraining.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/Simulation.hpp"

@@ -406,8 +406,9 @@ int runSweep(const std::vector<std::string>& args) {
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)),
       "its component (1-based; a spatial orientation node: 1, 2, 3 = its rotation about global x, y, z in rad from "
       "its initial orientation)")("from", po::value(&o.from)->required()->notifier(finite("from")),
-                                  "first value (required)")("to", po::value(&o.to)->required()->notifier(finite("to")),
-                                                            "last value (required)")(
+                                  "first value (required): a position component's absolute coordinate (not a displacement from the node's "
+                                  "initial position); an orientation node's rotation from its initial orientation")(
+      "to", po::value(&o.to)->required()->notifier(finite("to")), "last value (required), as --from")(
       "steps", po::value(&o.steps)->default_value(10)->notifier(atLeast("steps", 1)),
       "number of equidistant configurations (the continuation sub-steps them as it needs)")(
       "nev", po::value(&o.nev)->default_value(4)->notifier(atLeast("nev", 1)), "eigenfrequencies per configuration")(
@@ -447,6 +448,19 @@ int runSweep(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
   if (!outputsWritable(files, {svg})) return kInputError;
   const std::string prefix = files.prefix();
+  if (!svg.empty() && std::filesystem::absolute(svg) == std::filesystem::absolute(prefix + ".svg")) {
+    std::cerr << "flexmb: --svg " << svg << " is the frequency plot's own file (" << prefix
+              << ".svg): give the configuration figure another name\n";
+    return kUsageError;
+  }
+  // Absolute coordinates: a range that does not hold the node's initial value is probably meant as a
+  // displacement, so the initial value is said.
+  if (!rotation && !m.quiet) {
+    const double x0 = model.x0[model.nodes[it->second].firstCoord + o.component - 1];
+    if (x0 < std::min(o.from, o.to) || x0 > std::max(o.from, o.to))
+      std::cerr << "flexmb: note: --from and --to are absolute coordinates: node " << o.node << " component "
+                << o.component << " starts at " << x0 << ", outside " << o.from << " .. " << o.to << "\n";
+  }
   files.setting("command", "sweep");
   files.setting("model", m.file);
   files.setting("prescribed", "node " + std::to_string(o.node) + " component " + std::to_string(o.component));

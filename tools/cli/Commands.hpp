@@ -1,6 +1,7 @@
 #pragma once
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,7 @@
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
 
+#include "analysis/ModelSource.hpp"
 #include "core/model/Model.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/OutputFile.hpp"
@@ -56,10 +58,24 @@ bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctio
 // allowDriven: a driven rigid mechanism (no degrees of freedom, moving inputs) is accepted
 // (simulate runs its inverse dynamics).
 bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass, bool allowDriven = false);
-// Every analysis stage of the file (SPACAR95 blocks), read with the same options, after
-// loadModelFor's checks of the whole file.
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass,
-                bool allowDriven = false);
+// The file read once with the common options, its stages checked for an analysis with these needs
+// (analysis::checkModelFor) and the diagnostics printed; null after an input error (printed).
+std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOptions& o,
+                                                                  const analysis::ModelNeeds& needs,
+                                                                  bool acceptUserFunctions = false);
+// The model file as a job's source (with the text read ahead, when it was).
+analysis::ModelSource modelSource(const ModelOptions& o);
+// Reads the file's text once for the whole command (throws io::DatError); the analysis then parses
+// this text instead of opening the file again.
+std::shared_ptr<const std::string> readAhead(const std::string& file);
+// A job's diagnostics as the command line shows them: results on stdout; notes (unless quiet),
+// warnings and errors on stderr, "file: warning: text".
+// from, to: the part of d to print (diagnostics a job added since the last print).
+void printDiagnostics(const analysis::Diagnostics& d, bool quiet, std::size_t from = 0,
+                      std::size_t to = static_cast<std::size_t>(-1));
+// A file naming USERSIG / USERINP (MATLAB functions) is refused with the reason printed: only
+// spacar() in Octave/MATLAB can call them.
+bool userFunctionsAllowed(const ModelOptions& o, const core::Model& model);
 
 // The options every model command shares (--dialect, --elongation, --quiet), and the parse of a
 // command's options with the model file as positional argument. Returns an exit code when the

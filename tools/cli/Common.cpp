@@ -1,4 +1,5 @@
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
+#include "analysis/ModelSource.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/KeywordTable.hpp"
 #include "io/formats/OutputFile.hpp"
@@ -51,12 +53,6 @@ std::string decimalCommaHint(const std::vector<std::string>& args, const std::st
   return "";
 }
 
-std::string listed(const std::vector<std::string>& v, size_t shown = 8) {
-  std::string s;
-  for (size_t i = 0; i < v.size() && i < shown; ++i) s += (i ? ", " : "") + v[i];
-  if (v.size() > shown) s += " and " + std::to_string(v.size() - shown) + " more";
-  return s;
-}
 }  // namespace
 
 void installInterruptHandler() {
@@ -190,84 +186,88 @@ io::ReadOptions readOptions(const ModelOptions& o) {
 
 }  // namespace
 
-bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctions) {
+namespace {
+// The text of the one file a command read ahead (--mode 3 reads it to choose the analysis): the
+// analysis parses it again instead of opening the file a second time.
+std::pair<std::string, std::shared_ptr<const std::string>> g_readAhead;
+}  // namespace
+
+std::shared_ptr<const std::string> readAhead(const std::string& file) {
+  if (g_readAhead.first != file || !g_readAhead.second)
+    g_readAhead = {file, std::make_shared<const std::string>(io::readDatText(file))};
+  return g_readAhead.second;
+}
+
+analysis::ModelSource modelSource(const ModelOptions& o) {
+  analysis::ModelSource s{o.file, readOptions(o), nullptr, nullptr};
+  if (g_readAhead.first == o.file) s.text = g_readAhead.second;
+  return s;
+}
+
+void printDiagnostics(const analysis::Diagnostics& d, bool quiet, std::size_t from, std::size_t to) {
+  using K = analysis::Diagnostic::Kind;
+  for (std::size_t k = from; k < std::min(to, d.size()); ++k) {
+    const analysis::Diagnostic& x = d[k];
+    if (x.kind == K::Note && quiet) continue;
+    std::ostream& o = x.kind == K::Result ? std::cout : std::cerr;
+    if (x.kind != K::Result) o << (x.where.empty() ? "flexmb" : x.where) << ": ";
+    if (x.kind == K::Note) o << "note: ";
+    if (x.kind == K::Warning) o << "warning: ";
+    o << x.text;
+    if (x.see == "check") o << " (run `flexmb check` for the kinematic rank analysis)";
+    o << "\n";
+  }
+}
+
+bool userFunctionsAllowed(const ModelOptions& o, const core::Model& model) {
+  // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
+  for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
+                                        std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
+    if (!name.empty()) {
+      std::cerr << o.file << ":" << line << ": " << key << " " << name
+                << ": a MATLAB user function runs only when the model is run through spacar() in Octave or "
+                   "MATLAB (addpath the folder with spacar.mex, see README); from the command line give the "
+                   "loads and inputs as time expressions (XFT, ESIGT, INPUTXT, INPUTET)\n";
+      return false;
+    }
+  return true;
+}
+
+std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOptions& o, const analysis::ModelNeeds& needs,
+                                                                  bool acceptUserFunctions) {
+  std::shared_ptr<const std::vector<io::AnalysisStage>> stages;
   try {
-    model = io::readDatFile(o.file, readOptions(o));
-    if (!o.quiet)
-      for (const auto& note : model.notes) std::cerr << "flexmb: note: " << note << "\n";
-    if (!o.quiet)
-      for (const auto& w : model.warnings) std::cerr << o.file << ": warning: " << w << "\n";
-    // USERSIG / USERINP name MATLAB functions: only the Octave/MATLAB gateway can call them.
-    for (const auto& [name, line, key] : {std::tuple{model.userStressFunction, model.userStressLine, "USERSIG"},
-                                          std::tuple{model.userInputFunction, model.userInputLine, "USERINP"}})
-      if (!name.empty() && !acceptUserFunctions) {
-        std::cerr << o.file << ":" << line << ": " << key << " " << name
-                  << ": a MATLAB user function runs only when the model is run through spacar() in Octave or "
-                     "MATLAB (addpath the folder with spacar.mex, see README); from the command line give the "
-                     "loads and inputs as time expressions (XFT, ESIGT, INPUTXT, INPUTET)\n";
-        return false;
-      }
+    stages = analysis::readStages(modelSource(o));
   } catch (const io::DatError& e) {
     std::cerr << e.what() << "\n";
-    return false;
+    return nullptr;
   } catch (const std::exception& e) {
     std::cerr << o.file << ": " << e.what() << "\n";
-    return false;
+    return nullptr;
   }
-  const core::ModelDiagnosis d = analysis::diagnose(model);
-  if (!d.overflow.empty()) {
-    std::cerr << o.file << ": values too large to compute with (above " << core::kOverflowLimit
-              << "; products of them overflow): " << listed(d.overflow) << ". Check the units and the exponents.\n";
-    return false;
+  const core::Model& model = stages->back().model;
+  if (!acceptUserFunctions && (!model.userStressFunction.empty() || !model.userInputFunction.empty())) {
+    printDiagnostics(analysis::checkModelFor(model, o.file, {false, false, false}), o.quiet);
+    userFunctionsAllowed(o, model);  // says why not
+    return nullptr;
   }
-  if (!d.mechanismDeformations.empty() && !o.quiet)
-    std::cerr << o.file << ": note: " << d.mechanismDeformations.size()
-              << " dynamic deformation(s) without stiffness, i.e. mechanism degrees of freedom: "
-              << listed(d.mechanismDeformations) << "\n";
+  const analysis::Diagnostics d = analysis::checkModelFor(model, o.file, needs);
+  printDiagnostics(d, o.quiet);
+  return analysis::hasError(d) ? nullptr : stages;
+}
+
+bool loadModel(const ModelOptions& o, core::Model& model, bool acceptUserFunctions) {
+  const auto stages = loadChecked(o, {false, false, false}, acceptUserFunctions);
+  if (!stages) return false;
+  model = stages->back().model;
   return true;
 }
 
 bool loadModelFor(const ModelOptions& o, core::Model& model, bool needsMass, bool allowDriven) {
-  if (!loadModel(o, model)) return false;
-  if (model.numDofs() == 0 && !(allowDriven && analysis::isDrivenRigidMechanism(model))) {
-    std::cerr << o.file << ": the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)"
-              << (allowDriven ? " and no input that moves in time: nothing moves, so there is nothing to simulate"
-                              : ": there is no eigenfrequency and no elastic equilibrium to find")
-              << ". Make the deformations that carry the motion DYNE (with ESTIFF), or drive the mechanism with "
-                 "INPUTX / INPUTE values that change in time (simulate then runs its kinematics and inverse "
-                 "dynamics); see `flexmb check`.\n";
-    return false;
-  }
-  const analysis::AssemblyCheck a = analysis::checkAssembly(model, needsMass);
-  if (!a.error.empty()) {
-    std::cerr << o.file << ": the initial configuration cannot be assembled: " << a.error
-              << " (run `flexmb check` for the kinematic rank analysis)\n";
-    return false;
-  }
-  if (!a.problem.empty()) {
-    std::cerr << o.file << ": " << a.problem << "\n";
-    return false;
-  }
-  if (!a.massless.empty()) {
-    std::cerr << o.file << ": no mass on " << a.massless.size() << " of " << model.numDofs()
-              << " degrees of freedom: " << listed(a.massless)
-              << ". Dynamics and eigenfrequencies need mass on every one: give EM (mass per length) of the "
-                 "elements or XM (lumped masses) at the nodes that move.\n";
-    return false;
-  }
+  const auto stages = loadChecked(o, {needsMass, true, allowDriven}, false);
+  if (!stages) return false;
+  model = stages->back().model;
   return true;
-}
-
-bool loadStages(const ModelOptions& o, std::vector<io::AnalysisStage>& stages, bool needsMass, bool allowDriven) {
-  core::Model probe;
-  if (!loadModelFor(o, probe, needsMass, allowDriven)) return false;  // errors, diagnostics and notes, once
-  try {
-    stages = io::readDatStages(o.file, readOptions(o));
-    return true;
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-  }
-  return false;
 }
 
 bool outputsWritable(io::OutputSet& files, const std::vector<std::string>& extras) {

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "analysis/BasisForTarget.hpp"
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorTraining.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
 #include "io/formats/BasisFile.hpp"

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <chrono>
@@ -11,27 +9,13 @@
 #include <iostream>
 #include <sstream>
 
-#include "analysis/AccuracyCheck.hpp"
-#include "analysis/BasisForTarget.hpp"
-#include "analysis/InverseDynamics.hpp"
-#include "analysis/Modes.hpp"
-#include "analysis/ReducedOperators.hpp"
-#include "analysis/ReductionError.hpp"
-#include "analysis/RunNotes.hpp"
-#include "analysis/RunSize.hpp"
+#include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
-#include "analysis/SpacarOutput.hpp"
-#include "analysis/TrajectoryModes.hpp"
-#include "io/formats/DatReader.hpp"
-#include "io/formats/OperatorFile.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/RestartWriter.hpp"
-#include "io/formats/ResultWriter.hpp"
-#include "io/formats/SpacarResults.hpp"
 #include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
-#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -200,37 +184,17 @@ bool simulateOutputsWritable(io::OutputSet& files, const SimulateArgs& a, const 
   return true;
 }
 
-// --basis auto --target EPS: the basis chosen by analysis::basisForTarget with the run's own
-// integrator and tolerances (nothing: the full model, said). Throws std::invalid_argument for a
-// malformed --svd-path.
-std::optional<Eigen::MatrixXd> chooseBasis(const SimulateArgs& a, const core::Model& model,
-                                           const analysis::SimulationOptions& opt, io::OutputSet& files) {
-  analysis::TargetOptions to;
-  to.target = a.target;
-  to.run = opt;
-  if (!a.svdPath.empty()) {
-    std::stringstream ss(a.svdPath);
-    char c1 = 0, c2 = 0, c3 = 0;
-    to.basis.method = "svd-modal";
-    if (!(ss >> to.basis.node >> c1 >> to.basis.component >> c2 >> to.basis.from >> c3 >> to.basis.to) || c1 != ',' ||
-        c2 != ',' || c3 != ',' || !ss.eof())
-      throw std::invalid_argument("--svd-path must be NODE,COMP,FROM,TO (e.g. 6,1,-0.0833,0.0833), not '" + a.svdPath +
-                                  "'");
-  }
-  const analysis::TargetResult tr = analysis::basisForTarget(model, to);
-  std::ostringstream tried;
-  for (const auto& c : tr.tried) {
-    tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
-          << " vectors: " << (c.estimate.estimated ? text::significant(c.estimate.estimate, 2) : "not estimated");
-  }
-  const std::string how = "target " + text::shortest(a.target) + ", " + to.basis.method + "; tried " + tried.str() +
-                          "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
-  files.setting("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
-                                 : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
-  std::cout << "basis auto: " << (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") << " (" << how
-            << ")\n";
-  if (tr.full) return std::nullopt;
-  return tr.basis.V;
+// --svd-path NODE,COMP,FROM,TO: the SVD-modal basis --basis auto scans. Throws
+// std::invalid_argument for a malformed one.
+analysis::ReductionOptions svdPathBasis(const std::string& path) {
+  analysis::ReductionOptions r;
+  std::stringstream ss(path);
+  char c1 = 0, c2 = 0, c3 = 0;
+  r.method = "svd-modal";
+  if (!(ss >> r.node >> c1 >> r.component >> c2 >> r.from >> c3 >> r.to) || c1 != ',' || c2 != ',' || c3 != ',' ||
+      !ss.eof())
+    throw std::invalid_argument("--svd-path must be NODE,COMP,FROM,TO (e.g. 6,1,-0.0833,0.0833), not '" + path + "'");
+  return r;
 }
 
 analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
@@ -249,19 +213,6 @@ analysis::SimulationOptions simulationOptions(const SimulateArgs& a) {
   return opt;
 }
 
-// Estimates the work and the output before running (analysis::checkRunSize, as the Octave gateway):
-// refuses (an exit code) what cannot finish or fit, and warns when the highest eigenfrequency, not
-// accuracy, sets ode45's step.
-std::optional<int> refuseOversizedRun(const core::Model& model, const analysis::SimulationOptions& opt, bool quiet) {
-  const analysis::RunSizeCheck c = analysis::checkRunSize(model, opt);
-  if (!c.warning.empty() && !quiet) std::cerr << "flexmb: warning: " << c.warning << "\n";
-  if (!c.refusal.empty()) {
-    std::cerr << "flexmb: " << c.refusal << "\n";
-    return kInputError;
-  }
-  return std::nullopt;
-}
-
 // The files the options ask for.
 analysis::SimulationFiles filesAsked(const SimulateArgs& a) {
   analysis::SimulationFiles f;
@@ -275,14 +226,31 @@ analysis::SimulationFiles filesAsked(const SimulateArgs& a) {
   return f;
 }
 
-// The run manifest's settings.
-void describeRun(io::OutputSet& files, const SimulateArgs& a, const core::Model& model,
-                 const analysis::SimulationOptions& opt) {
+// The run manifest's settings: the command, then the job's (basis, reduced dynamics, run notes).
+void describeRun(io::OutputSet& files, const SimulateArgs& a, const analysis::SimulateJob& job) {
   files.setting("command", "simulate");
   files.setting("model", a.m.file);
   if (!a.basisFile.empty() && a.basisFile != "auto") files.setting("basis", a.basisFile);
-  analysis::describeIntegration(files, model, opt);
+  analysis::describeIntegration(files, job.model(), job.options());
   files.setting("dynamics", a.dynamics);
+  for (const auto& [key, value] : job.settings()) files.setting(key, value);
+}
+
+// The job's exit code: a run that stopped or was interrupted keeps its files.
+int exitCodeOf(analysis::JobStatus s) {
+  switch (s) {
+    case analysis::JobStatus::Ready:
+    case analysis::JobStatus::Completed:
+      return kOk;
+    case analysis::JobStatus::InputError:
+      return kInputError;
+    case analysis::JobStatus::Interrupted:
+      return interruptedExitCode();
+    case analysis::JobStatus::Failed:
+    case analysis::JobStatus::Stopped:
+      break;
+  }
+  return kNumericalFailure;
 }
 
 // The largest |force| each input needs over the run, as a SPACAR user reads it off fxt and sig.
@@ -308,13 +276,12 @@ void printInputForces(std::ostream& o, const core::Model& model, const core::Tra
 
 // Mode 1 on a driven rigid mechanism (analysis/InverseDynamics.hpp): the same files as a
 // simulation, plus <out>_fxt.csv with the forces the inputs need.
-int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Model*>& runs) {
-  const core::Model& model = *runs.back();
-  if (!a.basisFile.empty() || a.linearize > 0 || a.matrices || a.intervals == 0) {
+int runDrivenMechanism(const SimulateArgs& a, analysis::SimulateJob& job) {
+  const core::Model& model = job.model();
+  if (a.linearize > 0 || a.matrices || a.intervals == 0) {
     std::cerr << "flexmb: " << a.m.file
-              << " is a driven rigid mechanism (no degrees of freedom): there is no reduced model (--basis), no "
-                 "linearisation (--linearize, --matrices, modes 3 and 4) and no integrator step to output at "
-                 "(--intervals 0)\n";
+              << " is a driven rigid mechanism (no degrees of freedom): there is no linearisation (--linearize, "
+                 "--matrices, modes 3 and 4) and no integrator step to output at (--intervals 0)\n";
     return kUsageError;
   }
   if (!a.m.quiet && (a.relTol > 0 || a.absTol > 0 || a.maxStep > 0 || a.integrator != "ode45" || a.bdfOrder > 0))
@@ -322,35 +289,28 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
                  "--max-step and --bdf-order are ignored\n";
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
   if (!simulateOutputsWritable(files, a, model)) return kInputError;
-  analysis::InverseDynamicsOptions o;
-  if (a.tEnd > 0) o.tEnd = a.tEnd;
-  if (a.intervals > 0) o.intervals = a.intervals;
   files.setting("command", "simulate");
   files.setting("model", a.m.file);
   files.setting("analysis",
                 "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at the output "
                 "times, no integrator");
   {
-    const double t0 = model.settings.t0, t1 = o.tEnd.value_or(model.settings.tEnd);
+    const double t0 = model.settings.t0, t1 = job.options().tEnd.value_or(model.settings.tEnd);
     files.setting("time", text::shortest(t0) + " to " + text::shortest(t1) + " s, " +
-                              std::to_string(o.intervals.value_or(model.settings.outputIntervals)) +
+                              std::to_string(job.options().intervals.value_or(model.settings.outputIntervals)) +
                               " output intervals");
   }
-  installInterruptHandler();
-  o.interrupt = interruptFlag();
-  o.interruptSignal = interruptSignal();
-  // SPACAR95 blocks: each runs over its own span (nothing carries over but the time).
-  const analysis::InverseDynamicsRun all = analysis::inverseDynamicsStages(runs, o);
-  const core::Trajectory& traj = all.trajectory;
-  std::cout << "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at " << traj.time.size()
-            << " output times, no integration\n";
-  if (!traj.time.empty()) printInputForces(std::cout, model, traj, all.fxt);
-  if (!traj.completed) std::cerr << "flexmb: stopped early: " << traj.stopReason << "\n";
+  const std::size_t said = job.diagnostics().size();
+  job.run();
+  printDiagnostics(job.diagnostics(), a.m.quiet, said, said + 1);  // how many output times
+  const core::Trajectory& traj = job.trajectory();
+  if (!traj.time.empty()) printInputForces(std::cout, model, traj, job.fxt());
+  printDiagnostics(job.diagnostics(), a.m.quiet, said + 1);
   analysis::SimulationFiles what = filesAsked(a);
-  what.fxt = &all.fxt;
+  what.fxt = &job.fxt();
   analysis::WrittenSimulation written;
   try {
-    written = analysis::writeSimulation(files, model, analysis::SimulationOptions(), traj, all.interrupted, what,
+    written = analysis::writeSimulation(files, model, analysis::SimulationOptions(), traj, job.interrupted(), what,
                                         std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
@@ -358,7 +318,7 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
   }
   for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
   sayRemovedStale(files.removedStale());
-  if (all.interrupted) return interruptedExitCode();
+  if (job.interrupted()) return interruptedExitCode();
   if (written.incomplete) return kWriteFailed;
   return traj.completed ? kOk : kNumericalFailure;
 }
@@ -368,135 +328,54 @@ int runDrivenMechanism(const SimulateArgs& a, const std::vector<const core::Mode
 int runSimulate(const std::vector<std::string>& args) {
   SimulateArgs a;
   if (auto rc = parseSimulate(args, a)) return *rc;
-  std::vector<io::AnalysisStage> stages;
-  if (!loadStages(a.m, stages, true, true)) return kInputError;
-  const std::vector<const core::Model*> runs = analysis::stagesThatRun(stages);
-  const core::Model& model = *runs.back();
-  // No TIMESTEP: the defaults, said once, with what the command line overrides.
-  if (!model.settings.timestepGiven && !a.m.quiet && (a.tEnd <= 0 || a.intervals < 0)) {
-    std::cerr << "flexmb: note: " << a.m.file << " has no TIMESTEP: ";
-    if (a.tEnd <= 0)
-      std::cerr << "the run goes from " << text::shortest(model.settings.t0) << " to "
-                << text::shortest(model.settings.tEnd) << " s";
-    if (a.tEnd <= 0 && a.intervals < 0) std::cerr << " in ";
-    if (a.intervals < 0) std::cerr << model.settings.outputIntervals << " output intervals";
-    std::cerr << " (the defaults; give TIMESTEP, or --t-end and --intervals)\n";
-  }
-  if (runs.size() > 1 && !a.m.quiet) std::cout << runs.size() << " analysis blocks, run in sequence\n";
-  if (analysis::isDrivenRigidMechanism(model)) return runDrivenMechanism(a, runs);
-
-  analysis::SimulationOptions opt = simulationOptions(a);
-  try {
-    if (a.basisFile != "auto") opt.basis = readBasisFor(a.basisFile, model);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
-  // The basis file's reduced operators (flexmb reduce writes them beside it), unless Eq. 19 is asked for.
-  std::string operatorNote;
-  if (opt.basis && a.basisFile != "auto") {
-    const analysis::OperatorChoice choice =
-        analysis::chooseOperators(model, a.m.file, *opt.basis, a.basisFile, a.fullKinematics);
-    if (!choice.refusal.empty()) {
-      std::cerr << "flexmb: " << choice.refusal << "\n";
-      return kInputError;
+  analysis::SimulateRequest request;
+  request.run = simulationOptions(a);
+  request.basisFile = a.basisFile;
+  request.target = a.target;
+  request.fullKinematics = a.fullKinematics;
+  request.trackedOutputs = a.outputs == "tracked";
+  if (!a.svdPath.empty()) {
+    try {
+      request.autoBasis = svdPathBasis(a.svdPath);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "flexmb: " << e.what() << "\n";
+      return kUsageError;
     }
-    opt.operators = choice.operators;
-    operatorNote = choice.note;
-    if (a.outputs == "tracked") {
-      if (!opt.operators || opt.operators->outputs.empty()) {
-        std::cerr << "flexmb: --outputs tracked: "
-                  << (opt.operators ? io::operatorPathFor(a.basisFile) +
-                                          " tracks no output (flexmb reduce --track NODES "
-                                          "or --track-elements ELEMENTS builds them)"
-                                    : "the run uses " + choice.note)
-                  << "\n";
-        return kInputError;
-      }
-      opt.trackedOutputs = true;
-    }
-  } else if (a.basisFile == "auto") {
-    operatorNote = "Eq. 19 (--basis auto builds no reduced operators)";
   }
-  if (a.fullKinematics && a.basisFile.empty() && !a.m.quiet)
-    std::cerr << "flexmb: note: --full-kinematics applies to reduced runs (--basis): the full model has no other\n";
-  if (auto rc = refuseOversizedRun(model, opt, a.m.quiet)) return *rc;
+  installInterruptHandler();
+  request.run.interrupt = interruptFlag();
+  request.run.interruptSignal = interruptSignal();
+  analysis::SimulateJob job(modelSource(a.m), std::move(request));
+  printDiagnostics(job.diagnostics(), a.m.quiet);
+  if (job.status() == analysis::JobStatus::InputError) return kInputError;
+  if (!userFunctionsAllowed(a.m, job.model())) return kInputError;
+  if (job.driven()) return runDrivenMechanism(a, job);
 
   // Output location checked before the analysis (and before choosing a basis).
   std::string suffix;
   if (!a.basisFile.empty() && (a.out.empty() || a.out.back() == '/' || std::filesystem::is_directory(a.out)))
     suffix = "_" + std::filesystem::path(a.basisFile).stem().string();
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file, suffix));
-  if (!simulateOutputsWritable(files, a, model)) return kInputError;
-  if (a.basisFile == "auto") {
-    try {
-      opt.basis = chooseBasis(a, model, opt, files);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "flexmb: " << e.what() << "\n";
-      return kInputError;
-    } catch (const std::exception& e) {
-      std::cerr << "flexmb: no basis could be chosen: " << e.what() << "\n";
-      return kNumericalFailure;
-    }
-  }
-  describeRun(files, a, model, opt);
+  if (!simulateOutputsWritable(files, a, job.model())) return kInputError;
 
-  installInterruptHandler();
-  opt.interrupt = interruptFlag();
-  opt.interruptSignal = interruptSignal();
-  const auto start = std::chrono::steady_clock::now();
-  core::Trajectory traj;
-  bool interrupted = false;
-  try {
-    traj = analysis::simulateStages(runs, opt, &interrupted);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: simulation could not start: " << e.what() << "\n";
-    return kNumericalFailure;
-  }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << analysis::formatStatistics(traj, opt.integrator);
-  if (opt.basis) {  // which reduced dynamics ran
-    const std::string text =
-        opt.operators ? analysis::describeOperatorUse(traj.operators, *opt.operators) : operatorNote;
-    std::cout << "reduced dynamics: " << text << "\n";
-    files.setting("reduced dynamics", text);
-  }
-  if (!traj.tracked.empty()) {
-    const std::string text = analysis::describeTrackedOutputs(traj.tracked, *opt.operators);
-    std::cout << "tracked outputs: " << text << "\n";
-    files.setting("tracked outputs", text);
-  }
-  std::cout << "wall time " << wall << " s, " << traj.time.size() << " output times\n";
-  for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, a.target)) {
-    if (!n.setting.empty()) files.setting(n.setting, n.value);
-    switch (n.kind) {
-      case analysis::RunNote::Kind::Result:
-        std::cout << n.text << "\n";
-        break;
-      case analysis::RunNote::Kind::Note:
-        if (!a.m.quiet) std::cerr << "flexmb: note: " << n.text << "\n";
-        break;
-      case analysis::RunNote::Kind::Warning:
-        std::cerr << "flexmb: warning: " << n.text << "\n";
-        break;
-      case analysis::RunNote::Kind::Stopped:
-        std::cerr << "flexmb: " << n.text << "\n";
-        break;
-    }
-  }
-
+  const std::size_t said = job.diagnostics().size();
+  job.run();
+  printDiagnostics(job.diagnostics(), a.m.quiet, said);
+  if (job.status() == analysis::JobStatus::Failed) return kNumericalFailure;
+  describeRun(files, a, job);
   analysis::WrittenSimulation written;
   try {
-    written = analysis::writeSimulation(files, model, opt, traj, interrupted, filesAsked(a), std::cout, std::cerr);
+    written = analysis::writeSimulation(files, job.model(), job.options(), job.trajectory(), job.interrupted(),
+                                        filesAsked(a), std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
   sayRemovedStale(files.removedStale());
-  if (interrupted) return interruptedExitCode();
+  if (job.interrupted()) return interruptedExitCode();
   if (written.incomplete) return kWriteFailed;
-  return traj.completed ? kOk : kNumericalFailure;
+  return exitCodeOf(job.status());
 }
 
 }  // namespace flexmb::cli

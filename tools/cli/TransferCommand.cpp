@@ -107,11 +107,12 @@ int runTransfer(const std::vector<std::string>& args) {
 int runMode3(const std::vector<std::string>& args) {
   // A static file (ITERSTEP, no TIMESTEP) runs the load steps with the matrices of each (SPACAR
   // mode 3, as SPACAR Light's opt.mode = 3 and oopspa's perturb use it); otherwise the trajectory.
+  // The file is read once here; the command parses the same text.
   bool staticFile = false;
   for (const auto& a : args) {
     if (a.size() > 4 && a.compare(a.size() - 4, 4, ".dat") == 0 && std::filesystem::is_regular_file(a)) {
       try {
-        staticFile = !io::readDatFile(a).settings.timestepGiven;
+        staticFile = analysis::isStaticFile(io::readDatStagesString(*readAhead(a), a));
       } catch (const std::exception&) {  // the command itself reports the reading error
       }
       break;

@@ -26,9 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/BasisForTarget.hpp"
-#include "analysis/RunNotes.hpp"
-#include "analysis/RunSize.hpp"
+#include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/Statics.hpp"
@@ -126,41 +124,51 @@ void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
 }
 
-// Modes 1, 3 (with TIMESTEP) and 4: the run (reduced with opts.target), what it says in `out`, and
-// SPACAR's results from it. False (run.error set) when the run is refused before it starts.
-bool runDynamics(int mode, bool silent, const std::string& name, const std::string& datFile, const core::Model& model,
+// Modes 1, 3 (with TIMESTEP) and 4: the simulate job (analysis/SimulateJob.hpp: reduced with
+// opts.target), what it says in `out`, and SPACAR's results from it. False (run.error set) when the
+// run is refused before it starts.
+bool runDynamics(int mode, bool silent, const std::string& name, const std::string& datFile,
+                 std::shared_ptr<const std::vector<io::AnalysisStage>> stages,
                  const octave_gateway::MatlabUserFunctions& user, const analysis::SimulationOptions& simOptions,
                  double target, std::ostringstream& out, io::SpacarResults& results, bool& interrupted,
-                 std::string& afterRun, Run& run) {
-  analysis::SimulationOptions opt = simOptions;
-  if (!std::isnan(target)) {  // opts.target: a reduced run with the basis chosen for it
-    analysis::TargetOptions to;
-    to.target = target;
-    to.run = opt;
-    const analysis::TargetResult tr = analysis::basisForTarget(model, to);
-    if (tr.met) opt.basis = tr.basis.V;
-    out << "spacar: target " << target << ": "
-        << (tr.met ? "a modal basis of " + std::to_string(tr.basis.V.cols()) + " columns" : tr.note) << " ("
-        << tr.tried.size() << " candidate runs, " << tr.seconds << " s)\n";
-  }
-  // The checks the command line makes before a run (analysis/RunSize.hpp): refused here too.
-  const analysis::RunSizeCheck size = analysis::checkRunSize(model, opt);
-  if (!size.warning.empty() && !silent)
-    mexWarnMsgIdAndTxt("flexmb:spacar:slow", "%s: %s", datFile.c_str(), size.warning.c_str());
-  if (!size.refusal.empty()) {
-    run.error = datFile + ": " + size.refusal;
+                 std::string& afterRun, Run& run, const core::Model*& resultModel) {
+  analysis::SimulateRequest request;
+  request.run = simOptions;
+  request.target = target;
+  if (!std::isnan(target)) request.basisFile = "auto";  // opts.target: the smallest modal basis meeting it
+  octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
+  request.run.interrupt = watch.flag();
+  analysis::SimulateJob job(analysis::ModelSource{datFile, {}, std::move(stages), nullptr}, std::move(request));
+  // What the command line says before and after a run, with spacar()'s own voice: notes and results
+  // on the console, warnings as MATLAB warnings, an error as the run's error.
+  std::size_t said = 0;
+  auto show = [&] {
+    for (; said < job.diagnostics().size(); ++said) {
+      const analysis::Diagnostic& d = job.diagnostics()[said];
+      if (d.kind == analysis::Diagnostic::Kind::Warning && !silent)
+        mexWarnMsgIdAndTxt("flexmb:spacar:run", "%s: %s", datFile.c_str(), d.text.c_str());
+      else if ((d.kind == analysis::Diagnostic::Kind::Result || d.kind == analysis::Diagnostic::Kind::Note) &&
+               d.topic.empty())  // the statistics and the wall time: below, in spacar()'s words
+        out << "spacar: " << d.text << "\n";
+    }
+  };
+  show();
+  if (job.status() == analysis::JobStatus::InputError) {
+    run.error = datFile + ": " + analysis::firstError(job.diagnostics());
     run.errorId = "flexmb:spacar:input";
     return false;
   }
-  core::Trajectory traj;
-  const auto start = std::chrono::steady_clock::now();
-  {
-    octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
-    opt.interrupt = watch.flag();
-    traj = analysis::simulate(model, opt);
-    interrupted = watch.interrupted();
+  job.run();
+  interrupted = watch.interrupted();
+  show();
+  if (job.status() == analysis::JobStatus::Failed) {
+    run.error = datFile + ": " + analysis::firstError(job.diagnostics());
+    return false;
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const core::Model& model = job.model();
+  resultModel = &model;
+  const core::Trajectory& traj = job.trajectory();
+  const double wall = job.wallSeconds();
   out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
       << " failed attempts, " << traj.nfevals << " function evaluations ("
       << (traj.integrator == "ode45+galpha" ? "auto: ode45, then galpha" : traj.integrator) << ")\n";
@@ -174,14 +182,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   } else {
     out << "spacar: wall time " << wall << " s\n";
   }
-  // What the command line says after a run (analysis/RunNotes.hpp); a stop is the error below.
-  for (const analysis::RunNote& n : analysis::runNotes(model, opt, traj, target)) {
-    if (n.kind == analysis::RunNote::Kind::Result || n.kind == analysis::RunNote::Kind::Note)
-      out << "spacar: " << n.text << "\n";
-    else if (n.kind == analysis::RunNote::Kind::Warning && !silent)
-      mexWarnMsgIdAndTxt("flexmb:spacar:accuracy", "%s: %s", datFile.c_str(), n.text.c_str());
-  }
-  if (std::isnan(traj.switchedAt) && opt.integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
+  if (std::isnan(traj.switchedAt) && job.options().integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
     out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
         << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda << " 1/s): spacar("
         << mode << ", '" << name << "', struct('integrator', 'auto')) or 'galpha' would be "
@@ -207,14 +208,18 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
                Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
-  core::Model model;
+  // The file is read once; the dynamics modes run its SPACAR95 stages (analysis/SimulateJob.hpp).
+  std::shared_ptr<std::vector<io::AnalysisStage>> stages;
   try {
-    model = io::readDatFile(datFile);
+    stages = std::make_shared<std::vector<io::AnalysisStage>>(io::readDatStages(datFile));
   } catch (const std::exception& e) {
     run.error = e.what();
     run.errorId = "flexmb:spacar:input";
     return;
   }
+  core::Model& model = stages->back().model;
+  const bool staticFile = analysis::isStaticFile(*stages);
+  const bool dynamics = mode == 1 || mode == 4 || (mode == 3 && !staticFile);
   // Where name.sbd goes, probed before the analysis: a run whose results cannot be written would
   // give the workspace nothing (the variables are read back from the files).
   try {
@@ -225,12 +230,15 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     return;
   }
   // Legal input that is probably a mistake (a load on a fixed coordinate, a node without X): said
-  // here as on the command line.
-  if (!silent)
+  // here as on the command line (the dynamics modes: by the simulate job).
+  if (!silent && !dynamics)
     for (const auto& w : model.warnings)
       mexWarnMsgIdAndTxt("flexmb:spacar:model", "%s: %s", datFile.c_str(), w.c_str());
-  auto user = std::make_shared<octave_gateway::MatlabUserFunctions>(model);
-  if (user->active()) model.userFunctions = user;
+  std::shared_ptr<octave_gateway::MatlabUserFunctions> user;  // the last stage's, for its timing
+  for (auto& stage : *stages) {
+    user = std::make_shared<octave_gateway::MatlabUserFunctions>(stage.model);
+    if (user->active()) stage.model.userFunctions = user;
+  }
   if (user->active() && mode != 1 && mode != 0) {
     run.error = datFile + ": USERSIG / USERINP user functions are supported in mode 1 (dynamics); mode " +
                 std::to_string(mode) + " needs time expressions (XFT, ESIGT, INPUTXT)";
@@ -238,6 +246,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     return;
   }
   io::SpacarResults results;
+  const core::Model* resultModel = &model;  // the model the results belong to (dynamics: the last stage run)
   std::ostringstream out;
   bool interrupted = false;
   std::string afterRun;  // a step after a completed run that failed (its results are still written)
@@ -249,7 +258,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
             << " dynamic degrees of freedom\n";
         break;
       case 3:
-        if (!model.settings.timestepGiven) {  // a static file: SPACAR's mode 3 perturbs its load steps
+        if (staticFile) {  // a static file: SPACAR's mode 3 perturbs its load steps
           const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
           out << "spacar: static analysis with linearised matrices, " << st.steps.size() << " load steps\n";
           analysis::SpacarOutputOptions so;
@@ -261,8 +270,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         [[fallthrough]];
       case 1:
       case 4:
-        if (!runDynamics(mode, silent, name, datFile, model, *user, simOptions, target, out, results, interrupted,
-                         afterRun, run))
+        if (!runDynamics(mode, silent, name, datFile, stages, *user, simOptions, target, out, results, interrupted,
+                         afterRun, run, resultModel))
           return;
         break;
       case 10: {
@@ -321,7 +330,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   if (!results.warning.empty() && !silent)
     mexWarnMsgIdAndTxt("flexmb:spacar:kinematics", "%s: %s", datFile.c_str(), results.warning.c_str());
   try {
-    const auto written = io::writeSpacarResults(name, model, results);
+    const auto written = io::writeSpacarResults(name, *resultModel, results);
     for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
     // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's.
     for (const auto& p : io::removeStaleSpacarCompanions(written))

@@ -21,10 +21,11 @@
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
-#include "analysis/ReducedOperators.hpp"
+#include "analysis/OperatorPolicy.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
 #include "analysis/RunSize.hpp"
+#include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
 #include "analysis/Statics.hpp"
@@ -373,8 +374,21 @@ struct ReduceResult {
   std::string note;
 };
 
+// flexmb.simulate's options (the Python wrapper's keyword arguments, checked there).
+struct SimulateOptionsPy {
+  std::optional<double> tEnd, relTol, absTol, maxStep, rhoInf;
+  std::optional<int> intervals;
+  std::string integrator = "ode45";
+  std::optional<Eigen::MatrixXd> basis;
+  std::optional<std::string> basisFile;
+  py::object reduced = py::none();  // a ReduceResult
+  bool fullKinematics = false, accuracyCheck = false;
+  std::optional<py::function> usersig, userinp;
+};
+
 struct SimulationResult {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;  // what the run said (the command line's lines)
   analysis::SimulationOptions options;
   core::Trajectory trajectory;
   bool interrupted = false;
@@ -814,6 +828,15 @@ void bindSimulate(py::module_& m) {
       .def_readonly("sig", &SimulationResult::sig)
       .def_readonly("fxt", &SimulationResult::fxt)
       .def_property_readonly("completed", [](const SimulationResult& r) { return r.trajectory.completed; })
+      .def_property_readonly("messages",
+                             [](const SimulationResult& r) {
+                               // (kind, text): what the command line prints beside the run
+                               static const char* kinds[] = {"result", "note", "warning", "error"};
+                               std::vector<std::pair<std::string, std::string>> out;
+                               for (const auto& d : r.diagnostics)
+                                 out.emplace_back(kinds[static_cast<int>(d.kind)], d.text);
+                               return out;
+                             })
       .def_property_readonly("stop_reason", [](const SimulationResult& r) { return r.trajectory.stopReason; })
       .def_property_readonly("integrator", [](const SimulationResult& r) { return r.trajectory.integrator; })
       .def_property_readonly("nsteps", [](const SimulationResult& r) { return r.trajectory.nsteps; })
@@ -854,82 +877,74 @@ void bindSimulate(py::module_& m) {
         if (w.incomplete) py::module_::import("warnings").attr("warn")(err.str());
         return w.paths;
       });
-  m.def("simulate", [](const ModelHandle& handle, std::optional<double> tEnd, std::optional<double> relTol,
-                       std::optional<double> absTol, std::optional<double> maxStep, std::optional<int> intervals,
-                       const std::string& integrator, const std::optional<Eigen::MatrixXd>& basis,
-                       const std::optional<std::string>& basisFile, const ReduceResult* reduced, bool fullKinematics,
-                       std::optional<py::function> usersig, std::optional<py::function> userinp, bool accuracyCheck,
-                       std::optional<double> rhoInf) {
-    const ModelPtr model = handle.last();
-    analysis::SimulationOptions opt;
-    const auto chosen = analysis::parseIntegrator(integrator);
-    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + integrator + "'");
+  // The options of flexmb.simulate, by name (help(flexmb._core.SimulateOptions) lists them); the
+  // Python wrapper checks their types and fills them from its keyword arguments.
+  py::class_<SimulateOptionsPy>(m, "SimulateOptions")
+      .def(py::init<>())
+      .def_readwrite("t_end", &SimulateOptionsPy::tEnd, "end time (default: the file's TIMESTEP)")
+      .def_readwrite("reltol", &SimulateOptionsPy::relTol, "relative tolerance (default: the file's or 1e-3)")
+      .def_readwrite("abstol", &SimulateOptionsPy::absTol, "absolute tolerance (default: the file's or 1e-6)")
+      .def_readwrite("max_step", &SimulateOptionsPy::maxStep, "largest step")
+      .def_readwrite("intervals", &SimulateOptionsPy::intervals, "output intervals (0: every step)")
+      .def_readwrite("integrator", &SimulateOptionsPy::integrator, "'ode45', 'bdf', 'auto' or 'galpha'")
+      .def_readwrite("rho_inf", &SimulateOptionsPy::rhoInf, "galpha: the spectral radius at infinite step")
+      .def_readwrite("basis", &SimulateOptionsPy::basis, "a basis matrix (ndof x k): Eq. 19")
+      .def_readwrite("basis_file", &SimulateOptionsPy::basisFile, "a basis file of flexmb reduce")
+      .def_readwrite("reduced", &SimulateOptionsPy::reduced, "a flexmb.reduce result (its basis and operators)")
+      .def_readwrite("full_kinematics", &SimulateOptionsPy::fullKinematics, "Eq. 19 even where operators hold")
+      .def_readwrite("usersig", &SimulateOptionsPy::usersig, "f(t, x, xd, e, ed) -> sig or (sig, f)")
+      .def_readwrite("userinp", &SimulateOptionsPy::userinp, "f(t, order) -> one value per input")
+      .def_readwrite("accuracy_check", &SimulateOptionsPy::accuracyCheck, "the a-posteriori accuracy check");
+  m.def("simulate", [](const ModelHandle& handle, const SimulateOptionsPy& o) {
+    analysis::SimulateRequest request;
+    analysis::SimulationOptions& opt = request.run;
+    const auto chosen = analysis::parseIntegrator(o.integrator);
+    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + o.integrator + "'");
     opt.integrator = *chosen;
-    if (rhoInf) opt.rhoInf = *rhoInf;
-    opt.tEnd = tEnd, opt.relTol = relTol, opt.absTol = absTol, opt.maxStep = maxStep, opt.intervals = intervals;
-    opt.basis = basisArgument(basis, *model);
-    if (basisFile) {
-      try {
-        opt.basis = io::readBasisFor(*basisFile, model->numDofs());
-      } catch (const std::exception& e) {
-        throw py::value_error(std::string("basis: ") + e.what());
-      }
-    } else if (reduced) {
-      if (reduced->full) throw py::value_error("basis: the reduce result has no basis (" + reduced->note + ")");
-      opt.basis = basisArgument(reduced->basis.V, *model);
+    if (o.rhoInf) opt.rhoInf = *o.rhoInf;
+    opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep, opt.intervals = o.intervals;
+    opt.accuracyCheck = o.accuracyCheck;
+    request.basis = o.basis;
+    request.fullKinematics = o.fullKinematics;
+    if (o.basisFile) {
+      request.basis.reset();
+      request.basisFile = *o.basisFile;
+    } else if (!o.reduced.is_none()) {
+      const auto& reduced = o.reduced.cast<const ReduceResult&>();
+      if (reduced.full) throw py::value_error("basis: the reduce result has no basis (" + reduced.note + ")");
+      request.basis = reduced.basis.V;
+      request.operators = reduced.operators.operators;
     }
-    if (basisFile) {
-      const analysis::OperatorChoice choice =
-          analysis::chooseOperators(*model, model->sourceFile, *opt.basis, *basisFile, fullKinematics);
-      if (!choice.refusal.empty()) throw py::value_error("basis: " + choice.refusal);
-      opt.operators = choice.operators;
-    } else if (reduced && !fullKinematics) {
-      opt.operators = reduced->operators.operators;
-    }
-    opt.accuracyCheck = accuracyCheck;
-    // The file's stages that run, with the Python user functions installed in a copy of them.
+    // The file's stages, with the Python user functions installed in a copy of them.
     std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
-    if (usersig || userinp) {
+    if (o.usersig || o.userinp) {
       auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
       for (auto& st : *copy) {
-        if (usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*usersig, st.model);
-        if (userinp) installInputs(*userinp, st.model);
+        if (o.usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*o.usersig, st.model);
+        if (o.userinp) installInputs(*o.userinp, st.model);
       }
       stages = copy;
     }
-    const std::vector<const core::Model*> runs = analysis::stagesThatRun(*stages);
-    const ModelPtr last(stages, runs.back());
-    const bool driven = analysis::isDrivenRigidMechanism(*last);
-    if (driven && opt.basis)
-      throw py::value_error("basis: " + last->sourceFile +
-                            " is a driven rigid mechanism (no degrees of freedom): there is no reduced model");
-    if (const analysis::RunSizeCheck size = analysis::checkRunSize(*last, opt); !size.refusal.empty())
-      throw py::value_error(size.refusal);
     InterruptScope scope;
     opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
-    core::Trajectory traj;
-    std::vector<Eigen::VectorXd> fxt;
-    bool interrupted = false;
+    analysis::SimulateJob job(analysis::ModelSource{handle->sourceFile, {}, stages, nullptr}, std::move(request));
+    if (job.status() == analysis::JobStatus::InputError) {
+      const std::string why = analysis::firstError(job.diagnostics());
+      throw py::value_error(job.driven() ? "basis: " + why : why);
+    }
     {
       py::gil_scoped_release release;
-      if (driven) {
-        analysis::InverseDynamicsOptions io;
-        io.tEnd = opt.tEnd, io.intervals = opt.intervals;
-        io.interrupt = opt.interrupt, io.interruptSignal = opt.interruptSignal;
-        analysis::InverseDynamicsRun run = analysis::inverseDynamicsStages(runs, io);
-        traj = std::move(run.trajectory);
-        fxt = std::move(run.fxt);
-        interrupted = run.interrupted;
-      } else {
-        traj = analysis::simulateStages(runs, opt, &interrupted);
-      }
+      job.run();
     }
-    const std::string reason = traj.stopReason;
-    const bool userFailed = !traj.completed && reason.find("the Python USER") != std::string::npos;
-    SimulationResult r = makeSimulation(last, std::move(opt), std::move(traj), interrupted);
-    r.fxtRows = std::move(fxt);
+    if (job.status() == analysis::JobStatus::Failed) throw std::runtime_error(analysis::firstError(job.diagnostics()));
+    const ModelPtr last(job.allStages(), &job.model());
+    const std::string reason = job.trajectory().stopReason;
+    const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
+    SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
+    r.diagnostics = job.diagnostics();
+    r.fxtRows = job.fxt();
     r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
-    if (interrupted)
+    if (job.interrupted())
       raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
                       py::cast(std::move(r)));
     if (userFailed)

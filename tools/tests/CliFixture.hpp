@@ -1,7 +1,7 @@
 #pragma once
 // The command line as its tests meet it: the binary, the shipped models, a fresh folder per test,
 // bash command lines run there with `flexmb` standing for the binary, and the small helpers the CLI
-// tests share (a file's text, a search). One fixture for test_cli, test_user_path, test_study and
+// tests share (a file's text, a search). One fixture for test_cli, test_user_path, test_study_cli and
 // test_transfer_cli.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -9,7 +9,8 @@ function test_fis(src, flexmb)
 % shortens the simulated span 0.12 / vel_sim to 0.01 s: the insertion is continuous only when the
 % depth stays 0.12 (FFESMVA jumps to 0 after its time limit). fis_env/ holds Octave stand-ins for
 % MATLAB functions Octave 7 lacks (tools/octave/README.md); fis_env/headless/ stands in for the
-% plotting commands where Octave has no graphics toolkit. Checks are independent of flexmb's code:
+% plotting commands where Octave has no graphics toolkit; its spavisual call is flexmb's own
+% (build/octave/spavisual.m). Checks are independent of flexmb's code:
 % the input follows FFESMVA's law, the cable keeps its segment lengths (elongations are rigid), and
 % fx at the tip equals what FIS's own FFESFVA returns at the stored states.
   here = fileparts(mfilename('fullpath'));
@@ -40,6 +41,7 @@ function test_fis(src, flexmb)
   evalin('base', 'fis_main_short');  % the script clears the workspace it runs in: the base one
   total = toc(t0);
   sim = evalin('base', 'sim');
+  assert(exist('FLEX_CAT_S_3D_V3.sbd', 'file') == 2, 'the run''s FLEX_CAT_S_3D_V3.sbd is missing');
   time = evalin('base', 'time'); x = evalin('base', 'x'); xd = evalin('base', 'xd');
   fx = evalin('base', 'fx'); lnp = evalin('base', 'lnp');
   s = sim.flex;

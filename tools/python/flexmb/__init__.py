@@ -176,10 +176,15 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
         path = os.fsdecode(os.fspath(basis))
     else:
         array = _basis(basis, model)
-    return _core.simulate(model, _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol"),
-                          _positive(max_step, "max_step"), None if intervals is None else _count(intervals, "intervals", 0),
-                          integrator, array, path, reduced, bool(full_kinematics), usersig, userinp,
-                          bool(accuracy_check), None if rho_inf is None else float(rho_inf))
+    o = _core.SimulateOptions()
+    o.t_end, o.reltol, o.abstol = _positive(t_end, "t_end"), _positive(reltol, "reltol"), _positive(abstol, "abstol")
+    o.max_step = _positive(max_step, "max_step")
+    o.intervals = None if intervals is None else _count(intervals, "intervals", 0)
+    o.integrator, o.rho_inf = integrator, None if rho_inf is None else float(rho_inf)
+    o.basis, o.basis_file, o.reduced = array, path, reduced
+    o.full_kinematics, o.accuracy_check = bool(full_kinematics), bool(accuracy_check)
+    o.usersig, o.userinp = usersig, userinp
+    return _core.simulate(model, o)
 
 
 def validate(source, out, *, sweep_steps=21, quiet=True):

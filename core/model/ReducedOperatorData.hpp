@@ -1,5 +1,5 @@
 #pragma once
-// The data of reduced operators (analysis/ReducedOperators.hpp trains and evaluates them,
+// The data of reduced operators (the analysis floor trains and evaluates them,
 // io/formats/OperatorFile.hpp writes and reads them): polynomial fields of the reduced coordinates that
 // replace Eq. 19's full kinematics within a trained range.
 #include <Eigen/Core>
@@ -49,7 +49,7 @@ struct ReducedOperators {
   Eigen::MatrixXd outputFields;  // its terms x outputs: x_i(zeta) or e_k(zeta); not in the right-hand side
   // What it was made for and how well it fits (held-out samples, relative to the largest value).
   int dofs = 0;                // rows of V
-  double basisChecksum = 0.0;  // analysis::basisChecksum(V)
+  double basisChecksum = 0.0;  // of V's entries (order-sensitive): recognises the basis
   double tolerance = 0.0;      // the fit target it was trained for
   double forceError = 0.0;     // max |Q_fit - Q| / max |Q| over held-out configurations
   double massError = 0.0;      // max |Mr_fit - Mr|_F / max |Mr|_F over them

@@ -1,0 +1,248 @@
+#include "analysis/SimulateJob.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "analysis/AccuracyCheck.hpp"
+#include "analysis/BasisForTarget.hpp"
+#include "analysis/InverseDynamics.hpp"
+#include "analysis/OperatorPolicy.hpp"
+#include "analysis/ReductionError.hpp"
+#include "analysis/RunNotes.hpp"
+#include "analysis/RunSize.hpp"
+#include "io/formats/BasisFile.hpp"
+#include "io/formats/OperatorFile.hpp"
+#include "text/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+std::string withoutFinalNewline(std::string s) {
+  while (!s.empty() && s.back() == '\n') s.pop_back();
+  return s;
+}
+}  // namespace
+
+SimulateJob::SimulateJob(const ModelSource& source, SimulateRequest request)
+    : file_(source.file), request_(std::move(request)) {
+  try {
+    stages_ = readStages(source);
+  } catch (const std::exception& e) {  // io::DatError names the file and line
+    refuse(e.what());
+    return;
+  }
+  runs_ = stagesThatRun(*stages_);
+  prepare();
+}
+
+void SimulateJob::say(Diagnostic::Kind kind, std::string text, std::string where) {
+  diagnostics_.push_back({kind, std::move(where), std::move(text), "", ""});
+}
+
+bool SimulateJob::refuse(std::string text, std::string where) {
+  say(Diagnostic::Kind::Error, std::move(text), std::move(where));
+  status_ = JobStatus::InputError;
+  return false;
+}
+
+void SimulateJob::prepare() {
+  const core::Model& last = model();
+  for (Diagnostic& d : checkModelFor(last, file_, {true, true, true})) diagnostics_.push_back(std::move(d));
+  if (hasError(diagnostics_)) {
+    status_ = JobStatus::InputError;
+    return;
+  }
+  const SimulationOptions& opt = request_.run;
+  // No TIMESTEP: the defaults, said once, with what the options override.
+  if (!last.settings.timestepGiven && (!opt.tEnd || !opt.intervals)) {
+    std::ostringstream s;
+    s << file_ << " has no TIMESTEP: ";
+    if (!opt.tEnd)
+      s << "the run goes from " << text::shortest(last.settings.t0) << " to " << text::shortest(last.settings.tEnd)
+        << " s";
+    if (!opt.tEnd && !opt.intervals) s << " in ";
+    if (!opt.intervals) s << last.settings.outputIntervals << " output intervals";
+    s << " (the defaults; give TIMESTEP, or the end time and the output intervals as options)";
+    say(Diagnostic::Kind::Note, s.str());
+  }
+  if (runs_.size() > 1) say(Diagnostic::Kind::Note, std::to_string(runs_.size()) + " analysis blocks, run in sequence");
+  driven_ = isDrivenRigidMechanism(last);
+  if (driven_) {
+    if (request_.basis || !request_.basisFile.empty())
+      refuse(file_ + " is a driven rigid mechanism (no degrees of freedom): there is no reduced model");
+    return;
+  }
+  prepareBasis();
+  if (status_ != JobStatus::Ready) return;
+  if (request_.fullKinematics && !request_.run.basis)
+    say(Diagnostic::Kind::Note, "full kinematics applies to reduced runs (a basis): the full model has no other");
+  const RunSizeCheck size = checkRunSize(last, request_.run);
+  if (!size.warning.empty()) say(Diagnostic::Kind::Warning, size.warning);
+  if (!size.refusal.empty()) refuse(size.refusal);
+}
+
+void SimulateJob::prepareBasis() {
+  const core::Model& last = model();
+  SimulationOptions& opt = request_.run;
+  if (request_.basisFile == "auto") {
+    operatorNote_ = "Eq. 19 (--basis auto builds no reduced operators)";
+    return;
+  }
+  if (!request_.basisFile.empty()) {
+    try {
+      opt.basis = io::readBasisFor(request_.basisFile, last.numDofs());
+    } catch (const std::exception& e) {
+      refuse(e.what());
+      return;
+    }
+    const OperatorChoice choice =
+        chooseOperators(last, file_, *opt.basis, request_.basisFile, request_.fullKinematics);
+    if (!choice.refusal.empty()) {
+      refuse(choice.refusal);
+      return;
+    }
+    opt.operators = choice.operators;
+    operatorNote_ = choice.note;
+  } else if (request_.basis) {
+    if (request_.basis->rows() != last.numDofs()) {
+      refuse("the basis has " + std::to_string(request_.basis->rows()) + " rows; the model has " +
+             std::to_string(last.numDofs()) + " degrees of freedom");
+      return;
+    }
+    opt.basis = request_.basis;
+    if (!request_.fullKinematics) opt.operators = request_.operators;
+    operatorNote_ = "Eq. 19";
+  }
+  if (request_.trackedOutputs) {
+    if (!opt.operators || opt.operators->outputs.empty()) {
+      refuse("tracked outputs: " + (opt.operators ? io::operatorPathFor(request_.basisFile) +
+                                                        " tracks no output (reduce with tracked nodes or elements "
+                                                        "builds them: flexmb reduce --track)"
+                                                  : "the run uses " + operatorNote_));
+      return;
+    }
+    opt.trackedOutputs = true;
+  }
+}
+
+void SimulateJob::chooseBasisForTarget() {
+  TargetOptions to;
+  to.target = request_.target;
+  to.run = request_.run;
+  to.keepChosenRun = runs_.size() == 1;  // a candidate runs the last stage alone
+  if (request_.autoBasis) to.basis = *request_.autoBasis;
+  TargetResult tr;
+  try {
+    tr = basisForTarget(model(), to);
+  } catch (const std::exception& e) {
+    say(Diagnostic::Kind::Error, std::string("no basis could be chosen: ") + e.what());
+    status_ = JobStatus::Failed;
+    return;
+  }
+  std::ostringstream tried;
+  for (const auto& c : tr.tried)
+    tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
+          << " vectors: " << (c.estimate.estimated ? text::significant(c.estimate.estimate, 2) : "not estimated");
+  const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; tried " +
+                          tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) +
+                          " s";
+  settings_.emplace_back("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
+                                          : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
+  say(Diagnostic::Kind::Result,
+      "basis auto: " + (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") + " (" + how + ")");
+  if (tr.full) {
+    targetNote_ = tr.note;
+    return;
+  }
+  request_.run.basis = tr.basis.V;
+  if (!tr.run) return;
+  // The chosen candidate ran exactly the run asked for: it is the run, with the checks every run gets.
+  trajectory_ = std::move(*tr.run);
+  reused_ = true;
+  settings_.emplace_back("basis auto run", "the chosen candidate's run, integrated once");
+  const SimulationOptions& opt = request_.run;
+  if (opt.accuracyCheck && tr.runAccuracy.recorded)
+    trajectory_.accuracy = checkAccuracy(model(), opt, tr.runAccuracy.t0, tr.runAccuracy.tEnd, tr.runAccuracy.windows,
+                                         tr.runAccuracy.galphaFrom);
+  if (opt.reductionEstimate && !trajectory_.states.empty())
+    trajectory_.reduction = estimateReductionError(model(), *opt.basis, trajectory_);
+}
+
+void SimulateJob::runDriven() {
+  InverseDynamicsOptions o;
+  o.tEnd = request_.run.tEnd;
+  o.intervals = request_.run.intervals;
+  o.interrupt = request_.run.interrupt;
+  o.interruptSignal = request_.run.interruptSignal;
+  InverseDynamicsRun all = inverseDynamicsStages(runs_, o);
+  trajectory_ = std::move(all.trajectory);
+  fxt_ = std::move(all.fxt);
+  interrupted_ = all.interrupted;
+  say(Diagnostic::Kind::Result, "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at " +
+                                    std::to_string(trajectory_.time.size()) + " output times, no integration");
+  if (!trajectory_.completed) say(Diagnostic::Kind::Error, "stopped early: " + trajectory_.stopReason);
+}
+
+JobStatus SimulateJob::run() {
+  if (status_ != JobStatus::Ready) return status_;
+  const auto start = std::chrono::steady_clock::now();
+  if (driven_) {
+    runDriven();
+    wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  } else {
+    if (request_.basisFile == "auto") {
+      chooseBasisForTarget();
+      if (status_ != JobStatus::Ready) return status_;
+    }
+    const SimulationOptions& opt = request_.run;
+    try {
+      if (!reused_) trajectory_ = simulateStages(runs_, opt, &interrupted_);
+    } catch (const std::exception& e) {
+      say(Diagnostic::Kind::Error, std::string("simulation could not start: ") + e.what());
+      status_ = JobStatus::Failed;
+      return status_;
+    }
+    // From the start of the job: choosing a basis for a target included.
+    wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    say(Diagnostic::Kind::Result, withoutFinalNewline(formatStatistics(trajectory_, opt.integrator)));
+    diagnostics_.back().topic = "statistics";
+    if (opt.basis) {  // which reduced dynamics ran
+      const std::string text =
+          opt.operators ? describeOperatorUse(trajectory_.operators, *opt.operators) : operatorNote_;
+      say(Diagnostic::Kind::Result, "reduced dynamics: " + text);
+      settings_.emplace_back("reduced dynamics", text);
+    }
+    if (!trajectory_.tracked.empty()) {
+      const std::string text = describeTrackedOutputs(trajectory_.tracked, *opt.operators);
+      say(Diagnostic::Kind::Result, "tracked outputs: " + text);
+      settings_.emplace_back("tracked outputs", text);
+    }
+    std::ostringstream w;
+    w << "wall time " << wall_ << " s, " << trajectory_.time.size() << " output times";
+    say(Diagnostic::Kind::Result, w.str());
+    diagnostics_.back().topic = "wall time";
+    for (const RunNote& n : runNotes(model(), opt, trajectory_, request_.target)) {
+      if (!n.setting.empty()) settings_.emplace_back(n.setting, n.value);
+      switch (n.kind) {
+        case RunNote::Kind::Result:
+          say(Diagnostic::Kind::Result, n.text);
+          break;
+        case RunNote::Kind::Note:
+          say(Diagnostic::Kind::Note, n.text);
+          break;
+        case RunNote::Kind::Warning:
+          say(Diagnostic::Kind::Warning, n.text);
+          break;
+        case RunNote::Kind::Stopped:
+          say(Diagnostic::Kind::Error, n.text);
+          break;
+      }
+    }
+  }
+  status_ = interrupted_ ? JobStatus::Interrupted : trajectory_.completed ? JobStatus::Completed : JobStatus::Stopped;
+  return status_;
+}
+
+}  // namespace flexmb::analysis

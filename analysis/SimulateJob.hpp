@@ -1,0 +1,107 @@
+#pragma once
+// The simulate job (mode 1, and the trajectory of modes 3 and 4), once for every front end: the
+// command line, Python, spacar() and the study call it. Between the options a front end parsed and
+// the files it writes (analysis/SimulationFiles.hpp) it reads the model once, checks it, reads the
+// basis and chooses its reduced dynamics (the reduced operators beside the basis file or Eq. 19),
+// checks the run's size, chooses a basis for a target, runs the SPACAR95 stages (or a driven
+// mechanism's inverse dynamics) and words what the run says. Everything it has to say is a
+// Diagnostic; the front end shows them and adds only its own spelling.
+#include <Eigen/Core>
+#include <atomic>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/ModelSource.hpp"
+#include "analysis/Reduction.hpp"
+#include "analysis/Simulation.hpp"
+#include "core/dynamics/Trajectory.hpp"
+#include "core/model/Model.hpp"
+
+namespace flexmb::analysis {
+
+// What a simulate job is asked, beside the model: the integration (SimulationOptions) and the
+// reduced model.
+struct SimulateRequest {
+  SimulationOptions run;  // integrator, tolerances, span, accuracy check, interrupt flag
+  // The reduced basis: a file written by `reduce` (its reduced operators beside it are used where
+  // they fit), "auto" (the smallest basis whose reduction error estimate meets `target`), or empty.
+  std::string basisFile;
+  std::optional<Eigen::MatrixXd> basis;                     // a basis given as a matrix instead
+  std::shared_ptr<const core::ReducedOperators> operators;  // and its operators (a reduce result)
+  double target = std::numeric_limits<double>::quiet_NaN();  // the reduction error target
+  std::optional<ReductionOptions> autoBasis;                 // auto: the kind of basis (default modal)
+  bool fullKinematics = false;  // Eq. 19 even where the operators hold
+  bool trackedOutputs = false;  // the operators' output fields at the output times
+};
+
+enum class JobStatus {
+  Ready,        // prepared, not run
+  InputError,   // refused before it ran (diagnostics say why)
+  Failed,       // could not start, or the basis could not be chosen (diagnostics say why)
+  Completed,    // ran to the end
+  Stopped,      // stopped early (the trajectory so far is kept; the reason is a diagnostic)
+  Interrupted,  // Ctrl-C / SIGTERM (the trajectory so far is kept)
+};
+
+class SimulateJob {
+ public:
+  // Reads the source once, checks the model, the basis and the run's size. status() is Ready or
+  // InputError.
+  SimulateJob(const ModelSource& source, SimulateRequest request);
+
+  JobStatus status() const { return status_; }
+  const Diagnostics& diagnostics() const { return diagnostics_; }
+  const std::string& file() const { return file_; }
+  // The stages that run and the last of them (the model the results belong to).
+  const std::vector<const core::Model*>& stages() const { return runs_; }
+  const core::Model& model() const { return *runs_.back(); }
+  std::shared_ptr<const std::vector<io::AnalysisStage>> allStages() const { return stages_; }
+  bool driven() const { return driven_; }  // a driven rigid mechanism: inverse dynamics, no integrator
+  const SimulationOptions& options() const { return request_.run; }
+  // The run manifest's lines the job adds (basis, reduced dynamics, tracked outputs, run notes).
+  const std::vector<std::pair<std::string, std::string>>& settings() const { return settings_; }
+
+  // Chooses the basis (auto), then runs. Appends diagnostics: the "basis auto" line, the integrator
+  // statistics, the reduced dynamics used, the wall time and the run notes (analysis/RunNotes.hpp).
+  JobStatus run();
+
+  const core::Trajectory& trajectory() const { return trajectory_; }
+  core::Trajectory& trajectory() { return trajectory_; }
+  const std::vector<Eigen::VectorXd>& fxt() const { return fxt_; }  // driven: nodal forces per output time
+  bool interrupted() const { return interrupted_; }
+  // Basis auto: the run is the chosen candidate's own, not integrated again.
+  bool reusedCandidateRun() const { return reused_; }
+  // With a target: why no basis smaller than the full model was chosen (empty: one was).
+  const std::string& targetNote() const { return targetNote_; }
+  double wallSeconds() const { return wall_; }
+
+ private:
+  void prepare();
+  void prepareBasis();
+  void chooseBasisForTarget();
+  void runDriven();
+  void say(Diagnostic::Kind kind, std::string text, std::string where = "");
+  bool refuse(std::string text, std::string where = "");
+
+  std::string file_;
+  SimulateRequest request_;
+  std::shared_ptr<const std::vector<io::AnalysisStage>> stages_;
+  std::vector<const core::Model*> runs_;
+  bool driven_ = false;
+  std::string operatorNote_;
+  std::string targetNote_;
+  bool reused_ = false;  // the run is the chosen candidate's (basis auto)  // Eq. 19 and why, for a reduced run without operators
+  JobStatus status_ = JobStatus::Ready;
+  Diagnostics diagnostics_;
+  std::vector<std::pair<std::string, std::string>> settings_;
+  core::Trajectory trajectory_;
+  std::vector<Eigen::VectorXd> fxt_;
+  bool interrupted_ = false;
+  double wall_ = 0.0;
+};
+
+}  // namespace flexmb::analysis
