@@ -4,6 +4,7 @@
 
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
+#include "core/model/UserFunctions.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
@@ -72,7 +73,12 @@ Diagnostics checkModelFor(const core::Model& model, const std::string& file, con
                  "check", ""});
     return d;
   }
-  const AssemblyCheck a = checkAssembly(model, needs.mass);
+  AssemblyCheck a;
+  try {
+    a = checkAssembly(model, needs.mass);
+  } catch (const core::UserFunctionError&) {
+    return d;  // a USERINP that fails at t0: the run stops there with the function's own message
+  }
   if (!a.error.empty()) {
     d.push_back({K::Error, file, "the initial configuration cannot be assembled: " + a.error, "check", ""});
   } else if (!a.problem.empty()) {

@@ -93,7 +93,7 @@ struct SimulationOptions {
   std::optional<double> tEnd, relTol, absTol, maxStep;
   std::optional<int> intervals;          // output intervals; 0 = ode45's Refine output at every step
   std::optional<Eigen::MatrixXd> basis;  // q = V eta (Eq. 17); empty = full model
-  // Reduced operators for the basis (analysis/ReducedOperators.hpp): ode45 evaluates them instead of
+  // Reduced operators for the basis (analysis/OperatorDynamics.hpp): ode45 evaluates them instead of
   // Eq. 19 where the state lies in their trained range, and Eq. 19 elsewhere (Trajectory::operators
   // says how often and from when). Null: Eq. 19 throughout. BDF and auto runs use Eq. 19.
   std::shared_ptr<const core::ReducedOperators> operators;

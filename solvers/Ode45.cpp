@@ -14,7 +14,7 @@
 namespace flexmb::solvers {
 namespace {
 
-// Dormand-Prince tableau (ode45.md "Tableau"). Row j holds the coefficients of stage j+1 (0-based
+// Dormand-Prince tableau (docs/theory/ode45.md "Tableau"). Row j holds the coefficients of stage j+1 (0-based
 // k[0..j-1]); row 5 is b (ynew), which also defines the FSAL stage k[6] = f(tnew, ynew).
 constexpr double C[7] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0, 1.0};
 constexpr double A[6][6] = {{1.0 / 5},
@@ -24,7 +24,8 @@ constexpr double A[6][6] = {{1.0 / 5},
                             {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
                             {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
 constexpr double E[7] = {71.0 / 57600, 0.0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
-// Free 4th-order interpolant (ode45.md "Interpolant"): y(t + s h) = y + h sum_j k_j (B_j . [s s^2 s^3 s^4]).
+// Free 4th-order interpolant (docs/theory/ode45.md "Interpolant"):
+// y(t + s h) = y + h sum_j k_j (B_j . [s s^2 s^3 s^4]).
 constexpr double BI[7][4] = {{1.0, -183.0 / 64, 37.0 / 12, -145.0 / 128},
                              {0.0, 0.0, 0.0, 0.0},
                              {0.0, 1500.0 / 371, -1000.0 / 159, 1000.0 / 371},
@@ -60,7 +61,7 @@ std::string Ode45::formatStats(const OdeStats& s) {
 
 namespace {
 
-// One integration (ode45.md steps 1-7): the state of the run and its steps as methods, so the main
+// One integration (docs/theory/ode45.md steps 1-7): the state of the run and its steps as methods, so the main
 // loop reads as the algorithm. Work vectors are allocated once, in the constructor.
 class Ode45Run {
  public:
@@ -75,7 +76,7 @@ class Ode45Run {
     if (opt.absTol.size() != 0 && opt.absTol.size() != 1 && opt.absTol.size() != n_)
       throw std::invalid_argument("Ode45: absTol must have size 0, 1 or y0.size()");
     if (!y0.allFinite()) throw std::invalid_argument("Ode45: y0 is not finite");
-    // Options (ode45.md "Options and defaults").
+    // Options (docs/theory/ode45.md "Options and defaults").
     rtol_ = std::max(opt.relTol, 100.0 * std::numeric_limits<double>::epsilon());
     threshold_.resize(n_);
     if (opt.absTol.size() == 0)

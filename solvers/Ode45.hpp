@@ -16,7 +16,7 @@ struct Ode45Options {
   double relTol = 1e-3;      // raised to 100*eps if smaller
   Eigen::VectorXd absTol;    // empty -> 1e-6 for all; size 1 -> scalar; size n -> per component
   double maxStep = 0.0;      // 0 -> 0.1*|tf-t0|; a user value is clipped to |tf-t0|
-  double initialStep = 0.0;  // 0 -> automatic rule of ode45.md
+  double initialStep = 0.0;  // 0 -> automatic rule of docs/theory/ode45.md
   int refine = 4;            // used when tspan has exactly 2 entries
   // Called after every accepted step (after its hook and outputs) with the new state, the step
   // size and h |lambda|, |lambda| = |f(ynew) - f(y6)| / |ynew - y6| estimating the dominant

@@ -27,8 +27,8 @@
         octave-cli or <build>/octave/spacar.mex is missing.
       - a fenced block right after a line `<!-- file: NAME -->` is written to NAME in the scratch
         folder before the page's commands run.
-      Pictures a page shows from generated/<page>/ are copied there from its scratch folder after its
-      commands ran (docs/generated/ is git-ignored). The top-level README.md runs too: its pictures are
+      Pictures a page shows from generated/<page>/PATH are copied there from PATH in its scratch folder
+      after its commands ran (docs/generated/ is git-ignored). The top-level README.md runs too: its pictures are
       tracked in docs/images/ (GitHub shows them), refreshed here with a note when they changed.
       Run by tools/docs.sh (ctest docs_site).
 """
@@ -42,9 +42,9 @@ import sys
 import time
 
 SOURCE_SUFFIXES = {".cpp", ".hpp", ".h", ".py", ".m", ".sh"}
-# A path ending in .md, not inside a longer word or a printf pattern (%s/bench.md) or a path
-# assembled at run time ("/report.md").
-CITATION = re.compile(r"(?<![\w./%-])((?:\.\.?/)*[\w-][\w.-]*(?:/[\w.-]+)*\.md)(?![\w])")
+# A path ending in .md, not inside a longer word, a printf pattern (%s/bench.md), a shell variable
+# ($page.md, $dir/x.md) or a path assembled at run time ("/report.md").
+CITATION = re.compile(r"(?<![\w./%$}-])((?:\.\.?/)*[\w-][\w.-]*(?:/[\w.-]+)*\.md)(?![\w])")
 # Written by programs, never in the source tree: flexmb validate's report, flexmb_bench's fragment.
 GENERATED = {"report.md", "bench.md"}
 
@@ -141,7 +141,7 @@ def blocks(text):
         indent, lang, body = len(m.group(1)), m.group(2), []
         i += 1
         while i < len(lines) and not re.match(r"^\s*```\s*$", lines[i]):
-            body.append(lines[i][indent:] if lines[i][:indent].isspace() else lines[i].lstrip())
+            body.append(lines[i][indent:] if not indent or lines[i][:indent].isspace() else lines[i].lstrip())
             i += 1
         out.append((lang, body, named.group(1) if named else None))
         i += 1
@@ -203,11 +203,12 @@ def commands(args):
     if link.is_symlink() or link.exists():
         link.unlink()
     link.symlink_to(flexmb)
+    # Debian's python3 (the one the module is built for, with NumPy) before another one on the PATH.
+    python = shutil.which("python3", path="/usr/bin") or shutil.which("python3") or "python3"
     env = dict(os.environ)
-    env["PATH"] = f"{bindir}{os.pathsep}{env.get('PATH', '')}"
+    env["PATH"] = os.pathsep.join([str(bindir), str(pathlib.Path(python).parent), env.get("PATH", "")])
     pyenv = dict(env)
     pyenv["PYTHONPATH"] = str(build / "python") + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    python = shutil.which("python3", path="/usr/bin") or shutil.which("python3") or "python3"
     octave = shutil.which("octave-cli")
     failures = total = 0
     for rel in pages:
@@ -221,7 +222,7 @@ def commands(args):
         key = "README" if readme else page_key(rel)
         # The README's pictures are tracked (GitHub shows them): docs/images/, refreshed here.
         shown = r"docs/images/" if readme else r"generated/" + re.escape(key) + r"/"
-        pictures = sorted(set(re.findall(shown + r"([\w.-]+\.(?:svg|png))", text)))
+        pictures = sorted(set(re.findall(shown + r"([\w.-]+(?:/[\w.-]+)*\.(?:svg|png))", text)))
         if not (cmds or py or oc or pictures or files):
             continue
         start = time.time()
@@ -267,10 +268,12 @@ def commands(args):
             dest = docs / "images" if readme else docs / "generated" / key
             dest.mkdir(parents=True, exist_ok=True)
             for name in pictures:
-                if (scratch / name).is_file():
-                    if readme and (not (dest / name).is_file() or (dest / name).read_bytes() != (scratch / name).read_bytes()):
+                found = scratch / name
+                if found.is_file():
+                    (dest / name).parent.mkdir(parents=True, exist_ok=True)
+                    if readme and (not (dest / name).is_file() or (dest / name).read_bytes() != found.read_bytes()):
                         notes.append(f"updated docs/images/{name}: commit it")
-                    shutil.copyfile(scratch / name, dest / name)
+                    shutil.copyfile(found, dest / name)
                 else:
                     bad += 1
                     print(f"docs: {rel}: shows generated/{key}/{name}, which its commands did not write")

@@ -39,14 +39,15 @@ mkdir -p "$generated"
 # The .dat language reference, from the keyword table (as io/dat-language.md is).
 "$flexmb" keywords --markdown >"$generated/dat-language.md.tmp"
 mv "$generated/dat-language.md.tmp" "$generated/dat-language.md"
-# Reference documents that live beside the code they describe.
-while read -r from to; do
-  sed -e 's#](\.\./\.\./io/results\.md)#](results.md)#g' "$from" >"$generated/$to.tmp"
-  mv "$generated/$to.tmp" "$generated/$to"
+# Reference documents that live beside the code they describe, as docs/generated/<page>.md (a link
+# from one to another is rewritten to the copy).
+while read -r from page; do
+  sed -e 's#](\.\./\.\./io/results\.md)#](results\.md)#g' "$from" >"$generated/$page.tmp"
+  mv "$generated/$page.tmp" "$generated/$page.md"
 done <<'EOF'
-io/results.md results.md
-analysis/ReducedOperators.md reduced-operators.md
-core/elements/BEAMW.md beamw.md
+io/results.md results
+analysis/ReducedOperators.md reduced-operators
+core/elements/BEAMW.md beamw
 EOF
 
 status=0

@@ -493,7 +493,7 @@ TEST(SpatialModels, FreeTumblingFlexibleBeamConservesEnergy) {
 TEST(SpatialModels, CrossSpringPivotRotationalStiffness) {
   // The SPACAR Light style pivot (2 x 20 BEAMs, leaves of length L = 0.1 sqrt 2 crossing at
   // mid-length): a platform rotating about the crossing point bends each leaf at constant curvature
-  // without shear force, so K = 2 EI/L (spatial-elements.md 9.7), up to the leaves' axial compliance.
+  // without shear force, so K = 2 EI/L (docs/theory/spatial-elements.md 9.7), up to the leaves' axial compliance.
   std::ifstream in(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot.dat");
   std::ostringstream text;
   std::string line;

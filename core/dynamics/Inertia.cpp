@@ -301,7 +301,7 @@ void nodalLoads(const Model& model, double t, double loadFactor, const Eigen::Ve
 }
 
 Eigen::Matrix4d momentMatrix(const Eigen::Vector3d& M) {
-  // 2 E(lambda)^T M = 2 Z(M) lambda, Z(M) = [[0, -M^T], [M, [M]x]] (spatial-elements.md 6.3).
+  // 2 E(lambda)^T M = 2 Z(M) lambda, Z(M) = [[0, -M^T], [M, [M]x]] (docs/theory/spatial-elements.md 6.3).
   Eigen::Matrix4d Z;
   Z << 0.0, -M[0], -M[1], -M[2], M[0], 0.0, -M[2], M[1], M[1], M[2], 0.0, -M[0], M[2], -M[1], M[0], 0.0;
   return 2.0 * Z;

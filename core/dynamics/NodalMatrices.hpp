@@ -7,7 +7,7 @@
 //                                        both symmetric: Hessians of a potential; Gbar = A^T G_x A),
 //   W_x = -dm/dx                         (global moments on Euler parameters, m = 2 E(lambda)^T M =
 //                                        momentMatrix(M) lambda: a constant skew 4 x 4 block per
-//                                        loaded node, spatial-elements.md 6.3),
+//                                        loaded node, docs/theory/spatial-elements.md 6.3),
 //   M_x                                  (element and lumped masses; Mbar = A^T M_x A).
 // The full load stiffness is G_x + W_x. W_x is antisymmetric: a moment of fixed direction is not
 // conservative for spatial rotations. It does no work along any motion (v^T W_x v = 0), so the

@@ -1,5 +1,5 @@
 #pragma once
-// Accelerations of the full model from the nodal saddle-point form of Eq. 13 (design.md, Dynamics):
+// Accelerations of the full model from the nodal saddle-point form of Eq. 13 (docs/develop/design.md, Dynamics):
 //   [ M_ff  C^T ] [ xdd_f ]   [ r_f - (M xdd_k)_f                        ]
 //   [ C     0   ] [ mu    ] = [ edd_R(t) - D2_R[xd, xd] - (D_R xdd_k)    ]
 // f: the free nodal coordinates (calculable and DYNX); R: the fixed and input deformations, C = D_R on

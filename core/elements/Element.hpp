@@ -161,7 +161,7 @@ class Element {
   virtual double referenceLength() const { return 0.0; }
   // The element triad in the body frame of its end-th orientation node (keyword order: 0 the first,
   // 1 the second): columns e_x (along the chord; a hinge's axis), e_y, e_z; the current triad is
-  // R(lambda) A (spatial-elements.md 1.4). The `.sbd` rxyz (end 0) and rxyzq (end 1), and the
+  // R(lambda) A (docs/theory/spatial-elements.md 1.4). The `.sbd` rxyz (end 0) and rxyzq (end 1), and the
   // cross-sections of the pictures. False for an element without a triad there.
   virtual bool elementFrame(int end, Eigen::Matrix3d& A) const {
     (void)end, (void)A;

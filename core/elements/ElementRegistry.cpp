@@ -1,4 +1,4 @@
-// The element keyword table (dat-format.md section 2).
+// The element keyword table (docs/theory/dat-format.md section 2).
 #include <algorithm>
 #include <cctype>
 #include <string_view>
@@ -98,7 +98,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
       t.push_back(h);
     }
 
-    // Spatial elements (spatial-elements.md): position nodes x y z, orientation nodes with four
+    // Spatial elements (docs/theory/spatial-elements.md): position nodes x y z, orientation nodes with four
     // Euler parameters.
     const std::vector<ParameterSpec> yAxis = {{"y1", "-", "initial cross-section y axis, x component"},
                                               {"y2", "-", "y component"},

@@ -10,7 +10,7 @@ Mat3 elementFrame(const Vec3& ex, const Vec3& y) {
   const Vec3 yn = y / ny;
   const double c = yn.dot(ex);
   const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
-  // SPACAR's limit for a vector along the element axis (spatial-elements.md 1.4).
+  // SPACAR's limit for a vector along the element axis (docs/theory/spatial-elements.md 1.4).
   if (s < 1e-5) throw std::invalid_argument("the orientation vector is parallel to the element axis");
   Mat3 F;
   F.col(0) = ex;

@@ -1,5 +1,5 @@
 #pragma once
-// Euler-parameter kinematics of spatial orientation nodes (spatial-elements.md section 1.2-1.3).
+// Euler-parameter kinematics of spatial orientation nodes (docs/theory/spatial-elements.md section 1.2-1.3).
 // lambda = (l0, v), v = (l1, l2, l3); nothing is normalised here (the L2MIN1 constraint does it).
 //   R(lambda) = (l0^2 - v.v) I + 2 v v^T + 2 l0 [v]x    body -> global
 //   E(lambda) = [-v, l0 I + [v]x]   global angular velocity  w  = 2 E lambdad
@@ -90,7 +90,7 @@ inline Vec4 fromRotation(const Mat3& R) {
   return l;
 }
 
-// Initial element frame from the chord (or axis) ex and a direction y (spatial-elements.md 1.4):
+// Initial element frame from the chord (or axis) ex and a direction y (docs/theory/spatial-elements.md 1.4):
 // e_y0 = y orthogonalised against ex; throws when y is (nearly) parallel to ex.
 Mat3 elementFrame(const Vec3& ex, const Vec3& y);
 // A frame for a hinge axis: the axis and Gram-Schmidt of the global axis least parallel to it.

@@ -1,5 +1,5 @@
 #pragma once
-// RBEAM (spatial-elements.md 5.2): rigid link from position node p with orientation Rp to a second
+// RBEAM (docs/theory/spatial-elements.md 5.2): rigid link from position node p with orientation Rp to a second
 // position node q. x = [x_p (3), lambda_p (4), x_q (3)]. Three deformations, fixed by default:
 //   e1 = l - l0,  e2 = e_y^p . d,  e3 = e_z^p . d   (d = x_q - x_p, e^p the element triad at p)
 // which keep q at its initial place in the body frame of Rp. Mass (EM rhoA): rigid rod

@@ -1,5 +1,5 @@
 #pragma once
-// BEAM / BEAMNL: the spatial flexible beam (spatial-elements.md section 4).
+// BEAM / BEAMNL: the spatial flexible beam (docs/theory/spatial-elements.md section 4).
 //
 // Coordinates x = [x_p (3), lambda_p (4), x_q (3), lambda_q (4)]. The element triad at node k is
 // R(lambda_k) A_k, with A_k = R(lambda_k0)^T [e_x0 e_y0 e_z0] fixed at creation (e_x0 the initial
@@ -34,7 +34,7 @@ class SpatialBeam final : public EvaluatedElement<SpatialBeam, 14, 6> {
   static std::unique_ptr<Element> create(const ElemVec& x0, const double* y, const ElementOptions& o);
   static std::unique_ptr<Element> createNonlinear(const ElemVec& x0, const double* y, const ElementOptions& o);
 
-  // params = [EA, GIt, EIy, EIz, cy, cz] (missing trailing entries 0), spatial-elements.md 4.2:
+  // params = [EA, GIt, EIy, EIz, cy, cz] (missing trailing entries 0), docs/theory/spatial-elements.md 4.2:
   // S11 = EA/l0, S22 = GIt/l0^3, per bending pair EI/(l0^3 (1+F)) [[4+F, F-2], [F-2, 4+F]],
   // F = 12 c/l0^2 (shear flexibility c = EI/(k G A)).
   void constitutive(std::span<const double> params, DefMat& S) const override;

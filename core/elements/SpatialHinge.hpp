@@ -1,11 +1,11 @@
 #pragma once
-// HINGE (spatial-elements.md 5.1): relative rotation of orientation node q with respect to p about
+// HINGE (docs/theory/spatial-elements.md 5.1): relative rotation of orientation node q with respect to p about
 // the hinge axis, and two tilts of the axis. x = [lambda_p (4), lambda_q (4)]. With the hinge triad
 // e^k = R(lambda_k) A_k (A_k fixed at creation from the axis, e_x along it):
 //   e1 = atan2(e_z^p.e_y^q - e_y^p.e_z^q, e_y^p.e_y^q + e_z^p.e_z^q)   rotation about the axis
 //   e2 = -e_z^p.e_x^q,  e3 = e_y^p.e_x^q   tilts of q's axis about p's local y and z
 // For small angles e is the relative rotation vector in the hinge frame. The tilts are not the
-// symmetric (e_x^p.e_z^q - e_z^p.e_x^q)/2 of spatial-elements.md 5.1: that form loses rank at a half
+// symmetric (e_x^p.e_z^q - e_z^p.e_x^q)/2 of docs/theory/spatial-elements.md 5.1: that form loses rank at a half
 // turn about the axis (its tilt Jacobian scales with 1 + cos e1), so a hinge could not turn through
 // pi; these agree with it to first order at e1 = 0 and keep rank 2 at every angle. e1 is the principal value
 // in (-pi, pi] (an element holds no state); GeometricTransferFunctions adds the revolutions, so

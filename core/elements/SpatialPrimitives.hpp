@@ -1,6 +1,6 @@
 #pragma once
 // Closed-form value, gradient and Hessian of the scalar building blocks of the spatial
-// deformations (spatial-elements.md section 1.3): the chord length l = |x_q - x_p|, the projection
+// deformations (docs/theory/spatial-elements.md section 1.3): the chord length l = |x_q - x_p|, the projection
 // (R_k a) . (x_q - x_p) of a rotated body vector on the chord vector, and the product
 // (R_p a) . (R_q b) of two rotated body vectors. A deformation is a combination of them, so its
 // derivatives are combinations of theirs (exact; checked against finite differences in tests).

@@ -1,5 +1,5 @@
 #pragma once
-// TRUSS: spatial truss, e1 = l - l0 (spatial-elements.md section 3). x = [x_p, x_q] (6).
+// TRUSS: spatial truss, e1 = l - l0 (docs/theory/spatial-elements.md section 3). x = [x_p, x_q] (6).
 // Mass: the constant rod matrix (rhoA l0/6) [[2I, I], [I, 2I]], exact for any rigid motion.
 #include "core/elements/Element.hpp"
 

@@ -15,7 +15,7 @@ namespace flexmb::core {
 
 enum class Dialect { Spacar95, Spacar2013 };
 
-// Role of a nodal coordinate or a deformation in the kinematic equations (design.md).
+// Role of a nodal coordinate or a deformation in the kinematic equations (docs/develop/design.md).
 // Nodal coordinates default to Calculable, deformations default to Fixed.
 enum class Role { Fixed, Input, Dynamic, Calculable };
 const char* roleName(Role r);
@@ -71,7 +71,7 @@ struct LumpedMass {
 };
 
 // A moment on a spatial orientation node in global components (XF n Mx My Mz, SPACAR 2017+):
-// its generalised force on the Euler parameters is 2 E(lambda)^T M (spatial-elements.md 6.3).
+// its generalised force on the Euler parameters is 2 E(lambda)^T M (docs/theory/spatial-elements.md 6.3).
 struct NodalMoment {
   int node = 0;                                         // node index
   Eigen::Vector3d value = Eigen::Vector3d::Zero();      // XF

@@ -148,7 +148,7 @@ TEST(BeamW, FirstSixDeformationsAreBeamsAndWarpingIsTwistRateMinusMeanTwist) {
 
 TEST(BeamW, UniformTwistHasNoWarpingDeformation) {
   // An element twisted uniformly by phi (any size) with both twist rates phi/l0: e7 = l0^2 phi/l0
-  // - e2 = l0 (phi - sin phi) (e2 = l0 sin phi is BEAM's sine measure, BEAMW.md 3), zero to first
+  // - e2 = l0 (phi - sin phi) (e2 = l0 sin phi is BEAM's sine measure, core/elements/BEAMW.md 3), zero to first
   // order; the warping stress of a twisted element with free warping therefore vanishes.
   const Vec3 y(0, 1, 0);
   ElemVec x0(16);

@@ -1,4 +1,4 @@
-// Spatial element kernels (spatial-elements.md): analytic derivatives against central finite
+// Spatial element kernels (docs/theory/spatial-elements.md): analytic derivatives against central finite
 // differences at random configurations, rigid-motion invariance with random initial Euler
 // parameters, the linear stiffness of one BEAM against the classical 12 x 12 Timoshenko
 // space-frame matrix, planar consistency with PLBEAM, and the inertia (symmetry, Lagrange

@@ -1,5 +1,5 @@
 #pragma once
-// Reads a SPACAR .dat file (dat-format.md sections 1-4 and 6, both dialects) into a core::Model.
+// Reads a SPACAR .dat file (docs/theory/dat-format.md sections 1-4 and 6, both dialects) into a core::Model.
 //
 // Block structure:
 //   * A file is a sequence of blocks, each closed by END. SPACAR 2013+ writes the kinematic block,

@@ -1,5 +1,5 @@
 #pragma once
-// core::TimeFunction backed by muParser (dat-format.md section 6): an expression in the variable
+// core::TimeFunction backed by muParser (docs/theory/dat-format.md section 6): an expression in the variable
 // `t` (functions sin, cos, exp, sqrt, ..., constant _pi, ternary c ? a : b). The expression is
 // compiled when the object is made; evaluation reuses muParser's bytecode and only writes `t`.
 // value() is const but not thread-safe: one evaluation at a time per object.

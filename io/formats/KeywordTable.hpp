@@ -1,5 +1,5 @@
 #pragma once
-// The one table of .dat keywords (dat-format.md): name, dialect(s), block, argument layout and
+// The one table of .dat keywords (docs/theory/dat-format.md): name, dialect(s), block, argument layout and
 // meaning. It drives the reader (argument counts, types and messages), `flexmb keywords`
 // (printKeywords) and the unknown-keyword suggestions. Element keywords come from
 // core::elementTypes(); SPACAR keywords flexmb does not support are listed too, so that they are
@@ -109,7 +109,7 @@ struct KeywordInfo {
   std::vector<ArgSpec> args;    // argument layout (SPACAR 2013+ order where the dialects differ)
   std::vector<ArgSpec> args95;  // SPACAR95 layout when it differs (TIMESTEP n T), else empty
   std::string meaning;
-  bool extension = false;                              // flexmb extension (dat-format.md section 6)
+  bool extension = false;                              // flexmb extension (docs/theory/dat-format.md section 6)
   const core::ElementTypeInfo* elementType = nullptr;  // for Action::Element
   std::string unsupportedNote;                         // for Action::Unsupported: what to do instead
   bool transfer = false;                               // a mode-9 transfer-block keyword (INPUTF, OUTX, ...)

@@ -1,7 +1,7 @@
 #pragma once
 // Result writers: what a time simulation produced (core::Trajectory), in three forms.
 //   * writeCsv: one wide CSV table per quantity, columns named by node / element and component.
-//   * writeMat: a MATLAB v5 .mat file with SPACAR's variable names (dat-format.md section 5).
+//   * writeMat: a MATLAB v5 .mat file with SPACAR's variable names (docs/theory/dat-format.md section 5).
 //   (The end-of-run state as a restart input is io/formats/RestartWriter.)
 //
 // Every writer checks its input before writing anything: vector sizes must match the model

@@ -173,7 +173,7 @@ Eigen::Matrix3d rowAsMatrix(const Eigen::MatrixXd& R, int label) {
   return A;
 }
 
-// R(lambda) of spatial-elements.md 1.2, written out here.
+// R(lambda) of docs/theory/spatial-elements.md 1.2, written out here.
 Eigen::Matrix3d rotationOf(const Eigen::Vector4d& l) {
   const Eigen::Quaterniond q(l[0], l[1], l[2], l[3]);
   return q.normalized().toRotationMatrix();

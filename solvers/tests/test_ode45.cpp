@@ -54,7 +54,7 @@ void expectCounts(const Trace& r, long nsteps, long nfailed, long nfevals, std::
 
 }  // namespace
 
-// 1. Reference rows of ode45.md.
+// 1. Reference rows of docs/theory/ode45.md.
 TEST(Ode45, ReferenceLinearScalar) {
   const Trace r = run(linearRhs, {0.0, 10.0}, vec({0.0}));
   expectCounts(r, 14, 2, 97, 57);
@@ -65,7 +65,7 @@ TEST(Ode45, ReferenceLinearScalar) {
 }
 
 TEST(Ode45, ReferenceLinearFirstStepHistory) {
-  // ode45.md: h = 1 rejected, h = 0.37478 rejected, accepted at h = 0.18739. So 1 + 3*6 = 19 rhs calls
+  // docs/theory/ode45.md: h = 1 rejected, h = 0.37478 rejected, accepted at h = 0.18739. So 1 + 3*6 = 19 rhs calls
   // happen before the first output after t0, and that step ends at 0.18739 (row 4 with Refine = 4).
   long calls = 0;
   std::vector<long> callsAtRow;

@@ -1,6 +1,6 @@
 // Reduced operators (issue 33): cost of one reduced right-hand side and of whole reduced runs with
 // Eq. 19 (the full kinematics at every evaluation) against the precomputed operators
-// (analysis/ReducedOperators.hpp), their added error, their training cost, and the reduced
+// (analysis/OperatorTraining.hpp, OperatorDynamics.hpp), their added error, their training cost, and the reduced
 // right-hand side against the mesh. Printed and written as Markdown; never pass/fail.
 #include <Eigen/Core>
 #include <algorithm>

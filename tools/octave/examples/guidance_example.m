@@ -11,7 +11,7 @@ old = cd(work);
 spacar(1, 'straight_guidance');           % time, x, e, sig, lnp, le, ... in the workspace
 cd(old);
 u = x(:, lnp(6, 1)) - x(1, lnp(6, 1));    % horizontal displacement of node 6
-M = sig(:, le(1, 2));                     % generalised bending stress of element 1 at the clamp (dat-format.md)
+M = sig(:, le(1, 2));                     % generalised bending stress of element 1 at the clamp (docs/theory/dat-format.md)
 F = fxt(:, lnp(1, 1));                    % horizontal clamp force (reaction, node 1)
 printf('max |u6| = %.4f mm at t = %.3f s; max |sig2| of element 1 = %.4f; files in %s\n', 1000 * max(abs(u)), ...
        time(find(abs(u) == max(abs(u)), 1)), max(abs(M)), work);
