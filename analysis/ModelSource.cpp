@@ -62,15 +62,15 @@ Diagnostics checkModelFor(const core::Model& model, const std::string& file, con
                  "", ""});
   if (!needs.degreesOfFreedom) return d;
   if (model.numDofs() == 0 && !(needs.allowDriven && isDrivenRigidMechanism(model))) {
-    d.push_back({K::Error, file,
-                 std::string("the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)") +
-                     (needs.allowDriven
-                          ? " and no input that moves in time: nothing moves, so there is nothing to simulate"
-                          : ": there is no eigenfrequency and no elastic equilibrium to find") +
-                     ". Make the deformations that carry the motion DYNE (with ESTIFF), or drive the mechanism with "
-                     "INPUTX / INPUTE values that change in time (simulate then runs its kinematics and inverse "
-                     "dynamics)",
-                 "check", ""});
+    d.push_back(
+        {K::Error, file,
+         std::string("the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)") +
+             (needs.allowDriven ? " and no input that moves in time: nothing moves, so there is nothing to simulate"
+                                : ": there is no eigenfrequency and no elastic equilibrium to find") +
+             ". Make the deformations that carry the motion DYNE (with ESTIFF), or drive the mechanism with "
+             "INPUTX / INPUTE values that change in time (simulate then runs its kinematics and inverse "
+             "dynamics)",
+         "check", ""});
     return d;
   }
   AssemblyCheck a;

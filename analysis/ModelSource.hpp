@@ -40,11 +40,11 @@ struct ModelSource {
   std::string file;
   io::ReadOptions read;
   std::shared_ptr<const std::vector<io::AnalysisStage>> stages;  // given: `file` only names them
-  std::shared_ptr<const std::string> text;  // the file's text, already read (`file` names it)
+  std::shared_ptr<const std::string> text;                       // the file's text, already read (`file` names it)
 };
 
-// The stages of the source: the given ones, the given text parsed, or the file read once. Throws io::DatError (file, line,
-// what is wrong) or std::runtime_error.
+// The stages of the source: the given ones, the given text parsed, or the file read once. Throws io::DatError (file,
+// line, what is wrong) or std::runtime_error.
 std::shared_ptr<const std::vector<io::AnalysisStage>> readStages(const ModelSource& source);
 
 // SPACAR's mode 3 on a file without TIMESTEP (a static file: ITERSTEP load steps) linearises its
@@ -53,9 +53,9 @@ bool isStaticFile(const std::vector<io::AnalysisStage>& stages);
 
 // What an analysis needs of its model before it starts.
 struct ModelNeeds {
-  bool mass = false;          // dynamics and eigenfrequencies: mass on every degree of freedom
+  bool mass = false;  // dynamics and eigenfrequencies: mass on every degree of freedom
   bool degreesOfFreedom = true;
-  bool allowDriven = false;   // a driven rigid mechanism (no degrees of freedom, moving inputs) is fine
+  bool allowDriven = false;  // a driven rigid mechanism (no degrees of freedom, moving inputs) is fine
 };
 
 // The file's notes and warnings, then the checks that make an analysis meaningless (overflowing

@@ -97,8 +97,7 @@ void SimulateJob::prepareBasis() {
       refuse(e.what());
       return;
     }
-    const OperatorChoice choice =
-        chooseOperators(last, file_, *opt.basis, request_.basisFile, request_.fullKinematics);
+    const OperatorChoice choice = chooseOperators(last, file_, *opt.basis, request_.basisFile, request_.fullKinematics);
     if (!choice.refusal.empty()) {
       refuse(choice.refusal);
       return;
@@ -146,8 +145,7 @@ void SimulateJob::chooseBasisForTarget() {
     tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
           << " vectors: " << (c.estimate.estimated ? text::significant(c.estimate.estimate, 2) : "not estimated");
   const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; tried " +
-                          tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) +
-                          " s";
+                          tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
   settings_.emplace_back("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
                                           : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
   say(Diagnostic::Kind::Result,

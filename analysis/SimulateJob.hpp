@@ -30,12 +30,12 @@ struct SimulateRequest {
   // The reduced basis: a file written by `reduce` (its reduced operators beside it are used where
   // they fit), "auto" (the smallest basis whose reduction error estimate meets `target`), or empty.
   std::string basisFile;
-  std::optional<Eigen::MatrixXd> basis;                     // a basis given as a matrix instead
-  std::shared_ptr<const core::ReducedOperators> operators;  // and its operators (a reduce result)
+  std::optional<Eigen::MatrixXd> basis;                      // a basis given as a matrix instead
+  std::shared_ptr<const core::ReducedOperators> operators;   // and its operators (a reduce result)
   double target = std::numeric_limits<double>::quiet_NaN();  // the reduction error target
   std::optional<ReductionOptions> autoBasis;                 // auto: the kind of basis (default modal)
-  bool fullKinematics = false;  // Eq. 19 even where the operators hold
-  bool trackedOutputs = false;  // the operators' output fields at the output times
+  bool fullKinematics = false;                               // Eq. 19 even where the operators hold
+  bool trackedOutputs = false;                               // the operators' output fields at the output times
 };
 
 enum class JobStatus {
@@ -94,7 +94,8 @@ class SimulateJob {
   bool driven_ = false;
   std::string operatorNote_;
   std::string targetNote_;
-  bool reused_ = false;  // the run is the chosen candidate's (basis auto)  // Eq. 19 and why, for a reduced run without operators
+  bool reused_ =
+      false;  // the run is the chosen candidate's (basis auto)  // Eq. 19 and why, for a reduced run without operators
   JobStatus status_ = JobStatus::Ready;
   Diagnostics diagnostics_;
   std::vector<std::pair<std::string, std::string>> settings_;

@@ -2,7 +2,6 @@
 
 #include "analysis/SimulateJob.hpp"
 
-
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>

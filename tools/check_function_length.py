@@ -19,6 +19,12 @@ ALLOWED = {
     "core/elements/ElementRegistry.cpp:elementTypes",  # one entry per element type
     "io/formats/KeywordTable.cpp:buildTable",  # one entry per .dat keyword
 }
+# Procedures still to be split (issue 51 stays open until this is empty): each may not grow past the
+# length given, and none may be added to it.
+NOT_YET_SPLIT = {
+    "tools/bench/flexmb_bench.cpp:main": 849,
+    "tools/bench/OperatorBench.cpp:operatorFigures": 200,
+}
 
 SCOPE_HEAD = re.compile(r"^(?:template\s*<.*>\s*)?(?:namespace|class|struct|union|enum|extern)\b", re.S)
 QUALIFIERS = r"(?:\s|const\b|noexcept\b(?:\s*\([^()]*\))?|override\b|final\b|mutable\b|volatile\b|&)*"
@@ -139,7 +145,7 @@ def functions(text):
 
 def main():
     root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).resolve().parent.parent)
-    over, allowed = [], []
+    over, allowed, pending = [], [], []
     paths = []
     for folder, subfolders, files in os.walk(root):
         top = folder == str(root)
@@ -151,11 +157,18 @@ def main():
         for line, name, length in functions(path.read_text(errors="replace")):
             if length > LIMIT:
                 key = f"{rel.as_posix()}:{name}"
-                (allowed if key in ALLOWED else over).append((rel.as_posix(), line, name, length))
+                if key in ALLOWED:
+                    allowed.append((rel.as_posix(), line, name, length))
+                elif key in NOT_YET_SPLIT and length <= NOT_YET_SPLIT[key]:
+                    pending.append((rel.as_posix(), line, name, length))
+                else:
+                    over.append((rel.as_posix(), line, name, length))
     for rel, line, name, length in over:
         print(f"{rel}:{line}: {name}: {length} lines")
     for rel, line, name, length in allowed:
         print(f"{rel}:{line}: {name}: {length} lines (a declaration table, allowed)")
+    for rel, line, name, length in pending:
+        print(f"{rel}:{line}: {name}: {length} lines (still to be split: NOT_YET_SPLIT)")
     print(f"function length: {len(over)} function(s) over {LIMIT} lines, at most {MAX_OVER} allowed")
     return 1 if len(over) > MAX_OVER else 0
 

@@ -35,6 +35,8 @@ if [ ! -x "$flexmb" ]; then
 fi
 
 generated=docs/generated
+# Made anew with the commands (no picture of a page or command that is gone stays behind).
+((commands)) && rm -rf "$generated"
 mkdir -p "$generated"
 # The .dat language reference, from the keyword table (as io/dat-language.md is).
 "$flexmb" keywords --markdown >"$generated/dat-language.md.tmp"

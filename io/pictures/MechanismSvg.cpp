@@ -453,21 +453,19 @@ struct ModelLayout {
 };
 
 ModelLayout modelLayout(const TableRows& rows, size_t notes) {
-  ModelLayout l;
   size_t longest = 0;
   for (const auto& r : rows) longest = std::max(longest, r.first.size());
-  const double drawW = l.drawW, tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
-  const double top = 40 + 14.0 * static_cast<double>(notes) + 10;
-  const double legendH = l.legendH;
+  ModelLayout l;
+  const double tableW = std::clamp(20 + kCharWidth * 0.95 * static_cast<double>(longest), 200.0, 900.0);
+  l.top = 40 + 14.0 * static_cast<double>(notes) + 10;
   // Beside the drawing while the table is about as tall; below it for a large model, so that the
   // first screen shows the mechanism and not a column of node rows.
   const double tableH = 14.0 * static_cast<double>(rows.size()) + 20;
-  const bool tableBelow = tableH > 480.0 + legendH + 140.0;
-  l.top = top;
-  l.drawH = tableBelow ? 480.0 : std::max(480.0, tableH - legendH);
-  l.tableX = tableBelow ? 20.0 : drawW, l.tableY = tableBelow ? top + l.drawH + legendH + 10 : top;
-  l.W = tableBelow ? std::max(drawW, 20 + tableW) : drawW + tableW;
-  l.H = tableBelow ? l.tableY + tableH : top + l.drawH + legendH;
+  const bool tableBelow = tableH > 480.0 + l.legendH + 140.0;
+  l.drawH = tableBelow ? 480.0 : std::max(480.0, tableH - l.legendH);
+  l.tableX = tableBelow ? 20.0 : l.drawW, l.tableY = tableBelow ? l.top + l.drawH + l.legendH + 10 : l.top;
+  l.W = tableBelow ? std::max(l.drawW, 20 + tableW) : l.drawW + tableW;
+  l.H = tableBelow ? l.tableY + tableH : l.top + l.drawH + l.legendH;
   return l;
 }
 

@@ -405,9 +405,10 @@ int runSweep(const std::vector<std::string>& args) {
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)),
       "its component (1-based; a spatial orientation node: 1, 2, 3 = its rotation about global x, y, z in rad from "
-      "its initial orientation)")("from", po::value(&o.from)->required()->notifier(finite("from")),
-                                  "first value (required): a position component's absolute coordinate (not a displacement from the node's "
-                                  "initial position); an orientation node's rotation from its initial orientation")(
+      "its initial orientation)")(
+      "from", po::value(&o.from)->required()->notifier(finite("from")),
+      "first value (required): a position component's absolute coordinate (not a displacement from the node's "
+      "initial position); an orientation node's rotation from its initial orientation")(
       "to", po::value(&o.to)->required()->notifier(finite("to")), "last value (required), as --from")(
       "steps", po::value(&o.steps)->default_value(10)->notifier(atLeast("steps", 1)),
       "number of equidistant configurations (the continuation sub-steps them as it needs)")(

@@ -1,5 +1,5 @@
-#include <boost/program_options.hpp>
 #include <algorithm>
+#include <boost/program_options.hpp>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -233,7 +233,8 @@ bool userFunctionsAllowed(const ModelOptions& o, const core::Model& model) {
   return true;
 }
 
-std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOptions& o, const analysis::ModelNeeds& needs,
+std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOptions& o,
+                                                                  const analysis::ModelNeeds& needs,
                                                                   bool acceptUserFunctions) {
   std::shared_ptr<const std::vector<io::AnalysisStage>> stages;
   try {

@@ -64,8 +64,7 @@ struct StudyArgs {
 // Parses the command line into sa (a usage error or --help: its exit code).
 std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArgs& sa);
 // The analyses every variant runs, from the command line (a usage error: its exit code).
-std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, StudyArgs& sa,
-                                       analysis::StudyAnalyses& a);
+std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, StudyArgs& sa, analysis::StudyAnalyses& a);
 
 // ---- StudyWorkers.cpp ------------------------------------------------------------------------
 

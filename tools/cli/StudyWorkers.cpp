@@ -162,7 +162,6 @@ void recordCrash(const Study& s, int k, int signal) {
 
 // ---- the worker pool -------------------------------------------------------------------------
 
-
 // Status and analysis seconds of a finished variant, from its manifest.
 void readManifest(const std::string& path, std::string& status, double& seconds) {
   std::ifstream in(path);

@@ -136,7 +136,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   request.run = simOptions;
   request.target = target;
   if (!std::isnan(target)) request.basisFile = "auto";  // opts.target: the smallest modal basis meeting it
-  octave_gateway::InterruptWatch watch;  // Ctrl-C stops the run; the steps so far are written below
+  octave_gateway::InterruptWatch watch;                 // Ctrl-C stops the run; the steps so far are written below
   request.run.interrupt = watch.flag();
   analysis::SimulateJob job(analysis::ModelSource{datFile, {}, std::move(stages), nullptr}, std::move(request));
   // What the command line says before and after a run, with spacar()'s own voice: notes and results
@@ -182,7 +182,8 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   } else {
     out << "spacar: wall time " << wall << " s\n";
   }
-  if (std::isnan(traj.switchedAt) && job.options().integrator == analysis::Integrator::Ode45 && traj.stiffBoundSteps >= 1000)
+  if (std::isnan(traj.switchedAt) && job.options().integrator == analysis::Integrator::Ode45 &&
+      traj.stiffBoundSteps >= 1000)
     out << "spacar: note: ode45's step was bound by stability from t = " << traj.stiffSince << " s on ("
         << traj.stiffBoundSteps << " steps at the limit of |lambda| about " << traj.stiffLambda << " 1/s): spacar("
         << mode << ", '" << name << "', struct('integrator', 'auto')) or 'galpha' would be "

@@ -902,7 +902,8 @@ void bindSimulate(py::module_& m) {
     if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + o.integrator + "'");
     opt.integrator = *chosen;
     if (o.rhoInf) opt.rhoInf = *o.rhoInf;
-    opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep, opt.intervals = o.intervals;
+    opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep,
+    opt.intervals = o.intervals;
     opt.accuracyCheck = o.accuracyCheck;
     request.basis = o.basis;
     request.fullKinematics = o.fullKinematics;
