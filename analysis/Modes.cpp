@@ -147,6 +147,18 @@ HighestMode highestMode(const core::Model& model, const std::optional<Eigen::Mat
   return h;
 }
 
+double highestFrequencyAtRest(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int maxDofs) {
+  core::Linearization lin(model, basis);
+  if (lin.size() == 0 || lin.size() > maxDofs) return 0.0;
+  core::LinearizedSystem sys;
+  Eigen::VectorXd eta;
+  lin.initialRest(sys, eta);
+  const Eigen::MatrixXd K = 0.5 * ((sys.K + sys.G) + (sys.K + sys.G).transpose());
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(K, sys.M, Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success) return 0.0;
+  return std::sqrt(std::max(0.0, es.eigenvalues().maxCoeff()));
+}
+
 io::CsvTable modesTable(const Frequencies& fr) {
   io::CsvTable t;
   t.columns = {"mode", "f_Hz", "omega_rad_s"};

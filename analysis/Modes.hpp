@@ -78,5 +78,9 @@ struct HighestMode {
 };
 HighestMode highestMode(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis = std::nullopt,
                         int maxDofs = 600);
+// Only omega_max at rest (rad/s; eigenvalues without vectors), 0 where it is not computed (more than
+// maxDofs coordinates, no stiffness): what bounds ode45's step, for the auto integrator's test.
+double highestFrequencyAtRest(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis = std::nullopt,
+                              int maxDofs = 600);
 
 }  // namespace flexmb::analysis

@@ -14,7 +14,13 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
   using Kind = RunNote::Kind;
   std::vector<RunNote> notes;
   if (!traj.completed) notes.push_back({Kind::Stopped, "simulation stopped early: " + traj.stopReason, "", ""});
-  if (!std::isnan(traj.switchedAt)) {
+  if (traj.implicitFromStart) {
+    const double span = opt.tEnd.value_or(model.settings.tEnd) - model.settings.t0;
+    std::ostringstream sw;
+    sw << "galpha from the start: the highest eigenfrequency at rest (|lambda| about " << traj.stiffLambda
+       << " 1/s) would bound ode45 to at least " << std::round(span * traj.stiffLambda / 3.3) << " steps";
+    notes.push_back({Kind::Note, sw.str(), "auto switch", sw.str()});
+  } else if (!std::isnan(traj.switchedAt)) {
     std::ostringstream sw;
     sw << "ode45 until t = " << traj.switchedAt << " s, where its step was bound by stability (|lambda| about "
        << traj.stiffLambda << " 1/s); galpha from there on";

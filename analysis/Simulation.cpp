@@ -10,6 +10,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Interrupt.hpp"
+#include "analysis/Modes.hpp"
 #include "analysis/OperatorDynamics.hpp"
 #include "analysis/ReductionError.hpp"
 #include "analysis/SparseIteration.hpp"
@@ -112,7 +113,10 @@ std::string formatStatistics(const core::Trajectory& run, Integrator integrator)
   const bool implicit = integrator == Integrator::Bdf || run.integrator != "ode45";
   std::ostringstream s;
   s << (implicit ? solvers::Bdf::formatStats(st) : solvers::Ode45::formatStats(st));
-  if (!std::isnan(run.switchedAt))
+  if (run.implicitFromStart)
+    s << "(auto: galpha from the start: the highest eigenfrequency at rest, |lambda| about " << run.stiffLambda
+      << " 1/s, would bound ode45's step)\n";
+  else if (!std::isnan(run.switchedAt))
     s << "(auto: ode45's step was bound by stability at t = " << run.switchedAt << " s (|lambda| about "
       << run.stiffLambda << " 1/s): galpha from there on)\n";
   else if (integrator == Integrator::Ode45 && run.stiffBoundSteps >= kStiffHintSteps)
@@ -255,6 +259,12 @@ class StageRun {
         traj_.operators.notUsed = "the reduced operators serve ode45 only: Eq. 19 throughout";
     }
     eomEta_ = y0_.head(eom_.size());
+    // auto: omega_max at rest, for the choice of the integrator and ode45's stiffness test. The step's
+    // own estimate of h |lambda| alone can miss the limit for long (issue 48).
+    if (opt.integrator == Integrator::Auto) try {
+        omegaAtRest_ = highestFrequencyAtRest(model, opt.basis);
+      } catch (const std::exception&) {  // no linearisation at rest: the step's estimate alone
+      }
   }
 
   core::Trajectory run(bool* interrupted) {
@@ -287,6 +297,14 @@ class StageRun {
       r = integrateImplicit(set_.tspan, y0_);
     } else if (set_.alpha) {
       r = integrateAlpha(set_.tspan, y0_);
+    } else if (implicitFromStart()) {  // auto: ode45 would be stability-bound from its first step
+      traj_.switchedAt = set_.t0;
+      traj_.implicitFromStart = true;
+      traj_.stiffLambda = omegaAtRest_;
+      switchAt_ = set_.t0;
+      startImplicit();
+      jacobian_->kinematics().setConfiguration(eom_.kinematics().x());
+      r = integrateAlpha(set_.tspan, y0_);
     } else {
       r = integrateExplicit();
       if (switchAt_) {  // auto: on with galpha from the accepted state where ode45 became stability-bound
@@ -310,6 +328,18 @@ class StageRun {
       }
     }
     finish(r, interrupted);
+  }
+
+  // auto: galpha from the start where the highest eigenfrequency at rest alone bounds ode45 to more
+  // than kImplicitStartSteps steps over the span (span omega_max / 3.3, the real-axis limit; undamped
+  // modes allow a third of that step). Measured (issue 48): stiff models 2,400 (guidance) to 160,000
+  // (guidance with 40 elements per leaf, where ode45 took 35,000 steps before its test fired);
+  // accuracy-bound ones 810 (slider-crank) and 970 (wire guidance). Below the threshold ode45 starts
+  // and its stiffness test decides.
+  static constexpr double kImplicitStartSteps = 1e4;
+  bool implicitFromStart() const {
+    return opt_.integrator == Integrator::Auto && omegaAtRest_ > 0.0 &&
+           (set_.tEnd - set_.t0) * omegaAtRest_ / 3.3 > kImplicitStartSteps;
   }
 
   // BDF: every evaluation starts the kinematics from the last accepted state (AnchoredDynamics).
@@ -378,9 +408,14 @@ class StageRun {
     o.absTol = Eigen::VectorXd::Constant(1, set_.absTol);
     o.maxStep = set_.maxStep;
     const bool autoSwitch = opt_.integrator == Integrator::Auto;
-    o.stepMonitor = [this, autoSwitch](double t, const Eigen::VectorXd& y, double h, double hLambda) {
+    // auto: h omega_max of the model at rest beside the step's own estimate of h |lambda|. The
+    // estimate alone can miss the limit for long: the 40-element guidance sat at it for 117,000 steps
+    // and 15,000 failed attempts (issue 48). The exact omega_max puts an accuracy-bound step at
+    // h omega_max about 0.25-0.3 (slider-crank, wire guidance) and a stability-bound one at 1-1.6.
+    const double omegaMax = omegaAtRest_;
+    o.stepMonitor = [this, autoSwitch, omegaMax](double t, const Eigen::VectorXd& y, double h, double hLambda) {
       ++accepted_;
-      if (!stiffness_.step(t, h, hLambda)) return true;
+      if (!stiffness_.step(t, h, std::max(hLambda, h * omegaMax))) return true;
       if (autoSwitch) {
         switchAt_ = t;
         ySwitch_ = y;
@@ -555,7 +590,10 @@ class StageRun {
 
   // Statistics and the stop reason of the run.
   void finish(const solvers::OdeResult& r, bool* interrupted) {
-    traj_.integrator = set_.bdf ? "bdf" : set_.alpha ? "galpha" : switchAt_ ? "ode45+galpha" : "ode45";
+    traj_.integrator = set_.bdf                                ? "bdf"
+                       : set_.alpha || traj_.implicitFromStart ? "galpha"
+                       : switchAt_                             ? "ode45+galpha"
+                                                               : "ode45";
     traj_.stiffSince = stiffness_.since();
     traj_.stiffLambda = stiffness_.lambda();
     traj_.stiffBoundSteps = stiffness_.stiff() || switchAt_ ? stiffness_.boundSteps() : 0;
@@ -592,6 +630,7 @@ class StageRun {
   Eigen::VectorXd startX_;                      // the configuration the run starts from
   Eigen::VectorXd eomEta_;                      // where eom_ last solved (the fallback's start)
   ProgressLine progress_;
+  double omegaAtRest_ = 0.0;                       // auto: the highest eigenfrequency at rest (rad/s; 0: not known)
   std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;
   core::Trajectory traj_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -397,6 +398,98 @@ std::string stabilityVerdict(const StaticStep& step) {
          step.kinetic->message + ")";
 }
 
+namespace {
+bool isPositionNode(core::NodeKind k) { return k == core::NodeKind::Position || k == core::NodeKind::SpatialPosition; }
+
+// The element's reference length: its own where it keeps one (PLBEAM), else the distance between
+// its first and last position node in the initial configuration.
+double elementLength(const core::Model& m, const core::ElementEntry& el) {
+  if (el.impl && el.impl->referenceLength() > 0.0) return el.impl->referenceLength();
+  int first = -1, last = -1;
+  for (int n : el.nodes)
+    if (isPositionNode(m.nodes[n].kind)) (first < 0 ? first : last) = n;
+  if (first < 0 || last < 0) return 0.0;
+  const auto& a = m.nodes[first];
+  const auto& b = m.nodes[last];
+  return (m.x0.segment(b.firstCoord, b.dim()) - m.x0.segment(a.firstCoord, a.dim())).norm();
+}
+
+// The column of a deformation's generalised stress and its scale to a force or moment: beams measure
+// bending and torsion as l0 times an angle (Eq. 3b/3c; core/elements/SpatialBeam.hpp), so their
+// generalised stresses are moments over l0. "" for the other kinds.
+const char* sectionForceColumn(core::DeformationKind kind) {
+  switch (kind) {
+    case core::DeformationKind::Elongation:
+      return "max_axial_force";
+    case core::DeformationKind::Torsion:
+      return "max_torsion_moment";
+    case core::DeformationKind::BendingY:
+      return "max_bending_moment_y";
+    case core::DeformationKind::BendingZ:
+      return "max_bending_moment_z";
+    case core::DeformationKind::Bending:
+      return "max_bending_moment";
+    case core::DeformationKind::Rotation:
+    case core::DeformationKind::Warping:
+    case core::DeformationKind::Other:
+      break;
+  }
+  return "";
+}
+}  // namespace
+
+std::vector<SectionForceMaximum> sectionForceMaxima(const core::Model& m, const Eigen::VectorXd& sigma) {
+  std::map<std::string, SectionForceMaximum> maxima;
+  for (size_t e = 0; e < m.elements.size(); ++e) {
+    const auto& el = m.elements[e];
+    const int nd = el.type->numDeformations();
+    bool elastic = false;
+    for (int k = 0; k < nd; ++k) {
+      const core::Role r = m.eRole[el.firstDef + k];
+      elastic = elastic || r == core::Role::Dynamic || r == core::Role::Calculable;
+    }
+    if (!elastic || el.type->internal) continue;
+    const double l0 = elementLength(m, el);
+    for (int k = 0; k < nd; ++k) {
+      const core::DeformationKind kind = el.type->deformationKind(k);
+      const std::string column = sectionForceColumn(kind);
+      if (column.empty()) continue;
+      SectionForceMaximum& v = maxima.emplace(column, SectionForceMaximum{column}).first->second;
+      if (el.firstDef + k >= sigma.size()) continue;
+      const double f = std::abs(sigma[el.firstDef + k]) * (kind == core::DeformationKind::Elongation ? 1.0 : l0);
+      if (f > v.value) v.value = f, v.element = static_cast<int>(e);
+    }
+  }
+  std::vector<SectionForceMaximum> out;
+  for (const char* c :
+       {"max_axial_force", "max_bending_moment", "max_bending_moment_y", "max_bending_moment_z", "max_torsion_moment"})
+    if (auto it = maxima.find(c); it != maxima.end()) out.push_back(it->second);
+  return out;
+}
+
+std::vector<std::pair<std::string, double>> appliedNodalLoads(const core::Model& model, const StaticStep& step) {
+  std::vector<std::pair<std::string, double>> loads;
+  Eigen::VectorXd timed = Eigen::VectorXd::Zero(model.nx);
+  for (const auto& tf : model.timeForces) timed[tf.index] += tf.f->value(model.settings.t0);
+  const auto names = io::coordinateColumnNames(model);
+  for (int i = 0; i < model.nx; ++i) {
+    const double f0 = model.f0.size() == model.nx ? model.f0[i] : 0.0,
+                 df = model.delf.size() == model.nx ? model.delf[i] : 0.0;
+    const bool xft = std::any_of(model.timeForces.begin(), model.timeForces.end(),
+                                 [&](const core::TimeLoad& tf) { return tf.index == i; });
+    if (f0 == 0.0 && df == 0.0 && !xft) continue;
+    const bool moment = model.nodes[model.xOwnerNode[i]].kind == core::NodeKind::Orientation;
+    loads.emplace_back((moment ? "M." : "F.") + names[i], step.initialFactor * f0 + step.loadFactor * df + timed[i]);
+  }
+  for (const auto& mo : model.moments) {
+    if (mo.value.isZero(0.0) && mo.increment.isZero(0.0)) continue;
+    const Eigen::Vector3d M = step.initialFactor * mo.value + step.loadFactor * mo.increment;
+    for (int c = 0; c < 3; ++c)
+      loads.emplace_back("M.node" + std::to_string(model.nodes[mo.node].label) + "." + "xyz"[c], M[c]);
+  }
+  return loads;
+}
+
 io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling) {
   Eigen::Index nev = 0;
   for (const auto& st : run.steps) nev = std::max(nev, st.frequencies.omega.size());
@@ -405,6 +498,10 @@ io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buc
   for (const auto& name : io::coordinateColumnNames(model)) t.columns.push_back(name);
   for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("f", i + 1, "_Hz"));
   for (int i = 0; i < buckling; ++i) t.columns.push_back(io::numberedColumn("buckling", i + 1, ""));
+  // The section forces and the loads: the same columns at every step (the model's kinds and loads).
+  const StaticStep none;
+  for (const auto& f : sectionForceMaxima(model, Eigen::VectorXd())) t.columns.push_back(f.name);
+  for (const auto& l : appliedNodalLoads(model, none)) t.columns.push_back(l.first);
   const double empty = std::numeric_limits<double>::quiet_NaN();
   for (const auto& st : run.steps) {
     std::vector<double> row{static_cast<double>(st.loadStep), st.initialFactor, st.loadFactor};
@@ -412,6 +509,8 @@ io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buc
     for (Eigen::Index i = 0; i < nev; ++i)
       row.push_back(i < st.frequencies.omega.size() ? st.frequencies.omega[i] / (2 * M_PI) : empty);
     for (int i = 0; i < buckling; ++i) row.push_back(i < st.buckling.size() ? st.buckling[i] : empty);
+    for (const auto& f : sectionForceMaxima(model, st.sigma)) row.push_back(f.value);
+    for (const auto& l : appliedNodalLoads(model, st)) row.push_back(l.second);
     t.rows.push_back(std::move(row));
   }
   return t;

@@ -92,9 +92,28 @@ struct StaticOptions {
   const std::atomic<int>* interruptSignal = nullptr;
 };
 StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options);
+// The largest section force of each kind over the user's elements that deform (any dynamic or
+// released deformation; the reaction stresses of their fixed deformations included), from a step's
+// sigma: max_axial_force (N), max_bending_moment (planar), max_bending_moment_y / _z (about the
+// section's local axes), max_torsion_moment (N m; a beam's generalised stress times its length), in
+// this order, each kind the model has (whatever sigma holds), with the element where it is largest.
+struct SectionForceMaximum {
+  std::string name;
+  double value = 0.0;
+  int element = -1;  // index into Model::elements; -1 while every value is zero
+};
+std::vector<SectionForceMaximum> sectionForceMaxima(const core::Model& model, const Eigen::VectorXd& sigma);
+
+// The nodal loads a step applies (initial loads x initial_factor + DEL* increments x load_factor, XFT
+// at t0), one per loaded coordinate: "F.node3.y" (a force; "M.node3.angle" on a planar orientation
+// node) and "M.node4.x" (a global moment about x on a spatial orientation node). Gravity is apart.
+std::vector<std::pair<std::string, double>> appliedNodalLoads(const core::Model& model, const StaticStep& step);
+
 // The load steps as a table, the one every front end writes (`flexmb static`, the study): load_step,
-// initial_factor, load_factor, every nodal coordinate, f1_Hz... (as many as any step has) and
-// buckling1..buckling<buckling>; a step with fewer has empty cells.
+// initial_factor, load_factor, every nodal coordinate, f1_Hz... (as many as any step has),
+// buckling1..buckling<buckling> (a step with fewer has empty cells), then per step its
+// sectionForceMaxima and its appliedNodalLoads (columns added at the end: scripts read the others
+// by place).
 io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buckling);
 // The same with the options as arguments; onStep(i, n): progress, called before load step i of n.
 StaticRun staticAnalysis(const core::Model& model, int nev, int loadSteps = 0 /* 0: from the file */,

@@ -62,70 +62,6 @@ double maxDisplacement(const core::Model& m, const Eigen::VectorXd& x) {
   return d;
 }
 
-// The element's reference length: its own where it keeps one (PLBEAM), else the distance between
-// its first and last position node in the initial configuration.
-double elementLength(const core::Model& m, const core::ElementEntry& el) {
-  if (el.impl && el.impl->referenceLength() > 0.0) return el.impl->referenceLength();
-  int first = -1, last = -1;
-  for (int n : el.nodes)
-    if (isPositionNode(m.nodes[n].kind)) (first < 0 ? first : last) = n;
-  if (first < 0 || last < 0) return 0.0;
-  const auto& a = m.nodes[first];
-  const auto& b = m.nodes[last];
-  return (m.x0.segment(b.firstCoord, b.dim()) - m.x0.segment(a.firstCoord, a.dim())).norm();
-}
-
-// The largest section forces over the elements that deform (any dynamic or released deformation;
-// the reaction stresses of their fixed deformations included: a leaf's axial force where its
-// elongation is rigid). Beams measure bending and torsion as l0 times an angle (Eq. 3b/3c;
-// core/elements/SpatialBeam.hpp), so their generalised stresses are moments over l0: times l0 they
-// are the end moments (N m). Spatial beams: bending about the section's local y and z axes apart.
-void addSectionForceMaxima(const core::Model& m, const Eigen::VectorXd& sigma,
-                           std::vector<std::pair<std::string, double>>& q) {
-  std::map<std::string, double> maxima;
-  for (const auto& el : m.elements) {
-    const int nd = el.type->numDeformations();
-    bool elastic = false;
-    for (int k = 0; k < nd; ++k) {
-      const core::Role r = m.eRole[el.firstDef + k];
-      elastic = elastic || r == core::Role::Dynamic || r == core::Role::Calculable;
-    }
-    if (!elastic || el.type->internal) continue;
-    const double l0 = elementLength(m, el);
-    for (int k = 0; k < nd; ++k) {
-      std::string column;
-      double scale = 1.0;
-      switch (el.type->deformationKind(k)) {
-        case core::DeformationKind::Elongation:
-          column = "max_axial_force";
-          break;
-        case core::DeformationKind::Torsion:
-          column = "max_torsion_moment", scale = l0;
-          break;
-        case core::DeformationKind::BendingY:
-          column = "max_bending_moment_y", scale = l0;
-          break;
-        case core::DeformationKind::BendingZ:
-          column = "max_bending_moment_z", scale = l0;
-          break;
-        case core::DeformationKind::Bending:
-          column = "max_bending_moment", scale = l0;
-          break;
-        case core::DeformationKind::Rotation:
-        case core::DeformationKind::Warping:
-        case core::DeformationKind::Other:
-          break;
-      }
-      if (column.empty() || el.firstDef + k >= sigma.size()) continue;
-      double& v = maxima.emplace(column, 0.0).first->second;
-      v = std::max(v, std::abs(sigma[el.firstDef + k]) * scale);
-    }
-  }
-  for (const char* c :
-       {"max_axial_force", "max_bending_moment", "max_bending_moment_y", "max_bending_moment_z", "max_torsion_moment"})
-    if (auto it = maxima.find(c); it != maxima.end()) q.emplace_back(c, it->second);
-}
-
 void addFrequencies(const std::string& prefix, int count, const Eigen::VectorXd* omega,
                     std::vector<std::pair<std::string, double>>& q) {
   for (int i = 0; i < count; ++i)
@@ -402,7 +338,8 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
         q.emplace_back("buckling" + std::to_string(i + 1),
                        last && i < last->buckling.size() ? last->buckling[i] : kNaN);
       q.emplace_back("max_displacement", last ? maxDisplacement(model, last->x) : kNaN);
-      if (last) addSectionForceMaxima(model, last->sigma, q);
+      if (last)
+        for (const SectionForceMaximum& f : sectionForceMaxima(model, last->sigma)) q.emplace_back(f.name, f.value);
       if (last) {
         const std::vector<int> nodes = a.stiffnessNodes.empty() ? loadedNodes(model) : a.stiffnessNodes;
         for (int label : nodes) {

@@ -42,6 +42,27 @@ std::string channelName(const core::Model& model, const core::TransferChannel& c
   return c.keyword + " " + std::to_string(c.number) + ": " + what + comp + suffix + " node " + std::to_string(n.label);
 }
 
+// A channel's unit in SI (the .dat has none: SPACAR Light's models are in SI); "" where unknown
+// (a warping coordinate). derivative: INX's position (0), velocity (1) or acceleration (2).
+std::string channelUnit(const core::Model& model, const core::TransferChannel& c, int derivative = 0) {
+  const core::Node& n = model.nodes[c.node];
+  if (n.kind == core::NodeKind::Warping) return "";
+  const bool turn = c.axis || n.kind == core::NodeKind::Orientation;
+  const std::string motion = turn ? "rad" : "m";
+  switch (c.kind) {
+    case Kind::Force:
+    case Kind::NodalForce:
+      return turn ? "N m" : "N";
+    case Kind::Motion:
+      return motion + (derivative == 1 ? "/s" : derivative == 2 ? "/s^2" : "");
+    case Kind::Coordinate:
+      return motion;
+    case Kind::Velocity:
+      return motion + "/s";
+  }
+  return "";
+}
+
 // The coordinates a channel acts on, with weights: one coordinate with weight 1, or on a spatial
 // orientation node the Euler parameters with 2 E(lambda)^T e_i (a moment about a global axis, its
 // dual the rotation 2 E(lambda) dlambda) or 1/2 E(lambda)^T e_i (the moment of the forces on the
@@ -112,6 +133,7 @@ void outputRows(const core::Model& model, const StaticStep& step, const Transfer
   for (int r = 0; r < no; ++r) {
     const auto& c = model.transferOutputs[r];
     ss.outputNames.push_back(channelName(model, c));
+    ss.outputUnits.push_back(channelUnit(model, c));
     if (c.kind == Kind::Coordinate || c.kind == Kind::Velocity) {
       const Weighted w = weights(c, step.x, 2.0);
       Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(m);
@@ -270,6 +292,7 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
       forceLoads.emplace_back(static_cast<int>(loads.size()), std::move(bAug));
       loads.push_back(b);
       ss.inputNames.push_back(channelName(model, c));
+      ss.inputUnits.push_back(channelUnit(model, c));
     } else {  // INX: -(K+G)_qu, -D_qu, -M_qu for u, du/dt, d2u/dt2
       const int u = at.x[c.coord];
       motionChannel[k] = static_cast<int>(loads.size());
@@ -278,9 +301,13 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
         for (int i = 0; i < m; ++i) b[i] = -(*X)(qi[i], u);
         loads.push_back(b);
       }
-      ss.inputNames.push_back(channelName(model, c, " (position)"));
-      ss.inputNames.push_back(channelName(model, c, " (velocity)"));
-      ss.inputNames.push_back(channelName(model, c, " (acceleration)"));
+      for (int d = 0; d < 3; ++d) {
+        ss.inputNames.push_back(channelName(model, c,
+                                            d == 0   ? " (position)"
+                                            : d == 1 ? " (velocity)"
+                                                     : " (acceleration)"));
+        ss.inputUnits.push_back(channelUnit(model, c, d));
+      }
     }
   }
   const int ni = static_cast<int>(loads.size());
@@ -321,17 +348,7 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
   return r;
 }
 
-namespace {
-// H at s = shift w + i w (shift 0: the frequency response).
-std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::VectorXd& omega, double shift);
-}  // namespace
-
 std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega) {
-  return responsesAt(ss, omega, 0.0);
-}
-
-namespace {
-std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::VectorXd& omega, double shift) {
   // A = Q H Q^T (Hessenberg, once for every pair): each frequency is then one O(n^2) Hessenberg
   // elimination shared by all inputs.
   const Eigen::Index n = ss.A.rows(), ni = ss.B.cols(), no = ss.C.rows();
@@ -348,7 +365,7 @@ std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::Vec
   const Eigen::MatrixXcd c = (ss.C * Qm).cast<std::complex<double>>();
   Eigen::MatrixXcd T(n, n), z(n, ni);
   for (Eigen::Index k = 0; k < omega.size(); ++k) {
-    const std::complex<double> s(shift * omega[k], omega[k]);
+    const std::complex<double> s(0.0, omega[k]);
     T = -H.cast<std::complex<double>>();
     T.diagonal().array() += s;
     z = b;
@@ -373,7 +390,6 @@ std::vector<Eigen::VectorXcd> responsesAt(const StateSpace& ss, const Eigen::Vec
   }
   return h;
 }
-}  // namespace
 
 Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega) {
   StateSpace one;
@@ -389,26 +405,26 @@ bool undamped(const StateSpace& ss) {
   return m > 0 && ss.A.bottomRightCorner(m, m).isZero(0.0);
 }
 
-Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega,
-                          const Eigen::VectorXcd& h) {
-  // Undamped: H is real and flips sign at poles and zeros, where unwrapping cannot tell +180 from
-  // -180. Just right of the imaginary axis (s = 1e-6 w + i w: a damping ratio of 5e-7) the sign of
-  // Im H is that of the lightly damped model, so the phase falls through poles and rises through
-  // zeros as a lightly damped model's does.
-  Eigen::VectorXcd shifted;
+Eigen::VectorXd bodePhase(const StateSpace& ss, const Eigen::VectorXcd& h) {
+  Eigen::VectorXd phase(h.size());
   if (undamped(ss)) {
-    StateSpace one;
-    one.A = ss.A;
-    one.B = ss.B.col(input);
-    one.C = ss.C.row(output);
-    one.D = ss.D.block(output, input, 1, 1);
-    shifted = responsesAt(one, omega, 1e-6)[0];
+    // Undamped, H(i w) is real (a position or force output) or imaginary (a velocity output): its
+    // phase is 0, +-90 or 180 degrees (near a resonance round-off tilts it by a few). Which way a
+    // sign change turns (+180 or -180) only damping the model lacks decides: added up over the
+    // resonances it reached -540 degrees and more, a phase no evaluation of H shows. So each value
+    // is H's own, rounded to a quarter turn, a negative real H at -180 (as a lightly damped model's
+    // just past its first resonance): within [-180, 90].
+    for (Eigen::Index k = 0; k < h.size(); ++k) {
+      const double quarter = std::round(std::arg(h[k]) * 2.0 / M_PI);
+      phase[k] = 90.0 * (quarter > 1.5 ? -2.0 : quarter);
+    }
+    return phase;
   }
-  const Eigen::VectorXcd& z = shifted.size() ? shifted : h;
-  Eigen::VectorXd phase(omega.size());
+  // Damped: continuous (no jump over 180 degrees between neighbours), from H's phase at the lowest
+  // frequency: each resonance and zero turns it by up to 180 degrees, the way the damping says.
   double unwrap = 0.0, last = 0.0;
-  for (Eigen::Index k = 0; k < omega.size(); ++k) {
-    const double a = std::arg(z[k]) * 180.0 / M_PI;
+  for (Eigen::Index k = 0; k < h.size(); ++k) {
+    const double a = std::arg(h[k]) * 180.0 / M_PI;
     if (k > 0) {
       while (a + unwrap - last > 180.0) unwrap -= 360.0;
       while (a + unwrap - last < -180.0) unwrap += 360.0;
@@ -448,7 +464,7 @@ std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss) {
   return Eigen::MatrixXd(ss.D - ss.C * x);
 }
 
-Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
+Eigen::VectorXd bodeFrequencies(const StateSpace& ss, double fminHz, double fmaxHz) {
   const Eigen::Index m = ss.A.rows() / 2;
   double lo = 1.0, hi = 1e3;
   std::vector<double> resonances;  // undamped eigenfrequencies [rad/s] (all of a small model)
@@ -488,6 +504,7 @@ Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
       if (!(lo > 0.0) || !std::isfinite(hi) || hi <= lo) lo = 1.0, hi = 1e3;
     }
   }
+  if (fminHz > 0.0 && fmaxHz > fminHz) lo = 2 * M_PI * fminHz, hi = 2 * M_PI * fmaxHz;
   const int n = 400;
   std::vector<double> w(n);
   for (int k = 0; k < n; ++k) w[k] = lo * std::pow(hi / lo, static_cast<double>(k) / (n - 1));
@@ -498,10 +515,9 @@ Eigen::VectorXd bodeFrequencies(const StateSpace& ss) {
   int refined = 0;
   for (const double wn : resonances) {
     if (!(wn > lo && wn < hi) || ++refined > 30) continue;
-    for (const double s : {3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4}) {
-      w.push_back(wn * (1.0 - s));
-      w.push_back(wn * (1.0 + s));
-    }
+    for (const double s : {3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4})
+      for (const double v : {wn * (1.0 - s), wn * (1.0 + s)})
+        if (v > lo && v < hi) w.push_back(v);  // within the range asked for
     if (!undamped(ss)) w.push_back(wn);
   }
   std::sort(w.begin(), w.end());

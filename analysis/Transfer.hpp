@@ -34,6 +34,7 @@ namespace flexmb::analysis {
 struct StateSpace {
   Eigen::MatrixXd A, B, C, D;                                      // 2m x 2m, 2m x ni, no x 2m, no x ni
   std::vector<std::string> inputNames, outputNames;                // one per column of B / row of C
+  std::vector<std::string> inputUnits, outputUnits;                // SI ("N", "m/s", "rad"); "" if unknown
   bool feedthrough() const { return D.size() && !D.isZero(0.0); }  // SPACAR's DFT
 };
 
@@ -64,13 +65,11 @@ Eigen::VectorXcd frequencyResponse(const StateSpace& ss, int input, int output, 
 // inputs): element i * outputs + o is H_oi.
 std::vector<Eigen::VectorXcd> frequencyResponses(const StateSpace& ss, const Eigen::VectorXd& omega);
 
-// The phase in degrees of H_{output,input}(i w) (h: frequencyResponse's), continuous along the
-// frequencies: unwrapped (no jump over 180 degrees between neighbours). For an undamped model (A's
-// damping block zero) H is real and flips sign at poles and zeros, where unwrapping cannot tell
-// +180 from -180: its phase is taken just right of the imaginary axis (s = 1e-6 w + i w), where it
-// falls through poles and rises through zeros as a lightly damped model's does.
-Eigen::VectorXd bodePhase(const StateSpace& ss, int input, int output, const Eigen::VectorXd& omega,
-                          const Eigen::VectorXcd& h);
+// The phase in degrees of H(i w) (h: frequencyResponse's). Damped: continuous along the
+// frequencies (unwrapped: no jump over 180 degrees between neighbours). Undamped (A's damping block
+// zero): H is real or imaginary and flips sign at poles and zeros, where only damping would say
+// whether it turns by +180 or -180; its phase is H's own, rounded to a quarter turn: 0, +-90 or -180.
+Eigen::VectorXd bodePhase(const StateSpace& ss, const Eigen::VectorXcd& h);
 // True when the model has no damping (A's damping block is zero).
 bool undamped(const StateSpace& ss);
 
@@ -79,9 +78,9 @@ bool undamped(const StateSpace& ss);
 std::optional<Eigen::MatrixXd> staticGain(const StateSpace& ss);
 
 // Angular frequencies for a Bode plot: 400 log-spaced points a decade beyond the undamped
-// eigenfrequencies' range (1..1e3 rad/s without any), and, for a model of up to 300 degrees of
-// freedom, 12 more closing in on each of its lowest 30 eigenfrequencies in range (to 1e-4 of it), so
-// a lightly damped peak is drawn at its height.
-Eigen::VectorXd bodeFrequencies(const StateSpace& ss);
+// eigenfrequencies' range (1..1e3 rad/s without any; from fminHz to fmaxHz when 0 < fminHz < fmaxHz),
+// and, for a model of up to 300 degrees of freedom, 12 more closing in on each of its lowest 30
+// eigenfrequencies in range (to 1e-4 of it), so a lightly damped peak is drawn at its height.
+Eigen::VectorXd bodeFrequencies(const StateSpace& ss, double fminHz = 0.0, double fmaxHz = 0.0);
 
 }  // namespace flexmb::analysis

@@ -5,6 +5,7 @@
 #include "analysis/SpacarOutput.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "io/formats/SpacarResults.hpp"
+#include "io/formats/TextOutput.hpp"
 #include "io/pictures/SvgPlot.hpp"
 
 namespace flexmb::analysis {
@@ -18,15 +19,23 @@ std::vector<std::string> stateNames(Eigen::Index m) {
   return n;
 }
 
-// Magnitude over phase of H(i w) against the frequency in Hz.
-std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd& omega, const Eigen::VectorXcd& h,
-                                const Eigen::VectorXd& phase, const std::string& note) {
+// The magnitude's unit: output per input ("m/N", "rad/(N m)"), else "(output/input)".
+std::string magnitudeLabel(const std::string& out, const std::string& in) {
+  if (out.empty() || in.empty()) return "magnitude (output/input)";
+  const auto part = [](const std::string& u) { return u.find_first_of(" /") == std::string::npos ? u : "(" + u + ")"; };
+  return "magnitude [" + part(out) + "/" + part(in) + "]";
+}
+
+// Magnitude over phase of H(i w) against the frequency in Hz (the axis spans omega's range).
+std::vector<io::Plot> bodePlots(const std::string& title, const std::string& magnitude, const Eigen::VectorXd& omega,
+                                const Eigen::VectorXcd& h, const Eigen::VectorXd& phase, const std::string& note) {
   io::Plot mag, ph;
   mag.title = title;
   if (!note.empty()) mag.notes = {note};
   mag.x.label = "frequency [Hz]";
   mag.x.log = true;
-  mag.y.label = "magnitude";
+  if (omega.size() > 1) mag.x.min = omega[0] / (2 * M_PI), mag.x.max = omega[omega.size() - 1] / (2 * M_PI);
+  mag.y.label = magnitude;
   mag.y.log = true;
   ph.x = mag.x;
   ph.y.label = "phase [deg]";
@@ -44,17 +53,20 @@ std::vector<io::Plot> bodePlots(const std::string& title, const Eigen::VectorXd&
 }
 
 // One Bode diagram (magnitude over phase) per input-output pair: <prefix>_bode_in<i>_out<o>.svg.
-void writeBodeDiagrams(io::OutputSet& files, const StateSpace& ss, const std::string& modelFile,
-                       const std::string& note) {
-  const Eigen::VectorXd omega = bodeFrequencies(ss);
+void writeBodeDiagrams(io::OutputSet& files, const StateSpace& ss, const Eigen::VectorXd& omega,
+                       const std::string& modelFile, const std::string& note) {
   const std::vector<Eigen::VectorXcd> responses = frequencyResponses(ss, omega);
+  const auto unit = [](const std::vector<std::string>& units, Eigen::Index k) {
+    return k < static_cast<Eigen::Index>(units.size()) ? units[static_cast<std::size_t>(k)] : std::string();
+  };
   for (Eigen::Index i = 0; i < ss.B.cols(); ++i)
     for (Eigen::Index o = 0; o < ss.C.rows(); ++o) {
       const Eigen::VectorXcd& h = responses[static_cast<std::size_t>(i * ss.C.rows() + o)];
       const std::string name = "_bode_in" + std::to_string(i + 1) + "_out" + std::to_string(o + 1) + ".svg";
-      io::writeSvgStack(files.temporaryFor(name),
-                        bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + modelFile + ")", omega, h,
-                                  bodePhase(ss, static_cast<int>(i), static_cast<int>(o), omega, h), note));
+      io::writeSvgStack(
+          files.temporaryFor(name),
+          bodePlots(ss.outputNames[o] + " / " + ss.inputNames[i] + " (" + modelFile + ")",
+                    magnitudeLabel(unit(ss.outputUnits, o), unit(ss.inputUnits, i)), omega, h, bodePhase(ss, h), note));
     }
 }
 
@@ -91,10 +103,14 @@ WrittenTransfer writeTransfer(io::OutputSet& files, const core::Model& model, co
     // No damping (A's velocity block is zero): the resonance peaks are infinite, the drawn ones are
     // only as high as the frequency grid comes to them.
     const std::string note = undamped(ss) ? "no damping in the model: the peaks are infinite at the eigenfrequencies "
-                                            "(give EDAMP); the phase is a lightly damped model's"
+                                            "(give EDAMP); the phase is H's own: 0, +-90 or -180 degrees"
                                           : "";
     if (!note.empty()) out << "  note: " << note << "\n";
-    attempt("the Bode diagrams", [&] { writeBodeDiagrams(files, ss, what.modelFile, note); });
+    const Eigen::VectorXd omega = bodeFrequencies(ss, what.fminHz, what.fmaxHz);
+    out << "  Bode diagrams from " << io::shortNumber(omega[0] / (2 * M_PI), 4) << " to "
+        << io::shortNumber(omega[omega.size() - 1] / (2 * M_PI), 4) << " Hz"
+        << (what.fminHz > 0.0 ? "" : " (--freq-range FMIN,FMAX sets the range)") << "\n";
+    attempt("the Bode diagrams", [&] { writeBodeDiagrams(files, ss, omega, what.modelFile, note); });
   }
   w.paths = files.commit(run.completed ? "complete" : "stopped: " + run.stopReason);
   return w;

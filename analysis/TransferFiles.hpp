@@ -14,9 +14,10 @@
 namespace flexmb::analysis {
 
 struct TransferFiles {
-  bool bode = true;        // draw the Bode diagrams
-  bool forceBode = false;  // also for more than kBodeStateLimit states (each frequency an O(n^2) solve)
-  std::string modelFile;   // named in the diagrams' titles
+  bool bode = true;                   // draw the Bode diagrams
+  bool forceBode = false;             // also for more than kBodeStateLimit states (each frequency an O(n^2) solve)
+  std::string modelFile;              // named in the diagrams' titles
+  double fminHz = 0.0, fmaxHz = 0.0;  // the diagrams' range (0: from the eigenfrequencies)
   static constexpr long kBodeStateLimit = 400;
 };
 

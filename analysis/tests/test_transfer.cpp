@@ -12,6 +12,7 @@
 #include <complex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "analysis/Perturbation.hpp"
 #include "analysis/Statics.hpp"
@@ -232,10 +233,10 @@ TEST(Transfer, KinematicDofMatricesHoldTheInputs) {
   EXPECT_LT((km.K0B - K).norm(), 1e-9) << km.K0B;
 }
 
-// Undamped Bode phase (issue 35): H(i w) is real and flips sign at poles and zeros; the phase falls
-// 180 degrees at each pole and rises 180 at each zero, so a collocated pair (force in, its own
-// displacement out: poles and zeros alternate) stays between 0 and -180 degrees instead of
-// climbing by 360 at every flip the unwrapping guessed the wrong way.
+// Undamped Bode phase (issue 35): H(i w) is real and flips sign at poles and zeros; the phase is
+// H's own (0 or -180), so a collocated pair (force in, its own displacement out: poles and zeros
+// alternate) falls at each pole and rises at each zero instead of climbing by 360 at every flip an
+// unwrapping guessed the wrong way.
 TEST(Transfer, UndampedBodePhaseFallsAtPolesAndRisesAtZeros) {
   const int n = 4, tip = 2 * n + 1;
   const std::string block = "INPUTF 1 " + std::to_string(tip) + " 3\nOUTX 1 " + std::to_string(tip) + " 3\n";
@@ -245,7 +246,7 @@ TEST(Transfer, UndampedBodePhaseFallsAtPolesAndRisesAtZeros) {
   ASSERT_TRUE(analysis::undamped(run.model));
   const Eigen::VectorXd omega = analysis::bodeFrequencies(run.model);
   const Eigen::VectorXcd h = analysis::frequencyResponse(run.model, 0, 0, omega);
-  const Eigen::VectorXd phase = analysis::bodePhase(run.model, 0, 0, omega, h);
+  const Eigen::VectorXd phase = analysis::bodePhase(run.model, h);
   int falls = 0, rises = 0;
   for (Eigen::Index k = 0; k < phase.size(); ++k) {
     EXPECT_TRUE(phase[k] <= 1e-3 && phase[k] >= -180.0 - 1e-3) << "at " << omega[k] << " rad/s: " << phase[k];
@@ -296,4 +297,88 @@ TEST(Transfer, BodeGridFindsALightlyDampedPeak) {
   EXPECT_GT(onGrid, 0.97 * peak);
   // The static compliance is far below it: the peak is a real resonance, not the grid's edge.
   EXPECT_GT(onGrid, 100.0 * std::abs(h[0]));
+}
+
+// Issue 51: the undamped Bode phase reached -540 degrees above 5 kHz (a lightly damped model's
+// turns added up where round-off decided their sign), though H evaluated from A, B, C is real or
+// imaginary. Now every value is H's own phase, a quarter turn in [-180, 90]: for the pivot's moment
+// to its rotation and rotation rate, and for the leaf-spring stage's force to its stage and
+// mid-leaf displacements (collocated: 0 below the first resonance, -180 above it).
+TEST(Transfer, UndampedBodePhaseIsHsOwnWithinAQuarterTurnBand) {
+  for (const char* name : {"cross_spring_pivot_transfer.dat", "parallel_leaf_stage.dat"}) {
+    const analysis::TransferRun run =
+        analysis::transferAnalysis(io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/" + name));
+    ASSERT_TRUE(run.completed) << name << ": " << run.stopReason;
+    ASSERT_TRUE(analysis::undamped(run.model)) << name;
+    const Eigen::VectorXd omega = analysis::bodeFrequencies(run.model);
+    const std::vector<Eigen::VectorXcd> responses = analysis::frequencyResponses(run.model, omega);
+    const Eigen::Index no = run.model.C.rows();
+    for (Eigen::Index o = 0; o < no; ++o) {
+      const Eigen::VectorXcd& h = responses[static_cast<size_t>(o)];
+      const Eigen::VectorXd phase = analysis::bodePhase(run.model, h);
+      const bool rate = run.model.outputUnits[static_cast<size_t>(o)].find("/s") != std::string::npos;
+      for (Eigen::Index k = 0; k < phase.size(); ++k) {
+        EXPECT_TRUE(phase[k] == -180.0 || phase[k] == -90.0 || phase[k] == 0.0 || phase[k] == 90.0)
+            << name << " output " << o + 1 << " at " << omega[k] << " rad/s: " << phase[k];
+        // A displacement's H is real, a rate's imaginary: its sign decides.
+        if (rate)
+          EXPECT_EQ(phase[k], h[k].imag() >= 0.0 ? 90.0 : -90.0) << name << " " << omega[k];
+        else
+          EXPECT_EQ(phase[k], h[k].real() >= 0.0 ? 0.0 : -180.0) << name << " " << omega[k];
+      }
+      std::printf("%s output %ld: phase from %g to %g degrees over %ld frequencies\n", name, static_cast<long>(o + 1),
+                  phase.minCoeff(), phase.maxCoeff(), static_cast<long>(phase.size()));
+    }
+  }
+  const analysis::TransferRun stage = analysis::transferAnalysis(
+      io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/parallel_leaf_stage.dat"));
+  ASSERT_TRUE(stage.completed) << stage.stopReason;
+  const double f1 = 2 * M_PI * 14.43;  // its mode 1 (Hz): the stage along x
+  const Eigen::VectorXd around = (Eigen::VectorXd(2) << 0.9 * f1, 1.1 * f1).finished();
+  const Eigen::VectorXd phase =
+      analysis::bodePhase(stage.model, analysis::frequencyResponse(stage.model, 0, 0, around));
+  EXPECT_EQ(phase[0], 0.0);
+  EXPECT_EQ(phase[1], -180.0);
+}
+
+// A damped phase is continuous (unwrapped from the lowest frequency): a mass on a damped spring goes
+// from 0 to -180 degrees through -90 at its resonance.
+TEST(Transfer, DampedBodePhaseIsContinuous) {
+  const analysis::StateSpace ss =
+      stateSpace(io::readDatString(massSpring(4.0, 400.0, 2.0, 0.0, false, "INPUTF 1 2 1\nOUTX 1 2 1\n"), "ms.dat"));
+  const Eigen::VectorXd omega = analysis::bodeFrequencies(ss);
+  const Eigen::VectorXd phase = analysis::bodePhase(ss, analysis::frequencyResponse(ss, 0, 0, omega));
+  EXPECT_NEAR(phase[0], 0.0, 1.0);
+  EXPECT_NEAR(phase[phase.size() - 1], -180.0, 1.0);
+  for (Eigen::Index k = 1; k < phase.size(); ++k) EXPECT_LE(phase[k], phase[k - 1] + 1e-9) << omega[k];
+}
+
+// transfer --freq-range (issue 51): the Bode frequencies span the range asked for, the points
+// closing in on a resonance included.
+TEST(Transfer, BodeFrequenciesSpanTheRangeAskedFor) {
+  const analysis::StateSpace ss =
+      stateSpace(io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/parallel_leaf_stage.dat"));
+  const Eigen::VectorXd automatic = analysis::bodeFrequencies(ss);
+  EXPECT_NEAR(automatic[0] / (2 * M_PI), 1.443, 1e-3);  // a decade below mode 1
+  const Eigen::VectorXd w = analysis::bodeFrequencies(ss, 10.0, 1000.0);
+  EXPECT_NEAR(w[0], 2 * M_PI * 10.0, 1e-9);
+  EXPECT_NEAR(w[w.size() - 1], 2 * M_PI * 1000.0, 1e-9);
+  EXPECT_GT(w.size(), 400) << "the points closing in on mode 1 (14.4 Hz) and the leaves' modes";
+  for (Eigen::Index k = 1; k < w.size(); ++k) EXPECT_GT(w[k], w[k - 1]);
+}
+
+// The channels' units (SI), which the Bode diagrams' magnitude axis says: force N, moment N m,
+// displacement m, rotation rad, rates per s; INX's position, velocity and acceleration inputs.
+TEST(Transfer, ChannelsHaveTheirUnits) {
+  const analysis::StateSpace ms = stateSpace(io::readDatString(
+      massSpring(4.0, 400.0, 2.0, 0.0, false, "INPUTF 1 2 1\nOUTX 1 2 1\nOUTXP 2 2 1\nOUTF 3 1 1\n"), "ms.dat"));
+  EXPECT_EQ(ms.inputUnits, std::vector<std::string>{"N"});
+  EXPECT_EQ(ms.outputUnits, (std::vector<std::string>{"m", "m/s", "N"}));
+  const analysis::StateSpace base =
+      stateSpace(io::readDatString(massSpring(4.0, 400.0, 2.0, 0.0, true, "INX 1 1 1\nOUTX 1 2 1\n"), "base.dat"));
+  EXPECT_EQ(base.inputUnits, (std::vector<std::string>{"m", "m/s", "m/s^2"}));
+  const analysis::StateSpace pivot =
+      stateSpace(io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_transfer.dat"));
+  EXPECT_EQ(pivot.inputUnits, std::vector<std::string>{"N m"});
+  EXPECT_EQ(pivot.outputUnits, (std::vector<std::string>{"rad", "rad/s"}));
 }

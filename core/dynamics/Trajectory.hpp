@@ -81,6 +81,9 @@ struct Trajectory {
   double stiffSince = 0.0, stiffLambda = 0.0;
   long stiffBoundSteps = 0;
   double switchedAt = std::numeric_limits<double>::quiet_NaN();
+  // An auto run that went on with galpha from its start: the highest eigenfrequency at rest
+  // (stiffLambda) bounds ode45 to more steps than it is worth (switchedAt = t0, no ode45 step).
+  bool implicitFromStart = false;
   bool completed = true;
   std::string stopReason;  // why the run stopped early (time and reason); empty when completed
   AccuracyEstimate accuracy;

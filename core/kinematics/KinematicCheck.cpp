@@ -27,7 +27,7 @@ KinematicReport checkKinematics(const Model& model) {
   KinematicReport r;
   for (const auto& n : model.nodes)
     (isTranslational(n.kind) ? r.positionNodes : n.kind == NodeKind::Warping ? r.warpingNodes : r.orientationNodes)++;
-  r.elements = static_cast<int>(model.elements.size());
+  for (const auto& el : model.elements) (el.type->internal ? r.normalisations : r.elements)++;
   r.nx = model.nx;
   r.ne = model.ne;
   std::vector<int> col(model.nx, -1), row(model.ne, -1), cols, rows;
@@ -111,7 +111,11 @@ std::string formatReport(const KinematicReport& r) {
   std::ostringstream o;
   o << "nodes: " << r.positionNodes << " position, " << r.orientationNodes << " orientation";
   if (r.warpingNodes > 0) o << ", " << r.warpingNodes << " warping";
-  o << "; elements: " << r.elements << "\n";
+  o << "; elements: " << r.elements;
+  // The file's elements, as `show` counts them; the constraints flexmb adds are said apart.
+  if (r.normalisations > 0)
+    o << " (and " << r.normalisations << " normalisation constraints of the Euler parameters that flexmb adds)";
+  o << "\n";
   o << "nodal coordinates: " << r.nx << " (fixed " << r.xFixed << ", input " << r.xInput << ", dynamic " << r.xDynamic
     << ", calculable " << r.xCalculable << ")\n";
   o << "deformations:      " << r.ne << " (fixed " << r.eFixed << ", input " << r.eInput << ", dynamic " << r.eDynamic

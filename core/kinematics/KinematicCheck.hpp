@@ -10,7 +10,9 @@
 namespace flexmb::core {
 
 struct KinematicReport {
-  int positionNodes = 0, orientationNodes = 0, warpingNodes = 0, elements = 0;
+  int positionNodes = 0, orientationNodes = 0, warpingNodes = 0;
+  int elements = 0;        // the file's elements (what `show` draws and lists)
+  int normalisations = 0;  // the constraints flexmb adds, one per orientation node (L2MIN1)
   int nx = 0, ne = 0;
   int xFixed = 0, xInput = 0, xDynamic = 0, xCalculable = 0;
   int eFixed = 0, eInput = 0, eDynamic = 0, eReleased = 0;

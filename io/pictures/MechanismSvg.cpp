@@ -656,6 +656,38 @@ std::string renderModelSvg(const MechanismGeometry& g, const ModelDrawing& drawi
   return o + tableText(rows, l.tableX, l.tableY) + "</svg>\n";
 }
 
+namespace {
+// The share of the vectors' total length that survives the projection (1 for none).
+double seenShare(const std::vector<Point3>& v, View view) {
+  double all = 0.0, seen = 0.0;
+  for (const Point3& d : v) {
+    all += std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    const Point2 p = project(d, view);
+    seen += std::hypot(p.u, p.v);
+  }
+  return all > 0.0 ? seen / all : 1.0;
+}
+
+// The drawn points of configuration x: the sampled axis points and, of elements drawn as solids,
+// their sections' corners (a leaf's twist moves its edges, not its axis).
+void drawnPoints(const MechanismGeometry& g, const Eigen::VectorXd& x, std::vector<Point3>& out) {
+  std::vector<Point3> p, ys, zs;
+  g.points(x, p);
+  g.sectionAxes(x, ys, zs);
+  out = p;
+  for (const DrawnElement& d : g.elements()) {
+    if (d.shape != DrawnShape::Curve || !d.framed || d.section.kind == DrawnSection::Kind::Line) continue;
+    const bool circle = d.section.kind == DrawnSection::Kind::Circle;
+    const double a = 0.5 * d.section.width, b = circle ? a : 0.5 * d.section.thickness;
+    for (int i = d.firstPoint; i < d.firstPoint + d.numPoints; ++i)
+      for (const double sa : {-a, a})
+        for (const double sb : {-b, b})
+          out.push_back({p[i].x + sa * ys[i].x + sb * zs[i].x, p[i].y + sa * ys[i].y + sb * zs[i].y,
+                         p[i].z + sa * ys[i].z + sb * zs[i].z});
+  }
+}
+}  // namespace
+
 View panelView(const MechanismGeometry& g, const ShapePanel& panel, View requested) {
   if (requested != View::Auto || !g.spatial()) return resolveView(requested, g);
   const ShapeLayer* reference = nullptr;
@@ -664,24 +696,33 @@ View panelView(const MechanismGeometry& g, const ShapePanel& panel, View request
       reference = &l;
       break;
     }
-  double extent[3] = {0.0, 0.0, 0.0};
-  for (const ShapeLayer& l : panel.layers) {
-    if (!reference || l.reference || l.x.size() != g.model().nx) continue;
-    for (int node = 0; node < static_cast<int>(g.model().nodes.size()); ++node) {
-      if (!g.isPositionNode(node)) continue;
-      const Point3 a = g.nodePoint(node, l.x), b = g.nodePoint(node, reference->x);
-      extent[0] = std::max(extent[0], std::abs(a.x - b.x));
-      extent[1] = std::max(extent[1], std::abs(a.y - b.y));
-      extent[2] = std::max(extent[2], std::abs(a.z - b.z));
+  if (!reference) return View::Isometric;
+  // The model: its drawn curves' pieces in the reference configuration.
+  std::vector<Point3> pts, pieces, moves;
+  g.points(reference->x, pts);
+  for (const DrawnElement& d : g.elements())
+    for (int k = 1; d.shape == DrawnShape::Curve && k < d.numPoints; ++k) {
+      const Point3 &a = pts[d.firstPoint + k - 1], &b = pts[d.firstPoint + k];
+      pieces.push_back({b.x - a.x, b.y - a.y, b.z - a.z});
     }
+  // Its motion: the drawn points' displacements in the other layers.
+  std::vector<Point3> rest, moved;
+  drawnPoints(g, reference->x, rest);
+  for (const ShapeLayer& l : panel.layers) {
+    if (l.reference || l.x.size() != g.model().nx) continue;
+    drawnPoints(g, l.x, moved);
+    for (size_t i = 0; i < rest.size() && i < moved.size(); ++i)
+      moves.push_back({moved[i].x - rest[i].x, moved[i].y - rest[i].y, moved[i].z - rest[i].z});
   }
-  const double largest = std::max({extent[0], extent[1], extent[2]});
-  if (!(largest > 0.0)) return View::Isometric;
-  const double flat = 0.02 * largest;
-  if (extent[2] <= flat) return View::XY;
-  if (extent[1] <= flat) return View::XZ;
-  if (extent[0] <= flat) return View::YZ;
-  return View::Isometric;
+  // A product: a view that hides the model (leaves seen end-on) or its motion scores near zero.
+  // Planes first, iso only where it sees more (a model and motion in no one plane).
+  View best = View::XY;
+  double bestScore = -1.0;
+  for (const View v : {View::XY, View::XZ, View::YZ, View::Isometric}) {
+    const double score = seenShare(pieces, v) * seenShare(moves, v);
+    if (score > bestScore + 1e-9) best = v, bestScore = score;
+  }
+  return best;
 }
 
 std::string renderShapesSvg(const MechanismGeometry& g, const ShapeFigure& fig) {

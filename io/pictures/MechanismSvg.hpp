@@ -59,9 +59,12 @@ const char* deformationRoleWord(core::Role r);
 const char* coordinateRoleWord(core::Role r);
 
 // The projection of one panel of a shape figure: the figure's view when one is set; with Auto, for a
-// spatial model, the plane the panel moves in (its shapes against its reference layer: xy when no
-// position node moves along z by more than 2 % of the largest displacement, likewise xz and yz),
-// else iso; xy for planar models. So the cross-spring pivot's rotation mode is drawn face-on.
+// spatial model, the view among xy, xz, yz and iso that sees most of the panel's model and motion:
+// the largest product of the share of the model's drawn length (its reference layer) and of the
+// displacements of its drawn points (axis points and section corners, the other layers against the
+// reference) that survive the projection, planes
+// before iso on a tie; xy for planar models. So the cross-spring pivot's rotation mode is drawn
+// face-on, and a parallel leaf-spring stage flat in xz moving along x is drawn in xz, not from the top.
 View panelView(const MechanismGeometry& geometry, const ShapePanel& panel, View requested);
 
 std::string renderModelSvg(const MechanismGeometry& geometry, const ModelDrawing& drawing);

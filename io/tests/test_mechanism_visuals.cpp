@@ -217,9 +217,9 @@ TEST(MechanismSvg, ShapeFigureHasOnePanelPerEntryAndOneScale) {
   EXPECT_NE(svg.find("stroke-dasharray"), std::string::npos);
 }
 
-// Every spatial position node of the cross-spring pivot moved by f(x, y, z) -> displacement.
+// Every spatial position node of a model moved by f(x, y, z) -> displacement.
 template <class Move>
-Eigen::VectorXd movedPivot(const core::Model& m, Move move) {
+Eigen::VectorXd movedNodes(const core::Model& m, Move move) {
   Eigen::VectorXd x = m.x0;
   for (const core::Node& n : m.nodes) {
     if (n.kind != core::NodeKind::SpatialPosition) continue;
@@ -229,31 +229,42 @@ Eigen::VectorXd movedPivot(const core::Model& m, Move move) {
   return x;
 }
 
-TEST(MechanismSvg, EachPanelIsDrawnInThePlaneItMovesIn) {
+// Auto (issue 35, issue 51): each panel in the view that sees most of its model and of its motion.
+TEST(MechanismSvg, EachPanelIsDrawnInTheViewThatSeesItsModelAndMotion) {
   const core::Model m = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot.dat");
   const io::MechanismGeometry g(m);
   ASSERT_TRUE(g.spatial());
   auto panel = [&](const Eigen::VectorXd& x) { return io::ShapePanel{"", {{m.x0, "", "", true}, {x, "", "", false}}}; };
-  // The pivot's working motion, a rotation about z (small: the z coordinates do not change): xy.
+  auto view = [&](const Eigen::VectorXd& x) { return io::panelView(g, panel(x), io::View::Auto); };
+  // The pivot lies in z = 0, its platform along y. Its working motion, a rotation about z: xy.
   const Eigen::VectorXd turned =
-      movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(-0.05 * p.y(), 0.05 * p.x(), 0.0); });
-  EXPECT_EQ(io::panelView(g, panel(turned), io::View::Auto), io::View::XY);
-  // (The pivot's nodes lie in z = 0.) Motion along z growing with x: seen in xz; along y and z: yz;
-  // in every direction: iso.
-  EXPECT_EQ(
-      io::panelView(g, panel(movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, 0, p.x()); })),
-                    io::View::Auto),
-      io::View::XZ);
-  EXPECT_EQ(
-      io::panelView(g, panel(movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, p.x(), p.y()); })),
-                    io::View::Auto),
-      io::View::YZ);
+      movedNodes(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(-0.05 * p.y(), 0.05 * p.x(), 0.0); });
+  EXPECT_EQ(view(turned), io::View::XY);
+  // Motion along z: both side views see it; yz sees the leaves at 45 degrees and the platform, xz
+  // not the platform. Along y and z: yz alone sees it. In every direction: iso.
+  EXPECT_EQ(view(movedNodes(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, 0, p.x()); })), io::View::YZ);
+  EXPECT_EQ(view(movedNodes(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, p.x(), p.y()); })),
+            io::View::YZ);
   const Eigen::VectorXd twisted =
-      movedPivot(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.y(), p.x(), p.x() + p.y()); });
-  EXPECT_EQ(io::panelView(g, panel(twisted), io::View::Auto), io::View::Isometric);
-  // A panel without motion, and a view the user set, are not guessed.
-  EXPECT_EQ(io::panelView(g, io::ShapePanel{"", {{m.x0, "", "", true}}}, io::View::Auto), io::View::Isometric);
+      movedNodes(m, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.y(), p.x(), p.x() + p.y()); });
+  EXPECT_EQ(view(twisted), io::View::Isometric);
+  // A panel without motion: the plane the model lies in. A view the user set is kept.
+  EXPECT_EQ(io::panelView(g, io::ShapePanel{"", {{m.x0, "", "", true}}}, io::View::Auto), io::View::XY);
   EXPECT_EQ(io::panelView(g, panel(twisted), io::View::XZ), io::View::XZ);
+
+  // Issue 51: a parallel leaf-spring stage standing in xz (leaves along z). Its guided motion is along
+  // x alone, which xy contains too: from the top the stage block hid the leaves. Now xz, the leaves
+  // seen bending; out of its plane (along y) yz, where xy would show the stage alone.
+  const core::Model st = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/parallel_leaf_stage.dat");
+  const io::MechanismGeometry gs(st);
+  auto stageView = [&](const Eigen::VectorXd& x) {
+    return io::panelView(gs, io::ShapePanel{"", {{st.x0, "", "", true}, {x, "", "", false}}}, io::View::Auto);
+  };
+  EXPECT_EQ(stageView(movedNodes(st, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0.1 * p.z(), 0, 0); })),
+            io::View::XZ);
+  EXPECT_EQ(stageView(movedNodes(st, [](const Eigen::Vector3d& p) { return Eigen::Vector3d(0, 0.1 * p.z(), 0); })),
+            io::View::YZ);
+  EXPECT_EQ(io::panelView(gs, io::ShapePanel{"", {{st.x0, "", "", true}}}, io::View::Auto), io::View::XZ);
   // In the figure: the rotation's panel carries the xy axes (no z arrow drawn in its plane) and the
   // reference is drawn again over the solid shapes.
   io::ShapeFigure f;

@@ -20,6 +20,7 @@
 #include "io/formats/SpacarResults.hpp"
 #include "io/formats/TextOutput.hpp"
 #include "io/pictures/SvgPlot.hpp"
+#include "io/templates/StudySummary.hpp"
 #include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
@@ -33,8 +34,9 @@ namespace {
 
 // What --view auto means for the shape figures (io::panelView).
 constexpr const char* kShapeViewAuto =
-    "each panel of a spatial model in the plane of its own motion where it moves in one, else iso; xy for planar "
-    "models";
+    "each panel of a spatial model in the one of xy, xz, yz and iso that sees most of its model and of its motion "
+    "(the largest product of the shares of the model's length and of its displacements seen), named in the "
+    "figure's notes; xy for planar models";
 void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   o << "  mode   f [Hz]          omega [rad/s]\n";
   for (Eigen::Index i = 0; i < omega.size(); ++i) {
@@ -67,12 +69,13 @@ int runModes(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6;
   std::string basisFile, out, svg, html, vtk;
+  const std::string htmlHelp =
+      std::string("also write a 3-D page that plays each mode shape (default <model>_modes.html)") + kHtmlUrlOptions;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 1)), "number of eigenfrequencies (default 6)")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "SPACAR result files <out>.sbd / .sbm (default: the model's name in the current folder)")(
       "svg", po::value(&svg), "also draw the mode shapes into this SVG file")(
-      "html", po::value(&html)->implicit_value("<model>_modes.html"),
-      "also write a 3-D page that plays each mode shape (default <model>_modes.html)")(
+      "html", po::value(&html)->implicit_value("<model>_modes.html"), htmlHelp.c_str())(
       "vtk", po::value(&vtk)->implicit_value("<model>_modes"),
       "also write the mode shapes as a ParaView series <prefix>.pvd (default <model>_modes)");
   std::string viewName;
@@ -191,6 +194,23 @@ void printFinalDisplacements(std::ostream& o, const core::Model& model, const an
     o << "\n";
   }
 }
+// The last load step's largest section forces (the CSV's max_* columns: where they are) and the
+// nodal loads applied (its F.* / M.* columns).
+void printForcesAndLoads(std::ostream& o, const core::Model& model, const analysis::StaticRun& run) {
+  if (run.steps.empty()) return;
+  const analysis::StaticStep& last = run.steps.back();
+  const auto maxima = analysis::sectionForceMaxima(model, last.sigma);
+  if (!maxima.empty()) o << "largest section forces at the last load step (over the elements that deform):\n";
+  for (const auto& f : maxima) {
+    o << "  " << f.name << " = " << io::shortNumber(f.value, 6) << " " << io::quantityUnit(f.name);
+    if (f.element >= 0)
+      o << " (" << model.elements[f.element].type->keyword << " " << model.elements[f.element].label << ")";
+    o << "\n";
+  }
+  const auto loads = analysis::appliedNodalLoads(model, last);
+  if (!loads.empty()) o << "nodal loads applied at the last load step (gravity apart):\n";
+  for (const auto& [name, value] : loads) o << "  " << name << " = " << io::shortNumber(value, 6) << "\n";
+}
 // Each load step: its factors, Newton iterations, frequencies and buckling load factors.
 void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int buckling) {
   for (const auto& st : run.steps) {
@@ -252,6 +272,10 @@ int runStatic(const std::vector<std::string>& args) {
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
   std::string out, svg, html, vtk, format = "both", matrices = "all";
+  const std::string htmlHelp = std::string(
+                                   "also write a 3-D page that plays the load steps and the last one's mode "
+                                   "shapes (default: beside the CSV)") +
+                               kHtmlUrlOptions;
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)), "eigenfrequencies per equilibrium (default 6)")(
       "matrices", po::value(&matrices),
       "with SPACAR's files: all (default, as SPACAR writes them and SPACAR Light reads them: M0 .. N0 of every load "
@@ -267,10 +291,10 @@ int runStatic(const std::vector<std::string>& args) {
       "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
-      "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv)")(
+      "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv); per load step the "
+      "coordinates, frequencies, buckling factors, then the largest section forces max_* and the nodal loads F.*, M.*")(
       "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file")(
-      "html", po::value(&html)->implicit_value("<prefix>.html"),
-      "also write a 3-D page that plays the load steps and the last one's mode shapes (default: beside the CSV)")(
+      "html", po::value(&html)->implicit_value("<prefix>.html"), htmlHelp.c_str())(
       "vtk", po::value(&vtk)->implicit_value("<prefix>"),
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
   std::string viewName;
@@ -353,6 +377,7 @@ int runStatic(const std::vector<std::string>& args) {
     if (writeCsv)
       io::writeTextFile(files.temporaryPath(csvPath), io::formatCsv(analysis::staticTable(model, run, buckling)));
     printFinalDisplacements(std::cout, model, run);
+    printForcesAndLoads(std::cout, model, run);
     files.renameFiles();  // the load steps' CSV first: nothing after it can take it away
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";

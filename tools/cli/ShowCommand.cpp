@@ -27,9 +27,11 @@ int runShow(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   std::string out, viewName, html;
+  const std::string htmlHelp =
+      std::string("also write the model as a 3-D page to rotate and zoom in a browser (default <model>_model.html)") +
+      kHtmlUrlOptions;
   d.add_options()("out,o", po::value(&out), "SVG file to write (default: <model>_model.svg in the current folder)")(
-      "html", po::value(&html)->implicit_value("<model>_model.html"),
-      "also write the model as a 3-D page to rotate and zoom in a browser (default <model>_model.html)");
+      "html", po::value(&html)->implicit_value("<model>_model.html"), htmlHelp.c_str());
   addViewOption(d, viewName, "xy for planar, iso for spatial models");
   if (auto rc = parseCommand(
           args, d, m, "usage: flexmb show model.dat [--out picture.svg] [--view xy|xz|yz|iso] [--html [page.html]]"))
@@ -54,14 +56,11 @@ int runShow(const std::vector<std::string>& args) {
   const analysis::ModelCheck check = analysis::checkModel(model);
   if (check.kinematicsError.empty()) {
     const core::KinematicReport& r = check.kinematics;
-    // The user's elements: not the normalisation constraints flexmb adds per orientation node.
-    int userElements = 0;
-    for (const auto& el : model.elements) userElements += el.type->internal ? 0 : 1;
     std::vector<std::string> dofs;
     for (const auto& q : model.dofs)
       dofs.push_back(q.isDeformation ? model.deformationName(q.index) : model.coordName(q.index));
     drawing.notes.push_back(std::to_string(r.positionNodes) + " position and " + std::to_string(r.orientationNodes) +
-                            " orientation nodes, " + std::to_string(userElements) + " elements; " +
+                            " orientation nodes, " + std::to_string(r.elements) + " elements; " +
                             std::to_string(r.dof) + " degrees of freedom");
     if (!dofs.empty()) drawing.notes.push_back("DOF: " + joined(dofs, 4));
     wellPosed = r.wellPosed();

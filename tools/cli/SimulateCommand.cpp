@@ -51,8 +51,9 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "output intervals (0: every step; ode45 adds Refine 4's 3 points inside each)")(
       "integrator", po::value(&a.integrator),
       "ode45 (default: explicit, MATLAB's ode45 step by step), bdf (implicit: SUNDIALS CVODE's BDF with the "
-      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step) or auto "
-      "(ode45, switching to galpha once ode45's step is bound by stability rather than accuracy; says when) or galpha "
+      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step), auto "
+      "(galpha from the start where the highest eigenfrequency at rest bounds ode45 to more than 10,000 steps, else "
+      "ode45, switching to galpha once its step is bound by stability rather than accuracy; says which) or galpha "
       "(implicit generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, "
       "large steps on stiff spatial models)")(
       "rho-inf", po::value(&a.rhoInf),

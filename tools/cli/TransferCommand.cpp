@@ -3,6 +3,7 @@
 // trajectory of a file with TIMESTEP and in every load step of a static file.
 #include <Eigen/LU>
 #include <boost/program_options.hpp>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -11,6 +12,7 @@
 #include "analysis/Transfer.hpp"
 #include "analysis/TransferFiles.hpp"
 #include "io/formats/OutputFile.hpp"
+#include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Progress.hpp"
 
@@ -18,22 +20,48 @@ namespace po = boost::program_options;
 
 namespace flexmb::cli {
 
+namespace {
+// --freq-range FMIN,FMAX: two finite frequencies in Hz, 0 < FMIN < FMAX; else a usage error.
+void readFrequencyRange(const std::string& v, double& fmin, double& fmax) {
+  const auto number = [](const std::string& t, double& x) {
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
+    return !t.empty() && r.ec == std::errc() && r.ptr == t.data() + t.size() && std::isfinite(x);
+  };
+  const auto comma = v.find(',');
+  double a = 0.0, b = 0.0;
+  if (comma == std::string::npos || !number(v.substr(0, comma), a) || !number(v.substr(comma + 1), b) || !(a > 0.0) ||
+      !(b > a))
+    throw po::error("--freq-range must be FMIN,FMAX in Hz with 0 < FMIN < FMAX, not '" + v + "'");
+  fmin = a, fmax = b;
+}
+}  // namespace
+
 int runTransfer(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0;
   bool noBode = false, forceBode = false;
   std::string out;
+  double fmin = 0.0, fmax = 0.0;  // --freq-range (0: automatic)
   d.add_options()("nev", po::value(&nev)->notifier(atLeast("nev", 0)),
                   "eigenfrequencies per load step in the .sbm (default 6)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
       "no-bode", po::bool_switch(&noBode), "do not draw the Bode diagrams")(
       "bode", po::bool_switch(&forceBode),
       "draw the Bode diagrams also for more than 400 states (400 frequencies, each an O(n^2) solve)")(
+      "freq-range",
+      po::value<std::string>()->notifier([&](const std::string& v) { readFrequencyRange(v, fmin, fmax); }),
+      "the Bode diagrams' frequencies FMIN,FMAX in Hz (default: a decade below the lowest to a decade above the "
+      "highest eigenfrequency, at most five decades)")(
       "out", po::value(&out), "output prefix or folder (default: the model's name in the current folder)");
-  if (auto rc = parseCommand(
-          args, d, m, "usage: flexmb transfer model.dat [--nev N] [--steps n] [--no-bode | --bode] [--out prefix]"))
+  if (auto rc = parseCommand(args, d, m,
+                             "usage: flexmb transfer model.dat [--nev N] [--steps n] [--no-bode | --bode] "
+                             "[--freq-range FMIN,FMAX] [--out prefix]"))
     return *rc;
+  if (noBode && fmin > 0.0) {
+    std::cerr << "flexmb: --freq-range sets the Bode diagrams' frequencies: it cannot go with --no-bode\n";
+    return kUsageError;
+  }
   const bool bode = !noBode;
   core::Model model;
   if (!loadModelFor(m, model, true)) return kInputError;
@@ -48,6 +76,7 @@ int runTransfer(const std::vector<std::string>& args) {
   const std::string prefix = files.prefix();
   files.setting("command", "transfer");
   files.setting("model", m.file);
+  if (fmin > 0.0) files.setting("Bode frequency range", text::shortest(fmin) + "," + text::shortest(fmax) + " Hz");
   analysis::TransferOptions to;
   to.nev = nev;
   to.loadSteps = steps;
@@ -86,6 +115,7 @@ int runTransfer(const std::vector<std::string>& args) {
   what.bode = bode;
   what.forceBode = forceBode;
   what.modelFile = m.file;
+  what.fminHz = fmin, what.fmaxHz = fmax;
   analysis::WrittenTransfer written;
   try {
     written = analysis::writeTransfer(files, model, run, what, std::cout, std::cerr);

@@ -236,10 +236,15 @@ void writeShapeFigure(const std::string& path, const core::Model& model, const s
       "mode shapes x + s F_q v drawn with the largest nodal displacement at 12% of the model size "
       "(rotations at most 0.3 rad); dashed grey: the configuration they belong to");
   const io::MechanismGeometry geometry(model);
-  if (geometry.spatial() && view == io::View::Auto)
-    fig.notes.push_back(
-        "each panel in the plane it moves in where it has one, else iso (axes at its lower right; --view sets one "
-        "for all)");
+  if (geometry.spatial() && view == io::View::Auto) {
+    // Which view auto chose, panel by panel (io::panelView), so a reader knows what is seen.
+    std::string views;
+    for (const io::ShapePanel& p : fig.panels)
+      views += std::string(views.empty() ? "" : ", ") + io::viewName(io::panelView(geometry, p, view));
+    fig.notes.push_back("views, panel by panel: " + views +
+                        " (auto: the one that sees most of the panel's model and motion; axes at its lower right; "
+                        "--view sets one for all)");
+  }
   io::writeShapesSvg(path, geometry, fig);
 }
 

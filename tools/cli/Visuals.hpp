@@ -15,6 +15,11 @@
 
 namespace flexmb::cli {
 
+// The end of every --html option's help: the page's URL options (io/pictures/HtmlAnimation.hpp).
+inline constexpr const char* kHtmlUrlOptions =
+    "; its address opens in a state: #seq=K&frame=K&view=iso|xy|xz|yz&magnify=1|10|100|1000&pause&numbers&"
+    "noreference (docs/analyses/show.md)";
+
 int runShow(const std::vector<std::string>& args);
 
 // A configuration in degrees of freedom q with mode shapes (q coordinates, one per column).
@@ -36,8 +41,8 @@ struct NamedConfiguration {
 // (dashed grey) and the given configurations over it (light to dark blue), then one panel per mode
 // of each mode set: the configuration (dashed grey) and x + s F_q v (s: scaledShape). Positions and
 // F_q are recomputed from q by the model's kinematics. Throws std::runtime_error on failures.
-// view: the projection of every panel; Auto: each panel in the plane of its own motion where it
-// moves in one (io::panelView), else iso (spatial models), xy (planar ones).
+// view: the projection of every panel; Auto: each panel in the view that sees most of its model and
+// motion (io::panelView; spatial models, named in a note), xy (planar ones).
 void writeShapeFigure(const std::string& path, const core::Model& model, const std::string& title,
                       const std::vector<NamedConfiguration>& configurations, const std::vector<ModeSet>& modeSets,
                       io::View view = io::View::Auto);

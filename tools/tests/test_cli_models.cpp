@@ -12,6 +12,9 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "analysis/Simulation.hpp"
 #include "analysis/TrajectoryModes.hpp"
@@ -177,5 +180,88 @@ TEST(CliModels, StaticFlagUnderADeadMomentNamesTheKineticVerdict) {
   ASSERT_NE(step0, std::string::npos) << text;
   const std::string line0 = text.substr(step0, text.find('\n', step0) - step0);
   EXPECT_EQ(line0.find("UNSTABLE"), std::string::npos) << "no moment at load step 0, no flag: " << line0;
+  std::filesystem::remove_all(dir);
+}
+
+namespace {
+// A command's exit status and its stdout and stderr together.
+std::pair<int, std::string> runFlexmb(const std::filesystem::path& dir, const std::string& args) {
+  const std::string log = (dir / "log.txt").string();
+  const int rc = std::system(
+      ("cd '" + dir.string() + "' && " + std::string(FLEXMB_BINARY_DIR) + "/flexmb " + args + " > '" + log + "' 2>&1")
+          .c_str());
+  std::ifstream in(log);
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1,
+          std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>())};
+}
+const std::string kStage = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/parallel_leaf_stage.dat";
+// An empty folder of that name in the build folder.
+std::filesystem::path freshDir(const char* name) {
+  const std::filesystem::path dir = std::filesystem::path(FLEXMB_BINARY_DIR) / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+}  // namespace
+
+// Issue 51: `check` counted 43 elements where `show` says 22: it counted the 21 normalisation
+// constraints flexmb adds (one per orientation node not fixed). Both count the file's elements; check
+// says the others apart.
+TEST(CliModels, CheckAndShowCountTheFilesElements) {
+  const std::filesystem::path dir = freshDir("stage_count");
+  auto [rc, text] = runFlexmb(dir, "check '" + kStage + "'");
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find("; elements: 22 (and 21 normalisation constraints of the Euler parameters that flexmb adds)\n"),
+            std::string::npos)
+      << text;
+  std::tie(rc, text) = runFlexmb(dir, "show '" + kStage + "' -q --out stage.svg");
+  ASSERT_EQ(rc, 0) << text;
+  std::ifstream svg(dir / "stage.svg");
+  const std::string picture((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(picture.find("23 position and 23 orientation nodes, 22 elements;"), std::string::npos);
+  // A planar model has none to say.
+  std::tie(rc, text) = runFlexmb(dir, "check '" + std::string(FLEXMB_SOURCE_DIR) + "/datfiles/cantilever.dat'");
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find("; elements: 4\n"), std::string::npos) << text;
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 51: `static` wrote neither section forces nor the applied loads. Its CSV keeps its columns
+// and adds, per load step, the largest section force of each kind (over the elements that deform)
+// and the nodal loads applied; the screen gives the last step's, with the element of each largest.
+TEST(CliModels, StaticWritesTheLargestSectionForcesAndTheLoads) {
+  const std::filesystem::path dir = freshDir("stage_static");
+  const auto [rc, text] = runFlexmb(dir, "static '" + kStage + "' --format csv --out stage.csv");
+  ASSERT_EQ(rc, 0) << text;
+  std::ifstream in(dir / "stage.csv");
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    rows.emplace_back();
+    std::stringstream s(line);
+    for (std::string c; std::getline(s, c, ',');) rows.back().push_back(c);
+  }
+  ASSERT_EQ(rows.size(), 7u) << "header and load steps 0..5";
+  const std::vector<std::string>& h = rows[0];
+  const core::Model model = io::readDatFile(kStage);
+  // The columns as before (load_step, initial_factor, load_factor, the coordinates, f1..f6), then the new.
+  ASSERT_EQ(h.size(), 3u + static_cast<size_t>(model.nx) + 6u + 5u);
+  EXPECT_EQ(h[3], "node1.x");
+  EXPECT_EQ(h[3 + model.nx + 5], "f6_Hz");
+  const std::vector<std::string> added(h.end() - 5, h.end());
+  EXPECT_EQ(added, (std::vector<std::string>{"max_axial_force", "max_bending_moment_y", "max_bending_moment_z",
+                                             "max_torsion_moment", "F.node45.x"}));
+  const size_t moment = h.size() - 4, load = h.size() - 1;
+  for (size_t r = 1; r < rows.size(); ++r) EXPECT_NEAR(std::stod(rows[r][load]), (r - 1) / 5.0, 1e-12);
+  // A guided leaf carries half the load with a moment F/2 L/2 at its ends (0.0125 N m under 1 N).
+  EXPECT_NEAR(std::stod(rows[6][moment]) / 0.0125, 1.0, 0.05) << rows[6][moment];
+  EXPECT_LT(std::stod(rows[1][moment]), 1e-9);  // load step 0: gravity alone bends no leaf
+  EXPECT_NE(text.find("largest section forces at the last load step (over the elements that deform):\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("  max_bending_moment_y = 0.0128"), std::string::npos) << text;
+  EXPECT_NE(text.find(" N m (BEAM "), std::string::npos) << text;
+  EXPECT_NE(text.find("nodal loads applied at the last load step (gravity apart):\n  F.node45.x = 1\n"),
+            std::string::npos)
+      << text;
   std::filesystem::remove_all(dir);
 }

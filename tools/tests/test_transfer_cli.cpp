@@ -70,8 +70,14 @@ TEST_F(TransferCli, WritesTheStateSpaceModelAndBodeDiagrams) {
   // The static gain printed: 1/k.
   EXPECT_NE(out.find("0.0025"), std::string::npos) << out;
   const std::string svg = slurp(dir_ / "ms_bode_in1_out1.svg");
-  EXPECT_NE(svg.find("magnitude"), std::string::npos);
+  // The magnitude in the output's unit per the input's (issue 51): displacement per force, velocity per force.
+  EXPECT_NE(svg.find(">magnitude [m/N]<"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "ms_bode_in1_out2.svg").find(">magnitude [(m/s)/N]<"), std::string::npos);
   EXPECT_NE(svg.find("phase [deg]"), std::string::npos);
+  // The range drawn, by default a decade either side of the eigenfrequency (1.59 Hz).
+  EXPECT_NE(out.find("  Bode diagrams from 0.1592 to 15.92 Hz (--freq-range FMIN,FMAX sets the range)\n"),
+            std::string::npos)
+      << out;
   EXPECT_NE(slurp(dir_ / "ms_run.txt").find("status: complete"), std::string::npos);
   // --mode 9 is the same command (files with the same content).
   fs::create_directories(dir_ / "m9");
@@ -156,4 +162,34 @@ TEST_F(TransferCli, ThePivotsStaticGainIsItsStaticCompliance) {
   const double compliance = (angle(2) - angle(1)) / moment;
   std::printf("pivot: static gain %.8g rad/(N m), static compliance %.8g\n", gain, compliance);
   EXPECT_NEAR(gain / compliance, 1.0, 1e-4);
+}
+
+// transfer --freq-range FMIN,FMAX (issue 51): the Bode diagrams' frequencies in Hz; the axis spans
+// them, the screen and the manifest say them; a bad value or one with --no-bode is a usage error.
+TEST_F(TransferCli, FreqRangeSetsTheBodeDiagramsFrequencies) {
+  const std::string pivot = std::string(FLEXMB_SOURCE_DIR) + "/datfiles/spatial/cross_spring_pivot_transfer.dat";
+  std::string out;
+  ASSERT_EQ(run("transfer '" + pivot + "' --out p --freq-range 1,100", &out), 0) << out;
+  EXPECT_NE(out.find("  Bode diagrams from 1 to 100 Hz\n"), std::string::npos) << out;
+  EXPECT_NE(slurp(dir_ / "p_run.txt").find("Bode frequency range: 1,100 Hz"), std::string::npos);
+  const std::string svg = slurp(dir_ / "p_bode_in1_out1.svg");
+  // The frequency axis (its labels centred under it) from 10^0 to 10^2, the magnitude a rotation per moment.
+  const auto xTick = [](int k) {
+    return "text-anchor=\"middle\">10<tspan dy=\"-5\" font-size=\"8\">" + std::to_string(k) + "</tspan>";
+  };
+  EXPECT_NE(svg.find(xTick(0)), std::string::npos);
+  EXPECT_NE(svg.find(xTick(2)), std::string::npos);
+  EXPECT_EQ(svg.find(xTick(3)), std::string::npos);
+  EXPECT_EQ(svg.find(xTick(-1)), std::string::npos);
+  EXPECT_NE(svg.find(">magnitude [rad/(N m)]<"), std::string::npos);
+  EXPECT_NE(slurp(dir_ / "p_bode_in1_out2.svg").find(">magnitude [(rad/s)/(N m)]<"), std::string::npos);
+  for (const std::string bad : {"100,1", "0,10", "-1,5", "10", "x,10", "10,20,30", "10,inf"}) {
+    EXPECT_EQ(run("transfer '" + pivot + "' --out b --freq-range " + bad, &out), 2) << bad;
+    EXPECT_NE(out.find("--freq-range must be FMIN,FMAX in Hz with 0 < FMIN < FMAX, not '" + bad + "'"),
+              std::string::npos)
+        << out;
+  }
+  EXPECT_EQ(run("transfer '" + pivot + "' --out b --freq-range 1,10 --no-bode", &out), 2) << out;
+  EXPECT_NE(out.find("it cannot go with --no-bode"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir_ / "b_run.txt")) << "a usage error writes nothing";
 }
