@@ -595,7 +595,7 @@ class StageRun {
                        : switchAt_                             ? "ode45+galpha"
                                                                : "ode45";
     traj_.stiffSince = stiffness_.since();
-    traj_.stiffLambda = stiffness_.lambda();
+    traj_.stiffLambda = traj_.implicitFromStart ? omegaAtRest_ : stiffness_.lambda();
     traj_.stiffBoundSteps = stiffness_.stiff() || switchAt_ ? stiffness_.boundSteps() : 0;
     traj_.nsteps = r.stats.nsteps;
     traj_.nfailed = r.stats.nfailed;

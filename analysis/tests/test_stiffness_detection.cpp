@@ -78,6 +78,7 @@ TEST(StiffnessDetection, AutoStartsImplicitWhereTheHighestFrequencyBoundsOde45) 
     EXPECT_TRUE(run.implicitFromStart) << file;
     EXPECT_EQ(run.integrator, "galpha") << file;
     EXPECT_LT(run.nsteps, 2000) << file;
+    EXPECT_GT(run.stiffLambda, 1e5) << file;  // omega_max at rest: said in the statistics
     EXPECT_NE(analysis::formatStatistics(run, o.integrator).find("galpha from the start"), std::string::npos);
   }
   const core::Model five = io::readDatFile(data + "straight_guidance.dat");

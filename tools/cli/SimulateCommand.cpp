@@ -16,6 +16,7 @@
 #include "io/formats/RestartWriter.hpp"
 #include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
+#include "tools/cli/Visuals.hpp"
 
 namespace po = boost::program_options;
 
@@ -95,7 +96,8 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "mode 3: also write M0, K0, G0, C0, D0, N0 at every output time to <out>_linear.mat (implies --linearize 6 "
       "unless given)")("vtk", po::bool_switch(&a.vtk),
                        "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
-      "html", po::bool_switch(&a.html), "<out>.html: a self-contained page that plays the motion in a browser")(
+      "html", po::bool_switch(&a.html),
+      (std::string("<out>.html: a self-contained page that plays the motion in a browser") + kHtmlUrlOptions).c_str())(
       "no-accuracy-check", po::bool_switch(&a.noAccuracyCheck),
       "skip the a-posteriori accuracy check (three windows of the run integrated again at a 100x tighter "
       "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");

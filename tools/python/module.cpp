@@ -133,9 +133,17 @@ ModelHandle readModel(F&& read) {
   return asInputError([&] { return ModelHandle{std::make_shared<const std::vector<io::AnalysisStage>>(read())}; });
 }
 
+// The file's elements, without the normalisation constraints flexmb adds (as `flexmb show` counts).
+std::size_t userElements(const core::Model& m) {
+  std::size_t n = 0;
+  for (const auto& el : m.elements) n += !(el.type && el.type->internal);
+  return n;
+}
+
 py::list elementList(const core::Model& m) {
   py::list out;
   for (const auto& el : m.elements) {
+    if (el.type && el.type->internal) continue;  // the normalisation constraints flexmb adds (L2MIN1)
     py::list nodes;
     for (int n : el.nodes) nodes.append(m.nodes[n].label);
     py::dict d;
@@ -480,8 +488,7 @@ void bindModel(py::module_& m) {
       .def_property_readonly("stages", [](const ModelHandle& h) { return h.stages->size(); })
       .def("__repr__", [](const ModelHandle& h) {
         return "<flexmb.Model " + h->sourceFile + ": " + std::to_string(h->nodes.size()) + " nodes, " +
-               std::to_string(h->elements.size()) + " elements, " + std::to_string(h->numDofs()) +
-               " degrees of freedom>";
+               std::to_string(userElements(*h)) + " elements, " + std::to_string(h->numDofs()) + " degrees of freedom>";
       });
 
   m.def("read", [](const std::string& path) { return readModel([&] { return io::readDatStages(path); }); });

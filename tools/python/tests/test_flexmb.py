@@ -359,3 +359,11 @@ def test_generalized_alpha_runs_the_elbow_to_its_reference():
     x = np.asarray(r.x)
     assert x.shape[0] == ref.shape[0]
     assert np.max(np.abs(x[:, tip] - ref[:, 2])) < 0.01 * (ref[:, 2].max() - ref[:, 2].min())
+
+
+def test_elements_are_the_files_as_show_counts_them():
+    # Issue 51: the spatial stage has 22 elements; the 21 normalisation constraints flexmb adds to
+    # its Euler parameters are not the file's (check and show say 22 too).
+    m = flexmb.read(model_path("datfiles", "spatial", "parallel_leaf_stage.dat"))
+    assert len(m.elements) == 22 and "22 elements" in repr(m)
+    assert all(e["type"] != "L2MIN1" for e in m.elements)
