@@ -491,10 +491,15 @@ void bindModel(py::module_& m) {
                std::to_string(userElements(*h)) + " elements, " + std::to_string(h->numDofs()) + " degrees of freedom>";
       });
 
-  m.def("read", [](const std::string& path) { return readModel([&] { return io::readDatStages(path); }); });
-  m.def("parse", [](const std::string& text, const std::string& name) {
-    return readModel([&] { return io::readDatStagesString(text, name); });
-  });
+  m.def(
+      "read", [](const std::string& path) { return readModel([&] { return io::readDatStages(path); }); },
+      py::arg("path"));
+  m.def(
+      "parse",
+      [](const std::string& text, const std::string& name) {
+        return readModel([&] { return io::readDatStagesString(text, name); });
+      },
+      py::arg("text"), py::arg("name"));
   m.def("instantiate", [](const std::string& text, const std::string& name, const io::ParameterValues& values) {
     return asInputError([&] {
       io::ModelTemplate t(text, name);
@@ -518,44 +523,51 @@ void bindModel(py::module_& m) {
 // returns 0 (every acceptance check holds), 1 (one failed: the report says which) or 3 (an
 // analysis stopped). Ctrl-C: KeyboardInterrupt, the previous report kept.
 void bindValidate(py::module_& m) {
-  m.def("validate", [](const std::string& sourceDir, const std::string& outDir, int sweepSteps, bool quiet) {
-    InterruptScope scope;
-    validation::ValidationOptions o;
-    o.sourceDir = sourceDir, o.outDir = outDir, o.sweepSteps = sweepSteps, o.quiet = quiet;
-    o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
-    std::filesystem::create_directories(outDir);
-    int rc = 0;
-    {
-      py::gil_scoped_release release;
-      rc = validation::runValidation(o);
-    }
-    if (rc == validation::kInterrupted) {
-      PyErr_SetString(PyExc_KeyboardInterrupt, "flexmb.validate: interrupted; the previous report is kept");
-      throw py::error_already_set();
-    }
-    return rc;
-  });
+  m.def(
+      "validate",
+      [](const std::string& sourceDir, const std::string& outDir, int sweepSteps, bool quiet) {
+        InterruptScope scope;
+        validation::ValidationOptions o;
+        o.sourceDir = sourceDir, o.outDir = outDir, o.sweepSteps = sweepSteps, o.quiet = quiet;
+        o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
+        std::filesystem::create_directories(outDir);
+        int rc = 0;
+        {
+          py::gil_scoped_release release;
+          rc = validation::runValidation(o);
+        }
+        if (rc == validation::kInterrupted) {
+          PyErr_SetString(PyExc_KeyboardInterrupt, "flexmb.validate: interrupted; the previous report is kept");
+          throw py::error_already_set();
+        }
+        return rc;
+      },
+      py::arg("source"), py::arg("out"), py::arg("sweep_steps"), py::arg("quiet"));
 }
 
 void bindCheck(py::module_& m) {
   // ---- check (mode 0) ----
-  m.def("check", [](const ModelHandle& handle) {
-    analysis::ModelCheck c;
-    {
-      py::gil_scoped_release release;
-      c = analysis::checkModel(*handle);
-    }
-    py::dict d;
-    d["well_posed"] = c.wellPosed();
-    d["kinematics"] = c.kinematicsError.empty() ? c.kinematicsText() : "kinematic check failed: " + c.kinematicsError;
-    d["mechanism_deformations"] = c.diagnosis.mechanismDeformations;
-    d["overflow"] = c.diagnosis.overflow;
-    d["assembly"] = c.assembly.problem.empty() ? c.assembly.error : c.assembly.problem;
-    d["massless"] = c.assembly.massless;
-    d["notes"] = handle->notes;
-    d["warnings"] = handle->warnings;
-    return d;
-  });
+  m.def(
+      "check",
+      [](const ModelHandle& handle) {
+        analysis::ModelCheck c;
+        {
+          py::gil_scoped_release release;
+          c = analysis::checkModel(*handle);
+        }
+        py::dict d;
+        d["well_posed"] = c.wellPosed();
+        d["kinematics"] =
+            c.kinematicsError.empty() ? c.kinematicsText() : "kinematic check failed: " + c.kinematicsError;
+        d["mechanism_deformations"] = c.diagnosis.mechanismDeformations;
+        d["overflow"] = c.diagnosis.overflow;
+        d["assembly"] = c.assembly.problem.empty() ? c.assembly.error : c.assembly.problem;
+        d["massless"] = c.assembly.massless;
+        d["notes"] = handle->notes;
+        d["warnings"] = handle->warnings;
+        return d;
+      },
+      py::arg("model"));
 }
 
 void bindStatic(py::module_& m) {
@@ -591,24 +603,27 @@ void bindStatic(py::module_& m) {
       .def("write", [](const StaticResult& r, const std::string& path) {
         return writeTable(path, analysis::staticTable(*r.model, r.run, r.buckling));
       });
-  m.def("static", [](const ModelHandle& handle, int nev, int loadSteps, int buckling) {
-    const ModelPtr model = handle.last();
-    InterruptScope scope;
-    analysis::StaticOptions so;
-    so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
-    so.interrupt = scope.flag(), so.interruptSignal = scope.signal();
-    analysis::StaticRun run;
-    {
-      py::gil_scoped_release release;
-      run = analysis::staticAnalysis(*model, so);
-    }
-    StaticResult r = makeStatic(model, std::move(run), nev, buckling);
-    if (r.run.interrupted)
-      raiseWithResult(PyExc_KeyboardInterrupt,
-                      "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
-                      py::cast(std::move(r)));
-    return r;
-  });
+  m.def(
+      "static",
+      [](const ModelHandle& handle, int nev, int loadSteps, int buckling) {
+        const ModelPtr model = handle.last();
+        InterruptScope scope;
+        analysis::StaticOptions so;
+        so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
+        so.interrupt = scope.flag(), so.interruptSignal = scope.signal();
+        analysis::StaticRun run;
+        {
+          py::gil_scoped_release release;
+          run = analysis::staticAnalysis(*model, so);
+        }
+        StaticResult r = makeStatic(model, std::move(run), nev, buckling);
+        if (r.run.interrupted)
+          raiseWithResult(PyExc_KeyboardInterrupt,
+                          "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
+                          py::cast(std::move(r)));
+        return r;
+      },
+      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"));
 }
 
 void bindModes(py::module_& m) {
@@ -633,18 +648,21 @@ void bindModes(py::module_& m) {
       .def("write", [](const ModesResult& r, const std::string& prefix) {
         return writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies));
       });
-  m.def("modes", [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis) {
-    const ModelPtr model = handle.last();
-    ModesResult r;
-    const auto b = basisArgument(basis, *model);
-    {
-      py::gil_scoped_release release;
-      r.modes = analysis::initialModes(*model, b, nev);
-    }
-    r.freq = r.modes.frequencies.omega / (2 * M_PI);
-    r.model = model;
-    return r;
-  });
+  m.def(
+      "modes",
+      [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis) {
+        const ModelPtr model = handle.last();
+        ModesResult r;
+        const auto b = basisArgument(basis, *model);
+        {
+          py::gil_scoped_release release;
+          r.modes = analysis::initialModes(*model, b, nev);
+        }
+        r.freq = r.modes.frequencies.omega / (2 * M_PI);
+        r.model = model;
+        return r;
+      },
+      py::arg("model"), py::arg("nev"), py::arg("basis"));
 }
 
 void bindSweep(py::module_& m) {
@@ -660,32 +678,36 @@ void bindSweep(py::module_& m) {
       .def("write", [](const SweepResultPy& r, const std::string& path) {
         return writeTable(path, analysis::sweepTable(*r.model, r.sweep));
       });
-  m.def("sweep", [](const ModelHandle& handle, int node, int component, double from, double to, int steps, int nev,
-                    const std::optional<Eigen::MatrixXd>& basis, double t) {
-    const ModelPtr model = handle.last();
-    InterruptScope scope;
-    analysis::SweepOptions o;
-    o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
-    o.basis = basisArgument(basis, *model);
-    o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
-    SweepResultPy r;
-    {
-      py::gil_scoped_release release;
-      r.sweep = analysis::sweep(*model, o);
-    }
-    const auto& p = r.sweep.points;
-    r.values.resize(static_cast<Eigen::Index>(p.size()));
-    r.loads.resize(static_cast<Eigen::Index>(p.size()));
-    for (size_t k = 0; k < p.size(); ++k) r.values[k] = p[k].value, r.loads[k] = p[k].load;
-    r.freq = rowsOf(p, nev, [](const auto& pt) { return Eigen::VectorXd(pt.omegaSorted / (2 * M_PI)); });
-    r.x = rowsOf(p, model->nx, [](const auto& pt) { return pt.x; });
-    r.model = model;
-    if (r.sweep.interrupted)
-      raiseWithResult(PyExc_KeyboardInterrupt,
-                      "flexmb.sweep: " + r.sweep.stopReason + "; the points reached are in .result",
-                      py::cast(std::move(r)));
-    return r;
-  });
+  m.def(
+      "sweep",
+      [](const ModelHandle& handle, int node, int component, double from, double to, int steps, int nev,
+         const std::optional<Eigen::MatrixXd>& basis, double t) {
+        const ModelPtr model = handle.last();
+        InterruptScope scope;
+        analysis::SweepOptions o;
+        o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
+        o.basis = basisArgument(basis, *model);
+        o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
+        SweepResultPy r;
+        {
+          py::gil_scoped_release release;
+          r.sweep = analysis::sweep(*model, o);
+        }
+        const auto& p = r.sweep.points;
+        r.values.resize(static_cast<Eigen::Index>(p.size()));
+        r.loads.resize(static_cast<Eigen::Index>(p.size()));
+        for (size_t k = 0; k < p.size(); ++k) r.values[k] = p[k].value, r.loads[k] = p[k].load;
+        r.freq = rowsOf(p, nev, [](const auto& pt) { return Eigen::VectorXd(pt.omegaSorted / (2 * M_PI)); });
+        r.x = rowsOf(p, model->nx, [](const auto& pt) { return pt.x; });
+        r.model = model;
+        if (r.sweep.interrupted)
+          raiseWithResult(PyExc_KeyboardInterrupt,
+                          "flexmb.sweep: " + r.sweep.stopReason + "; the points reached are in .result",
+                          py::cast(std::move(r)));
+        return r;
+      },
+      py::arg("model"), py::arg("node"), py::arg("component"), py::arg("start"), py::arg("stop"), py::arg("steps"),
+      py::arg("nev"), py::arg("basis"), py::arg("t"));
 }
 
 void bindTransfer(py::module_& m) {
@@ -730,18 +752,21 @@ void bindTransfer(py::module_& m) {
         if (w.incomplete) py::module_::import("warnings").attr("warn")(err.str());
         return w.paths;
       });
-  m.def("transfer", [](const ModelHandle& handle, int nev, int loadSteps) {
-    const ModelPtr model = handle.last();
-    TransferResultPy r;
-    analysis::TransferOptions o;
-    o.nev = nev, o.loadSteps = loadSteps;
-    {
-      py::gil_scoped_release release;
-      r.run = analysis::transferAnalysis(*model, o);
-    }
-    r.model = model;
-    return r;
-  });
+  m.def(
+      "transfer",
+      [](const ModelHandle& handle, int nev, int loadSteps) {
+        const ModelPtr model = handle.last();
+        TransferResultPy r;
+        analysis::TransferOptions o;
+        o.nev = nev, o.loadSteps = loadSteps;
+        {
+          py::gil_scoped_release release;
+          r.run = analysis::transferAnalysis(*model, o);
+        }
+        r.model = model;
+        return r;
+      },
+      py::arg("model"), py::arg("nev"), py::arg("load_steps"));
 }
 
 void bindReduce(py::module_& m) {
@@ -774,37 +799,40 @@ void bindReduce(py::module_& m) {
         analysis::writeReduction(files, path, r.model->sourceFile, r.basis, r.operators);
         return files.commit("complete");
       });
-  m.def("reduce", [](const ModelHandle& handle, const analysis::ReductionOptions& options, std::optional<double> target,
-                     bool operators) {
-    const ModelPtr model = handle.last();
-    ReduceResult r;
-    r.model = model;
-    {
-      py::gil_scoped_release release;
-      try {
-        if (target) {
-          analysis::TargetOptions to;
-          to.target = *target;
-          to.basis = options;
-          analysis::TargetResult tr = analysis::basisForTarget(*model, to);
-          r.tried = tr.tried;
-          r.full = tr.full;
-          r.note = tr.note;
-          r.basis = std::move(tr.basis);
-        } else {
-          r.basis = analysis::buildBasis(*model, options);
+  m.def(
+      "reduce",
+      [](const ModelHandle& handle, const analysis::ReductionOptions& options, std::optional<double> target,
+         bool operators) {
+        const ModelPtr model = handle.last();
+        ReduceResult r;
+        r.model = model;
+        {
+          py::gil_scoped_release release;
+          try {
+            if (target) {
+              analysis::TargetOptions to;
+              to.target = *target;
+              to.basis = options;
+              analysis::TargetResult tr = analysis::basisForTarget(*model, to);
+              r.tried = tr.tried;
+              r.full = tr.full;
+              r.note = tr.note;
+              r.basis = std::move(tr.basis);
+            } else {
+              r.basis = analysis::buildBasis(*model, options);
+            }
+          } catch (const std::invalid_argument& e) {
+            py::gil_scoped_acquire gil;
+            throw py::value_error(e.what());
+          }
+          if (r.full)
+            r.operators.note = "not built: no basis";
+          else
+            r.operators = analysis::operatorsBesideBasis(*model, r.basis.V, operators, "(operators=False)");
         }
-      } catch (const std::invalid_argument& e) {
-        py::gil_scoped_acquire gil;
-        throw py::value_error(e.what());
-      }
-      if (r.full)
-        r.operators.note = "not built: no basis";
-      else
-        r.operators = analysis::operatorsBesideBasis(*model, r.basis.V, operators, "(operators=False)");
-    }
-    return r;
-  });
+        return r;
+      },
+      py::arg("model"), py::arg("options"), py::arg("target"), py::arg("operators"));
 
   py::class_<analysis::ReductionOptions>(m, "ReductionOptions")
       .def(py::init<>())
@@ -902,64 +930,69 @@ void bindSimulate(py::module_& m) {
       .def_readwrite("usersig", &SimulateOptionsPy::usersig, "f(t, x, xd, e, ed) -> sig or (sig, f)")
       .def_readwrite("userinp", &SimulateOptionsPy::userinp, "f(t, order) -> one value per input")
       .def_readwrite("accuracy_check", &SimulateOptionsPy::accuracyCheck, "the a-posteriori accuracy check");
-  m.def("simulate", [](const ModelHandle& handle, const SimulateOptionsPy& o) {
-    analysis::SimulateRequest request;
-    analysis::SimulationOptions& opt = request.run;
-    const auto chosen = analysis::parseIntegrator(o.integrator);
-    if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + o.integrator + "'");
-    opt.integrator = *chosen;
-    if (o.rhoInf) opt.rhoInf = *o.rhoInf;
-    opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep,
-    opt.intervals = o.intervals;
-    opt.accuracyCheck = o.accuracyCheck;
-    request.basis = o.basis;
-    request.fullKinematics = o.fullKinematics;
-    if (o.basisFile) {
-      request.basis.reset();
-      request.basisFile = *o.basisFile;
-    } else if (!o.reduced.is_none()) {
-      const auto& reduced = o.reduced.cast<const ReduceResult&>();
-      if (reduced.full) throw py::value_error("basis: the reduce result has no basis (" + reduced.note + ")");
-      request.basis = reduced.basis.V;
-      request.operators = reduced.operators.operators;
-    }
-    // The file's stages, with the Python user functions installed in a copy of them.
-    std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
-    if (o.usersig || o.userinp) {
-      auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
-      for (auto& st : *copy) {
-        if (o.usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*o.usersig, st.model);
-        if (o.userinp) installInputs(*o.userinp, st.model);
-      }
-      stages = copy;
-    }
-    InterruptScope scope;
-    opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
-    analysis::SimulateJob job(analysis::ModelSource{handle->sourceFile, {}, stages, nullptr}, std::move(request));
-    if (job.status() == analysis::JobStatus::InputError) {
-      const std::string why = analysis::firstError(job.diagnostics());
-      throw py::value_error(job.driven() ? "basis: " + why : why);
-    }
-    {
-      py::gil_scoped_release release;
-      job.run();
-    }
-    if (job.status() == analysis::JobStatus::Failed) throw std::runtime_error(analysis::firstError(job.diagnostics()));
-    const ModelPtr last(job.allStages(), &job.model());
-    const std::string reason = job.trajectory().stopReason;
-    const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
-    SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
-    r.diagnostics = job.diagnostics();
-    r.fxtRows = job.fxt();
-    r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
-    if (job.interrupted())
-      raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
-                      py::cast(std::move(r)));
-    if (userFailed)
-      raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason,
-                      py::cast(std::move(r)));
-    return r;
-  });
+  m.def(
+      "simulate",
+      [](const ModelHandle& handle, const SimulateOptionsPy& o) {
+        analysis::SimulateRequest request;
+        analysis::SimulationOptions& opt = request.run;
+        const auto chosen = analysis::parseIntegrator(o.integrator);
+        if (!chosen)
+          throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + o.integrator + "'");
+        opt.integrator = *chosen;
+        if (o.rhoInf) opt.rhoInf = *o.rhoInf;
+        opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep,
+        opt.intervals = o.intervals;
+        opt.accuracyCheck = o.accuracyCheck;
+        request.basis = o.basis;
+        request.fullKinematics = o.fullKinematics;
+        if (o.basisFile) {
+          request.basis.reset();
+          request.basisFile = *o.basisFile;
+        } else if (!o.reduced.is_none()) {
+          const auto& reduced = o.reduced.cast<const ReduceResult&>();
+          if (reduced.full) throw py::value_error("basis: the reduce result has no basis (" + reduced.note + ")");
+          request.basis = reduced.basis.V;
+          request.operators = reduced.operators.operators;
+        }
+        // The file's stages, with the Python user functions installed in a copy of them.
+        std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
+        if (o.usersig || o.userinp) {
+          auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
+          for (auto& st : *copy) {
+            if (o.usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*o.usersig, st.model);
+            if (o.userinp) installInputs(*o.userinp, st.model);
+          }
+          stages = copy;
+        }
+        InterruptScope scope;
+        opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
+        analysis::SimulateJob job(analysis::ModelSource{handle->sourceFile, {}, stages, nullptr}, std::move(request));
+        if (job.status() == analysis::JobStatus::InputError) {
+          const std::string why = analysis::firstError(job.diagnostics());
+          throw py::value_error(job.driven() ? "basis: " + why : why);
+        }
+        {
+          py::gil_scoped_release release;
+          job.run();
+        }
+        if (job.status() == analysis::JobStatus::Failed)
+          throw std::runtime_error(analysis::firstError(job.diagnostics()));
+        const ModelPtr last(job.allStages(), &job.model());
+        const std::string reason = job.trajectory().stopReason;
+        const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
+        SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
+        r.diagnostics = job.diagnostics();
+        r.fxtRows = job.fxt();
+        r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
+        if (job.interrupted())
+          raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
+                          py::cast(std::move(r)));
+        if (userFailed)
+          raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason,
+                          py::cast(std::move(r)));
+        return r;
+      },
+      py::arg("model"), py::arg("options"));
 }
 
 }  // namespace
