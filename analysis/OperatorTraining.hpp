@@ -16,6 +16,13 @@ namespace flexmb::analysis {
 
 using core::ReducedOperators;
 
+// The fit target as a share of the pilot run's reduction error estimate; the inertia fields' (Mr,
+// Cr) share of it (the error a run adds follows the mass fit); and the most of that estimate the
+// operators may add, above which reduce writes none (operatorsMissTheirTarget).
+constexpr double kOperatorToleranceShare = 0.03;
+constexpr double kOperatorInertiaShare = 0.4;
+constexpr double kOperatorMostShare = 0.1;
+
 struct OperatorTrainingOptions {
   // The trained range (in eta; the frame is then the identity); empty: from a pilot reduced run
   // (Eq. 19, ode45 at pilotRelTol over the model's time span), in the frame of its states'
@@ -43,6 +50,18 @@ struct OperatorTrainingOptions {
 // naming a label the model does not have.
 std::vector<core::OperatorOutput> trackedQuantities(const core::Model& model, const std::vector<int>& nodeLabels,
                                                     const std::vector<int>& elementLabels);
+
+// The operators' fit measured as training measures it (each field's error at the held-out
+// configurations over its largest value in the range, the scales stored with them), at the
+// held-out configurations stored with them: the full kinematics solved anew there (Eq. 19 at rest)
+// against the fields. Training stores the larger of this and its own figure, so that on the model
+// they were trained on a run measures at most what they declare (analysis/ReducedOperators.md).
+struct OperatorFit {
+  double force = 0.0;  // -grad U and the load gradients, as forceError
+  double mass = 0.0;   // Mr and Cr, as massError
+  int configurations = 0, unsolved = 0;
+};
+OperatorFit operatorFitAtHeldOut(const core::Model& model, const Eigen::MatrixXd& V, const ReducedOperators& ops);
 
 // Throws std::invalid_argument for an unsupported model (operatorsUnsupported, OperatorPolicy.hpp) and
 // std::runtime_error when the range's configurations cannot be solved.

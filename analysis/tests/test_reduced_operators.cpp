@@ -3,7 +3,11 @@
 // the trained range.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <regex>
 #include <string>
 
 #include "analysis/OperatorDynamics.hpp"
@@ -15,6 +19,7 @@
 #include "analysis/Statics.hpp"
 #include "core/dynamics/EquationsOfMotion.hpp"
 #include "core/linearization/Linearization.hpp"
+#include "io/formats/BasisFile.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/OperatorFile.hpp"
 #include "solvers/ChebyshevBasis.hpp"
@@ -450,4 +455,134 @@ TEST(ReducedOperators, FileReadsBackBitwiseAndRefusesDamage) {
   core::Model other = guidance().model;
   other.timeForces.clear();
   EXPECT_NE(analysis::operatorsMismatch(other, guidance().V, ops).find("XFT"), std::string::npos);
+}
+
+// Issue 49: a run checks what training checked, the fields' errors at the held-out configurations
+// relative to the largest values in the range, so that operators serve the model they were made
+// for; a misfit never stops a run (Eq. 19 through the same basis, said in the note), and only a
+// changed checksum says that the model changed.
+namespace {
+
+// The basis and operator files of `ops` for V in a fresh folder; returns the basis path.
+std::string besideABasis(const std::string& name, const Eigen::MatrixXd& V, const analysis::ReducedOperators& ops) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("flexmb_ops_" + std::to_string(::getpid()) + "_" + name);
+  std::filesystem::create_directories(dir);
+  const std::string basis = (dir / (name + ".csv")).string();
+  io::writeBasis(basis, V, {"modal", "straight_guidance.dat", {}, {}, {}});
+  io::writeOperators(io::operatorPathFor(basis), ops);
+  return basis;
+}
+
+}  // namespace
+
+TEST(ReducedOperators, ARunMeasuresTheFitTrainingDeclaredAtTheSameConfigurations) {
+  Guidance& g = guidance();
+  // Written and read back as simulate --basis reads them.
+  const core::ReducedOperators back = io::parseOperators(io::formatOperators(g.ops), "m3.operators");
+  ASSERT_EQ(back.heldOut.rows(), g.ops.validationSamples);
+  EXPECT_EQ(back.modelChecksum, analysis::operatorModelChecksum(g.model));
+  const analysis::OperatorFit fit = analysis::operatorFitAtHeldOut(g.model, g.V, back);
+  std::printf("guidance MODAL-3 at its %d held-out configurations: force %.3e (declared %.3e), mass %.3e (%.3e)\n",
+              fit.configurations, fit.force, back.forceError, fit.mass, back.massError);
+  EXPECT_EQ(fit.unsolved, 0);
+  EXPECT_LE(fit.force, back.forceError);
+  EXPECT_LE(fit.mass, back.massError);
+  EXPECT_GT(fit.force, 0.5 * back.forceError);  // the same measure, not a looser one
+  EXPECT_EQ(analysis::operatorsMismatch(g.model, g.V, back), "");
+  const std::string basis = besideABasis("same", g.V, back);
+  const analysis::OperatorChoice c = analysis::chooseOperators(g.model, "straight_guidance.dat", g.V, basis, false);
+  EXPECT_TRUE(c.operators) << c.note;
+  EXPECT_EQ(c.refusal, "");
+  std::filesystem::remove_all(std::filesystem::path(basis).parent_path());
+}
+
+TEST(ReducedOperators, AMisfitAtRunTimeFallsBackToEquation19AndSaysSo) {
+  Guidance& g = guidance();
+  // Fields that no longer fit what they declare (a potential 2 % off): same model, same basis.
+  analysis::ReducedOperators off = g.ops;
+  off.potential *= 1.02;
+  EXPECT_NE(analysis::operatorsMismatch(g.model, g.V, off).find("training measured"), std::string::npos);
+  std::string basis = besideABasis("off", g.V, off);
+  analysis::OperatorChoice c = analysis::chooseOperators(g.model, "straight_guidance.dat", g.V, basis, false);
+  EXPECT_FALSE(c.operators);
+  EXPECT_EQ(c.refusal, "");
+  EXPECT_EQ(c.note.rfind("Eq. 19 (", 0), 0u) << c.note;
+  EXPECT_NE(c.note.find("training measured"), std::string::npos) << c.note;
+  EXPECT_EQ(c.note.find("the model changed"), std::string::npos) << c.note;
+  // The same model data read with the plain PLBEAM elongation (--elongation plain): the checksum
+  // covers data, not element options, and the fit at the held-out configurations sees the rest.
+  io::ReadOptions plain;
+  plain.elongation = core::ElongationDefinition::Plain;
+  const core::Model p = io::readDatFile(dat("straight_guidance.dat"), plain);
+  EXPECT_EQ(analysis::operatorModelChecksum(p), g.ops.modelChecksum);
+  const std::string why = analysis::operatorsMismatch(p, g.V, g.ops);
+  std::printf("guidance read with plain elongation: %s\n", why.c_str());
+  EXPECT_NE(why.find("training measured"), std::string::npos) << why;
+  // The run goes on with Eq. 19: no evaluation of the operators.
+  std::filesystem::remove_all(std::filesystem::path(basis).parent_path());
+  basis = besideABasis("plain", g.V, g.ops);
+  c = analysis::chooseOperators(p, "straight_guidance.dat", g.V, basis, false);
+  ASSERT_FALSE(c.operators);
+  std::filesystem::remove_all(std::filesystem::path(basis).parent_path());
+  analysis::SimulationOptions o;
+  o.basis = g.V;
+  o.operators = c.operators;
+  o.reductionEstimate = false;
+  const core::Trajectory run = analysis::simulate(p, o);
+  EXPECT_TRUE(run.completed);
+  EXPECT_EQ(run.operators.evaluations, 0);
+}
+
+TEST(ReducedOperators, OnlyAChangedChecksumSaysTheModelChanged) {
+  Guidance& g = guidance();
+  EXPECT_EQ(analysis::operatorModelChecksum(io::readDatFile(dat("straight_guidance.dat"))), g.ops.modelChecksum);
+  // A stiffer flexure element: the model changed, and the run uses Eq. 19.
+  core::Model stiffer = g.model;
+  stiffer.elements[0].S(1, 1) *= 1.1;
+  EXPECT_NE(analysis::operatorModelChecksum(stiffer), g.ops.modelChecksum);
+  EXPECT_NE(analysis::operatorsMismatch(stiffer, g.V, g.ops).find("the model changed"), std::string::npos);
+  const std::string basis = besideABasis("stiffer", g.V, g.ops);
+  const analysis::OperatorChoice c = analysis::chooseOperators(stiffer, "stiffer.dat", g.V, basis, false);
+  EXPECT_FALSE(c.operators);
+  EXPECT_EQ(c.refusal, "");
+  EXPECT_NE(c.note.find("the model changed"), std::string::npos) << c.note;
+  std::filesystem::remove_all(std::filesystem::path(basis).parent_path());
+  // A constant force too; the amplitude of a time-dependent load is not in the fields (a run
+  // evaluates a(t) itself): the same checksum, and the operators serve.
+  core::Model pushed = g.model;
+  pushed.f0[0] += 1.0;
+  EXPECT_NE(analysis::operatorModelChecksum(pushed), g.ops.modelChecksum);
+  const std::string text = io::readDatText(dat("straight_guidance.dat"));
+  const std::string strongerText = std::regex_replace(text, std::regex("50\\*\\(1-cos"), "80*(1-cos");
+  ASSERT_NE(strongerText, text);
+  const core::Model stronger = io::readDatString(strongerText, "stronger.dat");
+  EXPECT_EQ(analysis::operatorModelChecksum(stronger), g.ops.modelChecksum);
+  EXPECT_EQ(analysis::operatorsMismatch(stronger, g.V, g.ops), "");
+  // Operators without a checksum (an older flexmb): not used, and not "the model changed".
+  analysis::ReducedOperators old = g.ops;
+  old.modelChecksum.clear();
+  EXPECT_NE(analysis::operatorsMismatch(g.model, g.V, old).find("older flexmb"), std::string::npos);
+}
+
+// Operators that would add more than a tenth of the basis' reduction error are not written
+// (reduce says why); those within it but above their target say that they missed it.
+TEST(ReducedOperators, TrainingWritesNoneThatMissTheirTargetBeyondWhatARunMayCarry) {
+  Guidance& g = guidance();
+  EXPECT_EQ(analysis::operatorsMissTheirTarget(g.ops), "");
+  analysis::ReducedOperators missed = g.ops;
+  missed.forceError = 2.0 * missed.tolerance;
+  EXPECT_EQ(analysis::operatorsMissTheirTarget(missed), "");
+  EXPECT_NE(analysis::describeOperators(missed).find("missed"), std::string::npos);
+  missed.forceError = 4.0 * missed.tolerance;
+  EXPECT_NE(analysis::operatorsMissTheirTarget(missed).find("Eq. 19"), std::string::npos);
+  analysis::ReducedOperators rough = g.ops;
+  rough.massError = 2.0 * rough.tolerance;
+  EXPECT_NE(analysis::operatorsMissTheirTarget(rough), "");
+  // Through reduce's product: a tolerance the fit cannot reach in 12 terms.
+  analysis::OperatorTrainingOptions few;
+  few.maxTerms = 12;
+  const analysis::ReducedOperators cut = analysis::trainOperators(g.model, g.V, few);
+  std::printf("MODAL-3 on 12 terms: %s\n", analysis::operatorsMissTheirTarget(cut).c_str());
+  EXPECT_NE(analysis::operatorsMissTheirTarget(cut), "");
 }

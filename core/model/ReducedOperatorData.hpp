@@ -50,10 +50,16 @@ struct ReducedOperators {
   // What it was made for and how well it fits (held-out samples, relative to the largest value).
   int dofs = 0;                // rows of V
   double basisChecksum = 0.0;  // of V's entries (order-sensitive): recognises the basis
+  std::string modelChecksum;   // of the model data the fields depend on (16 hex digits); empty: unknown
   double tolerance = 0.0;      // the fit target it was trained for
   double forceError = 0.0;     // max |Q_fit - Q| / max |Q| over held-out configurations
   double massError = 0.0;      // max |Mr_fit - Mr|_F / max |Mr|_F over them
   double outputError = 0.0;    // max |fit - value| over them / the output's range over all samples
+  // The held-out configurations (zeta, one row each) and the largest values the errors above are
+  // relative to (force, mass, damping, load gradient): a run measures the same errors at the same
+  // states before it uses the fields (analysis::operatorFitAtHeldOut).
+  Eigen::MatrixXd heldOut;
+  double forceScale = 0.0, massScale = 0.0, dampingScale = 0.0, loadScale = 0.0;
   int trainingSamples = 0, validationSamples = 0;
   double trainingSeconds = 0.0;  // sampling, fitting and the range's pilot run
   // One evaluation, measured at training at the range's centre: operators and Eq. 19 (seconds).

@@ -98,10 +98,15 @@ std::string formatOperators(const core::ReducedOperators& o) {
   };
   key("dofs", std::to_string(o.dofs));
   key("basis checksum", text::g17(o.basisChecksum));
+  if (!o.modelChecksum.empty()) key("model checksum", o.modelChecksum);
   key("tolerance", text::g17(o.tolerance));
   key("force error", text::g17(o.forceError));
   key("mass error", text::g17(o.massError));
   if (!o.outputs.empty()) key("output error", text::g17(o.outputError));
+  key("force scale", text::g17(o.forceScale));
+  key("mass scale", text::g17(o.massScale));
+  key("damping scale", text::g17(o.dampingScale));
+  key("load scale", text::g17(o.loadScale));
   key("training samples", std::to_string(o.trainingSamples));
   key("validation samples", std::to_string(o.validationSamples));
   key("training seconds", text::g17(o.trainingSeconds));
@@ -133,6 +138,7 @@ std::string formatOperators(const core::ReducedOperators& o) {
   appendBlock(out, "matrix", "damping", o.damping);
   appendBlock(out, "matrix", "loadFields", o.loadFields);
   if (!o.outputs.empty()) appendBlock(out, "matrix", "outputFields", o.outputFields);
+  if (o.heldOut.size()) appendBlock(out, "matrix", "heldOut", o.heldOut);
   return out;
 }
 
@@ -154,6 +160,12 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
         o.range = v;
         continue;
       }
+      if (k == "model checksum") {
+        if (v.size() != 16 || v.find_first_not_of("0123456789abcdef") != std::string::npos)
+          p.fail("the model checksum must be 16 hex digits");
+        o.modelChecksum = v;
+        continue;
+      }
       const double x = p.number(v);
       if (k == "dofs")
         o.dofs = static_cast<int>(x);
@@ -167,6 +179,14 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
         o.massError = x;
       else if (k == "output error")
         o.outputError = x;
+      else if (k == "force scale")
+        o.forceScale = x;
+      else if (k == "mass scale")
+        o.massScale = x;
+      else if (k == "damping scale")
+        o.dampingScale = x;
+      else if (k == "load scale")
+        o.loadScale = x;
       else if (k == "training samples")
         o.trainingSamples = static_cast<int>(x);
       else if (k == "validation samples")
@@ -211,8 +231,8 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
     }
     long rows = -1, cols = -1;
     if ((kind != "matrix" && kind != "ints") || !(w >> rows >> cols)) p.fail("expected 'matrix NAME ROWS COLS'");
-    static const char* known[] = {"centre",    "rotation", "lower",   "upper",      "exponents",
-                                  "potential", "mass",     "damping", "loadFields", "outputFields"};
+    static const char* known[] = {"centre", "rotation", "lower",      "upper",        "exponents", "potential",
+                                  "mass",   "damping",  "loadFields", "outputFields", "heldOut"};
     if (std::find(std::begin(known), std::end(known), what) == std::end(known)) p.fail("unknown block '" + what + "'");
     if (blocks.count(what)) p.fail("block '" + what + "' given twice");
     blocks[what] = p.block(rows, cols);
@@ -229,6 +249,7 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
   o.damping = blocks.count("damping") ? blocks["damping"] : Eigen::MatrixXd();
   o.loadFields = blocks.count("loadFields") ? blocks["loadFields"] : Eigen::MatrixXd();
   o.outputFields = blocks.count("outputFields") ? blocks["outputFields"] : Eigen::MatrixXd();
+  o.heldOut = blocks.count("heldOut") ? blocks["heldOut"] : Eigen::MatrixXd();
   const long m = o.lower.size(), P = o.exponents.rows();
   auto bad = [&](const std::string& why) { throw std::runtime_error(name + ": " + why); };
   if (m == 0 || o.upper.size() != m || o.centre.size() != m || o.rotation.rows() != m || o.rotation.cols() != m ||
@@ -242,7 +263,7 @@ core::ReducedOperators parseOperators(const std::string& text, const std::string
   if (o.potential.size() > P || o.mass.rows() != packed || o.mass.cols() > P ||
       (o.damping.size() && (o.damping.rows() != packed || o.damping.cols() > P)) || o.loadFields.rows() > P ||
       o.loadFields.cols() != static_cast<long>(o.loads.size()) || o.outputFields.rows() > P ||
-      o.outputFields.cols() != static_cast<long>(o.outputs.size()))
+      o.outputFields.cols() != static_cast<long>(o.outputs.size()) || (o.heldOut.size() && o.heldOut.cols() != m))
     bad("the coefficient blocks do not fit the terms (exponents), loads and outputs");
   return o;
 }

@@ -587,9 +587,9 @@ TEST_F(Cli, TrackedOutputsAreWrittenWithoutTheFullStates) {
 }
 
 // Reduced operators (issue 33): reduce writes them beside the basis, simulate uses them and says so,
-// --full-kinematics compares on the same basis, and operators that do not fit are refused naming
-// what differs.
-TEST_F(Cli, ReducedOperatorsServeTheBasisAndAreRefusedWhenTheyDoNotFit) {
+// --full-kinematics compares on the same basis, and operators that do not fit give way to Eq. 19
+// naming what differs (issue 49: never a failure); a damaged file is refused.
+TEST_F(Cli, ReducedOperatorsServeTheBasisAndGiveWayWhenTheyDoNotFit) {
   const std::string model = kData + "straight_guidance.dat";
   Result r = flexmb("reduce " + model + " --modes 3 --out m3.csv");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -606,15 +606,15 @@ TEST_F(Cli, ReducedOperatorsServeTheBasisAndAreRefusedWhenTheyDoNotFit) {
   // Another stiffness: the same DOFs and basis, other physics.
   const std::string stiffer = variant("straight_guidance.dat", "6\\.3e6  0\\.525", "6.3e6  0.6", "stiffer.dat");
   r = flexmb("simulate " + stiffer + " --basis m3.csv --format none");
-  EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.err.find("m3.operators does not fit stiffer.dat"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("accelerations differ from Eq. 19"), std::string::npos) << r.err;
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Eq. 19 (m3.operators does not fit stiffer.dat"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the model changed"), std::string::npos) << r.out;
   // Another basis of the same size beside the old operators.
   ASSERT_EQ(flexmb("reduce " + model + " --modes 3 --normalise unit --no-operators --out u.csv").code, 0);
   fs::copy_file(dir_ / "m3.operators", dir_ / "u.operators");
   r = flexmb("simulate " + model + " --basis u.csv --format none");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("made for another basis"), std::string::npos) << r.err;
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("made for another basis"), std::string::npos) << r.out;
   // A damaged file: named with its line.
   std::string text = slurp(dir_ / "m3.operators");
   text.replace(text.find("matrix potential"), 16, "matrix potentail");
