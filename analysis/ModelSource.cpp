@@ -22,9 +22,26 @@ bool hasError(const Diagnostics& d) {
   return std::any_of(d.begin(), d.end(), [](const Diagnostic& x) { return x.kind == Diagnostic::Kind::Error; });
 }
 
-std::string firstError(const Diagnostics& d) {
+std::string withOptions(const Diagnostic& d, const std::function<std::string(const std::string&)>& spell) {
+  std::vector<std::string> names;
+  std::size_t from = 0;
+  while (spell && from < d.options.size()) {
+    const std::size_t comma = std::min(d.options.find(',', from), d.options.size());
+    if (std::string s = spell(d.options.substr(from, comma - from)); !s.empty()) names.push_back(std::move(s));
+    from = comma + 1;
+  }
+  if (names.empty()) return d.text;
+  std::string s = d.text + (names.size() == 1 ? " (option " : " (options ");
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s + ")";
+}
+
+std::string firstError(const Diagnostics& d, const std::function<std::string(const std::string&)>& spell) {
   for (const Diagnostic& x : d)
-    if (x.kind == Diagnostic::Kind::Error) return x.where.empty() ? x.text : x.where + ": " + x.text;
+    if (x.kind == Diagnostic::Kind::Error) {
+      const std::string text = withOptions(x, spell);
+      return x.where.empty() ? text : x.where + ": " + text;
+    }
   return "";
 }
 

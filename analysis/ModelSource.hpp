@@ -2,6 +2,7 @@
 // Where a job's model comes from, read once, and the checks every analysis makes before it runs,
 // returned as data (Diagnostic) that each front end shows in its own way: the command line on
 // stderr, Python as exceptions and warnings, spacar() as MATLAB warnings and errors.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,8 +19,16 @@ struct Diagnostic {
     Result,   // a result line (stdout)
     Note,     // left out by --quiet
     Warning,  // legal, but probably not what was meant
-    Error     // the job cannot go on: an input error
+    Error     // before the run: an input error (the job cannot go on); after it: why it stopped
   };
+  Diagnostic() = default;
+  Diagnostic(Kind k, std::string w, std::string t, std::string s = "", std::string tp = "", std::string o = "")
+      : kind(k),
+        where(std::move(w)),
+        text(std::move(t)),
+        see(std::move(s)),
+        topic(std::move(tp)),
+        options(std::move(o)) {}
   Kind kind = Kind::Note;
   std::string where;
   std::string text;
@@ -28,11 +37,18 @@ struct Diagnostic {
   std::string see;
   // What a result line is ("statistics", "wall time"), for a front end that words it its own way.
   std::string topic;
+  // The options that change what the text says to change, by their Python names, comma-separated
+  // ("max_step", "reltol,abstol"); each front end adds its own spelling (`--max-step`, opts.maxstep,
+  // max_step=). Empty: none.
+  std::string options;
 };
 using Diagnostics = std::vector<Diagnostic>;
 bool hasError(const Diagnostics& d);
-// The first error's text, "where: text" (empty: none).
-std::string firstError(const Diagnostics& d);
+// The text with its options in a front end's spelling: "text (option --max-step)", "text (options
+// --reltol, --abstol)"; spell maps a Python name to the front end's ("" leaves it out).
+std::string withOptions(const Diagnostic& d, const std::function<std::string(const std::string&)>& spell);
+// The first error's text, "where: text" (empty: none), its options spelled by `spell` (none: left out).
+std::string firstError(const Diagnostics& d, const std::function<std::string(const std::string&)>& spell = {});
 
 // A model file and how to read it, or the stages of one already read (a Python Model, a study
 // variant): a job reads the file exactly once.

@@ -19,6 +19,7 @@ struct RunNote {
   std::string text;     // the line, without "flexmb: " or "warning: "
   std::string setting;  // the manifest's key, or empty
   std::string value;    // the manifest's value
+  std::string options;  // the options that change it (Diagnostic::options)
 };
 
 // `target`: the reduction error the user asked for (NaN: none; the estimate is then compared with

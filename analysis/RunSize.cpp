@@ -59,17 +59,18 @@ RunSizeCheck checkRunSize(const core::Model& model, const SimulationOptions& opt
   const double t0 = model.settings.t0, t1 = opt.tEnd.value_or(model.settings.tEnd);
   std::ostringstream m;
   if (!(t1 > t0)) {
-    m << "the end time " << t1 << " is not after the start time " << t0
-      << " (TIMESTEP's end time or --t-end / opts.tend)";
+    m << "the end time " << t1 << " is not after the start time " << t0 << " (TIMESTEP's end time)";
     c.refusal = m.str();
+    c.options = "t_end";
     return c;
   }
   const double span = t1 - t0;
   const double h = opt.maxStep.value_or(model.settings.hmax);
   if (h > 0 && span / h > kMaxSteps) {
     m << "a maximum step of " << h << " s over " << span << " s means at least " << span / h << " steps (the limit is "
-      << kMaxSteps << "): raise --max-step / opts.maxstep (or HMAX)";
+      << kMaxSteps << "): raise the maximum step (HMAX)";
     c.refusal = m.str();
+    c.options = "max_step";
     return c;
   }
   const long nOut = opt.intervals.value_or(model.settings.outputIntervals);
@@ -81,8 +82,9 @@ RunSizeCheck checkRunSize(const core::Model& model, const SimulationOptions& opt
     if (memory > limit) {
       m << nOut << " output intervals x " << values << " values would need about " << bytes(memory)
         << " of memory (the limit is a quarter of this machine's, " << bytes(limit) << ") and about " << bytes(csv)
-        << " of CSV: lower the output intervals (TIMESTEP's second field or --intervals / opts.intervals)";
+        << " of CSV: lower the output intervals (TIMESTEP's second field)";
       c.refusal = m.str();
+      c.options = "intervals";
       return c;
     }
   }
@@ -101,14 +103,15 @@ RunSizeCheck checkRunSize(const core::Model& model, const SimulationOptions& opt
         << " Hz, limits the explicit integrator's step to about " << 3.3 / stiff.omegaMax << " s: at least " << steps
         << " steps for " << span << " s. It lives in ";
       for (size_t i = 0; i < stiff.where.size(); ++i) w << (i ? ", " : "") << stiff.where[i];
-      w << ". A reduced model removes it (flexmb reduce, then simulate --basis), the implicit integrator bdf steps "
-           "over it (auto switches to it when ode45 meets the limit), or make those deformations rigid.";
+      w << ". A reduced model removes it (reduce, then simulate with that basis), the implicit integrators "
+           "galpha and bdf step over it (auto starts galpha where it bounds ode45), or make those deformations rigid.";
       c.warning = w.str();
     }
     if (steps > kMaxSteps) {
       m << steps << " steps are more than the limit " << kMaxSteps
-        << ": reduce the model, shorten the run or use the integrator bdf";
+        << ": reduce the model, shorten the run or use the integrator galpha or bdf";
       c.refusal = m.str();
+      c.options = "integrator,t_end";
     }
   }
   return c;

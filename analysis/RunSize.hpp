@@ -12,6 +12,7 @@ namespace flexmb::analysis {
 
 struct RunSizeCheck {
   std::string refusal;  // non-empty: do not run (the reason and what to change)
+  std::string options;  // the options that change it (Diagnostic::options)
   std::string warning;  // the stability limit sets ode45's step (the run is slow, not wrong)
 };
 

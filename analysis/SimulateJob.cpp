@@ -26,34 +26,15 @@ std::string withoutFinalNewline(std::string s) {
 }  // namespace
 
 SimulateJob::SimulateJob(const ModelSource& source, SimulateRequest request)
-    : file_(source.file), request_(std::move(request)) {
-  try {
-    stages_ = readStages(source);
-  } catch (const std::exception& e) {  // io::DatError names the file and line
-    refuse(e.what());
-    return;
-  }
+    : ModelJob(source), request_(std::move(request)) {
+  if (!read()) return;
   runs_ = stagesThatRun(*stages_);
   prepare();
 }
 
-void SimulateJob::say(Diagnostic::Kind kind, std::string text, std::string where) {
-  diagnostics_.push_back({kind, std::move(where), std::move(text), "", ""});
-}
-
-bool SimulateJob::refuse(std::string text, std::string where) {
-  say(Diagnostic::Kind::Error, std::move(text), std::move(where));
-  status_ = JobStatus::InputError;
-  return false;
-}
-
 void SimulateJob::prepare() {
   const core::Model& last = model();
-  for (Diagnostic& d : checkModelFor(last, file_, {true, true, true})) diagnostics_.push_back(std::move(d));
-  if (hasError(diagnostics_)) {
-    status_ = JobStatus::InputError;
-    return;
-  }
+  if (!checkModel(last, {true, true, true}, true)) return;
   const SimulationOptions& opt = request_.run;
   // No TIMESTEP: the defaults, said once, with what the options override.
   if (!last.settings.timestepGiven && (!opt.tEnd || !opt.intervals)) {
@@ -80,14 +61,17 @@ void SimulateJob::prepare() {
     say(Diagnostic::Kind::Note, "full kinematics applies to reduced runs (a basis): the full model has no other");
   const RunSizeCheck size = checkRunSize(last, request_.run);
   if (!size.warning.empty()) say(Diagnostic::Kind::Warning, size.warning);
-  if (!size.refusal.empty()) refuse(size.refusal);
+  if (!size.refusal.empty()) {
+    refuse(size.refusal);
+    diagnostics_.back().options = size.options;
+  }
 }
 
 void SimulateJob::prepareBasis() {
   const core::Model& last = model();
   SimulationOptions& opt = request_.run;
   if (request_.basisFile == "auto") {
-    operatorNote_ = "Eq. 19 (--basis auto builds no reduced operators)";
+    operatorNote_ = "Eq. 19 (a basis chosen for a target builds no reduced operators)";
     return;
   }
   if (!request_.basisFile.empty()) {
@@ -104,6 +88,9 @@ void SimulateJob::prepareBasis() {
     }
     opt.operators = choice.operators;
     operatorNote_ = choice.note;
+    // Operators beside the basis that do not serve this model: the run goes on with Eq. 19, said up front.
+    if (!choice.operators && choice.note.find("does not fit") != std::string::npos)
+      say(Diagnostic::Kind::Note, choice.note, file_);
   } else if (request_.basis) {
     if (request_.basis->rows() != last.numDofs()) {
       refuse("the basis has " + std::to_string(request_.basis->rows()) + " rows; the model has " +
@@ -118,7 +105,7 @@ void SimulateJob::prepareBasis() {
     if (!opt.operators || opt.operators->outputs.empty()) {
       refuse("tracked outputs: " + (opt.operators ? io::operatorPathFor(request_.basisFile) +
                                                         " tracks no output (reduce with tracked nodes or elements "
-                                                        "builds them: flexmb reduce --track)"
+                                                        "builds them)"
                                                   : "the run uses " + operatorNote_));
       return;
     }
@@ -232,6 +219,7 @@ JobStatus SimulateJob::run() {
           break;
         case RunNote::Kind::Warning:
           say(Diagnostic::Kind::Warning, n.text);
+          diagnostics_.back().options = n.options;
           break;
         case RunNote::Kind::Stopped:
           say(Diagnostic::Kind::Error, n.text);

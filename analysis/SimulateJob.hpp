@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/ModelSource.hpp"
+#include "analysis/ModelJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
 #include "core/dynamics/Trajectory.hpp"
@@ -38,28 +38,15 @@ struct SimulateRequest {
   bool trackedOutputs = false;                               // the operators' output fields at the output times
 };
 
-enum class JobStatus {
-  Ready,        // prepared, not run
-  InputError,   // refused before it ran (diagnostics say why)
-  Failed,       // could not start, or the basis could not be chosen (diagnostics say why)
-  Completed,    // ran to the end
-  Stopped,      // stopped early (the trajectory so far is kept; the reason is a diagnostic)
-  Interrupted,  // Ctrl-C / SIGTERM (the trajectory so far is kept)
-};
-
-class SimulateJob {
+class SimulateJob : public ModelJob {
  public:
   // Reads the source once, checks the model, the basis and the run's size. status() is Ready or
   // InputError.
   SimulateJob(const ModelSource& source, SimulateRequest request);
 
-  JobStatus status() const { return status_; }
-  const Diagnostics& diagnostics() const { return diagnostics_; }
-  const std::string& file() const { return file_; }
   // The stages that run and the last of them (the model the results belong to).
   const std::vector<const core::Model*>& stages() const { return runs_; }
   const core::Model& model() const { return *runs_.back(); }
-  std::shared_ptr<const std::vector<io::AnalysisStage>> allStages() const { return stages_; }
   bool driven() const { return driven_; }  // a driven rigid mechanism: inverse dynamics, no integrator
   const SimulationOptions& options() const { return request_.run; }
   // The run manifest's lines the job adds (basis, reduced dynamics, tracked outputs, run notes).
@@ -84,20 +71,13 @@ class SimulateJob {
   void prepareBasis();
   void chooseBasisForTarget();
   void runDriven();
-  void say(Diagnostic::Kind kind, std::string text, std::string where = "");
-  bool refuse(std::string text, std::string where = "");
 
-  std::string file_;
   SimulateRequest request_;
-  std::shared_ptr<const std::vector<io::AnalysisStage>> stages_;
   std::vector<const core::Model*> runs_;
   bool driven_ = false;
-  std::string operatorNote_;
+  std::string operatorNote_;  // the reduced dynamics used (operators, or Eq. 19 and why)
   std::string targetNote_;
-  bool reused_ =
-      false;  // the run is the chosen candidate's (basis auto)  // Eq. 19 and why, for a reduced run without operators
-  JobStatus status_ = JobStatus::Ready;
-  Diagnostics diagnostics_;
+  bool reused_ = false;  // the run is the chosen candidate's (basis auto)
   std::vector<std::pair<std::string, std::string>> settings_;
   core::Trajectory trajectory_;
   std::vector<Eigen::VectorXd> fxt_;

@@ -150,7 +150,7 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
     files.renameFiles();
     std::optional<TrajectoryModes> kept;  // for <prefix>.sbm
     if (what.linearize > 0 && !interrupted)
-      attempt("the linearisation along the trajectory (--linearize, --matrices)",
+      attempt("the linearisation along the trajectory (linearize, matrices)",
               [&] { kept = writeTrajectoryModes(files, model, opt, traj, what, out, err); });
     if (what.mat)  // SPACAR's <name>.sbd / .sbm (io/results.md)
       attempt("SPACAR's .sbd/.sbm", [&] {

@@ -1,6 +1,9 @@
 #include "analysis/Study.hpp"
 
+#include "analysis/ModesJob.hpp"
 #include "analysis/SimulateJob.hpp"
+#include "analysis/StaticJob.hpp"
+#include "analysis/SweepJob.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -151,8 +154,9 @@ std::string StudyAnalyses::describe() const {
   if (check) s << "check: rank\n";
   if (modes > 0) s << "modes: nev " << modes << "\n";
   if (statics)
-    s << "static: nev " << statics->nev << ", steps " << (statics->steps > 0 ? std::to_string(statics->steps) : "file")
-      << ", buckling " << statics->buckling << "\n";
+    s << "static: nev " << statics->nev << ", steps "
+      << (statics->loadSteps > 0 ? std::to_string(statics->loadSteps) : "file") << ", buckling " << statics->buckling
+      << "\n";
   if (sweep)
     s << "sweep: node " << sweep->node << " component " << sweep->component << " from " << sweep->from << " to "
       << sweep->to << " steps " << sweep->steps << " nev " << sweep->nev << "\n";
@@ -241,10 +245,7 @@ void simulateVariant(const core::Model& model, const StudyAnalyses& a, VariantRe
     request.basisFile = "auto";
     request.target = *a.reductionTarget;
   }
-  auto one = std::make_shared<std::vector<io::AnalysisStage>>(1);
-  one->front().model = model;
-  one->front().runs = true;
-  SimulateJob job(ModelSource{model.sourceFile, {}, one, nullptr}, std::move(request));
+  SimulateJob job(sourceOfModel(model), std::move(request));
   if (job.status() == JobStatus::InputError) throw std::runtime_error(firstError(job.diagnostics()));
   if (job.run() == JobStatus::Failed) throw std::runtime_error(firstError(job.diagnostics()));
   if (a.reductionTarget) {
@@ -271,22 +272,20 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   auto& q = r.quantities;
   q.emplace_back("dofs", model.numDofs());
   const bool needsMass = a.modes > 0 || a.sweep || a.simulation;
-  // What makes every analysis meaningless (as `flexmb` checks a model before it runs one).
+  // What makes every analysis meaningless (the checks every job makes before it runs), once for
+  // all analyses of the variant; their own notes beside the file's (said once for the study).
   auto diagnose = [&]() -> std::string {
-    if (!model.userStressFunction.empty() || !model.userInputFunction.empty())
-      return "USERSIG / USERINP name MATLAB functions, which run only through spacar() in Octave or MATLAB";
-    const core::ModelDiagnosis d = core::diagnoseModel(model);
-    if (!d.overflow.empty()) return "values too large to compute with: " + listed(d.overflow);
-    if (!d.mechanismDeformations.empty())
-      r.notes.push_back(std::to_string(d.mechanismDeformations.size()) +
-                        " dynamic deformation(s) without stiffness (mechanism degrees of freedom)");
-    if (model.numDofs() == 0) return "the model has no degrees of freedom (no DYNE deformation and no DYNX coordinate)";
-    if (const std::string assembly = core::initialAssemblyProblem(model); !assembly.empty()) return assembly;
-    if (needsMass)
-      if (const auto massless = core::masslessDegreesOfFreedom(model); !massless.empty())
-        return "no mass on " + std::to_string(massless.size()) + " of " + std::to_string(model.numDofs()) +
-               " degrees of freedom: " + listed(massless);
-    return "";
+    if (std::string why = userFunctionRefusal(model, model.sourceFile); !why.empty()) return why;
+    const Diagnostics d = checkModelFor(model, "", {needsMass, true, false});
+    for (std::size_t k = model.notes.size() + model.warnings.size(); k < d.size(); ++k)
+      if (d[k].kind == Diagnostic::Kind::Note) r.notes.push_back(d[k].text);
+    return firstError(d);
+  };
+  const ModelSource source = sourceOfModel(model);
+  // A job's input error or failure as the variant's failure (its words).
+  auto require = [](const ModelJob& job) {
+    if (job.status() == JobStatus::InputError || job.status() == JobStatus::Failed)
+      throw std::runtime_error(firstError(job.diagnostics()));
   };
   auto stage = [&](const char* name, const auto& body) {
     if (!r.failure.empty()) return;
@@ -314,9 +313,12 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   if (a.modes > 0) {
     addFrequencies("f", std::min(a.modes, model.numDofs()), nullptr, q);
     stage("modes", [&] {
-      r.modes = initialModes(model, std::nullopt, a.modes).frequencies;  // as `flexmb modes`
-      if (!r.modes->omega.allFinite() || r.modes->omega.size() == 0)
-        throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
+      ModesOptions mo;
+      mo.nev = a.modes;
+      ModesJob job(source, mo);  // as `flexmb modes`
+      job.run();
+      require(job);
+      r.modes = job.result().frequencies;
       const size_t at = q.size() - std::min(a.modes, model.numDofs());
       for (Eigen::Index i = 0; i < r.modes->omega.size() && at + i < q.size(); ++i)
         q[at + i].second = hertz(r.modes->omega[i]);
@@ -324,12 +326,14 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   }
   if (a.statics) {
     stage("static", [&] {
-      int nev = std::min(a.statics->nev, model.numDofs());
-      if (nev > 0 && !core::masslessDegreesOfFreedom(model).empty()) {
-        r.notes.push_back("static: no eigenfrequencies (degrees of freedom without mass)");
-        nev = 0;
-      }
-      r.statics = staticAnalysis(model, nev, a.statics->steps, {}, a.statics->buckling);
+      StaticJob job(source, *a.statics);  // as `flexmb static`
+      job.run();
+      require(job);
+      for (const Diagnostic& d : job.diagnostics())
+        if (d.kind == Diagnostic::Kind::Note && d.text.rfind("no eigenfrequencies", 0) == 0)
+          r.notes.push_back("static: " + d.text);
+      const int nev = job.options().nev;
+      r.statics = job.result();
       const StaticRun& run = *r.statics;
       const StaticStep* last = run.steps.empty() ? nullptr : &run.steps.back();
       q.emplace_back("static_steps", static_cast<double>(run.steps.size()));
@@ -356,9 +360,11 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   }
   if (a.sweep) {
     stage("sweep", [&] {
-      SweepOptions o = *a.sweep;
-      o.nev = std::min(o.nev, model.numDofs());
-      r.sweep = sweep(model, o);
+      SweepJob job(source, *a.sweep);  // as `flexmb sweep`
+      job.run();
+      require(job);
+      const SweepOptions& o = job.options();
+      r.sweep = job.result();
       for (int i = 0; i < o.nev; ++i) {
         double lo = kNaN;
         for (const auto& p : r.sweep->points)

@@ -51,15 +51,11 @@ std::vector<int> taskShare(int count, int task, int of);
 // ---- analyses ----------------------------------------------------------------------------------
 
 struct StudyAnalyses {
-  bool check = false;  // the kinematic rank check (flexmb check); a variant that is not well posed fails
-  int modes = 0;       // eigenfrequencies in the initial configuration (flexmb modes); 0: not run
-  struct Statics {
-    int nev = 6;       // eigenfrequencies per equilibrium
-    int steps = 0;     // load steps; 0: the file's ITERSTEP
-    int buckling = 0;  // buckling load factors per equilibrium
-  };
-  std::optional<Statics> statics;               // flexmb static
-  std::optional<SweepOptions> sweep;            // flexmb sweep (onPoint unused)
+  bool check = false;                 // the kinematic rank check (flexmb check); a variant that is not well posed fails
+  int modes = 0;                      // eigenfrequencies in the initial configuration (flexmb modes); 0: not run
+  using Statics = StaticOptions;      // nev, load steps (0: the file's ITERSTEP), buckling; as `flexmb static`
+  std::optional<Statics> statics;     // flexmb static
+  std::optional<SweepOptions> sweep;  // flexmb sweep (onPoint unused)
   std::optional<SimulationOptions> simulation;  // flexmb simulate (single stage; progress and interrupt unused)
   // simulate --target: each variant reduced with the smallest modal basis whose reduction error
   // estimate meets this (analysis/BasisForTarget.hpp); quantities sim_basis_vectors and

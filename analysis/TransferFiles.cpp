@@ -98,7 +98,8 @@ WrittenTransfer writeTransfer(io::OutputSet& files, const core::Model& model, co
   // A large model's Bode diagrams cost seconds (a Hessenberg reduction of A and 400 O(n^2) solves)
   // that nobody asked for: drawn up to the limit, beyond it when forced.
   if (run.completed && what.bode && ss.A.rows() > TransferFiles::kBodeStateLimit && !what.forceBode) {
-    out << "  Bode diagrams not drawn for " << ss.A.rows() << " states (--bode draws them)\n";
+    out << "  Bode diagrams not drawn for " << ss.A.rows()
+        << " states (asking for the Bode diagrams explicitly draws them)\n";
   } else if (run.completed && what.bode) {
     // No damping (A's velocity block is zero): the resonance peaks are infinite, the drawn ones are
     // only as high as the frequency grid comes to them.
@@ -109,7 +110,7 @@ WrittenTransfer writeTransfer(io::OutputSet& files, const core::Model& model, co
     const Eigen::VectorXd omega = bodeFrequencies(ss, what.fminHz, what.fmaxHz);
     out << "  Bode diagrams from " << io::shortNumber(omega[0] / (2 * M_PI), 4) << " to "
         << io::shortNumber(omega[omega.size() - 1] / (2 * M_PI), 4) << " Hz"
-        << (what.fminHz > 0.0 ? "" : " (--freq-range FMIN,FMAX sets the range)") << "\n";
+        << (what.fminHz > 0.0 ? "" : " (a frequency range FMIN,FMAX in Hz sets it)") << "\n";
     attempt("the Bode diagrams", [&] { writeBodeDiagrams(files, ss, omega, what.modelFile, note); });
   }
   w.paths = files.commit(run.completed ? "complete" : "stopped: " + run.stopReason);

@@ -18,6 +18,12 @@ using namespace flexmb;
 using analysis::StudyAnalyses;
 
 namespace {
+// The static analysis of a study (flexmb static's options).
+analysis::StaticOptions statics(int nev = 6, int loadSteps = 0, int buckling = 0) {
+  analysis::StaticOptions o;
+  o.nev = nev, o.loadSteps = loadSteps, o.buckling = buckling;
+  return o;
+}
 
 double quantity(const analysis::VariantResults& r, const std::string& name) {
   for (const auto& [n, v] : r.quantities)
@@ -108,7 +114,7 @@ TEST(Study, CantileverQuantitiesAgainstBeamTheory) {
   StudyAnalyses a;
   a.check = true;
   a.modes = 3;
-  a.statics = StudyAnalyses::Statics{2, 0, 1};
+  a.statics = statics(2, 0, 1);
   const auto r = analysis::runVariant(m, a);
   ASSERT_EQ(r.failure, "");
   EXPECT_EQ(quantity(r, "dofs"), 12);
@@ -134,7 +140,7 @@ TEST(Study, SpatialCantileverStressesAndStiffness) {
   // Tip force across: the root moment is P L; along: the axial force is P.
   const core::Model across = io::readDatString(spatialCantilever(4, 0, -1e-3), "c.dat");
   StudyAnalyses a;
-  a.statics = StudyAnalyses::Statics{0, 0, 0};
+  a.statics = statics(0, 0, 0);
   a.stiffnessNodes = {9, 10};
   const auto r = analysis::runVariant(across, a);
   ASSERT_EQ(r.failure, "");
@@ -169,7 +175,7 @@ TEST(Study, PivotRotationalStiffnessIsTwoEIOverL) {
   }
   const core::Model m = io::readDatString(text.str(), "pivot.dat");
   StudyAnalyses a;
-  a.statics = StudyAnalyses::Statics{0, 0, 0};
+  a.statics = statics(0, 0, 0);
   const auto r = analysis::runVariant(m, a);
   ASSERT_EQ(r.failure, "");
   const double ref = 2 * 7.0e-3 / (0.1 * std::sqrt(2.0));
@@ -188,7 +194,7 @@ TEST(Study, FailuresAreRecordedWithTheirReason) {
   const core::Model m = io::readDatString(spatialCantilever(2, 0, -1), "c.dat");
   StudyAnalyses a;
   a.modes = 2;
-  a.statics = StudyAnalyses::Statics{};
+  a.statics = statics();
   core::Model massless =
       io::readDatString(std::regex_replace(spatialCantilever(2, 0, -1), std::regex("EM [^\n]*\n"), ""), "c.dat");
   const auto r = analysis::runVariant(massless, a);
@@ -201,7 +207,7 @@ TEST(Study, FailuresAreRecordedWithTheirReason) {
   // A static analysis that stops (no stiffness: the load finds no equilibrium): failed, with the
   // load factor in the reason.
   StudyAnalyses s;
-  s.statics = StudyAnalyses::Statics{0, 0, 0};
+  s.statics = statics(0, 0, 0);
   const core::Model soft =
       io::readDatString(std::regex_replace(spatialCantilever(2, 0, -1), std::regex("ESTIFF [^\n]*\n"), ""), "c.dat");
   const auto q = analysis::runVariant(soft, s);
@@ -230,7 +236,7 @@ TEST(Study, FingerprintsAndManifestStates) {
   EXPECT_NE(f, analysis::variantFingerprint("X {t} ", {{"t", 1}}, a, "0.1"));
   EXPECT_NE(f, analysis::variantFingerprint("X {t}", {{"t", 2}}, a, "0.1"));
   StudyAnalyses b = a;
-  b.statics = StudyAnalyses::Statics{};
+  b.statics = statics();
   EXPECT_NE(f, analysis::variantFingerprint("X {t}", {{"t", 1}}, b, "0.1"));
   const std::string dir =
       (std::filesystem::temp_directory_path() / std::string("study_state_").append(std::to_string(::getpid())))
@@ -262,7 +268,7 @@ TEST(Study, PivotTemplateAtTwoTenthsOfAMillimetreIsTheCoarsePivot) {
   const core::Model coarse = io::readDatFile(dir + "cross_spring_pivot_coarse.dat");
   StudyAnalyses a;
   a.modes = 6;
-  a.statics = StudyAnalyses::Statics{6, 0, 2};
+  a.statics = statics(6, 0, 2);
   const auto r = analysis::runVariant(fromTemplate, a), c = analysis::runVariant(coarse, a);
   ASSERT_EQ(r.failure, "");
   ASSERT_EQ(c.failure, "");

@@ -11,9 +11,11 @@
 
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
+#include "analysis/ModesJob.hpp"
 #include "analysis/SpacarOutput.hpp"
+#include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
-#include "analysis/Sweep.hpp"
+#include "analysis/SweepJob.hpp"
 #include "io/formats/BasisFile.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/ResultWriter.hpp"
@@ -50,19 +52,7 @@ void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   }
 }
 
-std::optional<Eigen::MatrixXd> loadBasis(const std::string& path, const core::Model& model) {
-  if (path.empty()) return std::nullopt;
-  return io::readBasisFor(path, model.numDofs());
-}
-
-// Static load steps above this are refused up front: each is at least one Newton solve and one
-// eigenproblem, and a CSV row.
-constexpr long kMaxLoadSteps = 100000;
 }  // namespace
-
-std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model) {
-  return loadBasis(path, model);
-}
 
 int runModes(const std::vector<std::string>& args) {
   ModelOptions m;
@@ -87,31 +77,25 @@ int runModes(const std::vector<std::string>& args) {
   const std::string stem = std::filesystem::path(m.file).stem().string();
   if (html == "<model>_modes.html") html = stem + "_modes.html";
   if (vtk == "<model>_modes") vtk = stem + "_modes";
-  core::Model model;
-  if (!loadModelFor(m, model, true)) return kInputError;
-  std::optional<Eigen::MatrixXd> basis;
-  try {
-    basis = loadBasis(basisFile, model);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
+  analysis::ModesOptions mo;
+  mo.nev = nev;
+  mo.basis.file = basisFile;
+  analysis::ModesJob job(modelSource(m), mo);
+  std::size_t said = showDiagnostics(job, m.quiet);
+  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  const core::Model& model = job.model();
+  const std::optional<Eigen::MatrixXd>& basis = job.basis();
   // One file set: <out>.sbd / .sbm, the --svg figure and the manifest <out>_run.txt.
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "modes");
   files.setting("model", m.file);
-  files.setting("nev", std::to_string(nev));
+  files.setting("nev", std::to_string(job.options().nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
-  analysis::InitialModes im;
-  try {
-    im = analysis::initialModes(model, basis, nev);
-    if (!im.frequencies.omega.allFinite() || im.frequencies.omega.size() == 0)
-      throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kNumericalFailure;
-  }
+  job.run();
+  said = showDiagnostics(job, m.quiet, said);
+  if (job.status() != analysis::JobStatus::Completed) return kNumericalFailure;
+  const analysis::InitialModes& im = job.result();
   const analysis::Frequencies& fr = im.frequencies;
   std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
   printFrequencies(std::cout, fr.omega);
@@ -322,21 +306,14 @@ int runStatic(const std::vector<std::string>& args) {
     return kUsageError;
   }
   const bool writeCsv = format == "csv" || format == "both", writeSpacar = format == "mat" || format == "both";
-  core::Model model;
-  if (!loadModelFor(m, model, false)) return kInputError;
-  const long n = steps > 0 ? steps : std::max(1, model.settings.loadSteps);
-  if (n > kMaxLoadSteps) {
-    std::cerr << "flexmb: " << n << " load steps are too many (each is a Newton solve, an eigenproblem and a CSV row; "
-              << "the limit is " << kMaxLoadSteps << "): lower ITERSTEP's second field or give --steps\n";
-    return kInputError;
-  }
-  if (const auto massless = analysis::checkAssembly(model, true).massless; !massless.empty() && nev > 0) {
-    if (!m.quiet)
-      std::cerr << "flexmb: note: no eigenfrequencies: " << massless.size()
-                << " degree(s) of freedom have no mass (give EM or XM), e.g. " << massless.front() << "\n";
-    nev = 0;
-  }
-  nev = std::min(nev, model.numDofs());
+  analysis::StaticOptions so;
+  so.nev = nev;
+  so.loadSteps = steps;
+  so.buckling = buckling;
+  analysis::StaticJob job(modelSource(m), so);
+  std::size_t said = showDiagnostics(job, m.quiet);
+  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  const core::Model& model = job.model();
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis. One file set: the
   // CSV, SPACAR's <model>.sbd / .sbm beside it, the --svg figure, the manifest <prefix>_run.txt.
   std::string csvPath;
@@ -351,22 +328,16 @@ int runStatic(const std::vector<std::string>& args) {
   if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "static");
   files.setting("model", m.file);
-  files.setting("load steps", std::to_string(n));
-  files.setting("nev", std::to_string(nev));
+  files.setting("load steps", std::to_string(job.options().loadSteps));
+  files.setting("nev", std::to_string(job.options().nev));
   files.setting("format", format);
   files.setting("matrices", matrices);
   if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
 
   installInterruptHandler();
   Progress progress("static", !m.quiet);
-  analysis::StaticOptions so;
-  so.nev = nev;
-  so.loadSteps = static_cast<int>(n);
-  so.buckling = buckling;
-  so.onStep = [&](int i, int total) { progress.update(i, total, "load steps"); };
-  so.interrupt = interruptFlag();
-  so.interruptSignal = interruptSignal();
-  const analysis::StaticRun run = analysis::staticAnalysis(model, so);
+  job.run({[&](int i, int total) { progress.update(i, total, "load steps"); }, interruptFlag(), interruptSignal()});
+  const analysis::StaticRun& run = job.result();
   progress.finish();
   try {
     // -q: the load steps are not listed (the final displacements and the files still are).
@@ -411,14 +382,8 @@ int runStatic(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (run.interrupted) {
-    std::cerr << "flexmb: static analysis " << run.stopReason << "\n";
-    return interruptedExitCode();
-  }
-  if (!run.completed) {
-    std::cerr << "flexmb: static analysis stopped: " << run.stopReason << " (the load steps before it are written)\n";
-    return kNumericalFailure;
-  }
+  showDiagnostics(job, m.quiet, said);  // a stop: why, and that the load steps before it are written
+  if (job.status() != analysis::JobStatus::Completed) return exitCodeOf(job.status());
   return complete ? kOk : kWriteFailed;
 }
 
@@ -447,28 +412,11 @@ int runSweep(const std::vector<std::string>& args) {
                              "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N] "
                              "[--svg file.svg] [--view xy|xz|yz|iso]"))
     return *rc;
-  core::Model model;
-  if (!loadModelFor(m, model, true)) return kInputError;
-  if (o.steps > 1000000) {
-    std::cerr << "flexmb: --steps " << o.steps << " is too many (limit 1000000)\n";
-    return kUsageError;
-  }
-  auto it = model.nodeByLabel.find(o.node);
-  const bool rotation =
-      it != model.nodeByLabel.end() && model.nodes[it->second].kind == core::NodeKind::EulerParameters;
-  if (it == model.nodeByLabel.end() || o.component > (rotation ? 3 : model.nodes[it->second].dim())) {
-    std::cerr << "flexmb: " << m.file << " has no node " << o.node << " with component " << o.component
-              << (rotation ? " (an orientation node: --comp 1, 2, 3 = its rotation about global x, y, z in rad)" : "")
-              << "\n";
-    return kInputError;
-  }
-  try {
-    o.basis = loadBasis(basisFile, model);
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  }
-  o.nev = std::min(o.nev, o.basis ? static_cast<int>(o.basis->cols()) : model.numDofs());
+  analysis::SweepJob job(modelSource(m), o, {basisFile, std::nullopt});
+  std::size_t said = showDiagnostics(job, m.quiet);
+  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  const core::Model& model = job.model();
+  o.nev = job.options().nev;
   std::string suffix = "_sweep";
   if (!basisFile.empty()) suffix += "_" + std::filesystem::path(basisFile).stem().string();
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file, suffix));
@@ -478,14 +426,6 @@ int runSweep(const std::vector<std::string>& args) {
     std::cerr << "flexmb: --svg " << svg << " is the frequency plot's own file (" << prefix
               << ".svg): give the configuration figure another name\n";
     return kUsageError;
-  }
-  // Absolute coordinates: a range that does not hold the node's initial value is probably meant as a
-  // displacement, so the initial value is said.
-  if (!rotation && !m.quiet) {
-    const double x0 = model.x0[model.nodes[it->second].firstCoord + o.component - 1];
-    if (x0 < std::min(o.from, o.to) || x0 > std::max(o.from, o.to))
-      std::cerr << "flexmb: note: --from and --to are absolute coordinates: node " << o.node << " component "
-                << o.component << " starts at " << x0 << ", outside " << o.from << " .. " << o.to << "\n";
   }
   files.setting("command", "sweep");
   files.setting("model", m.file);
@@ -497,15 +437,11 @@ int runSweep(const std::vector<std::string>& args) {
 
   installInterruptHandler();
   Progress progress("sweep", !m.quiet);
-  o.onPoint = [&](int i, int total) { progress.update(i, total, "configurations"); };
-  o.interrupt = interruptFlag();
-  o.interruptSignal = interruptSignal();
-  analysis::SweepResult r;
-  try {
-    r = analysis::sweep(model, o);
-  } catch (const std::invalid_argument& e) {
+  job.run({[&](int i, int total) { progress.update(i, total, "configurations"); }, interruptFlag(), interruptSignal()});
+  const analysis::SweepResult& r = job.result();
+  if (job.status() == analysis::JobStatus::InputError) {
     progress.finish();
-    std::cerr << "flexmb: " << e.what() << "\n";
+    showDiagnostics(job, m.quiet, said);
     return kInputError;
   }
   progress.finish();
@@ -548,15 +484,8 @@ int runSweep(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (r.interrupted) {
-    std::cerr << "flexmb: sweep " << r.stopReason << "\n";
-    return interruptedExitCode();
-  }
-  if (!r.completed) {
-    std::cerr << "flexmb: sweep stopped " << r.stopReason << " (" << r.points.size()
-              << " configurations before it are written)\n";
-    return kNumericalFailure;
-  }
+  showDiagnostics(job, m.quiet, said);  // a stop: why, and how many configurations before it are written
+  if (job.status() != analysis::JobStatus::Completed) return exitCodeOf(job.status());
   return complete ? kOk : kWriteFailed;
 }
 

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
 
+#include "analysis/ModelJob.hpp"
 #include "analysis/ModelSource.hpp"
 #include "core/model/Model.hpp"
 #include "io/formats/DatReader.hpp"
@@ -40,7 +41,6 @@ int runValidate(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);     // StudyCommand.cpp: design studies, `study collect`
 int runTransfer(const std::vector<std::string>& args);  // mode 9
 int runMode3(const std::vector<std::string>& args);     // --mode 3: trajectory or load steps
-std::optional<Eigen::MatrixXd> readBasisFor(const std::string& path, const core::Model& model);
 
 // Reads a model with the common options (--dialect, --elongation); prints errors, returns false.
 struct ModelOptions {
@@ -68,11 +68,18 @@ analysis::ModelSource modelSource(const ModelOptions& o);
 // Reads the file's text once for the whole command (throws io::DatError); the analysis then parses
 // this text instead of opening the file again.
 std::shared_ptr<const std::string> readAhead(const std::string& file);
+// An option of Diagnostic::options as the command line spells it (max_step: --max-step).
+std::string optionSpelling(const std::string& name);
 // A job's diagnostics as the command line shows them: results on stdout; notes (unless quiet),
 // warnings and errors on stderr, "file: warning: text".
 // from, to: the part of d to print (diagnostics a job added since the last print).
 void printDiagnostics(const analysis::Diagnostics& d, bool quiet, std::size_t from = 0,
                       std::size_t to = static_cast<std::size_t>(-1));
+// A job's diagnostics from `from` on (printDiagnostics); returns how many it has, the next `from`.
+std::size_t showDiagnostics(const analysis::ModelJob& job, bool quiet, std::size_t from = 0);
+// A job's exit code: a run that stopped or was interrupted keeps its files (kNumericalFailure /
+// the signal's code), an input error is kInputError.
+int exitCodeOf(analysis::JobStatus s);
 // A file naming USERSIG / USERINP (MATLAB functions) is refused with the reason printed: only
 // spacar() in Octave/MATLAB can call them.
 bool userFunctionsAllowed(const ModelOptions& o, const core::Model& model);

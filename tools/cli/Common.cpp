@@ -9,6 +9,7 @@
 
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
+#include "analysis/ModelJob.hpp"
 #include "analysis/ModelSource.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/KeywordTable.hpp"
@@ -204,6 +205,14 @@ analysis::ModelSource modelSource(const ModelOptions& o) {
   return s;
 }
 
+std::string optionSpelling(const std::string& name) {
+  if (name == "load_steps") return "--steps";
+  std::string flag = "--" + name;
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
 void printDiagnostics(const analysis::Diagnostics& d, bool quiet, std::size_t from, std::size_t to) {
   using K = analysis::Diagnostic::Kind;
   for (std::size_t k = from; k < std::min(to, d.size()); ++k) {
@@ -213,10 +222,31 @@ void printDiagnostics(const analysis::Diagnostics& d, bool quiet, std::size_t fr
     if (x.kind != K::Result) o << (x.where.empty() ? "flexmb" : x.where) << ": ";
     if (x.kind == K::Note) o << "note: ";
     if (x.kind == K::Warning) o << "warning: ";
-    o << x.text;
+    o << analysis::withOptions(x, optionSpelling);
     if (x.see == "check") o << " (run `flexmb check` for the kinematic rank analysis)";
     o << "\n";
   }
+}
+
+int exitCodeOf(analysis::JobStatus s) {
+  switch (s) {
+    case analysis::JobStatus::Ready:
+    case analysis::JobStatus::Completed:
+      return kOk;
+    case analysis::JobStatus::InputError:
+      return kInputError;
+    case analysis::JobStatus::Interrupted:
+      return interruptedExitCode();
+    case analysis::JobStatus::Failed:
+    case analysis::JobStatus::Stopped:
+      break;
+  }
+  return kNumericalFailure;
+}
+
+std::size_t showDiagnostics(const analysis::ModelJob& job, bool quiet, std::size_t from) {
+  printDiagnostics(job.diagnostics(), quiet, from);
+  return job.diagnostics().size();
 }
 
 bool userFunctionsAllowed(const ModelOptions& o, const core::Model& model) {

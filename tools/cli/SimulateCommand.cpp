@@ -239,23 +239,6 @@ void describeRun(io::OutputSet& files, const SimulateArgs& a, const analysis::Si
   for (const auto& [key, value] : job.settings()) files.setting(key, value);
 }
 
-// The job's exit code: a run that stopped or was interrupted keeps its files.
-int exitCodeOf(analysis::JobStatus s) {
-  switch (s) {
-    case analysis::JobStatus::Ready:
-    case analysis::JobStatus::Completed:
-      return kOk;
-    case analysis::JobStatus::InputError:
-      return kInputError;
-    case analysis::JobStatus::Interrupted:
-      return interruptedExitCode();
-    case analysis::JobStatus::Failed:
-    case analysis::JobStatus::Stopped:
-      break;
-  }
-  return kNumericalFailure;
-}
-
 // The largest |force| each input needs over the run, as a SPACAR user reads it off fxt and sig.
 void printInputForces(std::ostream& o, const core::Model& model, const core::Trajectory& traj,
                       const std::vector<Eigen::VectorXd>& fxt) {

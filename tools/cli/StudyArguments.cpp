@@ -102,7 +102,10 @@ std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, Stu
   if (sa.buckling > 0) sa.statics = true;
   if (!sa.check && !sa.modes && !sa.statics && !sweepAsked && !sa.simulate) sa.modes = sa.statics = true;
   if (sa.modes) a.modes = sa.nev;
-  if (sa.statics) a.statics = analysis::StudyAnalyses::Statics{sa.nev, sa.steps, sa.buckling};
+  if (sa.statics) {
+    a.statics.emplace();
+    a.statics->nev = sa.nev, a.statics->loadSteps = sa.steps, a.statics->buckling = sa.buckling;
+  }
   if (sweepAsked) {
     const auto given = [&](const char* o) {
       for (const auto& x : args)

@@ -11,6 +11,7 @@
 
 #include "analysis/Transfer.hpp"
 #include "analysis/TransferFiles.hpp"
+#include "analysis/TransferJob.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
@@ -63,34 +64,27 @@ int runTransfer(const std::vector<std::string>& args) {
     return kUsageError;
   }
   const bool bode = !noBode;
-  core::Model model;
-  if (!loadModelFor(m, model, true)) return kInputError;
-  if (model.transferInputs.empty() || model.transferOutputs.empty()) {
-    std::cerr << m.file
-              << ": no transfer block: `flexmb transfer` needs at least one input (INPUTF, INX) and one output "
-                 "(OUTX, OUTXP, OUTF) in a block after the dynamic block's END HALT (io/dat-language.md)\n";
-    return kInputError;
-  }
+  analysis::TransferOptions to;
+  to.nev = nev;
+  to.loadSteps = steps;
+  analysis::TransferJob job(modelSource(m), to);
+  std::size_t said = showDiagnostics(job, m.quiet);
+  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  const core::Model& model = job.model();
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   if (!outputsWritable(files)) return kInputError;
   const std::string prefix = files.prefix();
   files.setting("command", "transfer");
   files.setting("model", m.file);
   if (fmin > 0.0) files.setting("Bode frequency range", text::shortest(fmin) + "," + text::shortest(fmax) + " Hz");
-  analysis::TransferOptions to;
-  to.nev = nev;
-  to.loadSteps = steps;
   Progress progress("transfer", !m.quiet);
-  to.onStep = [&](int i, int total) { progress.update(i, total, "load steps"); };
-  analysis::TransferRun run;
-  try {
-    run = analysis::transferAnalysis(model, to);
-  } catch (const std::exception& e) {
-    progress.finish();
-    std::cerr << "flexmb: " << m.file << ": " << e.what() << "\n";
+  job.run({[&](int i, int total) { progress.update(i, total, "load steps"); }, nullptr, nullptr});
+  progress.finish();
+  if (job.status() == analysis::JobStatus::Failed) {
+    showDiagnostics(job, m.quiet, said);
     return kNumericalFailure;
   }
-  progress.finish();
+  const analysis::TransferRun& run = job.result();
   files.setting("load steps", std::to_string(run.statics.loadSteps));
   const analysis::StateSpace& ss = run.model;
   if (run.completed) {
@@ -125,11 +119,8 @@ int runTransfer(const std::vector<std::string>& args) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
-  if (!run.completed) {
-    std::cerr << "flexmb: transfer stopped: " << run.stopReason
-              << " (the load steps reached are written; no state-space model)\n";
-    return kNumericalFailure;
-  }
+  showDiagnostics(job, m.quiet, said);  // a stop: why (the load steps reached are written)
+  if (job.status() != analysis::JobStatus::Completed) return exitCodeOf(job.status());
   if (written.incomplete) return kWriteFailed;
   return kOk;
 }

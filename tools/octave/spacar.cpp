@@ -21,6 +21,7 @@
 #include <exception>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -29,9 +30,11 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
+#include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
 #include "analysis/Transfer.hpp"
+#include "analysis/TransferJob.hpp"
 #include "io/formats/DatReader.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/SpacarResults.hpp"
@@ -127,6 +130,44 @@ void say(bool silent, const std::string& s) {
 // Modes 1, 3 (with TIMESTEP) and 4: the simulate job (analysis/SimulateJob.hpp: reduced with
 // opts.target), what it says in `out`, and SPACAR's results from it. False (run.error set) when the
 // run is refused before it starts.
+// An option of a diagnostic as spacar() spells it: a field of opts ("" where opts has none).
+std::string optsField(const std::string& name) {
+  if (name == "load_steps") return "";
+  std::string field = "opts.";
+  for (char c : name)
+    if (c != '_') field += c;
+  return field;
+}
+
+// A job's diagnostics from `said` on, in spacar()'s words: warnings as MATLAB warnings, results and
+// notes as "spacar: " lines (the statistics and the wall time are worded by the caller), errors left
+// to the caller (refused, or the run's stop).
+void show(const analysis::ModelJob& job, std::size_t& said, bool silent, std::ostringstream& out) {
+  for (; said < job.diagnostics().size(); ++said) {
+    const analysis::Diagnostic& d = job.diagnostics()[said];
+    if (d.kind == analysis::Diagnostic::Kind::Warning && !silent)
+      mexWarnMsgIdAndTxt("flexmb:spacar:run", "%s: %s", job.file().c_str(),
+                         analysis::withOptions(d, optsField).c_str());
+    else if ((d.kind == analysis::Diagnostic::Kind::Result || d.kind == analysis::Diagnostic::Kind::Note) &&
+             d.topic.empty())
+      out << "spacar: " << analysis::withOptions(d, optsField) << "\n";
+  }
+}
+
+// A job's first error, named by its file.
+std::string errorOf(const analysis::ModelJob& job) {
+  const std::string e = analysis::firstError(job.diagnostics(), optsField);
+  return e.rfind(job.file(), 0) == 0 ? e : job.file() + ": " + e;
+}
+
+// A job refused before it ran: its first error as spacar()'s input error.
+bool refused(const analysis::ModelJob& job, Run& run) {
+  if (job.status() != analysis::JobStatus::InputError) return false;
+  run.error = errorOf(job);
+  run.errorId = "flexmb:spacar:input";
+  return true;
+}
+
 bool runDynamics(int mode, bool silent, const std::string& name, const std::string& datFile,
                  std::shared_ptr<const std::vector<io::AnalysisStage>> stages,
                  const octave_gateway::MatlabUserFunctions& user, const analysis::SimulationOptions& simOptions,
@@ -142,27 +183,13 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   // What the command line says before and after a run, with spacar()'s own voice: notes and results
   // on the console, warnings as MATLAB warnings, an error as the run's error.
   std::size_t said = 0;
-  auto show = [&] {
-    for (; said < job.diagnostics().size(); ++said) {
-      const analysis::Diagnostic& d = job.diagnostics()[said];
-      if (d.kind == analysis::Diagnostic::Kind::Warning && !silent)
-        mexWarnMsgIdAndTxt("flexmb:spacar:run", "%s: %s", datFile.c_str(), d.text.c_str());
-      else if ((d.kind == analysis::Diagnostic::Kind::Result || d.kind == analysis::Diagnostic::Kind::Note) &&
-               d.topic.empty())  // the statistics and the wall time: below, in spacar()'s words
-        out << "spacar: " << d.text << "\n";
-    }
-  };
-  show();
-  if (job.status() == analysis::JobStatus::InputError) {
-    run.error = datFile + ": " + analysis::firstError(job.diagnostics());
-    run.errorId = "flexmb:spacar:input";
-    return false;
-  }
+  show(job, said, silent, out);
+  if (refused(job, run)) return false;
   job.run();
   interrupted = watch.interrupted();
-  show();
+  show(job, said, silent, out);
   if (job.status() == analysis::JobStatus::Failed) {
-    run.error = datFile + ": " + analysis::firstError(job.diagnostics());
+    run.error = errorOf(job);
     return false;
   }
   const core::Model& model = job.model();
@@ -205,6 +232,22 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   return true;
 }
 
+// The static job of modes 10 and 3 (a static file): six eigenfrequencies per load step, as SPACAR.
+// Nothing when the job refused the model (run.error says why).
+std::optional<analysis::StaticRun> runStatic(const std::string& datFile,
+                                             std::shared_ptr<const std::vector<io::AnalysisStage>> stages, bool silent,
+                                             std::ostringstream& out, Run& run) {
+  analysis::StaticOptions so;
+  so.nev = 6;
+  analysis::StaticJob job(analysis::ModelSource{datFile, {}, std::move(stages), nullptr}, so);
+  std::size_t said = 0;
+  show(job, said, silent, out);
+  if (refused(job, run)) return std::nullopt;
+  job.run();
+  show(job, said, silent, out);
+  return job.result();
+}
+
 void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
                Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
@@ -220,7 +263,6 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   }
   core::Model& model = stages->back().model;
   const bool staticFile = analysis::isStaticFile(*stages);
-  const bool dynamics = mode == 1 || mode == 4 || (mode == 3 && !staticFile);
   // Where name.sbd goes, probed before the analysis: a run whose results cannot be written would
   // give the workspace nothing (the variables are read back from the files).
   try {
@@ -231,8 +273,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
     return;
   }
   // Legal input that is probably a mistake (a load on a fixed coordinate, a node without X): said
-  // here as on the command line (the dynamics modes: by the simulate job).
-  if (!silent && !dynamics)
+  // here for mode 0, by the other modes' jobs (as on the command line).
+  if (!silent && mode == 0)
     for (const auto& w : model.warnings)
       mexWarnMsgIdAndTxt("flexmb:spacar:model", "%s: %s", datFile.c_str(), w.c_str());
   std::shared_ptr<octave_gateway::MatlabUserFunctions> user;  // the last stage's, for its timing
@@ -260,12 +302,13 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         break;
       case 3:
         if (staticFile) {  // a static file: SPACAR's mode 3 perturbs its load steps
-          const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
-          out << "spacar: static analysis with linearised matrices, " << st.steps.size() << " load steps\n";
+          const auto st = runStatic(datFile, stages, silent, out, run);
+          if (!st) return;
+          out << "spacar: static analysis with linearised matrices, " << st->steps.size() << " load steps\n";
           analysis::SpacarOutputOptions so;
           so.transferFunctions = true;
           so.jacobian = true;
-          results = analysis::spacarFromStaticPerturbation(model, st, so);
+          results = analysis::spacarFromStaticPerturbation(model, *st, so);
           break;
         }
         [[fallthrough]];
@@ -276,18 +319,26 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
           return;
         break;
       case 10: {
-        const analysis::StaticRun st = analysis::staticAnalysis(model, std::min(6, model.numDofs()));
-        out << "spacar: static analysis, " << st.steps.size() << " load steps\n";
+        const auto st = runStatic(datFile, stages, silent, out, run);
+        if (!st) return;
+        out << "spacar: static analysis, " << st->steps.size() << " load steps\n";
         analysis::SpacarOutputOptions so;
         so.transferFunctions = true;  // as the command line: few steps, compliance scripts read dx
         so.jacobian = true;
-        results = analysis::spacarFromStatics(model, st, so);
+        results = analysis::spacarFromStatics(model, *st, so);
         break;
       }
       case 9: {
         analysis::TransferOptions to;
-        to.nev = 6;  // as flexmb transfer (capped at the degrees of freedom by the analysis)
-        const analysis::TransferRun tr = analysis::transferAnalysis(model, to);
+        to.nev = 6;  // as flexmb transfer (capped at the degrees of freedom)
+        analysis::TransferJob job(analysis::ModelSource{datFile, {}, stages, nullptr}, to);
+        std::size_t said = 0;
+        show(job, said, silent, out);
+        if (refused(job, run)) return;
+        job.run();
+        if (job.status() == analysis::JobStatus::Failed)
+          throw std::runtime_error(analysis::firstError(job.diagnostics()));
+        const analysis::TransferRun& tr = job.result();
         out << "spacar: transfer functions at the last of " << tr.statics.steps.size()
             << " load steps: " << tr.model.B.cols() << " inputs, " << tr.model.C.rows() << " outputs, "
             << tr.model.A.rows() << " states\n";

@@ -21,6 +21,7 @@
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
+#include "analysis/ModesJob.hpp"
 #include "analysis/OperatorPolicy.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
@@ -28,10 +29,13 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
+#include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
+#include "analysis/SweepJob.hpp"
 #include "analysis/Transfer.hpp"
 #include "analysis/TransferFiles.hpp"
+#include "analysis/TransferJob.hpp"
 #include "core/model/UserFunctions.hpp"
 #include "io/formats/BasisFile.hpp"
 #include "io/formats/DatReader.hpp"
@@ -321,6 +325,7 @@ void installInputs(const py::function& f, core::Model& model) {
 // ---- results --------------------------------------------------------------------------------------
 struct StaticResult {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;
   analysis::StaticRun run;
   int buckling = 0;
   Eigen::VectorXd loadFactor, initialFactor;
@@ -357,12 +362,14 @@ StaticResult makeStatic(ModelPtr model, analysis::StaticRun run, int nev, int bu
 
 struct ModesResult {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;
   analysis::InitialModes modes;
   Eigen::VectorXd freq;  // Hz
 };
 
 struct SweepResultPy {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;
   analysis::SweepResult sweep;
   Eigen::VectorXd values, loads;
   RowMatrix freq, x;  // Hz ascending per point; nodal coordinates per point
@@ -370,6 +377,7 @@ struct SweepResultPy {
 
 struct TransferResultPy {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;
   analysis::TransferRun run;
 };
 
@@ -427,11 +435,26 @@ SimulationResult makeSimulation(ModelPtr model, analysis::SimulationOptions opt,
   return r;
 }
 
-std::optional<Eigen::MatrixXd> basisArgument(const std::optional<Eigen::MatrixXd>& basis, const core::Model& m) {
-  if (basis && basis->rows() != m.numDofs())
-    throw py::value_error("basis: expected " + std::to_string(m.numDofs()) + " rows (the degrees of freedom), got " +
-                          std::to_string(basis->rows()));
-  return basis;
+// A Python model as a job's source: its stages, read once when the model was read.
+analysis::ModelSource sourceOf(const ModelHandle& h) { return {h->sourceFile, {}, h.stages, nullptr}; }
+
+// An option of a diagnostic as Python spells it: the keyword argument.
+std::string keyword(const std::string& name) { return name + "="; }
+
+// A job refused before it ran: ValueError with the job's words (the same the command line prints).
+void raiseIfRefused(const analysis::ModelJob& job) {
+  if (job.status() == analysis::JobStatus::InputError)
+    throw py::value_error(analysis::firstError(job.diagnostics(), keyword));
+}
+
+// A result's .messages: (kind, text) of what the job said, as the command line prints it beside the run.
+std::vector<std::pair<std::string, std::string>> messagesOf(const analysis::Diagnostics& diagnostics) {
+  static const char* kinds[] = {"result", "note", "warning", "error"};
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& d : diagnostics)
+    out.emplace_back(kinds[static_cast<int>(d.kind)],
+                     (d.where.empty() ? "" : d.where + ": ") + analysis::withOptions(d, keyword));
+  return out;
 }
 
 // Writes a CSV table atomically (io::writeTextFile) and returns the path.
@@ -573,6 +596,7 @@ void bindCheck(py::module_& m) {
 void bindStatic(py::module_& m) {
   // ---- static ----
   py::class_<StaticResult>(m, "StaticResult")
+      .def_property_readonly("messages", [](const StaticResult& r) { return messagesOf(r.diagnostics); })
       .def_readonly("load_factor", &StaticResult::loadFactor)
       .def_readonly("initial_factor", &StaticResult::initialFactor)
       .def_readonly("x", &StaticResult::x)
@@ -610,13 +634,15 @@ void bindStatic(py::module_& m) {
         InterruptScope scope;
         analysis::StaticOptions so;
         so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
-        so.interrupt = scope.flag(), so.interruptSignal = scope.signal();
-        analysis::StaticRun run;
+        analysis::StaticJob job(sourceOf(handle), so);
+        raiseIfRefused(job);
         {
           py::gil_scoped_release release;
-          run = analysis::staticAnalysis(*model, so);
+          job.run({nullptr, scope.flag(), scope.signal()});
         }
-        StaticResult r = makeStatic(model, std::move(run), nev, buckling);
+        analysis::StaticRun run = job.result();
+        StaticResult r = makeStatic(model, std::move(run), job.options().nev, buckling);
+        r.diagnostics = job.diagnostics();
         if (r.run.interrupted)
           raiseWithResult(PyExc_KeyboardInterrupt,
                           "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
@@ -629,6 +655,7 @@ void bindStatic(py::module_& m) {
 void bindModes(py::module_& m) {
   // ---- modes ----
   py::class_<ModesResult>(m, "ModesResult")
+      .def_property_readonly("messages", [](const ModesResult& r) { return messagesOf(r.diagnostics); })
       .def_readonly("freq", &ModesResult::freq)
       .def_property_readonly(
           "omega", [](const ModesResult& r) -> const Eigen::VectorXd& { return r.modes.frequencies.omega; },
@@ -653,11 +680,19 @@ void bindModes(py::module_& m) {
       [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis) {
         const ModelPtr model = handle.last();
         ModesResult r;
-        const auto b = basisArgument(basis, *model);
+        analysis::ModesOptions mo;
+        mo.nev = nev;
+        mo.basis.matrix = basis;
+        analysis::ModesJob job(sourceOf(handle), std::move(mo));
+        raiseIfRefused(job);
         {
           py::gil_scoped_release release;
-          r.modes = analysis::initialModes(*model, b, nev);
+          job.run();
         }
+        if (job.status() != analysis::JobStatus::Completed)
+          throw std::runtime_error(analysis::firstError(job.diagnostics()));
+        r.modes = job.result();
+        r.diagnostics = job.diagnostics();
         r.freq = r.modes.frequencies.omega / (2 * M_PI);
         r.model = model;
         return r;
@@ -668,6 +703,7 @@ void bindModes(py::module_& m) {
 void bindSweep(py::module_& m) {
   // ---- sweep ----
   py::class_<SweepResultPy>(m, "SweepResult")
+      .def_property_readonly("messages", [](const SweepResultPy& r) { return messagesOf(r.diagnostics); })
       .def_readonly("values", &SweepResultPy::values)
       .def_readonly("loads", &SweepResultPy::loads)
       .def_readonly("freq", &SweepResultPy::freq)
@@ -686,13 +722,17 @@ void bindSweep(py::module_& m) {
         InterruptScope scope;
         analysis::SweepOptions o;
         o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
-        o.basis = basisArgument(basis, *model);
-        o.interrupt = scope.flag(), o.interruptSignal = scope.signal();
+        analysis::SweepJob job(sourceOf(handle), o, {"", basis});
+        raiseIfRefused(job);
         SweepResultPy r;
         {
           py::gil_scoped_release release;
-          r.sweep = analysis::sweep(*model, o);
+          job.run({nullptr, scope.flag(), scope.signal()});
         }
+        raiseIfRefused(job);
+        r.sweep = job.result();
+        r.diagnostics = job.diagnostics();
+        nev = job.options().nev;
         const auto& p = r.sweep.points;
         r.values.resize(static_cast<Eigen::Index>(p.size()));
         r.loads.resize(static_cast<Eigen::Index>(p.size()));
@@ -713,6 +753,7 @@ void bindSweep(py::module_& m) {
 void bindTransfer(py::module_& m) {
   // ---- transfer ----
   py::class_<TransferResultPy>(m, "TransferResult")
+      .def_property_readonly("messages", [](const TransferResultPy& r) { return messagesOf(r.diagnostics); })
       .def_property_readonly(
           "A", [](const TransferResultPy& r) -> const Eigen::MatrixXd& { return r.run.model.A; },
           py::return_value_policy::reference_internal)
@@ -759,10 +800,16 @@ void bindTransfer(py::module_& m) {
         TransferResultPy r;
         analysis::TransferOptions o;
         o.nev = nev, o.loadSteps = loadSteps;
+        analysis::TransferJob job(sourceOf(handle), o);
+        raiseIfRefused(job);
         {
           py::gil_scoped_release release;
-          r.run = analysis::transferAnalysis(*model, o);
+          job.run();
         }
+        if (job.status() == analysis::JobStatus::Failed)
+          throw std::runtime_error(analysis::firstError(job.diagnostics()));
+        r.run = job.result();
+        r.diagnostics = job.diagnostics();
         r.model = model;
         return r;
       },
@@ -863,15 +910,7 @@ void bindSimulate(py::module_& m) {
       .def_readonly("sig", &SimulationResult::sig)
       .def_readonly("fxt", &SimulationResult::fxt)
       .def_property_readonly("completed", [](const SimulationResult& r) { return r.trajectory.completed; })
-      .def_property_readonly("messages",
-                             [](const SimulationResult& r) {
-                               // (kind, text): what the command line prints beside the run
-                               static const char* kinds[] = {"result", "note", "warning", "error"};
-                               std::vector<std::pair<std::string, std::string>> out;
-                               for (const auto& d : r.diagnostics)
-                                 out.emplace_back(kinds[static_cast<int>(d.kind)], d.text);
-                               return out;
-                             })
+      .def_property_readonly("messages", [](const SimulationResult& r) { return messagesOf(r.diagnostics); })
       .def_property_readonly("stop_reason", [](const SimulationResult& r) { return r.trajectory.stopReason; })
       .def_property_readonly("integrator", [](const SimulationResult& r) { return r.trajectory.integrator; })
       .def_property_readonly("nsteps", [](const SimulationResult& r) { return r.trajectory.nsteps; })
@@ -968,7 +1007,7 @@ void bindSimulate(py::module_& m) {
         opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
         analysis::SimulateJob job(analysis::ModelSource{handle->sourceFile, {}, stages, nullptr}, std::move(request));
         if (job.status() == analysis::JobStatus::InputError) {
-          const std::string why = analysis::firstError(job.diagnostics());
+          const std::string why = analysis::firstError(job.diagnostics(), keyword);
           throw py::value_error(job.driven() ? "basis: " + why : why);
         }
         {

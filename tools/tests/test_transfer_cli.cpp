@@ -75,7 +75,7 @@ TEST_F(TransferCli, WritesTheStateSpaceModelAndBodeDiagrams) {
   EXPECT_NE(slurp(dir_ / "ms_bode_in1_out2.svg").find(">magnitude [(m/s)/N]<"), std::string::npos);
   EXPECT_NE(svg.find("phase [deg]"), std::string::npos);
   // The range drawn, by default a decade either side of the eigenfrequency (1.59 Hz).
-  EXPECT_NE(out.find("  Bode diagrams from 0.1592 to 15.92 Hz (--freq-range FMIN,FMAX sets the range)\n"),
+  EXPECT_NE(out.find("  Bode diagrams from 0.1592 to 15.92 Hz (a frequency range FMIN,FMAX in Hz sets it)\n"),
             std::string::npos)
       << out;
   EXPECT_NE(slurp(dir_ / "ms_run.txt").find("status: complete"), std::string::npos);

@@ -1,0 +1,24 @@
+#include "analysis/ModesJob.hpp"
+
+namespace flexmb::analysis {
+
+ModesJob::ModesJob(const ModelSource& source, ModesOptions options) : ModelJob(source), options_(std::move(options)) {
+  if (!read() || !checkModel(model(), {true, true, false}, false)) return;
+  if (!readBasis(model(), options_.basis, basis_)) return;
+  options_.nev = std::max(1, std::min(options_.nev, basis_ ? static_cast<int>(basis_->cols()) : model().numDofs()));
+}
+
+JobStatus ModesJob::run() {
+  if (status_ != JobStatus::Ready) return status_;
+  try {
+    modes_ = initialModes(model(), basis_, options_.nev);
+    if (!modes_.frequencies.omega.allFinite() || modes_.frequencies.omega.size() == 0)
+      throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
+  } catch (const std::exception& e) {
+    fail(e.what());
+    return status_;
+  }
+  return status_ = JobStatus::Completed;
+}
+
+}  // namespace flexmb::analysis
