@@ -351,12 +351,50 @@ class StageRun {
 
   solvers::OdeResult integrateImplicit(const std::vector<double>& tspan, const Eigen::VectorXd& y0) {
     solvers::BdfOptions o;
-    o.relTol = set_.relTol;
-    o.absTol = set_.absTol;
+    // One absolute tolerance: per-coordinate ones as galpha's cost CVODE 10-100x the steps on the
+    // refined guidance (its velocity components of the stiff modes); orders 3-5 are not calibrated.
+    const double factor = opt_.bdfMaxOrder <= 2 ? solvers::Bdf::localTolerance(set_.relTol) / set_.relTol : 1.0;
+    o.relTol = factor * set_.relTol;
+    o.absTol = factor * set_.absTol;
     o.maxStep = set_.maxStep;
     o.maxOrder = opt_.bdfMaxOrder;
     const ImplicitCallables c = implicitCallables();
     return solvers::Bdf(o).integrate(c.f, c.jacobian, tspan, y0, c.observer, c.accept);
+  }
+
+  // Generalized-alpha's local tolerances, so that RelTol and AbsTol mean the run's global error
+  // in the accuracy check's measure (nodal coordinates, positions relative to the model size, angles
+  // in rad): RelTol through the method's calibration (localTolerance), AbsTol per coordinate of eta
+  // divided by the largest nodal coordinate its unit change moves (F_q V of Eq. 7 at the start):
+  // a bending deformation of a short element turns its nodes by far more than its own size, so one
+  // absolute tolerance on eta would loosen with every refinement of the mesh (issue 48).
+  struct AlphaTolerances {
+    double relTol = 0.0;
+    Eigen::VectorXd absTols;
+  };
+  AlphaTolerances alphaTolerances(double t, const Eigen::VectorXd& y0) {
+    AlphaTolerances r;
+    const double factor = solvers::GeneralizedAlpha::localTolerance(set_.relTol) / set_.relTol;
+    r.relTol = factor * set_.relTol;
+    const int m = eom_.size();
+    r.absTols = Eigen::VectorXd::Constant(m, factor * set_.absTol);
+    try {
+      Eigen::VectorXd q;
+      eom_.dofs(y0.head(m), q);
+      core::GeometricTransferFunctions& k = probe_.kinematics();
+      k.solvePositions(t, q);
+      Eigen::MatrixXd FqV;
+      k.firstOrder(opt_.basis ? &*opt_.basis : nullptr, FqV);
+      const double L = model_.lengthScale() > 0.0 ? model_.lengthScale() : 1.0;
+      for (int i = 0; i < model_.nx; ++i)
+        if (core::isTranslational(model_.nodes[model_.xOwnerNode[i]].kind)) FqV.row(i) /= L;
+      for (int j = 0; j < m; ++j) {
+        const double moves = FqV.col(j).cwiseAbs().maxCoeff();
+        if (moves > 0.0 && std::isfinite(moves)) r.absTols[j] /= moves;
+      }
+    } catch (const core::KinematicsError&) {  // the scalar tolerance: the run will say why it cannot start
+    }
+    return r;
   }
 
   // What both implicit integrators call: the right-hand side, the output times, the Jacobian of
@@ -386,8 +424,9 @@ class StageRun {
   solvers::OdeResult integrateAlpha(const std::vector<double>& tspan, const Eigen::VectorXd& y0) {
     solvers::GeneralizedAlphaOptions o;
     o.rhoInf = opt_.rhoInf;
-    o.relTol = set_.relTol;
-    o.absTol = set_.absTol;
+    const AlphaTolerances tol = alphaTolerances(tspan.front(), y0);
+    o.relTol = tol.relTol;
+    o.absTols = tol.absTols;
     o.maxStep = set_.maxStep;
     const ImplicitCallables c = implicitCallables();
     if (!opt_.basis) {  // full models: the sparse iteration matrix (a few RHS instead of Eq. 15's hundreds)

@@ -16,7 +16,8 @@ namespace flexmb::solvers {
 
 struct BdfOptions {
   double relTol = 1e-3;      // CVODE's weighted RMS error test: |err_i| / (relTol |y_i| + absTol)
-  double absTol = 1e-6;      // scalar
+  double absTol = 1e-6;      // scalar, or per component of y:
+  Eigen::VectorXd absTols;   // n values (empty: absTol for every component; CVodeSVtolerances)
   double maxStep = 0.0;      // 0 -> 0.1*|tf - t0| (as Ode45); a user value is clipped to |tf - t0|
   double initialStep = 0.0;  // 0 -> CVODE's estimate
   // 1 ... 5. Orders 1 and 2 are A-stable; 3-5 are not, and lightly damped stiff oscillations
@@ -51,6 +52,9 @@ class Bdf {
   // "SUNDIALS CVODE 6.4.1"
   static std::string library();
 
+  // The local tolerance (relative and absolute alike) whose run's global error is about relTol
+  // (calibrated on the paper's and the spatial models: analysis::simulate maps the user's RelTol).
+  static double localTolerance(double relTol);
   const BdfOptions& options() const { return opt_; }
 
  private:

@@ -20,7 +20,8 @@ namespace flexmb::solvers {
 struct GeneralizedAlphaOptions {
   double rhoInf = 0.8;       // spectral radius at infinite step (0 ... 1)
   double relTol = 1e-3;      // weighted RMS error test on q: |err_i| / (relTol |q_i| + absTol)
-  double absTol = 1e-6;      // scalar
+  double absTol = 1e-6;      // scalar, or per component of q:
+  Eigen::VectorXd absTols;   // m values (empty: absTol for every component)
   double maxStep = 0.0;      // 0 -> 0.1*|tf - t0| (as Ode45); a user value is clipped to |tf - t0|
   double initialStep = 0.0;  // 0 -> 1e-3 |tf - t0| (the controller grows it)
   // Constant steps of maxStep (no error control): the order and dissipation tests, and a user who
@@ -100,6 +101,9 @@ class GeneralizedAlpha {
 
   // As Bdf's, with the iteration matrices: "... Jacobian evaluations\n... linear-solver set-ups\n".
   static std::string formatStats(const OdeStats& s) { return Bdf::formatStats(s); }
+  // The local tolerance (relative and absolute alike) whose run's global error is about relTol
+  // (calibrated on the paper's and the spatial models: analysis::simulate maps the user's RelTol).
+  static double localTolerance(double relTol);
   const GeneralizedAlphaOptions& options() const { return opt_; }
 
  private:
