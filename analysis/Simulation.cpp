@@ -122,7 +122,7 @@ std::string formatStatistics(const core::Trajectory& run, Integrator integrator)
   else if (integrator == Integrator::Ode45 && run.stiffBoundSteps >= kStiffHintSteps)
     s << "(ode45's step was bound by stability from t = " << run.stiffSince << " s on (" << run.stiffBoundSteps
       << " steps at the stability limit of |lambda| about " << run.stiffLambda
-      << " 1/s): --integrator galpha or auto would be faster)\n";
+      << " 1/s): the integrator galpha or auto would be faster)\n";
   return s.str();
 }
 
@@ -183,8 +183,8 @@ class ProgressLine {
     if (notedStiff_ || !printed_ || test.boundSteps() < kStiffHintSteps) return;
     std::fprintf(stderr,
                  "\nflexmb: note: since t = %.6g s ode45's step is bound by stability, not accuracy (%ld steps at "
-                 "the stability limit of the stiffest mode, |lambda| about %.3g 1/s): --integrator galpha or "
-                 "--integrator auto would be faster.\n",
+                 "the stability limit of the stiffest mode, |lambda| about %.3g 1/s): the integrator galpha or "
+                 "auto would be faster.\n",
                  test.since(), test.boundSteps(), test.lambda());
     notedStiff_ = true;
   }

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "analysis/BasisForTarget.hpp"
-#include "analysis/OperatorTraining.hpp"
+#include "analysis/ReduceJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
 #include "io/formats/BasisFile.hpp"
@@ -95,18 +95,6 @@ void describeReduction(io::OutputSet& files, const analysis::ReductionOptions& o
   }
 }
 
-// The reduced operators for the basis V (analysis::operatorsBesideBasis) with a progress line; a
-// failure to train them is a warning: the basis is written all the same.
-analysis::BasisOperators operatorsFor(const core::Model& model, const Eigen::MatrixXd& V, bool noOperators, bool quiet,
-                                      const std::vector<core::OperatorOutput>& tracked) {
-  Progress progress("operators", !quiet && !noOperators);
-  analysis::BasisOperators ops = analysis::operatorsBesideBasis(model, V, !noOperators, "(--no-operators)", tracked);
-  progress.finish();
-  if (ops.failed && !quiet)
-    std::cerr << "flexmb: warning: reduced operators " << ops.note << "; the basis is written\n";
-  return ops;
-}
-
 }  // namespace
 
 int runReduce(const std::vector<std::string>& args) {
@@ -151,81 +139,59 @@ int runReduce(const std::vector<std::string>& args) {
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb reduce model.dat --method modal|svd-modal --modes r [...] --out basis.csv"))
     return *rc;
+  // Option values the command line refuses as usage errors (the job refuses them for every front end).
   if (o.method != "modal" && o.method != "svd-modal") {
     std::cerr << "flexmb: --method must be modal or svd-modal, not '" << o.method << "'\n";
     return kUsageError;
   }
-  if (o.configs > 100000) {
-    std::cerr << "flexmb: --configs " << o.configs << " is too many (limit 100000)\n";
-    return kUsageError;
-  }
-  if (auto rc = parseLarge(large, o)) return *rc;
-  std::vector<int> nodeLabels, elementLabels;
-  if (auto rc = parseIntegers("track", trackNodes, nodeLabels)) return *rc;
-  if (auto rc = parseIntegers("track-elements", trackElements, elementLabels)) return *rc;
-  if (noOperators && (!nodeLabels.empty() || !elementLabels.empty())) {
+  if (noOperators && (!trackNodes.empty() || !trackElements.empty())) {
     std::cerr
         << "flexmb: --track and --track-elements fit outputs into the reduced operators: not with --no-operators\n";
     return kUsageError;
   }
-  core::Model model;
-  if (!loadModelFor(m, model, true)) return kInputError;
-  std::vector<core::OperatorOutput> tracked;
-  try {
-    tracked = analysis::trackedQuantities(model, nodeLabels, elementLabels);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "flexmb: --track: " << e.what() << "\n";
-    return kInputError;
-  }
-  if (o.large)
-    for (int i : *o.large)
-      if (i >= model.numDofs()) {
-        std::cerr << "flexmb: --large: index " << i + 1 << " is out of range (the model has " << model.numDofs()
-                  << " degrees of freedom, 1 to " << model.numDofs() << ")\n";
-        return kUsageError;
-      }
+  analysis::ReduceOptions ro;
+  if (auto rc = parseLarge(large, o)) return *rc;
+  if (auto rc = parseIntegers("track", trackNodes, ro.trackNodes)) return *rc;
+  if (auto rc = parseIntegers("track-elements", trackElements, ro.trackElements)) return *rc;
+  ro.basis = o;
+  ro.target = target;
+  ro.operators = !noOperators;
+  analysis::ReduceJob job(modelSource(m), ro);
+  std::size_t said = showDiagnostics(job, m.quiet);
+  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
   // One file set: the basis and the manifest <basis without .csv>_run.txt.
   io::OutputSet files(std::filesystem::path(out).replace_extension("").string());
   if (!outputsWritable(files)) return kInputError;
   files.setting("command", "reduce");
   files.setting("model", m.file);
   describeReduction(files, o);
-  analysis::ReductionResult r;
-  try {
+  {
     Progress progress("reduce", !m.quiet);
-    o.onConfig = [&](int i, int n) { progress.update(i, n, "configurations"); };
-    if (!std::isnan(target)) {
-      analysis::TargetOptions to;
-      to.target = target;
-      to.basis = o;
-      const analysis::TargetResult tr = analysis::basisForTarget(model, to);
-      progress.finish();
-      printCandidates(std::cout, tr);
-      files.setting("target", target);
-      files.setting("choosing", text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s (" +
-                                    std::to_string(tr.tried.size()) + " candidate runs)");
-      if (tr.full) {
-        std::cout << "target " << text::shortest(target) << ": " << tr.note << "; no basis written\n";
-        files.commit("complete: " + tr.note);
-        std::cout << "wrote " << files.manifestPath() << "\n";
-        return kOk;
-      }
-      r = tr.basis;
-    } else {
-      r = analysis::buildBasis(model, o);
-    }
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kInputError;
-  } catch (const std::exception& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kNumericalFailure;
+    job.run({[&](int i, int n) { progress.update(i, n, "configurations"); }, nullptr, nullptr});
   }
+  said = showDiagnostics(job, m.quiet, said);
+  if (job.status() != analysis::JobStatus::Completed) return exitCodeOf(job.status());
+  if (job.hasTarget()) {
+    const analysis::TargetResult& tr = job.target();
+    printCandidates(std::cout, tr);
+    files.setting("target", target);
+    files.setting("choosing", text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s (" +
+                                  std::to_string(tr.tried.size()) + " candidate runs)");
+    if (tr.full) {
+      std::cout << "target " << text::shortest(target) << ": " << tr.note << "; no basis written\n";
+      files.commit("complete: " + tr.note);
+      std::cout << "wrote " << files.manifestPath() << "\n";
+      return kOk;
+    }
+  }
+  const analysis::ReductionResult& r = job.basis();
   // The reduced operators beside the basis: their failure leaves the basis written, and says why.
-  const analysis::BasisOperators ops = operatorsFor(model, r.V, noOperators, m.quiet, tracked);
-  if (!tracked.empty() && !ops.operators)
-    std::cerr << "flexmb: warning: no reduced operators, so no tracked outputs (--track): simulate --outputs tracked "
-                 "will refuse this basis\n";
+  {
+    Progress progress("operators", !m.quiet && !noOperators);
+    job.trainOperators();
+  }
+  showDiagnostics(job, m.quiet, said);
+  const analysis::BasisOperators& ops = job.operators();
   const std::string opsPath = io::operatorPathFor(out);
   try {
     analysis::writeReduction(files, out, m.file, r, ops);

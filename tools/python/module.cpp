@@ -23,6 +23,7 @@
 #include "analysis/Modes.hpp"
 #include "analysis/ModesJob.hpp"
 #include "analysis/OperatorPolicy.hpp"
+#include "analysis/ReduceJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
 #include "analysis/RunSize.hpp"
@@ -383,6 +384,7 @@ struct TransferResultPy {
 
 struct ReduceResult {
   ModelPtr model;
+  analysis::Diagnostics diagnostics;
   analysis::ReductionResult basis;
   analysis::BasisOperators operators;            // its reduced operators, or why there are none
   std::vector<analysis::TargetCandidate> tried;  // target: the candidates, smallest first
@@ -819,6 +821,7 @@ void bindTransfer(py::module_& m) {
 void bindReduce(py::module_& m) {
   // ---- reduce ----
   py::class_<ReduceResult>(m, "ReduceResult")
+      .def_property_readonly("messages", [](const ReduceResult& r) { return messagesOf(r.diagnostics); })
       .def_property_readonly(
           "V", [](const ReduceResult& r) -> const Eigen::MatrixXd& { return r.basis.V; },
           py::return_value_policy::reference_internal)
@@ -849,37 +852,34 @@ void bindReduce(py::module_& m) {
   m.def(
       "reduce",
       [](const ModelHandle& handle, const analysis::ReductionOptions& options, std::optional<double> target,
-         bool operators) {
-        const ModelPtr model = handle.last();
+         bool operators, const std::vector<int>& trackNodes, const std::vector<int>& trackElements) {
         ReduceResult r;
-        r.model = model;
+        r.model = handle.last();
+        analysis::ReduceOptions ro;
+        ro.basis = options;
+        if (target) ro.target = *target;
+        ro.operators = operators;
+        ro.trackNodes = trackNodes, ro.trackElements = trackElements;
+        analysis::ReduceJob job(sourceOf(handle), ro);
+        raiseIfRefused(job);
         {
           py::gil_scoped_release release;
-          try {
-            if (target) {
-              analysis::TargetOptions to;
-              to.target = *target;
-              to.basis = options;
-              analysis::TargetResult tr = analysis::basisForTarget(*model, to);
-              r.tried = tr.tried;
-              r.full = tr.full;
-              r.note = tr.note;
-              r.basis = std::move(tr.basis);
-            } else {
-              r.basis = analysis::buildBasis(*model, options);
-            }
-          } catch (const std::invalid_argument& e) {
-            py::gil_scoped_acquire gil;
-            throw py::value_error(e.what());
-          }
-          if (r.full)
-            r.operators.note = "not built: no basis";
-          else
-            r.operators = analysis::operatorsBesideBasis(*model, r.basis.V, operators, "(operators=False)");
+          job.run();
+          job.trainOperators();
         }
+        raiseIfRefused(job);
+        if (job.status() == analysis::JobStatus::Failed)
+          throw std::runtime_error(analysis::firstError(job.diagnostics(), keyword));
+        r.tried = job.target().tried;
+        r.full = job.full();
+        r.note = job.target().note;
+        r.basis = job.basis();
+        r.operators = job.operators();
+        r.diagnostics = job.diagnostics();
         return r;
       },
-      py::arg("model"), py::arg("options"), py::arg("target"), py::arg("operators"));
+      py::arg("model"), py::arg("options"), py::arg("target"), py::arg("operators"), py::arg("track_nodes"),
+      py::arg("track_elements"));
 
   py::class_<analysis::ReductionOptions>(m, "ReductionOptions")
       .def(py::init<>())

@@ -106,11 +106,13 @@ def transfer(model, *, nev=6, load_steps=0):
 
 
 def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weight=0.0, threshold=0.01, count=0,
-           node=0, component=1, start=0.0, stop=0.0, large=None, target=None, operators=True):
+           node=0, component=1, start=0.0, stop=0.0, large=None, target=None, operators=True, track=None,
+           track_elements=None):
     """A reduction basis q = V eta (`flexmb reduce`): `.V` (ndof x k), its reduced operators
     (`.operators` says what was built), `.write(path)` the basis file and the operators beside it.
     With `target` the smallest basis of `method` whose reduction error estimate meets it (`.tried`
-    lists the candidates; `.full` when none does)."""
+    lists the candidates; `.full` when none does). `track` / `track_elements`: node / element labels
+    whose outputs the operators also fit. `.messages`: what the job said."""
     _model(model)
     o = _core.ReductionOptions()
     if method not in ("modal", "svd-modal"):
@@ -134,7 +136,9 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
         target = _real(target, "target")
         if not 0 < target < 1:
             raise ValueError(f"target: expected 0 < target < 1, got {target}")
-    return _core.reduce(model, o, target, bool(operators))
+    track = [_count(i, "track", 1) for i in (track or [])]
+    track_elements = [_count(i, "track_elements", 1) for i in (track_elements or [])]
+    return _core.reduce(model, o, target, bool(operators), track, track_elements)
 
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
