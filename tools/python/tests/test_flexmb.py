@@ -163,6 +163,24 @@ def test_sweep_writes_the_command_lines_table(work):
     assert r.freq.shape == (4, 4)
 
 
+def test_refusals_and_messages_are_the_jobs_words_as_the_command_line_says_them(tmp_path):
+    # The same job behind both: the refusal's words, with the option in each front end's spelling.
+    path = model_path("datfiles", "straight_guidance.dat")
+    done = subprocess.run([CLI, "sweep", path, "--node", "99", "--from", "0", "--to", "0.01", "--out",
+                           str(tmp_path / "w")], capture_output=True, text=True)
+    assert done.returncode == 1
+    with pytest.raises(ValueError) as e:
+        flexmb.sweep(flexmb.read(path), node=99, start=0.0, stop=0.01)
+    assert str(e.value) in done.stderr and "no node 99 with component 1" in str(e.value)
+    steps = tmp_path / "steps.dat"
+    steps.write_text(open(model_path("datfiles", "cantilever.dat")).read())
+    with pytest.raises(ValueError, match=r"load steps are too many.*\(option load_steps=\)"):
+        flexmb.static(flexmb.read(str(steps)), load_steps=10**9)
+    # A range that misses the node's initial value is said beside the result, as on the command line.
+    r = flexmb.sweep(flexmb.read(path), node=6, start=0.5, stop=0.6, steps=2)
+    assert any(kind == "note" and "absolute coordinates" in text for kind, text in r.messages)
+
+
 @pytest.mark.parametrize("name", ["straight_guidance", "slider_crank_s95"])
 def test_simulate_writes_the_command_lines_files(work, name):
     path = model_path("datfiles", f"{name}.dat")
