@@ -13,17 +13,36 @@ namespace {
 constexpr double kWindowShare = 1.0 / 30.0;  // of the span, per window
 constexpr double kCentres[] = {1.0 / 6.0, 0.5, 5.0 / 6.0};
 
-// Largest difference of two configurations: positions relative to the model size, angles and
-// Euler parameters as they are.
-double difference(const core::Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+// The largest difference of two configurations of each kind: positions relative to the model size,
+// angles and Euler parameters as they are (rad), with the coordinate each comes from.
+struct Difference {
+  double position = 0.0, angle = 0.0;
+  int positionAt = -1, angleAt = -1;  // coordinate index into x
+};
+Difference difference(const core::Model& model, const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
-  double worst = 0.0;
+  Difference d;
   for (int i = 0; i < model.nx; ++i) {
-    const core::Node& n = model.nodes[model.xOwnerNode[i]];
-    const double d = std::abs(a[i] - b[i]);
-    worst = std::max(worst, core::isTranslational(n.kind) ? d / L : d);
+    const double v = std::abs(a[i] - b[i]);
+    if (core::isTranslational(model.nodes[model.xOwnerNode[i]].kind)) {
+      if (v / L > d.position || d.positionAt < 0) d.position = v / L, d.positionAt = i;
+    } else if (v > d.angle || d.angleAt < 0) {
+      d.angle = v, d.angleAt = i;
+    }
   }
-  return worst;
+  return d;
+}
+
+// "node 6 x", "node 12 rotation", "node 7 Euler parameter 2" for coordinate i of x.
+std::string coordinateName(const core::Model& model, int i) {
+  if (i < 0) return "";
+  const core::Node& n = model.nodes[model.xOwnerNode[i]];
+  const int c = i - n.firstCoord;
+  static const char* axes[] = {"x", "y", "z"};
+  const std::string what = core::isTranslational(n.kind)               ? std::string(axes[std::min(c, 2)])
+                           : n.kind == core::NodeKind::EulerParameters ? "Euler parameter " + std::to_string(c)
+                                                                       : std::string("rotation");
+  return "node " + std::to_string(n.label) + " " + what;
 }
 }  // namespace
 
@@ -73,7 +92,7 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
   const double absTol = options.absTol.value_or(model.settings.absTol);
   core::EquationsOfMotion probe(model, options.basis, options.dynamics);
   core::StateOutputs ref;
-  double worstRate = 0.0;
+  double positionRate = 0.0, angleRate = 0.0;
   for (const AccuracyWindow& w : windows) {
     // The window as a model of its own span (inputs and time functions keep their absolute time).
     core::Model span = model;
@@ -102,13 +121,18 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
     // configuration may lie on the far side of a turn: Newton would not reach it from there).
     probe.kinematics().setConfiguration(w.xb);
     probe.outputs(w.tb, yEnd, ref);
-    const double err = difference(model, w.xb, ref.x);
-    a.windowError = std::max(a.windowError, err);
-    worstRate = std::max(worstRate, err / (w.tb - w.ta));
-    a.windowSeconds += w.tb - w.ta;
+    const Difference d = difference(model, w.xb, ref.x);
+    a.windowError = std::max({a.windowError, d.position, d.angle});
+    const double h = w.tb - w.ta;
+    if (d.position / h > positionRate)
+      positionRate = d.position / h, a.positionWhere = coordinateName(model, d.positionAt);
+    if (d.angle / h > angleRate) angleRate = d.angle / h, a.angleWhere = coordinateName(model, d.angleAt);
+    a.windowSeconds += h;
     ++a.windows;
   }
-  a.estimate = worstRate * (tEnd - t0);
+  a.positionEstimate = positionRate * (tEnd - t0);
+  a.angleEstimate = angleRate * (tEnd - t0);
+  a.estimate = std::max(a.positionEstimate, a.angleEstimate);
   a.checked = true;
   return a;
 }
@@ -139,10 +163,17 @@ std::string describeAccuracy(const core::AccuracyEstimate& a) {
   using text::shortest;
   auto sig = [](double v) { return text::significant(v, 2); };
   if (!a.checked) return "not checked: " + (a.note.empty() ? std::string("no reason recorded") : a.note);
-  return std::string(a.converged() ? "converged" : "NOT CONVERGED") + ": estimated error " + sig(a.estimate) +
-         " (of the model size; angles in rad), limit " + sig(a.limit) + " = 10 RelTol; " + std::to_string(a.windows) +
-         " windows of the run (" + sig(a.windowSeconds) + " s) integrated again at RelTol " +
-         shortest(a.referenceRelTol) + " differ by up to " + sig(a.windowError);
+  // Each kind on its own scale, and where the larger comes from.
+  std::string kinds;
+  if (!a.positionWhere.empty())
+    kinds += "positions " + sig(a.positionEstimate) + " of the model size (" + a.positionWhere + ")";
+  if (!a.angleWhere.empty())
+    kinds +=
+        (kinds.empty() ? "" : ", ") + std::string("angles ") + sig(a.angleEstimate) + " rad (" + a.angleWhere + ")";
+  return std::string(a.converged() ? "converged" : "NOT CONVERGED") + ": estimated error " + sig(a.estimate) + " (" +
+         (kinds.empty() ? std::string("no difference") : kinds) + "), limit " + sig(a.limit) +
+         " = 10 RelTol for each; " + std::to_string(a.windows) + " windows of the run (" + sig(a.windowSeconds) +
+         " s) integrated again at RelTol " + sig(a.referenceRelTol) + " differ by up to " + sig(a.windowError);
 }
 
 }  // namespace flexmb::analysis

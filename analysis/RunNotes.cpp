@@ -9,6 +9,16 @@
 
 namespace flexmb::analysis {
 
+namespace {
+// "node 6 x by about 0.0013 of the model size" or "node 12 rotation by about 0.00026 rad": the
+// larger of the two kinds' estimates.
+std::string worstChange(const core::AccuracyEstimate& a) {
+  if (a.angleEstimate > a.positionEstimate)
+    return a.angleWhere + " by about " + text::significant(a.angleEstimate, 2) + " rad";
+  return a.positionWhere + " by about " + text::significant(a.positionEstimate, 2) + " of the model size";
+}
+}  // namespace
+
 std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions& opt, const core::Trajectory& traj,
                               double target) {
   using Kind = RunNote::Kind;
@@ -37,10 +47,9 @@ std::vector<RunNote> runNotes(const core::Model& model, const SimulationOptions&
     if (!traj.accuracy.converged())
       notes.push_back(
           {Kind::Warning,
-           "the result is not converged: a tighter tolerance changes it by about " +
-               text::significant(traj.accuracy.estimate, 2) +
-               " of the model size over the run (more than 10 RelTol): tighten the relative and absolute tolerances "
-               "(RelTol, AbsTol) and compare",
+           "the result is not converged: a tighter tolerance changes " + worstChange(traj.accuracy) +
+               " over the run (more than 10 RelTol): tighten the relative and absolute tolerances (RelTol, AbsTol) "
+               "and compare",
            "", "", "reltol,abstol"});
   }
   if (opt.basis && (!traj.states.empty() || !traj.tracked.empty())) {

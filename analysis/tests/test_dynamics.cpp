@@ -222,3 +222,34 @@ TEST(AccuracyCheck, WindowsFarFromTheInitialConfigurationAreCheckedAndAFailedChe
   EXPECT_FALSE(a.note.empty());
   EXPECT_EQ(analysis::describeAccuracy(a).rfind("not checked: ", 0), 0u) << analysis::describeAccuracy(a);
 }
+
+// The accuracy check says which coordinate and kind its estimate comes from and judges positions
+// (of the model size) and angles (rad) each against the limit (issue 48, item 5).
+TEST(AccuracyCheck, NamesTheCoordinateAndJudgesPositionsAndAnglesEachOnTheirOwn) {
+  const core::Model m = io::readDatFile(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/straight_guidance.dat");
+  analysis::SimulationOptions o;
+  o.integrator = analysis::Integrator::GeneralizedAlpha;
+  o.accuracyCheck = true;
+  const core::Trajectory run = analysis::simulate(m, o);
+  ASSERT_TRUE(run.completed);
+  const core::AccuracyEstimate& a = run.accuracy;
+  ASSERT_TRUE(a.checked) << a.note;
+  EXPECT_GT(a.positionEstimate, 0.0);
+  EXPECT_GT(a.angleEstimate, 0.0);
+  EXPECT_DOUBLE_EQ(a.estimate, std::max(a.positionEstimate, a.angleEstimate));
+  EXPECT_EQ(a.positionWhere.rfind("node ", 0), 0u) << a.positionWhere;
+  EXPECT_TRUE(a.positionWhere.back() == 'x' || a.positionWhere.back() == 'y') << a.positionWhere;
+  EXPECT_NE(a.angleWhere.find(" rotation"), std::string::npos) << a.angleWhere;
+  const std::string said = analysis::describeAccuracy(a);
+  EXPECT_NE(said.find("of the model size (" + a.positionWhere + ")"), std::string::npos) << said;
+  EXPECT_NE(said.find(" rad (" + a.angleWhere + ")"), std::string::npos) << said;
+  // Each kind on its own: positions within the limit do not hide angles beyond it, nor the reverse.
+  core::AccuracyEstimate b = a;
+  b.limit = 1.0;
+  b.positionEstimate = 0.5, b.angleEstimate = 2.0;
+  EXPECT_FALSE(b.converged());
+  b.positionEstimate = 2.0, b.angleEstimate = 0.5;
+  EXPECT_FALSE(b.converged());
+  b.positionEstimate = 0.5;
+  EXPECT_TRUE(b.converged());
+}

@@ -22,7 +22,12 @@ struct AccuracyEstimate {
   double windowError = 0.0;
   double estimate = 0.0;  // extrapolated to the whole run: the largest error per second x the span
   double limit = 0.0;     // an estimate above it: the run is not converged
-  bool converged() const { return !checked || estimate <= limit; }
+  // The estimate of each kind, judged each on its own scale against the limit: nodal positions
+  // relative to the model size, angles (and Euler parameters) in rad; where each comes from ("node 6
+  // x", "node 12 rotation"; empty: no difference of that kind).
+  double positionEstimate = 0.0, angleEstimate = 0.0;
+  std::string positionWhere, angleWhere;
+  bool converged() const { return !checked || (positionEstimate <= limit && angleEstimate <= limit); }
   std::string note;  // why it was not run, or what limited it
 };
 
