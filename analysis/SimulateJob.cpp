@@ -57,6 +57,7 @@ void SimulateJob::prepare() {
   }
   prepareBasis();
   if (status_ != JobStatus::Ready) return;
+  chooseDefaultIntegrator();
   if (request_.fullKinematics && !request_.run.basis)
     say(Diagnostic::Kind::Note, "full kinematics applies to reduced runs (a basis): the full model has no other");
   const RunSizeCheck size = checkRunSize(last, request_.run);
@@ -110,6 +111,24 @@ void SimulateJob::prepareBasis() {
       return;
     }
     opt.trackedOutputs = true;
+  }
+}
+
+// The integrator a user who asked for none gets: auto (galpha where ode45 would be bound by stability,
+// SPACAR's ode45 elsewhere, within the tolerance of each other), but ode45 for a reduced run with
+// its operators, which serve ode45 only, and for --full-kinematics, the same run without them.
+void SimulateJob::chooseDefaultIntegrator() {
+  SimulationOptions& opt = request_.run;
+  if (!request_.defaultIntegrator) return;
+  if (opt.basis && (opt.operators || request_.fullKinematics)) {
+    opt.integrator = Integrator::Ode45;
+    settings_.emplace_back("integrator choice", opt.operators ? "ode45, the default of a reduced run with its reduced "
+                                                                "operators (they serve ode45 only)"
+                                                              : "ode45, the default of a reduced run with "
+                                                                "--full-kinematics (as with its reduced operators)");
+  } else {
+    settings_.emplace_back("integrator choice", std::string(integratorName(opt.integrator)) +
+                                                    ", the default (--integrator ode45: MATLAB's ode45 step by step)");
   }
 }
 
@@ -193,6 +212,16 @@ JobStatus SimulateJob::run() {
     wall_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     say(Diagnostic::Kind::Result, withoutFinalNewline(formatStatistics(trajectory_, opt.integrator)));
     diagnostics_.back().topic = "statistics";
+    if (opt.integrator == Integrator::Auto && !trajectory_.integrator.empty()) {  // which integrator ran
+      std::ostringstream ran;
+      if (trajectory_.implicitFromStart)
+        ran << "galpha from the start";
+      else if (!std::isnan(trajectory_.switchedAt))
+        ran << "ode45 until t = " << trajectory_.switchedAt << " s, then galpha";
+      else
+        ran << "ode45 throughout (its step was never bound by stability)";
+      settings_.emplace_back("integrator ran", ran.str());
+    }
     if (opt.basis) {  // which reduced dynamics ran
       const std::string text =
           opt.operators ? describeOperatorUse(trajectory_.operators, *opt.operators) : operatorNote_;

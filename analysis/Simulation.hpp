@@ -83,6 +83,9 @@ struct DeferredAccuracy {
 };
 
 struct SimulationOptions {
+  // Ode45: the library's default, on which validate, the benchmark and the tests of the paper's
+  // function-evaluation counts rely. The front ends (simulate, study --simulate, Python, spacar())
+  // default to Auto (SimulateRequest::defaultIntegrator, issue 48).
   Integrator integrator = Integrator::Ode45;
   // Bdf: the highest BDF order. 2 (A-stable) by default: with orders 3-5 the undamped high-frequency
   // modes of a full model bound CVODE's step (manipulator, RelTol 1e-3: 57,356 steps at order <= 5,

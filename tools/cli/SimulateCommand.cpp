@@ -29,11 +29,12 @@ struct SimulateArgs {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
   double rhoInf = NAN;  // --rho-inf (NaN: not given)
-  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "ode45", outputs = "all";
+  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "auto", outputs = "all";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
   std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
-  analysis::Integrator chosen = analysis::Integrator::Ode45;
+  analysis::Integrator chosen = analysis::Integrator::Auto;
+  bool integratorGiven = false;  // --integrator given (an empty one is a usage error, not the default)
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
   bool csv() const { return format == "csv" || format == "both"; }
   bool mat() const { return format == "mat" || format == "both"; }
@@ -50,16 +51,17 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "max-step", po::value(&a.maxStep)->notifier(positive("max-step")), "maximum step size")(
       "intervals", po::value(&a.intervals)->notifier(atLeast("intervals", 0)),
       "output intervals (0: every step; ode45 adds Refine 4's 3 points inside each)")(
-      "integrator", po::value(&a.integrator),
-      "ode45 (default: explicit, MATLAB's ode45 step by step), bdf (implicit: SUNDIALS CVODE's BDF with the "
-      "analytic Jacobian of Eq. 15, for stiff full models whose highest frequency bounds ode45's step), auto "
-      "(galpha from the start where the highest eigenfrequency at rest bounds ode45 to more than 10,000 steps, else "
-      "ode45, switching to galpha once its step is bound by stability rather than accuracy; says which) or galpha "
-      "(implicit generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, "
-      "large steps on stiff spatial models)")(
-      "rho-inf", po::value(&a.rhoInf),
-      "with --integrator galpha or auto: the spectral radius at infinite step, 0 to 1 (default 0.8; 1: no numerical "
-      "dissipation, energy kept; smaller: the unresolved high frequencies damped faster)")(
+      "integrator", po::value(&a.integrator)->notifier([&a](const std::string&) { a.integratorGiven = true; }),
+      "auto (default: galpha from the start where the highest eigenfrequency at rest bounds ode45 to more than "
+      "10,000 steps, else ode45, switching to galpha once its step is bound by stability rather than accuracy; says "
+      "which; a reduced run with its reduced operators runs ode45), ode45 (explicit, MATLAB's ode45 step by step: "
+      "SPACAR's integrator and its counts), bdf (implicit: SUNDIALS CVODE's BDF with the analytic Jacobian of Eq. "
+      "15, for stiff full models whose highest frequency bounds ode45's step) or galpha (implicit "
+      "generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, large steps "
+      "on stiff spatial models)")("rho-inf", po::value(&a.rhoInf),
+                                  "with --integrator galpha or auto (the default): the spectral radius at infinite "
+                                  "step, 0 to 1 (default 0.8; 1: no numerical "
+                                  "dissipation, energy kept; smaller: the unresolved high frequencies damped faster)")(
       "bdf-order", po::value(&a.bdfOrder)->notifier(atLeast("bdf-order", 1)),
       "with --integrator bdf: the highest BDF order, 1 to 5 (default 2: A-stable; 3-5 are more accurate per "
       "step but let undamped stiff modes bound the step)")(
@@ -157,7 +159,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       clash = "it needs --basis FILE (the operators beside FILE)";
     else if (a.fullKinematics)
       clash = "--full-kinematics computes every output from the full kinematics";
-    else if (a.chosen != analysis::Integrator::Ode45)
+    else if ((a.integratorGiven || !std::isnan(a.rhoInf)) && a.chosen != analysis::Integrator::Ode45)
       clash = "the reduced operators serve ode45 only";
     else if (a.linearize > 0 || a.matrices)
       clash = "--linearize and --matrices need the full states";
@@ -270,7 +272,7 @@ int runDrivenMechanism(const SimulateArgs& a, analysis::SimulateJob& job) {
                  "--matrices, modes 3 and 4) and no integrator step to output at (--intervals 0)\n";
     return kUsageError;
   }
-  if (!a.m.quiet && (a.relTol > 0 || a.absTol > 0 || a.maxStep > 0 || a.integrator != "ode45" || a.bdfOrder > 0))
+  if (!a.m.quiet && (a.relTol > 0 || a.absTol > 0 || a.maxStep > 0 || a.integratorGiven || a.bdfOrder > 0))
     std::cerr << "flexmb: note: no integrator runs (no degrees of freedom): --integrator, --reltol, --abstol, "
                  "--max-step and --bdf-order are ignored\n";
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
@@ -320,6 +322,9 @@ int runSimulate(const std::vector<std::string>& args) {
   request.target = a.target;
   request.fullKinematics = a.fullKinematics;
   request.trackedOutputs = a.outputs == "tracked";
+  // The default (auto; ode45 for a run with reduced operators): neither --integrator nor --rho-inf
+  // (galpha's setting, which asks for auto) given.
+  request.defaultIntegrator = !a.integratorGiven && std::isnan(a.rhoInf);
   if (!a.svdPath.empty()) {
     try {
       request.autoBasis = svdPathBasis(a.svdPath);

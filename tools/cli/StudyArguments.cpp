@@ -55,7 +55,7 @@ std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArg
       "reltol", po::value(&sa.relTol)->notifier(positive("reltol")), "simulate: relative tolerance")(
       "abstol", po::value(&sa.absTol)->notifier(positive("abstol")), "simulate: absolute tolerance")(
       "intervals", po::value(&sa.intervals)->notifier(atLeast("intervals", 0)), "simulate: output intervals")(
-      "integrator", po::value(&sa.integrator), "simulate: ode45 (default), bdf, auto or galpha (as flexmb simulate)")(
+      "integrator", po::value(&sa.integrator), "simulate: auto (default), ode45, bdf or galpha (as flexmb simulate)")(
       "target", po::value(&sa.target)->notifier(finite("target")),
       "simulate: reduce each variant with the smallest modal basis whose reduction error estimate meets this "
       "target (0 < EPS < 1; columns sim_basis_vectors, sim_reduction_estimate)")(

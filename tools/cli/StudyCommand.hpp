@@ -55,8 +55,8 @@ struct StudyArgs {
   analysis::SweepOptions sw;
   double tEnd = 0, relTol = 0, absTol = 0;
   int intervals = -1;
-  std::string integrator = "ode45";
-  double target = NAN;  // --target (NaN: not given)
+  std::string integrator = "auto";  // simulate's default (flexmb simulate's)
+  double target = NAN;              // --target (NaN: not given)
   SlurmOptions slurm;
   StudyArgs() { sw.node = 0; }
 };

@@ -67,7 +67,9 @@ void readBack(const std::string& path, Variables& vars, bool skipTime) {
 }
 
 // spacar(mode, name, opts): the fields of opts (names case-insensitive), all optional:
-//   integrator  'ode45' (default), 'bdf', 'auto' or 'galpha' (analysis::Integrator)
+//   integrator  'auto' (default: galpha from the start where the highest frequency at rest bounds
+//               ode45's step, else ode45 until its step is bound by stability), 'ode45' (MATLAB's
+//               ode45 step by step, SPACAR's integrator), 'bdf' or 'galpha' (analysis::Integrator)
 //   rhoinf      galpha: the spectral radius at infinite step, 0 to 1 (default 0.8)
 //   reltol, abstol, maxstep, tend   positive numbers overriding the file's ERROR / TIMESTEP / HMAX
 //   intervals   output intervals (a whole number >= 0; 0: every step)
@@ -412,6 +414,7 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   Run run;
   double target = std::nan("");  // opts.target
   analysis::SimulationOptions options;
+  options.integrator = analysis::Integrator::Auto;  // the default of modes 1, 3, 4 (opts.integrator: another)
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";

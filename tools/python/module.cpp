@@ -396,7 +396,7 @@ struct ReduceResult {
 struct SimulateOptionsPy {
   std::optional<double> tEnd, relTol, absTol, maxStep, rhoInf;
   std::optional<int> intervals;
-  std::string integrator = "ode45";
+  std::optional<std::string> integrator;  // None: the default (auto; ode45 with reduced operators)
   std::optional<Eigen::MatrixXd> basis;
   std::optional<std::string> basisFile;
   py::object reduced = py::none();  // a ReduceResult
@@ -960,7 +960,8 @@ void bindSimulate(py::module_& m) {
       .def_readwrite("abstol", &SimulateOptionsPy::absTol, "absolute tolerance (default: the file's or 1e-6)")
       .def_readwrite("max_step", &SimulateOptionsPy::maxStep, "largest step")
       .def_readwrite("intervals", &SimulateOptionsPy::intervals, "output intervals (0: every step)")
-      .def_readwrite("integrator", &SimulateOptionsPy::integrator, "'ode45', 'bdf', 'auto' or 'galpha'")
+      .def_readwrite("integrator", &SimulateOptionsPy::integrator,
+                     "'auto', 'ode45', 'bdf' or 'galpha'; None: the default (auto; ode45 with reduced operators)")
       .def_readwrite("rho_inf", &SimulateOptionsPy::rhoInf, "galpha: the spectral radius at infinite step")
       .def_readwrite("basis", &SimulateOptionsPy::basis, "a basis matrix (ndof x k): Eq. 19")
       .def_readwrite("basis_file", &SimulateOptionsPy::basisFile, "a basis file of flexmb reduce")
@@ -974,10 +975,11 @@ void bindSimulate(py::module_& m) {
       [](const ModelHandle& handle, const SimulateOptionsPy& o) {
         analysis::SimulateRequest request;
         analysis::SimulationOptions& opt = request.run;
-        const auto chosen = analysis::parseIntegrator(o.integrator);
+        const auto chosen = analysis::parseIntegrator(o.integrator.value_or("auto"));
         if (!chosen)
-          throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + o.integrator + "'");
+          throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + *o.integrator + "'");
         opt.integrator = *chosen;
+        request.defaultIntegrator = !o.integrator;
         if (o.rhoInf) opt.rhoInf = *o.rhoInf;
         opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep,
         opt.intervals = o.intervals;

@@ -279,7 +279,10 @@ TEST_F(Cli, FolderOutAndCompleteFileSets) {
 
 // Item 5: Ctrl-C during simulate writes the results so far.
 TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
-  expectInterruptKeepsTheResultsSoFar(kData + "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000");
+  // ode45 (the default, auto, runs galpha here and would finish before the signal).
+  expectInterruptKeepsTheResultsSoFar(kData +
+                                      "manipulator.dat -q --integrator ode45 --t-end 20 --max-step 0.002 "
+                                      "--intervals 10000");
   EXPECT_TRUE(fs::exists(dir_ / "m.mat"));
 }
 
@@ -400,7 +403,7 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   fs::create_directories(dir_ / "a");
   fs::create_directories(dir_ / "b");
   const std::string run = "simulate " + kData + "straight_guidance.dat -q --t-end 0.02 --intervals 10";
-  Result r = flexmb(run + " --out a/");
+  Result r = flexmb(run + " --integrator ode45 --out a/");
   ASSERT_EQ(r.code, 0) << r.err;
   r = flexmb(run + " --integrator bdf --out b/");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -433,7 +436,7 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   for (const std::string bad :
        {"--integrator foo", "--integrator BDF", "--integrator ''", "--integrator bdf --bdf-order 6",
         "--integrator bdf --bdf-order 0", "--bdf-order 3", "--integrator galpha --rho-inf 1.5",
-        "--integrator galpha --rho-inf -0.1", "--rho-inf 0.5"}) {
+        "--integrator galpha --rho-inf -0.1", "--integrator ode45 --rho-inf 0.5"}) {
     r = flexmb("simulate " + kData + "portal.dat -q --format none " + bad);
     EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
     const char* named = bad.find("order") != std::string::npos ? "bdf-order"
@@ -459,11 +462,63 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   EXPECT_NE(r.out.find("--integrator"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("bdf"), std::string::npos) << r.out;
   // SPACAR95 analysis blocks run in sequence with bdf too, with the same output times.
-  r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --out s45");
+  r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --integrator ode45 --out s45");
   ASSERT_EQ(r.code, 0) << r.err;
   r = flexmb("simulate " + kData + "slider_crank_s95.dat -q --format csv --integrator bdf --bdf-order 5 --out sbdf");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(rows("s45_x.csv"), rows("sbdf_x.csv"));
+}
+
+// Issue 48, item 2: without --integrator simulate runs auto (galpha from the start where the
+// highest frequency at rest bounds ode45's step, ode45 on a non-stiff model), and a reduced run with
+// its reduced operators runs ode45 (they serve ode45 only); the manifest says which ran and that it
+// was the default. --rho-inf alone asks for auto; --integrator ode45 is ode45 without a choice line.
+TEST_F(Cli, TheDefaultIntegratorIsAutoAndOde45WithReducedOperators) {
+  const std::string quick = " -q --format none --no-accuracy-check";
+  Result r = flexmb("simulate " + kData + "tests/straight_guidance_20.dat --out g20" + quick);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("(auto: galpha from the start"), std::string::npos) << r.out;
+  std::string manifest = slurp(dir_ / "g20_run.txt");
+  EXPECT_NE(manifest.find("integrator: auto:"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("integrator choice: auto, the default"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("integrator ran: galpha from the start"), std::string::npos) << manifest;
+  r = flexmb("simulate " + kData + "slider_crank_s95.dat --out sc" + quick);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.find("(auto:"), std::string::npos) << r.out;
+  manifest = slurp(dir_ / "sc_run.txt");
+  EXPECT_NE(manifest.find("integrator choice: auto, the default"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("integrator ran: ode45 throughout"), std::string::npos) << manifest;
+  // --rho-inf alone: auto with that dissipation, not a usage error.
+  r = flexmb("simulate " + kData + "straight_guidance.dat --t-end 0.01 --rho-inf 0.5 --out rho" + quick);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(dir_ / "rho_run.txt").find("rho_inf 0.5"), std::string::npos);
+  // --integrator ode45: ode45, no default said.
+  r = flexmb("simulate " + kData + "straight_guidance.dat --t-end 0.01 --integrator ode45 --out o" + quick);
+  ASSERT_EQ(r.code, 0) << r.err;
+  manifest = slurp(dir_ / "o_run.txt");
+  EXPECT_NE(manifest.find("integrator: ode45 (Dormand-Prince"), std::string::npos) << manifest;
+  EXPECT_EQ(manifest.find("integrator choice"), std::string::npos) << manifest;
+  EXPECT_EQ(manifest.find("integrator ran"), std::string::npos) << manifest;
+  // A reduced run with its operators (and with --full-kinematics, the same run without them): ode45.
+  ASSERT_EQ(flexmb("reduce " + kData + "straight_guidance.dat --modes 3 --out m3.csv -q").code, 0);
+  for (const std::string how : {"", " --full-kinematics"}) {
+    r = flexmb("simulate " + kData + "straight_guidance.dat --basis m3.csv --t-end 0.01 --out red" + quick + how);
+    ASSERT_EQ(r.code, 0) << how << "\n" << r.err;
+    manifest = slurp(dir_ / "red_run.txt");
+    EXPECT_NE(manifest.find("integrator: ode45 (Dormand-Prince"), std::string::npos) << how << "\n" << manifest;
+    EXPECT_NE(manifest.find("integrator choice: ode45, the default of a reduced run with"), std::string::npos)
+        << how << "\n"
+        << manifest;
+  }
+  // The operators with --outputs tracked need no --integrator ode45 either.
+  ASSERT_EQ(flexmb("reduce " + kData + "straight_guidance.dat --modes 3 --track 6 --out t3.csv -q").code, 0);
+  r = flexmb("simulate " + kData + "straight_guidance.dat --basis t3.csv --outputs tracked --t-end 0.01 --out tr -q");
+  EXPECT_EQ(r.code, 0) << r.err;
+  // Asked for, auto with the operators: Eq. 19 (they serve ode45 only), as before.
+  r = flexmb("simulate " + kData + "straight_guidance.dat --basis m3.csv --integrator auto --t-end 0.01 --out ra" +
+             quick);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(dir_ / "ra_run.txt").find("integrator: auto:"), std::string::npos);
 }
 
 // Ctrl-C during a bdf run writes the results so far, as with ode45.

@@ -239,7 +239,7 @@ TEST_F(StudyCli, ACrashedWorkerIsRecordedAndTheStudyGoesOn) {
   std::ofstream(dir_ / "c.dat") << model;
   const Result r =
       run("export ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}handle_segv=0\"\n"
-          "flexmb study c.dat --param T=1000,0.01,0.02 --simulate --jobs 1 --out s -q & pid=$!\n"
+          "flexmb study c.dat --param T=1000,0.01,0.02 --simulate --integrator ode45 --jobs 1 --out s -q & pid=$!\n"
           "for i in $(seq 400); do w=$(pgrep -P $pid); [ -n \"$w\" ] && break; sleep 0.05; done\n"
           "sleep 0.5; kill -SEGV $w; wait $pid; echo rc=$?");
   EXPECT_NE(r.out.find("rc=0"), std::string::npos) << r.out << r.err;

@@ -67,7 +67,8 @@ TEST_F(UserPath, SweepInterruptKeepsThePointsSoFar) {
 // SIGTERM (a batch system's time limit, kill) is not "Ctrl-C": named as such, exit 143.
 TEST_F(UserPath, SigtermIsReportedAsSuch) {
   const Result r = sh("flexmb simulate " + kData +
-                      "manipulator.dat -q --t-end 20 --max-step 0.002 --intervals 10000 --out m & pid=$!; sleep 3; "
+                      "manipulator.dat -q --integrator ode45 --t-end 20 --max-step 0.002 --intervals 10000 --out m & "
+                      "pid=$!; sleep 3; "
                       "kill -TERM $pid; wait $pid");
   EXPECT_EQ(r.code, 143) << r.err;
   EXPECT_TRUE(has(r.err, "terminated (SIGTERM)")) << r.err;
@@ -171,7 +172,8 @@ TEST_F(UserPath, AMissingTimestepIsSaid) {
 // ---- 4. Loose tolerances are flagged
 
 TEST_F(UserPath, ANonConvergedRunIsFlagged) {
-  Result r = flexmb("simulate " + kData + "manipulator.dat --reltol 1e-2 --format csv --out loose");
+  // ode45 at a loose tolerance (the default, auto, runs galpha here, whose error is near RelTol).
+  Result r = flexmb("simulate " + kData + "manipulator.dat --integrator ode45 --reltol 1e-2 --format csv --out loose");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(has(r.out, "accuracy check: NOT CONVERGED")) << r.out;
   EXPECT_TRUE(has(r.err, "not converged")) << r.err;

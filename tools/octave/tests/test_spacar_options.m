@@ -52,9 +52,9 @@ function test_spacar_options(src, flexmb)
   catch err
     assert(strcmp(err.identifier, 'flexmb:spacar:usage'), '%s', err.message);
   end
-  % Ctrl-C inside flexmb: a default ode45 run of the probe over 0.1 ms takes about half a minute
-  % (steps of ~3e-11 s); its outputs are 1e-8 s apart.
-  interrupt('damped_probe', struct('tend', 1e-4, 'intervals', 10000));
+  % Ctrl-C inside flexmb: an ode45 run of the probe over 0.1 ms takes about half a minute (steps of
+  % ~3e-11 s; the default, auto, would switch to galpha and finish); its outputs are 1e-8 s apart.
+  interrupt('damped_probe', struct('integrator', 'ode45', 'tend', 1e-4, 'intervals', 10000));
   % Ctrl-C while Octave runs a user function (20 ms per call).
   interrupt('rod_slow', struct('tend', 100, 'intervals', 100000), 'flexmb_test_slow_loads');
   d = spacar(-1, 'damped_probe', struct('integrator', 'bdf'));

@@ -141,12 +141,15 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
     return _core.reduce(model, o, target, bool(operators), track, track_elements)
 
 
-def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator="ode45",
+def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator=None,
              basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
-    integrator: "ode45", "bdf", "auto" or "galpha" (generalized-alpha); rho_inf (0 ... 1, default 0.8):
-    galpha's spectral radius at infinite step (with galpha or auto only).
+    integrator: "auto", "ode45", "bdf" or "galpha" (generalized-alpha). Default (None): auto, which runs
+    galpha from the start on a model whose highest frequency would bound ode45's step, else ode45 until
+    its step is bound by stability; a reduced run with its reduced operators runs ode45. "ode45" is
+    MATLAB's ode45 step by step (SPACAR's integrator). rho_inf (0 ... 1, default 0.8): galpha's
+    spectral radius at infinite step (with galpha or auto only; given alone, it asks for auto).
 
     basis: a reduced run q = V eta. An array (ndof x k) runs Eq. 19; a basis file (`flexmb reduce`'s)
     or a `flexmb.reduce` result run with their reduced operators, as `flexmb simulate --basis` does
@@ -165,8 +168,11 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
             raise TypeError(f"{name}: expected a callable, got {type(f).__name__}")
     if userinp is not None and not model.inputs:
         raise ValueError(f"userinp: {model.file} has no inputs (INPUTX / INPUTE) to drive")
-    _need(integrator, str, "integrator")
+    if integrator is not None:
+        _need(integrator, str, "integrator")
     if rho_inf is not None:
+        if integrator is None:
+            integrator = "auto"  # galpha's setting: auto even with reduced operators
         if integrator not in ("galpha", "auto"):
             raise ValueError(f"rho_inf: needs integrator='galpha' or 'auto', not {integrator!r}")
         if isinstance(rho_inf, bool) or not isinstance(rho_inf, (int, float)) or not 0 <= rho_inf <= 1:

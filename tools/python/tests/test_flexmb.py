@@ -79,7 +79,9 @@ def test_bad_arguments_raise_type_and_value_errors_naming_the_argument():
         (lambda: flexmb.simulate(m, integrator="rk4"), ValueError, "integrator"),
         (lambda: flexmb.simulate(m, usersig=3), TypeError, "usersig"),
         (lambda: flexmb.simulate(m, integrator="galpha", rho_inf=1.5), ValueError, "rho_inf"),
-        (lambda: flexmb.simulate(m, rho_inf=0.5), ValueError, "rho_inf"),
+        (lambda: flexmb.simulate(m, integrator="ode45", rho_inf=0.5), ValueError, "rho_inf"),
+        (lambda: flexmb.simulate(m, integrator=""), ValueError, "integrator"),
+        (lambda: flexmb.simulate(m, integrator=3), TypeError, "integrator"),
         (lambda: flexmb.modes(m, basis=np.zeros((5, 2))), ValueError, "basis"),
         (lambda: flexmb.modes(m, basis="no_such_basis.csv"), ValueError, "basis"),
         (lambda: flexmb.reduce(m, method="pod"), ValueError, "method"),
@@ -223,6 +225,7 @@ def test_reduce_and_a_reduced_run_write_the_command_lines_files(work):
         "-q")
     run = flexmb.simulate(m, t_end=0.05, basis=str(work / "cli" / "m3.csv"))
     assert run.reduced_dynamics.startswith("reduced operators")
+    assert run.integrator == "ode45"  # the default of a run with reduced operators (they serve ode45 only)
     run.write(str(work / "py" / "g"))
     for suffix in ["_x.csv", "_sig.csv", ".sbd"]:
         same_bytes(work / "cli" / ("g" + suffix), work / "py" / ("g" + suffix))
@@ -231,6 +234,18 @@ def test_reduce_and_a_reduced_run_write_the_command_lines_files(work):
     assert np.max(np.abs(eq19.x - run.x)) < 1e-3  # operators fitted to 1e-3 of the forces
     in_memory = flexmb.simulate(m, t_end=0.05, basis=r)
     assert np.array_equal(in_memory.x, run.x)
+
+
+def test_the_default_integrator_is_auto():
+    # Issue 48, item 2: galpha from the start where the highest frequency at rest bounds ode45's
+    # step (the guidance with 20 elements per leaf), ode45 on the 5-element guidance until its step
+    # is bound by stability; rho_inf alone asks for auto.
+    fine = flexmb.read(model_path("datfiles", "tests", "straight_guidance_20.dat"))
+    r = flexmb.simulate(fine)  # over its 0.2 s: more than 10,000 ode45 steps
+    assert r.integrator == "galpha" and r.completed
+    m = flexmb.read(model_path("datfiles", "straight_guidance.dat"))
+    assert flexmb.simulate(m, t_end=0.01, rho_inf=0.5).integrator in ("ode45+galpha", "galpha")
+    assert flexmb.simulate(m, t_end=0.01, integrator="ode45").integrator == "ode45"
 
 
 # ---- user functions ----------------------------------------------------------------------------------
@@ -348,7 +363,7 @@ def test_ctrl_c_raises_keyboard_interrupt_and_keeps_the_results():
     timer.start()
     start = time.monotonic()
     with pytest.raises(KeyboardInterrupt) as err:
-        flexmb.simulate(m, t_end=1000.0, reltol=1e-8, abstol=1e-10)
+        flexmb.simulate(m, t_end=1000.0, reltol=1e-8, abstol=1e-10, integrator="ode45")
     timer.join()
     assert time.monotonic() - start < 60
     kept = err.value.result
