@@ -47,9 +47,12 @@ const ValidationOptions* g_options = nullptr;
 void checkpoint() {
   if (g_options && analysis::stopRequested(g_options->interrupt)) throw Interrupted{};
 }
-// The simulation options of every run of the report: stoppable by the interrupt flag.
+// The simulation options of every run of the report: MATLAB's ode45, whose function-evaluation
+// counts the paper reports (whatever the front ends' default integrator), stoppable by the
+// interrupt flag.
 analysis::SimulationOptions stoppable() {
   analysis::SimulationOptions o;
+  o.integrator = analysis::Integrator::Ode45;
   if (g_options) o.interrupt = g_options->interrupt;
   return o;
 }
