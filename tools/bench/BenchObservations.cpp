@@ -1,5 +1,6 @@
 // bench.md's observations, generated from the measurements: the reduced models against the full
-// one per model, each implicit integrator against ode45, and the right-hand side's growth.
+// one per model, each implicit integrator against ode45 (the paper's models), the integrators on the
+// guidance with 20 PLBEAMs per leaf, and the right-hand side's growth.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -125,6 +126,7 @@ std::string variantObservation(const WorkPrecisionResults& wp, const CvodeVarian
   bool moreSteps = true, fewerSteps = true;
   double slowMin = INFINITY, slowMax = 0;  // its time / reduced-model time at RelTol 1e-3
   for (const CaseSpec& cs : wp.cases) {
+    if (!cs.paper) continue;
     const Point* fd = find(points, cs.key, "full", "ode45", 1e-3);
     const Point* cd = find(points, cs.key, "full", v.name, 1e-3);
     if (!fd || !cd) continue;
@@ -148,10 +150,12 @@ std::string variantObservation(const WorkPrecisionResults& wp, const CvodeVarian
   }
   if (fe.empty()) return "";
   for (const Point& p : points)
-    if (p.integrator == v.name && p.status == "failed")
+    if (p.integrator == v.name && p.status == "failed" &&
+        std::any_of(wp.cases.begin(), wp.cases.end(), [&](const CaseSpec& c) { return c.paper && c.key == p.model; }))
       failedAt += (failedAt.empty() ? "" : ", ") + p.model + " RelTol " + tolText(p.relTol);
   std::string names;
-  for (const CaseSpec& cs : wp.cases) names += (names.empty() ? "" : " / ") + shortTitle(cs);
+  for (const CaseSpec& cs : wp.cases)
+    if (cs.paper) names += (names.empty() ? "" : " / ") + shortTitle(cs);
   std::ostringstream o;
   o << "- **" << v.name << "** (" << names << ", RelTol 1e-3) needs " << fe
     << " fewer evaluations than ode45 on the full model (" << jac << ") and is " << sp
@@ -164,11 +168,80 @@ std::string variantObservation(const WorkPrecisionResults& wp, const CvodeVarian
   return o.str();
 }
 
+// The refined guidance: where full ode45 stopped (or what it cost), each method at RelTol 1e-3, and
+// per error level the cheapest run of each method that reaches it.
+std::string refinedObservation(const std::vector<Point>& points, const CaseSpec& cs) {
+  std::vector<std::string> series;  // "method (integrator)" in the order of the sweeps
+  for (const Point& p : points) {
+    const std::string label = p.method == "full" ? p.integrator : p.method + " (" + p.integrator + ")";
+    if (p.model == cs.key && std::find(series.begin(), series.end(), label) == series.end()) series.push_back(label);
+  }
+  auto labelOf = [](const Point& p) {
+    return p.method == "full" ? p.integrator : p.method + " (" + p.integrator + ")";
+  };
+  std::ostringstream o;
+  o << "- **" << shortTitle(cs) << ".** ";
+  for (const Point& p : points)
+    if (p.model == cs.key && p.method == "full" && p.integrator == "ode45") {
+      o << "The full model with ode45 at RelTol " << tolText(p.relTol) << ": ";
+      if (p.completed())
+        o << secText(p.wall) << " s, " << withThousands(p.fevals) << " evaluations (its step is bound by stability), "
+          << "error " << sci(p.error, 1) << ". ";
+      else
+        o << p.note << ". ";
+      break;
+    }
+  std::string at3;
+  for (const Point& p : points)
+    if (p.model == cs.key && p.relTol == 1e-3 && p.completed() && !(p.method == "full" && p.integrator == "ode45"))
+      at3 += (at3.empty() ? "" : ", ") + labelOf(p) + " " + secText(p.wall) + " s (error " + sci(p.error, 1) + ")";
+  if (!at3.empty()) o << "At RelTol 1e-3: " << at3 << ".";
+  const Point* g3 = find(points, cs.key, "full", "generalized-alpha", 1e-3);
+  const Point* a3 = find(points, cs.key, "full", "auto", 1e-3);
+  if (g3 && a3 && g3->fevals == a3->fevals) o << " auto ran generalized-alpha from the start (the same evaluations).";
+  for (const Point& p : points)  // the other runs that stopped (BDF2 at tight tolerances)
+    if (p.model == cs.key && p.status == "failed" && !(p.method == "full" && p.integrator == "ode45"))
+      o << " " << labelOf(p) << " at RelTol " << tolText(p.relTol) << ": " << p.note << ".";
+  for (double level : {1e-3, 1e-4, 1e-5}) {
+    std::vector<const Point*> best;  // the cheapest completed run of each series within the level
+    for (const std::string& label : series) {
+      const Point* b = nullptr;
+      for (const Point& p : points)
+        if (p.model == cs.key && labelOf(p) == label && p.completed() && p.error <= level && (!b || p.wall < b->wall))
+          b = &p;
+      if (b) best.push_back(b);
+    }
+    if (best.empty()) continue;
+    std::sort(best.begin(), best.end(), [](const Point* a, const Point* b) { return a->wall < b->wall; });
+    o << " Error <= " << tolText(level) << ": ";
+    for (size_t i = 0; i < best.size(); ++i) {
+      const Point& p = *best[i];
+      o << (i ? ", " : "") << labelOf(p) << " " << secText(p.wall) << " s (RelTol " << tolText(p.relTol)
+        << (i ? ", " + fmt("%.1f", p.wall / best[0]->wall) + "x" : std::string()) << ")";
+    }
+    o << ".";
+  }
+  for (const Point& p : points)  // the reduced model's floor
+    if (p.model == cs.key && p.method != "full") {
+      double floorErr = INFINITY, fastest = INFINITY;
+      for (const Point& q : points)
+        if (q.model == cs.key && q.method == p.method && q.completed())
+          floorErr = std::min(floorErr, q.error), fastest = std::min(fastest, q.wall);
+      if (std::isfinite(floorErr))
+        o << " " << p.method << " levels off at its reduction error " << sci(floorErr, 1) << " (" << secText(fastest)
+          << " s and up).";
+      break;
+    }
+  o << "\n";
+  return o.str();
+}
+
 }  // namespace
 
 std::string observations(const WorkPrecisionResults& wp, const RhsScalingResults& rhs) {
   std::ostringstream md;
-  for (const CaseSpec& cs : wp.cases) md << caseObservation(wp.points, cs);
+  for (const CaseSpec& cs : wp.cases)
+    md << (cs.paper ? caseObservation(wp.points, cs) : refinedObservation(wp.points, cs));
   for (const CvodeVariant& v : kCvode) md << variantObservation(wp, v);
   const ScalingRow& first = rhs.rows.front();
   md << "- One rhs evaluation of the full model (sparse nodal saddle-point form, "

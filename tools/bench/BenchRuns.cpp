@@ -4,6 +4,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -110,7 +111,11 @@ CappedRun runCapped(const core::Model& model, analysis::SimulationOptions option
     // simulate words it as an interrupt: "<cause> after t = ...; results before it are kept".
     const std::string cause = analysis::interruptCause(nullptr);
     const std::string where = t.stopReason.rfind(cause, 0) == 0 ? t.stopReason.substr(cause.size()) : "";
-    r.reason = capText(capSeconds) + where.substr(0, where.find(';'));
+    // " after t = 0.05600000000000001" -> " after t = 0.056"
+    const std::string at = where.substr(0, where.find(';'));
+    const size_t eq = at.find("t = ");
+    r.reason = capText(capSeconds) +
+               (eq == std::string::npos ? at : at.substr(0, eq + 4) + fmt("%.3g", std::atof(at.c_str() + eq + 4)));
   } else if (!t.completed) {
     r.reason = t.stopReason.empty() ? "integrator stopped" : t.stopReason;
   }

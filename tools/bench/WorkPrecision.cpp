@@ -1,7 +1,9 @@
 // Work-precision of the paper's two models (Boer et al. 2013, Section 4): wall time and evaluations
 // against error for the full and the reduced models with ode45, and for the implicit integrators on
-// the full models (tools/bench/README.md, item 1). Every run is simulate's recipe (BenchRuns.hpp)
-// but CVODE's difference-quotient variant, which simulate does not run.
+// the full models (tools/bench/README.md, item 1); and of the guidance with 20 PLBEAMs per leaf
+// (issue 48): ode45 (stability-bound), generalized-alpha, BDF2 and auto on the full model against
+// MODAL-3 with ode45, measured against a generalized-alpha reference. Every run is simulate's recipe
+// (BenchRuns.hpp) but CVODE's difference-quotient variant, which simulate does not run.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -39,13 +41,31 @@ struct Method {
   analysis::Integrator recipe = analysis::Integrator::Ode45;  // how simulate runs it
   int bdfOrder = 0;                                           // BDF's highest order (0: not BDF)
   bool differenceQuotients = false;                           // the bench's own CVODE run
+  std::vector<double> tols;                                   // its tolerances (empty: the case's)
+  double cap = NAN;                                           // its wall-time cap in seconds (NaN: Settings::hardCap)
+  bool stabilityBound = false;  // known to be bound by stability here (said where it is capped)
 };
+
+Method method(const std::string& label, const std::string& integrator,
+              const std::optional<Eigen::MatrixXd>& basis = std::nullopt,
+              analysis::Integrator recipe = analysis::Integrator::Ode45, int bdfOrder = 0,
+              bool differenceQuotients = false) {
+  Method m;
+  m.label = label;
+  m.integrator = integrator;
+  m.basis = basis;
+  m.recipe = recipe;
+  m.bdfOrder = bdfOrder;
+  m.differenceQuotients = differenceQuotients;
+  return m;
+}
 
 // What a point's runs give its judgement: the states at the output times (simulate's output
 // quantities, with its reduction error estimate), the accuracy check's windows and the options the
 // check runs them again with (the run's).
 struct Outcome {
   std::string reason;  // why the run did not complete ("" when it did)
+  bool capped = false;
   core::Trajectory states;
   analysis::DeferredAccuracy windows;
   analysis::SimulationOptions check;
@@ -69,13 +89,15 @@ double errorAgainst(const std::vector<Eigen::Vector2d>& a, const Reference& ref,
   return worst / ref.scale;
 }
 
-// The reference: the full model with ode45 (the recipe) at the reference tolerance, and the error scale.
+// The reference: the full model with the case's reference integrator (the recipe; ode45 on the
+// paper's models) at the reference tolerance, and the error scale.
 std::optional<Reference> referenceOf(const CaseSpec& cs, const core::Model& model, const Settings& set,
                                      WorkPrecisionResults& out) {
   const double rt = set.refTol.at(cs.key), at = rt * set.absFactor;
-  std::printf("[%s] reference: full model, ode45, RelTol %s AbsTol %s ...\n", cs.key.c_str(), tolText(rt).c_str(),
+  const char* integ = analysis::integratorName(cs.reference);
+  std::printf("[%s] reference: full model, %s, RelTol %s AbsTol %s ...\n", cs.key.c_str(), integ, tolText(rt).c_str(),
               tolText(at).c_str());
-  const CappedRun run = runCapped(model, recipeOptions(model, analysis::Integrator::Ode45, rt, at), kNoCap);
+  const CappedRun run = runCapped(model, recipeOptions(model, cs.reference, rt, at), kNoCap);
   if (!run.completed()) {
     std::fprintf(stderr, "flexmb_bench: the reference run of %s failed: %s\n", cs.key.c_str(), run.reason.c_str());
     return std::nullopt;
@@ -99,16 +121,27 @@ std::optional<Reference> referenceOf(const CaseSpec& cs, const core::Model& mode
   const long fevals = run.trajectory.nfevals;
   std::printf("[%s] reference: %ld fevals, %s s; %s\n", cs.key.c_str(), fevals, secText(run.wall).c_str(),
               ref.scaleText.c_str());
-  out.refNotes[cs.key] = "full model, ode45-equivalent, RelTol " + tolText(rt) + ", AbsTol " + tolText(at) + " (" +
-                         withThousands(fevals) + " fevals, " + secText(run.wall) + " s); error scale: " + ref.scaleText;
+  const std::string how = cs.reference == analysis::Integrator::Ode45
+                              ? "ode45-equivalent"
+                              : std::string(integ) + " (simulate's recipe; its RelTol is its global error)";
+  out.refNotes[cs.key] = "full model, " + how + ", RelTol " + tolText(rt) + ", AbsTol " + tolText(at) + " (" +
+                         withThousands(fevals) + " fevals, " + withThousands(run.trajectory.nsteps) + " steps, " +
+                         secText(run.wall) + " s); error scale: " + ref.scaleText;
   return ref;
 }
 
 // The full model with ode45, the reduced ones (bases: analysis::buildBasis), then the implicit
-// integrators on the full model.
-std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, std::string& basisNote) {
+// integrators on the full model. The refined guidance: ode45 at RelTol 1e-3 only (bound by
+// stability), MODAL-3, then generalized-alpha, BDF2 and auto, all at Settings::stabilityCap.
+std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, const Settings& set,
+                              std::string& basisNote) {
   std::vector<Method> methods;
-  methods.push_back({"full", "ode45", std::nullopt});
+  methods.push_back(method("full", "ode45"));
+  if (!cs.paper) {
+    methods.back().tols = {1e-3};
+    methods.back().cap = set.stabilityCap;
+    methods.back().stabilityBound = true;
+  }
   auto addBasis = [&](const std::string& label, const analysis::ReductionOptions& ro) {
     const auto b0 = Clock::now();
     const analysis::ReductionResult rr = analysis::buildBasis(model, ro);
@@ -118,7 +151,7 @@ std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, std:
       const int kept = static_cast<int>(rr.V.cols()) - static_cast<int>(rr.large.size());
       lab = "SVDm-" + std::to_string(kept) + "-a" + fmt("%g", ro.weight);
     }
-    methods.push_back({lab, "ode45", rr.V});
+    methods.push_back(method(lab, "ode45", rr.V));
     basisNote += (basisNote.empty() ? "" : "; ") + lab + ": " + std::to_string(rr.V.cols()) + " columns, built in " +
                  secText(bt) + " s";
   };
@@ -128,6 +161,15 @@ std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, std:
     ro.modes = r;
     return ro;
   };
+  if (!cs.paper) {  // every run capped as one that may stall (BDF2 at RelTol 1e-5 does)
+    addBasis("MODAL-3", modal(3));
+    for (const CvodeVariant& v : kCvode)
+      if (v.integrator == analysis::Integrator::GeneralizedAlpha || (!v.differenceQuotients && v.bdfOrder == 2))
+        methods.push_back(method("full", v.name, std::nullopt, v.integrator, v.bdfOrder, v.differenceQuotients));
+    methods.push_back(method("full", "auto", std::nullopt, analysis::Integrator::Auto));
+    for (Method& m : methods) m.cap = set.stabilityCap;
+    return methods;
+  }
   if (cs.key == "straight_guidance") {
     for (int r : {3, 5}) addBasis("MODAL-" + std::to_string(r), modal(r));
     for (double a : {0.0, 1.0}) {
@@ -147,7 +189,7 @@ std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, std:
     addBasis("MODAL-2", modal(2));
   }
   for (const CvodeVariant& v : kCvode)
-    methods.push_back({"full", v.name, std::nullopt, v.integrator, v.bdfOrder, v.differenceQuotients});
+    methods.push_back(method("full", v.name, std::nullopt, v.integrator, v.bdfOrder, v.differenceQuotients));
   return methods;
 }
 
@@ -158,11 +200,12 @@ std::vector<Method> methodsOf(const CaseSpec& cs, const core::Model& model, std:
 // its states as it goes; their output quantities are evaluated afterwards, untimed.
 Outcome measure(const core::Model& model, const Method& m, double tol, const Settings& set, Point& pt) {
   const double absTol = tol * set.absFactor;
+  const double cap = std::isnan(m.cap) ? set.hardCap : m.cap;
   Outcome o;
   o.check = recipeOptions(model, m.recipe, tol, absTol, m.basis, m.bdfOrder);
   std::vector<double> walls;
   if (m.differenceQuotients) {
-    auto once = [&] { return runCvodeDifferenceQuotients(model, tol, absTol, m.bdfOrder, set.hardCap); };
+    auto once = [&] { return runCvodeDifferenceQuotients(model, tol, absTol, m.bdfOrder, cap); };
     const OwnRun r = once();
     walls.push_back(r.wall);
     if (r.reason.empty() && r.wall < set.repeatBelow)
@@ -173,34 +216,38 @@ Outcome measure(const core::Model& model, const Method& m, double tol, const Set
   } else {
     analysis::SimulationOptions timed = o.check;
     timed.keepStates = false;
-    const CappedRun r = runCapped(model, timed, set.hardCap);
+    const CappedRun r = runCapped(model, timed, cap);
     walls.push_back(r.wall);
     const core::Trajectory& t = r.trajectory;
     pt.fevals = t.nfevals, pt.njac = t.njacevals, pt.nsteps = t.nsteps, pt.nfailed = t.nfailed;
     pt.jacFevals = 0;  // simulate's implicit integrators evaluate the analytic Jacobian
     o.reason = r.reason;
+    o.capped = r.capped;
+    if (r.capped && m.stabilityBound) o.reason += " (its step is bound by stability, not accuracy)";
     if (r.completed()) {
       analysis::SimulationOptions kept = o.check;
       kept.deferAccuracy = &o.windows;
       kept.reductionEstimate = m.basis.has_value();
-      CappedRun s = runCapped(model, kept, set.hardCap);
+      CappedRun s = runCapped(model, kept, cap);
       if (!s.completed()) o.reason = "the run that keeps its states: " + s.reason;
       if (s.completed() && s.trajectory.nfevals != t.nfevals)
         std::fprintf(stderr, "warning: the run that keeps its states took %ld evaluations, the timed one %ld\n",
                      s.trajectory.nfevals, t.nfevals);
       o.states = std::move(s.trajectory);
       if (r.wall < set.repeatBelow)
-        for (int k = 0; k < 2; ++k) walls.push_back(runCapped(model, timed, set.hardCap).wall);
+        for (int k = 0; k < 2; ++k) walls.push_back(runCapped(model, timed, cap).wall);
     }
   }
   pt.runs = static_cast<int>(walls.size());
   pt.wall = median(walls);
+  pt.capped = o.capped;
   return o;
 }
 
 // The point's status: its error against the reference, the reduction error estimate, and "ok" only
 // where simulate's accuracy check finds the run converged.
-void judge(const core::Model& model, const CaseSpec& cs, const Reference& ref, const Outcome& o, Point& pt) {
+void judge(const core::Model& model, const CaseSpec& cs, const Reference& ref, const Outcome& o,
+           const std::vector<Point>& done, Point& pt) {
   if (!o.reason.empty()) {
     pt.status = "failed";
     pt.note = o.reason;
@@ -216,6 +263,18 @@ void judge(const core::Model& model, const CaseSpec& cs, const Reference& ref, c
   }
   if (pt.status != "failed" && o.states.reduction.estimated) pt.reduction = o.states.reduction.estimate;
   if (pt.status != "ok") return;
+  // auto that ran generalized-alpha from the start (the same steps and evaluations as galpha's point)
+  // is galpha's run: its check would repeat galpha's (3 s at RelTol 1e-5 on the 20-element guidance).
+  if (pt.integrator == "auto")
+    for (const Point& g : done)
+      if (g.model == pt.model && g.method == pt.method && g.integrator == "generalized-alpha" &&
+          g.relTol == pt.relTol && g.fevals == pt.fevals && g.nsteps == pt.nsteps && g.njac == pt.njac &&
+          g.completed() && std::isfinite(g.estimate)) {
+        pt.estimate = g.estimate;
+        pt.status = g.status;
+        pt.note = g.note.empty() ? "the run is generalized-alpha's: its accuracy check" : g.note;
+        return;
+      }
   try {  // "ok" means converged, as simulate's accuracy check says it
     const analysis::DeferredAccuracy& w = o.windows;
     if (!w.recorded) throw std::runtime_error("the run recorded no windows");
@@ -255,7 +314,7 @@ void sweep(const CaseSpec& cs, const core::Model& model, const Method& m, const 
            WorkPrecisionResults& out) {
   double lastWall = NAN, lastFe = NAN, prevFe = NAN, predicted = NAN;
   bool stop = false;
-  for (double tol : set.tols) {
+  for (double tol : m.tols.empty() ? (cs.paper ? set.tols : set.refinedTols) : m.tols) {
     Point pt;
     pt.model = cs.key;
     pt.method = m.label;
@@ -278,13 +337,13 @@ void sweep(const CaseSpec& cs, const core::Model& model, const Method& m, const 
       out.points.push_back(pt);
       continue;
     }
-    judge(model, cs, ref, measure(model, m, tol, set, pt), pt);
+    judge(model, cs, ref, measure(model, m, tol, set, pt), out.points, pt);
     printPoint(tag, pt, m.integrator != "ode45");
     if (pt.completed()) {
       prevFe = lastFe;
       lastFe = static_cast<double>(pt.fevals);
       lastWall = pt.wall;
-    } else if (pt.wall > set.skipAbove) {  // hit the cap: tighter tolerances only cost more
+    } else if (pt.capped || pt.wall > set.skipAbove) {  // hit the cap: tighter tolerances only cost more
       stop = true;
       predicted = pt.wall;
     }
@@ -300,11 +359,18 @@ void plotCase(const CaseSpec& cs, const Settings& set, const std::string& dir, W
     plot.x = {"error: max over output times of |response - reference| / " +
                   std::string(cs.xOnly ? "max deflection" : "reach"),
               true, std::nullopt, std::nullopt};
-    plot.y = {kind == 0 ? "wall time [s] (median)" : "right-hand-side evaluations", true, std::nullopt, std::nullopt};
-    plot.notes.push_back("RelTol " + tolText(set.tols.front()) + " ... " + tolText(set.tols.back()) +
-                         " (AbsTol = 1e-3 RelTol); reference: full model, ode45, RelTol " +
-                         tolText(set.refTol.at(cs.key)));
-    plot.notes.push_back(cs.xOnly ? "response: x of node 6 (rigid body)" : "response: tip position (node 9)");
+    plot.y = {kind == 0 ? "wall time in-process [s] (set-up + integration, median)" : "right-hand-side evaluations",
+              true, std::nullopt, std::nullopt};
+    const std::vector<double>& tols = cs.paper ? set.tols : set.refinedTols;
+    plot.notes.push_back("RelTol " + tolText(tols.front()) + " ... " + tolText(tols.back()) +
+                         " (AbsTol = 1e-3 RelTol); reference: full model, " + analysis::integratorName(cs.reference) +
+                         ", RelTol " + tolText(set.refTol.at(cs.key)));
+    plot.notes.push_back(cs.xOnly ? "response: x of node " + std::to_string(cs.node) + " (rigid body)"
+                                  : "response: tip position (node 9)");
+    for (const Point& pt : out.points)  // a capped run has no error: say so on the plot
+      if (pt.model == cs.key && pt.capped)
+        plot.notes.push_back(pt.method + " (" + pt.integrator + ") RelTol " + tolText(pt.relTol) + ": " + pt.note +
+                             "; not plotted");
     std::map<std::string, size_t> seriesOf;
     for (const Point& pt : out.points) {
       if (pt.model != cs.key) continue;
@@ -332,18 +398,24 @@ void plotCase(const CaseSpec& cs, const Settings& set, const std::string& dir, W
 
 bool workPrecision(const Options& opt, const Settings& set, WorkPrecisionResults& out) {
   const std::string src = FLEXMB_SOURCE_DIR;
-  out.cases = {{"straight_guidance", "straight guidance (0.2 s)", src + "/datfiles/straight_guidance.dat", 6, true},
-               {"manipulator", "two-link manipulator (0.7 s)", src + "/datfiles/manipulator.dat", 9, false}};
-  for (const CaseSpec& cs : out.cases) {
+  const std::vector<CaseSpec> cases = {
+      {"straight_guidance", "straight guidance (0.2 s)", src + "/datfiles/straight_guidance.dat", 6, true},
+      {"manipulator", "two-link manipulator (0.7 s)", src + "/datfiles/manipulator.dat", 9, false},
+      // The rigid body's left node (the paper's node 6) is node 21 on this mesh.
+      {"straight_guidance_20", "straight guidance, 20 PLBEAMs per leaf (0.2 s)",
+       src + "/datfiles/tests/straight_guidance_20.dat", 21, true, false, analysis::Integrator::GeneralizedAlpha}};
+  for (const CaseSpec& cs : cases) {
     if (opt.only == "rhs") break;  // development: the rhs scaling only
     const core::Model model = io::readDatFile(cs.file);
+    std::vector<Method> methods;  // those --only selects; a case without any is left out, reference included
+    for (Method& m : methodsOf(cs, model, set, out.basisNotes[cs.key]))
+      if (opt.only.empty() || (cs.key + " " + m.label + " " + m.integrator).find(opt.only) != std::string::npos)
+        methods.push_back(std::move(m));
+    if (methods.empty()) continue;
+    out.cases.push_back(cs);
     const std::optional<Reference> ref = referenceOf(cs, model, set, out);
     if (!ref) return false;
-    for (const Method& m : methodsOf(cs, model, out.basisNotes[cs.key])) {
-      if (!opt.only.empty() && (cs.key + " " + m.label + " " + m.integrator).find(opt.only) == std::string::npos)
-        continue;
-      sweep(cs, model, m, *ref, set, out);
-    }
+    for (const Method& m : methods) sweep(cs, model, m, *ref, set, out);
     plotCase(cs, set, opt.out, out);
   }
   return true;
