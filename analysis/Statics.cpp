@@ -399,7 +399,6 @@ std::string stabilityVerdict(const StaticStep& step) {
 }
 
 namespace {
-bool isPositionNode(core::NodeKind k) { return k == core::NodeKind::Position || k == core::NodeKind::SpatialPosition; }
 
 // The element's reference length: its own where it keeps one (PLBEAM), else the distance between
 // its first and last position node in the initial configuration.
@@ -407,7 +406,7 @@ double elementLength(const core::Model& m, const core::ElementEntry& el) {
   if (el.impl && el.impl->referenceLength() > 0.0) return el.impl->referenceLength();
   int first = -1, last = -1;
   for (int n : el.nodes)
-    if (isPositionNode(m.nodes[n].kind)) (first < 0 ? first : last) = n;
+    if (core::isTranslational(m.nodes[n].kind)) (first < 0 ? first : last) = n;
   if (first < 0 || last < 0) return 0.0;
   const auto& a = m.nodes[first];
   const auto& b = m.nodes[last];

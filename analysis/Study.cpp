@@ -54,13 +54,11 @@ std::vector<int> loadedNodes(const core::Model& m) {
   return {labels.begin(), labels.end()};
 }
 
-bool isPositionNode(core::NodeKind k) { return k == core::NodeKind::Position || k == core::NodeKind::SpatialPosition; }
-
 // Largest node displacement |x_n - x0_n| over the position nodes.
 double maxDisplacement(const core::Model& m, const Eigen::VectorXd& x) {
   double d = 0.0;
   for (const auto& n : m.nodes)
-    if (isPositionNode(n.kind))
+    if (core::isTranslational(n.kind))
       d = std::max(d, (x.segment(n.firstCoord, n.dim()) - m.x0.segment(n.firstCoord, n.dim())).norm());
   return d;
 }

@@ -74,7 +74,9 @@ done_phase() {  # phase name, index of the next phase
   phase_start=$SECONDS
 }
 
-bash tools/setup.sh "${targets[@]}"
+# Unity batches (CMakeLists.txt): flexmb and the benchmark compile in about half the time (7 min 20 s
+# file by file on 2 cores).
+FLEXMB_CMAKE_ARGS="-DCMAKE_UNITY_BUILD=ON ${FLEXMB_CMAKE_ARGS:-}" bash tools/setup.sh "${targets[@]}"
 mkdir -p validation/report
 done_phase "build" $((full ? 1 : 2))
 

@@ -18,13 +18,11 @@
 #include "analysis/Transfer.hpp"
 #include "core/linearization/Linearization.hpp"
 #include "io/formats/DatReader.hpp"
+#include "tools/bench/BenchSupport.hpp"
 
 namespace flexmb::bench {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 // Planar chain of n PLBEAMs (1 m, clamped at node 1), all deformations dynamic: 3n DOF.
 std::string chain(int n) {
   std::ostringstream s;
