@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: set-up (packages; a Release build of flexmb and the benchmark only), then a quick
 # run-time-against-error benchmark (validation/report/bench/) and the paper validation into
-# validation/report/ (report.md with figures and CSV). About 9 minutes on 2 cores from a fresh
+# validation/report/ (report.md with figures and CSV). About 7 minutes on 2 cores from a fresh
 # clone on a quiet machine, most of it the build; it prints its plan with estimates at the start
 # and what remains after each phase.
 #   --full   also the slow numerical stress catalogue (validation/report/stress.csv, ~17 min) and the
@@ -21,17 +21,17 @@ BUILD_DIR=${FLEXMB_BUILD_DIR:-build}
 cores=$(nproc)
 
 # ---- the plan: phases with estimates (seconds on a quiet machine with $cores cores)
-# Build: about 7 CPU-seconds per translation unit still to compile (measured 2026-12-06: a cold
-# build of flexmb and flexmb_bench, 109 units by a dry run of make in a fresh build folder, 6.5 min
-# on 2 cores); the count comes from a dry run of make when the build folder is configured, else
-# every unit of the two targets.
-compile_units=109
-((full)) && compile_units=$((compile_units + 3))
+# Build: about 21 CPU-seconds per translation unit still to compile, a unit being a unity batch of
+# up to 8 files (measured 2026-12-06: a cold unity build of flexmb and flexmb_bench, 26 units, 4 min
+# 50 s on 2 cores with the set-up); the count comes from a dry run of make when the build folder is
+# configured, else every unit of the two targets.
+compile_units=26
+((full)) && compile_units=$((compile_units + 2))
 if [ -f "$BUILD_DIR/Makefile" ]; then
   pending=$(make -C "$BUILD_DIR" -n "${targets[@]}" 2>/dev/null | grep -c 'Building CXX object' || true)
   compile_units=${pending:-$compile_units}
 fi
-est_build=$(((compile_units * 70 / 10 + cores - 1) / cores + 5))
+est_build=$(((compile_units * 21 + cores - 1) / cores + 5))
 if ((full)); then
   est_stress=1020; est_bench=830  # +230 s since 2026-12-06: the 20-element guidance (its galpha reference at 1e-8: 70 s)
 else
