@@ -115,12 +115,17 @@ Frequencies subproblemModes(const solvers::Partition& p, const core::LinearizedS
   return out;
 }
 
-InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev) {
+InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev,
+                          const ReferencePoint* reference) {
   InitialModes out;
   core::Linearization lin(model, basis);
   lin.initialRest(out.system, out.eta);
   lin.dofs(out.eta, out.q);
+  out.x = lin.kinematics().x();
   out.frequencies = naturalFrequencies(lin, out.system, std::min<int>(nev, lin.size()));
+  if (reference)
+    out.participation = modalParticipation(model, out.x, lin.transfer(), out.system.M, out.frequencies.modes,
+                                           referencePosition(model, out.x, *reference));
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "analysis/Participation.hpp"
 #include "core/linearization/Linearization.hpp"
 #include "core/model/Model.hpp"
 #include "io/formats/CsvTable.hpp"
@@ -51,11 +52,16 @@ Eigen::VectorXd bucklingFactors(const core::LinearizedSystem& sys, int count);
 // modes`, SPACAR's modes of the initial state): core::Linearization::initialRest, then
 // naturalFrequencies. Throws KinematicsError / std::runtime_error.
 struct InitialModes {
-  Eigen::VectorXd eta, q;         // the configuration (q = the degrees of freedom)
-  core::LinearizedSystem system;  // M0, K0, G0 ... there
-  Frequencies frequencies;        // ascending; modes in eta
+  Eigen::VectorXd eta, q;            // the configuration (q = the degrees of freedom)
+  core::LinearizedSystem system;     // M0, K0, G0 ... there
+  Frequencies frequencies;           // ascending; modes in eta
+  Eigen::VectorXd x;                 // the nodal coordinates there
+  ModalParticipation participation;  // with a reference point only (analysis/Participation.hpp)
 };
-InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev);
+// reference: also the modes' participation factors and effective masses, rotations about it.
+// Throws std::invalid_argument for a reference node that is no position node.
+InitialModes initialModes(const core::Model& model, const std::optional<Eigen::MatrixXd>& basis, int nev,
+                          const ReferencePoint* reference = nullptr);
 // The frequencies as a table, the one every front end writes (`flexmb modes`, the study): mode,
 // f_Hz, omega_rad_s.
 io::CsvTable modesTable(const Frequencies& frequencies);

@@ -5,13 +5,21 @@ namespace flexmb::analysis {
 ModesJob::ModesJob(const ModelSource& source, ModesOptions options) : ModelJob(source), options_(std::move(options)) {
   if (!read() || !checkModel(model(), {true, true, false}, false)) return;
   if (!readBasis(model(), options_.basis, basis_)) return;
+  if (options_.participation && options_.reference.node != 0) {
+    const auto it = model().nodeByLabel.find(options_.reference.node);
+    if (it == model().nodeByLabel.end() || !core::isTranslational(model().nodes[it->second].kind)) {
+      refuse("the reference node " + std::to_string(options_.reference.node) +
+             " is no position node of the model: rotations are about a position node or a point");
+      return;
+    }
+  }
   options_.nev = std::max(1, std::min(options_.nev, basis_ ? static_cast<int>(basis_->cols()) : model().numDofs()));
 }
 
 JobStatus ModesJob::run() {
   if (status_ != JobStatus::Ready) return status_;
   try {
-    modes_ = initialModes(model(), basis_, options_.nev);
+    modes_ = initialModes(model(), basis_, options_.nev, options_.participation ? &options_.reference : nullptr);
     if (!modes_.frequencies.omega.allFinite() || modes_.frequencies.omega.size() == 0)
       throw std::runtime_error("the eigenvalue problem gave no finite frequencies");
   } catch (const std::exception& e) {

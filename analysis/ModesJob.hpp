@@ -9,6 +9,10 @@ namespace flexmb::analysis {
 struct ModesOptions {
   int nev = 6;       // lowered to the degrees of freedom (or the basis's columns)
   BasisInput basis;  // q = V eta; none: the full model
+  // The participation factors and effective masses per global direction (analysis/Participation.hpp):
+  // rotations about this node's position or point (default: the origin).
+  bool participation = true;
+  ReferencePoint reference;
 };
 
 class ModesJob : public ModelJob {

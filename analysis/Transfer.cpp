@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "analysis/DesignDamping.hpp"
 #include "analysis/Perturbation.hpp"
 #include "core/elements/EulerParameters.hpp"
 
@@ -183,9 +184,26 @@ void outputRows(const core::Model& model, const StaticStep& step, const Transfer
   }
 }
 
+// The damping a designer states (analysis/DesignDamping.hpp) added to C0 + D0 of the augmented
+// linearisation: beta K0 on all its coordinates (as EDAMP = beta * ESTIFF), the modal term and
+// alpha M on the degrees of freedom (rows and columns qi) only.
+void addDesignDamping(const core::LinearizedSystem& s, const Eigen::MatrixXd& Kt, const std::vector<int>& qi,
+                      const DampingOptions& damping, Eigen::MatrixXd& Cs) {
+  if (damping.beta != 0.0) Cs += damping.beta * s.K;
+  const Eigen::Index m = static_cast<Eigen::Index>(qi.size());
+  Eigen::MatrixXd Mq(m, m), Kq(m, m);
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = 0; i < m; ++i) Mq(i, j) = s.M(qi[i], qi[j]), Kq(i, j) = Kt(qi[i], qi[j]);
+  DampingOptions onDofs = damping;
+  onDofs.beta = 0.0;
+  const Eigen::MatrixXd Cq = designDamping(Mq, Kq, Kq, onDofs);
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = 0; i < m; ++i) Cs(qi[i], qi[j]) += Cq(i, j);
+}
+
 }  // namespace
 
-StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
+StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step, const DampingOptions& damping) {
   if (model.transferInputs.empty() || model.transferOutputs.empty())
     throw std::invalid_argument(
         "the transfer function needs at least one input (INPUTF, INX) and one output (OUTX, OUTXP, OUTF) in the "
@@ -213,13 +231,6 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
   // known coordinates' INX and OUTF channels read Ct's entries: then it is whole.
   const Eigen::MatrixXd Kt = s.N.size() ? Eigen::MatrixXd(s.K + s.G + s.N) : Eigen::MatrixXd(s.K + s.G);
   const Eigen::Index na = s.M.rows();
-  Eigen::MatrixXd Cs;
-  if (s.C.size() || (!known.empty() && s.D.size() == 0)) {
-    Cs.setZero(na, na);
-    if (s.C.size()) Cs += s.C;
-    if (s.D.size()) Cs += s.D;
-  }
-  const Eigen::MatrixXd& Ct = Cs.size() ? Cs : s.D;
   const int m = model.numDofs();
   std::vector<int> qi(m);
   bool inOrder = s.M.rows() == m;
@@ -227,6 +238,14 @@ StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step) {
     qi[k] = at.of(model.dofs[k]);
     inOrder = inOrder && qi[k] == k;
   }
+  Eigen::MatrixXd Cs;
+  if (s.C.size() || (!known.empty() && s.D.size() == 0) || damping.any()) {
+    Cs.setZero(na, na);
+    if (s.C.size()) Cs += s.C;
+    if (s.D.size()) Cs += s.D;
+    if (damping.any()) addDesignDamping(s, Kt, qi, damping, Cs);
+  }
+  const Eigen::MatrixXd& Ct = Cs.size() ? Cs : s.D;
   auto block = [&](const Eigen::MatrixXd& X, int row) {  // X(row, q) as a row vector
     Eigen::RowVectorXd r(m);
     for (int k = 0; k < m; ++k) r[k] = X(row, qi[k]);
@@ -339,7 +358,7 @@ TransferRun transferAnalysis(const core::Model& model, const TransferOptions& op
     return r;
   }
   try {  // the statics stand when the state-space model cannot be made
-    r.model = stateSpaceAt(model, r.statics.steps.back());
+    r.model = stateSpaceAt(model, r.statics.steps.back(), options.damping);
   } catch (const std::exception& e) {
     r.completed = false;
     r.stopReason =

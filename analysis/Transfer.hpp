@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/DesignDamping.hpp"
 #include "analysis/Statics.hpp"
 #include "core/model/Model.hpp"
 
@@ -41,11 +42,13 @@ struct StateSpace {
 // The state-space model of the equilibrium `step` of model (its transfer block). Throws
 // std::invalid_argument when the block has no input or no output, std::runtime_error when M0 is not
 // positive definite (a degree of freedom without mass).
-StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step);
+// damping: modal and Rayleigh damping added to C0 + D0 (analysis/DesignDamping.hpp).
+StateSpace stateSpaceAt(const core::Model& model, const StaticStep& step, const DampingOptions& damping = {});
 
 struct TransferOptions {
-  int nev = 0;        // eigenfrequencies per load step of the statics (0: none)
-  int loadSteps = 0;  // > 0 overrides ITERSTEP's number of load steps
+  int nev = 0;             // eigenfrequencies per load step of the statics (0: none)
+  int loadSteps = 0;       // > 0 overrides ITERSTEP's number of load steps
+  DampingOptions damping;  // added to the model's EDAMP (analysis/DesignDamping.hpp)
   std::function<void(int, int)> onStep;
 };
 struct TransferRun {

@@ -14,6 +14,10 @@ TransferJob::TransferJob(const ModelSource& source, TransferOptions options)
         file_);
     return;
   }
+  if (const std::string why = dampingRefusal(options_.damping); !why.empty()) {
+    refuse(why);
+    return;
+  }
   options_.nev = std::min(std::max(options_.nev, 0), model().numDofs());
 }
 
