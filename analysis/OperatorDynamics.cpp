@@ -1,6 +1,7 @@
 #include "analysis/OperatorDynamics.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -138,6 +139,8 @@ OperatorDynamics::OperatorDynamics(const core::Model& model, const ReducedOperat
   zeta_.resize(m_);
   zetad_.resize(m_);
   shifted_.resize(m_);
+  f0_.resize(2 * m_);
+  f1_.resize(2 * m_);
 }
 
 void OperatorDynamics::evaluate(const Eigen::Ref<const Eigen::VectorXd>& eta, bool gradient) {
@@ -256,6 +259,21 @@ bool OperatorDynamics::rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& 
   dydt.resize(2 * m_);
   dydt.head(m_) = y.tail(m_);
   dydt.tail(m_).noalias() = ops_.rotation * etadd_;
+  return true;
+}
+
+bool OperatorDynamics::stateJacobian(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& units,
+                                     Eigen::Ref<Eigen::MatrixXd> J) {
+  if (!rhs(t, y, f0_)) return false;
+  yStep_ = y;
+  for (int j = 0; j < 2 * m_; ++j) {
+    const double unit = units.size() == m_ ? units[j % m_] : 1.0;
+    const double h = 1e-7 * std::max(std::abs(y[j]), unit);
+    yStep_[j] = y[j] + h;
+    if (!rhs(t, yStep_, f1_)) return false;
+    J.col(j) = (f1_ - f0_) / h;
+    yStep_[j] = y[j];
+  }
   return true;
 }
 

@@ -36,6 +36,11 @@ class OperatorDynamics {
   const ReducedOperators& operators() const { return ops_; }
   // dy/dt for y = [eta; etad]; false (dydt untouched) when eta is outside the trained range.
   bool rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& dydt);
+  // J = d(dy/dt)/dy at (t, y) by forward differences of rhs: 2m evaluations, each independent of the
+  // mesh, give generalized-alpha the small dense iteration matrix of the fitted model (issue 48).
+  // units: per coordinate of eta a change small against none of the motion (1/|F_q V| column
+  // maxima); each step is 1e-7 of it or of |y_j|. False where y or a step lies outside the range.
+  bool stateJacobian(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& units, Eigen::Ref<Eigen::MatrixXd> J);
   // The coordinate outside the range at the last refused call ("eta_2 = 0.31 outside [-0.2, 0.3]").
   std::string whereOutside() const;
   // Mr(eta) and the generalised forces at (t, y) without the velocity terms (tests, checks).
@@ -63,6 +68,7 @@ class OperatorDynamics {
   Eigen::MatrixXd grad_, M_, Md_, C_, MD_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd lastEta_, zeta_, zetad_, shifted_;
+  Eigen::VectorXd yStep_, f0_, f1_;  // stateJacobian's
   int lastOutside_ = -1;
 };
 

@@ -115,21 +115,13 @@ void SimulateJob::prepareBasis() {
 }
 
 // The integrator a user who asked for none gets: auto (galpha where ode45 would be bound by stability,
-// SPACAR's ode45 elsewhere, within the tolerance of each other), but ode45 for a reduced run with
-// its operators, which serve ode45 only, and for --full-kinematics, the same run without them.
+// SPACAR's ode45 elsewhere, within the tolerance of each other), on the full model and on reduced
+// ones alike (galpha's iteration matrix of a reduced run comes from its operators where they hold).
 void SimulateJob::chooseDefaultIntegrator() {
   SimulationOptions& opt = request_.run;
   if (!request_.defaultIntegrator) return;
-  if (opt.basis && (opt.operators || request_.fullKinematics)) {
-    opt.integrator = Integrator::Ode45;
-    settings_.emplace_back("integrator choice", opt.operators ? "ode45, the default of a reduced run with its reduced "
-                                                                "operators (they serve ode45 only)"
-                                                              : "ode45, the default of a reduced run with "
-                                                                "--full-kinematics (as with its reduced operators)");
-  } else {
-    settings_.emplace_back("integrator choice", std::string(integratorName(opt.integrator)) +
-                                                    ", the default (--integrator ode45: MATLAB's ode45 step by step)");
-  }
+  settings_.emplace_back("integrator choice", std::string(integratorName(opt.integrator)) +
+                                                  ", the default (--integrator ode45: MATLAB's ode45 step by step)");
 }
 
 void SimulateJob::chooseBasisForTarget() {
@@ -218,6 +210,9 @@ JobStatus SimulateJob::run() {
         ran << "galpha from the start";
       else if (!std::isnan(trajectory_.switchedAt))
         ran << "ode45 until t = " << trajectory_.switchedAt << " s, then galpha";
+      else if (!model().userStressFunction.empty())
+        ran << "ode45 throughout (galpha's iteration matrix would lack the derivatives of the user's forces, "
+            << model().userStressFunction << ")";
       else
         ran << "ode45 throughout (its step was never bound by stability)";
       settings_.emplace_back("integrator ran", ran.str());

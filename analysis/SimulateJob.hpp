@@ -36,9 +36,8 @@ struct SimulateRequest {
   std::optional<ReductionOptions> autoBasis;                 // auto: the kind of basis (default modal)
   bool fullKinematics = false;                               // Eq. 19 even where the operators hold
   bool trackedOutputs = false;                               // the operators' output fields at the output times
-  // The integrator was not asked for: run.integrator is the front end's default (auto), except for a
-  // reduced run with its reduced operators, which runs ode45 (the operators serve ode45 only). The
-  // manifest says which integrator ran and that it was the default.
+  // The integrator was not asked for: run.integrator is the front end's default (auto). The manifest
+  // says which integrator ran and that it was the default.
   bool defaultIntegrator = false;
 };
 

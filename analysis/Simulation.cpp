@@ -249,19 +249,25 @@ class StageRun {
     if ((opt.accuracyCheck || opt.deferAccuracy) && opt.keepStates) windows_.emplace(set_.t0, set_.tEnd);
     if (opt.operators && opt.basis) {
       traj_.operators.used = true;
-      if (opt.integrator == Integrator::Ode45 && !set_.bdf) {
+      if (!set_.bdf) {  // ode45, galpha and auto (galpha's iteration matrix from the operators)
         operators_.emplace(model, *opt.operators);
         if (opt.trackedOutputs && opt.keepStates && !end && !opt.operators->outputs.empty()) {
           outputMap_.emplace(model, *opt.operators);
           traj_.tracked.quantities = opt.operators->outputs;
         }
       } else
-        traj_.operators.notUsed = "the reduced operators serve ode45 only: Eq. 19 throughout";
+        traj_.operators.notUsed = "the reduced operators serve ode45 and galpha, not bdf: Eq. 19 throughout";
     }
     eomEta_ = y0_.head(eom_.size());
     // auto: omega_max at rest, for the choice of the integrator and ode45's stiffness test. The step's
     // own estimate of h |lambda| alone can miss the limit for long (issue 48).
-    if (opt.integrator == Integrator::Auto) try {
+    // auto with the user's forces (USERSIG): ode45 throughout. galpha's iteration matrix has no
+    // derivative of them; on FlexibleInstrumentSimulation's contact forces its Newton iteration
+    // stalled at t = 1e-5 s where ode45 runs the public script through (issue 48).
+    if (opt.integrator == Integrator::Auto && !model.userStressFunction.empty()) {
+      ode45Only_ = true;
+    } else if (opt.integrator == Integrator::Auto)
+      try {
         omegaAtRest_ = highestFrequencyAtRest(model, opt.basis);
       } catch (const std::exception&) {  // no linearisation at rest: the step's estimate alone
       }
@@ -378,6 +384,7 @@ class StageRun {
     r.relTol = factor * set_.relTol;
     const int m = eom_.size();
     r.absTols = Eigen::VectorXd::Constant(m, factor * set_.absTol);
+    etaUnits_ = Eigen::VectorXd::Ones(m);
     try {
       Eigen::VectorXd q;
       eom_.dofs(y0.head(m), q);
@@ -390,7 +397,7 @@ class StageRun {
         if (core::isTranslational(model_.nodes[model_.xOwnerNode[i]].kind)) FqV.row(i) /= L;
       for (int j = 0; j < m; ++j) {
         const double moves = FqV.col(j).cwiseAbs().maxCoeff();
-        if (moves > 0.0 && std::isfinite(moves)) r.absTols[j] /= moves;
+        if (moves > 0.0 && std::isfinite(moves)) r.absTols[j] /= moves, etaUnits_[j] = 1.0 / moves;
       }
     } catch (const core::KinematicsError&) {  // the scalar tolerance: the run will say why it cannot start
     }
@@ -410,13 +417,43 @@ class StageRun {
     c.f = [this](double t, const Eigen::VectorXd& y, Eigen::VectorXd& dy) { rhs(t, y, dy); };
     c.observer = [this](double t, const Eigen::VectorXd& y) { return observe(t, y); };
     c.jacobian = [this](double t, const Eigen::VectorXd& y, const Eigen::VectorXd& fy, Eigen::Ref<Eigen::MatrixXd> J) {
-      kinematicsAsRhsError([&] { anchored_->jacobian(t, y, fy, J); });
+      if (operators_) {
+        if (operators_->stateJacobian(t, y, etaUnits_, J)) return;
+        noteFallback(t);
+      }
+      kinematicsAsRhsError([&] {
+        catchUpAnchor();
+        anchored_->jacobian(t, y, fy, J);
+      });
     };
     c.accept = [this](double t, const Eigen::VectorXd& y) {
       ++accepted_;
+      if (operators_) {  // on the operators the kinematics wait until Eq. 19 needs them
+        lagT_ = t, lagY_ = y, anchorLags_ = true;
+        return;
+      }
       kinematicsAsRhsError([&] { anchored_->accept(t, y); });
     };
     return c;
+  }
+
+  // galpha on the reduced operators: the anchor of the kinematics follows the last accepted state
+  // only when Eq. 19 is needed (outside the trained range), from where it last was in up to eight
+  // steps (a stretch on the operators may have moved far). Throws core::KinematicsError.
+  void catchUpAnchor() {
+    if (!anchorLags_) return;
+    const int m = eom_.size();
+    try {
+      anchored_->accept(lagT_, lagY_);
+    } catch (const core::KinematicsError&) {
+      Eigen::VectorXd y = lagY_;
+      for (int k = 1; k <= 8; ++k) {
+        y.head(m) = anchorEta_ + (k / 8.0) * (lagY_.head(m) - anchorEta_);
+        anchored_->accept(lagT_, y);
+      }
+    }
+    anchorEta_ = lagY_.head(m);
+    anchorLags_ = false;
   }
 
   // Generalized-alpha on the anchored equations of motion (as BDF: every evaluation starts the
@@ -428,6 +465,7 @@ class StageRun {
     o.relTol = tol.relTol;
     o.absTols = tol.absTols;
     o.maxStep = set_.maxStep;
+    anchorEta_ = y0.head(eom_.size());
     const ImplicitCallables c = implicitCallables();
     if (!opt_.basis) {  // full models: the sparse iteration matrix (a few RHS instead of Eq. 15's hundreds)
       SparseIteration system(
@@ -446,7 +484,7 @@ class StageRun {
     o.relTol = set_.relTol;
     o.absTol = Eigen::VectorXd::Constant(1, set_.absTol);
     o.maxStep = set_.maxStep;
-    const bool autoSwitch = opt_.integrator == Integrator::Auto;
+    const bool autoSwitch = opt_.integrator == Integrator::Auto && !ode45Only_;
     // auto: h omega_max of the model at rest beside the step's own estimate of h |lambda|. The
     // estimate alone can miss the limit for long: the 40-element guidance sat at it for 117,000 steps
     // and 15,000 failed attempts (issue 48). The exact omega_max puts an accuracy-bound step at
@@ -496,22 +534,28 @@ class StageRun {
         ++traj_.operators.evaluations;
         return;
       }
-      core::OperatorUse& use = traj_.operators;
-      if (use.fallbacks++ == 0) {
-        use.firstFallback = t;
-        use.where = operators_->whereOutside();
-      }
+      noteFallback(t);
     }
     try {
-      if (anchored_)
+      if (anchored_) {
+        catchUpAnchor();
         anchored_->rhs(t, y, dy);
-      else
+      } else
         equationsOfMotion(t, y, dy);
     } catch (const core::KinematicsError& e) {
       throw solvers::RhsError(e.what());          // a trial state; retried with a smaller step
     } catch (const core::UserFunctionError& e) {  // USERSIG / USERINP (Octave/MATLAB gateway)
       userError_ = e.what();
       throw solvers::RhsAbort(e.what());
+    }
+  }
+
+  // An evaluation (right-hand side or galpha's Jacobian) by the full model outside the operators' range.
+  void noteFallback(double t) {
+    core::OperatorUse& use = traj_.operators;
+    if (use.fallbacks++ == 0) {
+      use.firstFallback = t;
+      use.where = operators_->whereOutside();
     }
   }
 
@@ -663,12 +707,17 @@ class StageRun {
   core::EquationsOfMotion eom_, probe_;
   std::optional<StateJacobian> jacobian_;
   std::optional<AnchoredDynamics> anchored_;
-  std::optional<OperatorDynamics> operators_;   // reduced operators, when given (ode45)
+  std::optional<OperatorDynamics> operators_;   // reduced operators, when given (ode45, galpha)
   std::optional<OperatorOutputMap> outputMap_;  // their tracked outputs (SimulationOptions::trackedOutputs)
   Eigen::VectorXd trackedRate_;                 // dy/dt at an output time (the tracked accelerations)
   Eigen::VectorXd startX_;                      // the configuration the run starts from
   Eigen::VectorXd eomEta_;                      // where eom_ last solved (the fallback's start)
+  Eigen::VectorXd etaUnits_;                    // galpha: per eta, the change that moves a node by the model size
+  Eigen::VectorXd anchorEta_, lagY_;            // galpha on the operators: the anchor's eta, the last accepted state
+  double lagT_ = 0.0;
+  bool anchorLags_ = false;  // the anchor is behind the last accepted state
   ProgressLine progress_;
+  bool ode45Only_ = false;                         // auto on a model with USERSIG: no switch to galpha
   double omegaAtRest_ = 0.0;                       // auto: the highest eigenfrequency at rest (rad/s; 0: not known)
   std::optional<AccuracyWindowRecorder> windows_;  // the accuracy check's windows, when asked for
   Eigen::VectorXd y0_;

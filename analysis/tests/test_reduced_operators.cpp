@@ -414,6 +414,57 @@ TEST(ReducedOperators, AddAtMostATenthOfTheReductionError) {
   EXPECT_LT(added, 0.1 * reduction);
 }
 
+// Issue 48, item 4: generalized-alpha on the operators (its iteration matrix their difference
+// quotients) ends where ode45 on the same operators does, within its RelTol, without the full model.
+TEST(ReducedOperators, GeneralizedAlphaRunsOnTheOperatorsAlone) {
+  Guidance& g = guidance();
+  analysis::SimulationOptions alpha, ref, eq19;
+  alpha.basis = ref.basis = eq19.basis = g.V;
+  alpha.operators = ref.operators = std::make_shared<analysis::ReducedOperators>(g.ops);
+  alpha.reductionEstimate = ref.reductionEstimate = eq19.reductionEstimate = false;
+  alpha.integrator = eq19.integrator = analysis::Integrator::GeneralizedAlpha;
+  alpha.relTol = eq19.relTol = 1e-4;
+  ref.relTol = 1e-8;
+  ref.absTol = 1e-11;
+  const core::Trajectory a = analysis::simulate(g.model, alpha), r = analysis::simulate(g.model, ref);
+  const core::Trajectory b = analysis::simulate(g.model, eq19);
+  ASSERT_TRUE(a.completed && r.completed && b.completed) << a.stopReason << r.stopReason << b.stopReason;
+  EXPECT_EQ(a.integrator, "galpha");
+  EXPECT_GT(a.operators.evaluations, a.nfevals / 2);  // the Jacobian's quotients are operator evaluations too
+  EXPECT_EQ(a.operators.fallbacks, 0);                // neither a right-hand side nor a Jacobian of Eq. 19
+  EXPECT_TRUE(a.operators.notUsed.empty()) << a.operators.notUsed;
+  const double onOperators = analysis::positionErrorAgainst(g.model, a, r);
+  const double onEq19 = analysis::positionErrorAgainst(g.model, b, r);
+  std::printf(
+      "galpha on MODAL-3 operators at RelTol 1e-4: %ld steps, %ld operator evaluations, error %.2e to ode45 "
+      "at 1e-8 on them; galpha on Eq. 19: %ld steps, %.2e\n",
+      a.nsteps, a.operators.evaluations, onOperators, b.nsteps, onEq19);
+  EXPECT_LT(onOperators, 10 * *alpha.relTol);
+  // The same steps as on Eq. 19 within a factor (the operators fit Eq. 19 to 1e-3 of its forces).
+  EXPECT_LT(std::abs(static_cast<double>(a.nsteps - b.nsteps)), 0.5 * static_cast<double>(b.nsteps));
+}
+
+// Outside the trained range galpha's right-hand sides and Jacobians come from Eq. 19, with the
+// kinematics caught up from where they were left; the run ends as the run on Eq. 19 does.
+TEST(ReducedOperators, GeneralizedAlphaFallsBackToEquation19OutsideTheRange) {
+  Guidance& g = guidance();
+  auto ops = std::make_shared<analysis::ReducedOperators>(analysis::trainOperators(g.model, g.V, thirdOfTheRange(g)));
+  analysis::SimulationOptions with, without;
+  with.basis = without.basis = g.V;
+  with.operators = ops;
+  with.reductionEstimate = without.reductionEstimate = false;
+  with.integrator = without.integrator = analysis::Integrator::GeneralizedAlpha;
+  with.relTol = without.relTol = 1e-5;
+  const core::Trajectory a = analysis::simulate(g.model, with), b = analysis::simulate(g.model, without);
+  ASSERT_TRUE(a.completed && b.completed) << a.stopReason << b.stopReason;
+  EXPECT_GT(a.operators.evaluations, 0);
+  EXPECT_GT(a.operators.fallbacks, 0);
+  const double diff = analysis::positionErrorAgainst(g.model, a, b);
+  std::printf("galpha fallback run: %ld operator evaluations, %ld by Eq. 19 from t = %g; difference to Eq. 19 %.2e\n",
+              a.operators.evaluations, a.operators.fallbacks, a.operators.firstFallback, diff);
+  EXPECT_LT(diff, 1e-3);
+}
+
 TEST(ReducedOperators, RefuseModelsWhoseKinematicsDependOnTime) {
   const core::Model m = io::readDatFile(dat("slider_crank_rigid.dat"));  // INPUTE: the crank angle is driven
   ASSERT_FALSE(m.inputE.empty());

@@ -159,8 +159,8 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       clash = "it needs --basis FILE (the operators beside FILE)";
     else if (a.fullKinematics)
       clash = "--full-kinematics computes every output from the full kinematics";
-    else if ((a.integratorGiven || !std::isnan(a.rhoInf)) && a.chosen != analysis::Integrator::Ode45)
-      clash = "the reduced operators serve ode45 only";
+    else if (a.integratorGiven && a.chosen == analysis::Integrator::Bdf)
+      clash = "the reduced operators serve ode45, galpha and auto, not bdf";
     else if (a.linearize > 0 || a.matrices)
       clash = "--linearize and --matrices need the full states";
     else if (!a.echo.empty() || a.vtk || a.html)

@@ -470,10 +470,10 @@ TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
 }
 
 // Issue 48, item 2: without --integrator simulate runs auto (galpha from the start where the
-// highest frequency at rest bounds ode45's step, ode45 on a non-stiff model), and a reduced run with
-// its reduced operators runs ode45 (they serve ode45 only); the manifest says which ran and that it
-// was the default. --rho-inf alone asks for auto; --integrator ode45 is ode45 without a choice line.
-TEST_F(Cli, TheDefaultIntegratorIsAutoAndOde45WithReducedOperators) {
+// highest frequency at rest bounds ode45's step, ode45 on a non-stiff model), on reduced runs with
+// their operators too; the manifest says which ran and that it was the default. --rho-inf alone asks for auto;
+// --integrator ode45 is ode45 without a choice line.
+TEST_F(Cli, TheDefaultIntegratorIsAutoOnFullAndReducedModels) {
   const std::string quick = " -q --format none --no-accuracy-check";
   Result r = flexmb("simulate " + kData + "tests/straight_guidance_20.dat --out g20" + quick);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -499,26 +499,26 @@ TEST_F(Cli, TheDefaultIntegratorIsAutoAndOde45WithReducedOperators) {
   EXPECT_NE(manifest.find("integrator: ode45 (Dormand-Prince"), std::string::npos) << manifest;
   EXPECT_EQ(manifest.find("integrator choice"), std::string::npos) << manifest;
   EXPECT_EQ(manifest.find("integrator ran"), std::string::npos) << manifest;
-  // A reduced run with its operators (and with --full-kinematics, the same run without them): ode45.
+  // A reduced run with its operators, and with --full-kinematics the same run without them: auto too
+  // (galpha's iteration matrix from the operators where they hold).
   ASSERT_EQ(flexmb("reduce " + kData + "straight_guidance.dat --modes 3 --out m3.csv -q").code, 0);
   for (const std::string how : {"", " --full-kinematics"}) {
     r = flexmb("simulate " + kData + "straight_guidance.dat --basis m3.csv --t-end 0.01 --out red" + quick + how);
     ASSERT_EQ(r.code, 0) << how << "\n" << r.err;
     manifest = slurp(dir_ / "red_run.txt");
-    EXPECT_NE(manifest.find("integrator: ode45 (Dormand-Prince"), std::string::npos) << how << "\n" << manifest;
-    EXPECT_NE(manifest.find("integrator choice: ode45, the default of a reduced run with"), std::string::npos)
-        << how << "\n"
-        << manifest;
+    EXPECT_NE(manifest.find("integrator: auto:"), std::string::npos) << how << "\n" << manifest;
+    EXPECT_NE(manifest.find("integrator choice: auto, the default"), std::string::npos) << how << "\n" << manifest;
   }
-  // The operators with --outputs tracked need no --integrator ode45 either.
+  // The operators with --outputs tracked under the default and under galpha; not under bdf.
   ASSERT_EQ(flexmb("reduce " + kData + "straight_guidance.dat --modes 3 --track 6 --out t3.csv -q").code, 0);
-  r = flexmb("simulate " + kData + "straight_guidance.dat --basis t3.csv --outputs tracked --t-end 0.01 --out tr -q");
-  EXPECT_EQ(r.code, 0) << r.err;
-  // Asked for, auto with the operators: Eq. 19 (they serve ode45 only), as before.
-  r = flexmb("simulate " + kData + "straight_guidance.dat --basis m3.csv --integrator auto --t-end 0.01 --out ra" +
-             quick);
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(slurp(dir_ / "ra_run.txt").find("integrator: auto:"), std::string::npos);
+  for (const std::string how : {"", " --integrator galpha"}) {
+    r = flexmb("simulate " + kData + "straight_guidance.dat --basis t3.csv --outputs tracked --t-end 0.01 --out tr -q" +
+               how);
+    EXPECT_EQ(r.code, 0) << how << "\n" << r.err;
+  }
+  r = flexmb("simulate " + kData + "straight_guidance.dat --basis t3.csv --outputs tracked --integrator bdf -q");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("not bdf"), std::string::npos) << r.err;
 }
 
 // Ctrl-C during a bdf run writes the results so far, as with ode45.
