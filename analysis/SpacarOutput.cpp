@@ -17,7 +17,7 @@ std::vector<core::FreeCoordinate> dynamicColumns(const core::Model& model) {
   return cols;
 }
 
-// The state part of a step, in SPACAR's order, with sig~ and fxt (and dx, bigd when asked).
+// The state part of a step, in SPACAR's order, with sig~ and fxt (and dx, de, bigd when asked).
 io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, core::ResultQuantities& rq, double t,
                          double loadFactor, const core::StateOutputs& s, const SpacarOutputOptions& o,
                          double initialFactor = 1.0) {
@@ -29,15 +29,20 @@ io::SpacarStep stateStep(const core::Model& model, const io::SpacarLayout& L, co
   st.x = L.sortX(s.x), st.xd = L.sortX(s.xd), st.xdd = L.sortX(s.xdd), st.fxt = L.sortX(fxt);
   st.fx = L.sortX(applied.loads), st.fxgrav = L.sortX(applied.gravity);
   st.e = L.sortE(s.e), st.ed = L.sortE(s.ed), st.edd = L.sortE(s.edd), st.sig = L.sortE(sig);
+  Eigen::MatrixXd D;
   if (o.transferFunctions) {
     Eigen::MatrixXd dx;
     rq.transfer(L.dofColumns, dx);
     st.dx.resize(model.nx, dx.cols());
     for (int i = 0; i < model.nx; ++i) st.dx.row(i) = dx.row(L.xOrder[i]);
+    // SPACAR's de: the deformations' first-order transfer functions de/d(degrees of freedom) = D dx.
+    rq.jacobian(D);
+    const Eigen::MatrixXd de = D * dx;
+    st.de.resize(model.ne, de.cols());
+    for (int i = 0; i < model.ne; ++i) st.de.row(i) = de.row(L.eOrder[i]);
   }
   if (o.jacobian) {
-    Eigen::MatrixXd D;
-    rq.jacobian(D);
+    if (!D.size()) rq.jacobian(D);
     st.bigd.resize(model.ne, model.nx);
     for (int i = 0; i < model.ne; ++i)
       for (int j = 0; j < model.nx; ++j) st.bigd(i, j) = D(L.eOrder[i], L.xOrder[j]);

@@ -8,14 +8,16 @@ cd "$(dirname "$0")/.."
 packages=(g++ cmake make pkg-config libeigen3-dev libsuitesparse-dev libarpack2-dev
           libboost-program-options-dev libgtest-dev libmuparser-dev libmatio-dev python3-scipy libsundials-dev)
 # A full build (no target named: the test suite) also needs: octave + liboctave-dev for the
-# Octave/MATLAB gateway (tools/octave) and its tests, octave-control for getss's ss object; calculix-ccx, the independent FE oracle of the
+# Octave/MATLAB gateway (tools/octave) and its tests, octave-control for getss's ss object, gnuplot-nox and
+# fonts-freefont-otf (Octave's default font) so that octave-cli makes figures without a display (spadraw's
+# test draws into one); calculix-ccx, the independent FE oracle of the
 # spatial tests; clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes) for tools/fuzz; chromium
 # for the headless browser test of the HTML animation; pybind11-dev, python3-dev and python3-pytest for
 # the Python module (tools/python) and its tests, python3-matplotlib for its example; strace for the
 # test that every front end opens the .dat once (tools/tests/check_one_read.py); mkdocs and
 # mkdocs-material for the documentation site (tools/docs.sh, ctest docs_site). The main job (named
 # targets) skips them.
-(($#)) || packages+=(octave liboctave-dev octave-control calculix-ccx clang libclang-rt-14-dev chromium
+(($#)) || packages+=(octave liboctave-dev octave-control gnuplot-nox fonts-freefont-otf calculix-ccx clang libclang-rt-14-dev chromium
                      pybind11-dev python3-dev python3-pytest python3-matplotlib strace mkdocs mkdocs-material)
 missing=()
 for p in "${packages[@]}"; do

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace flexmb::io {
@@ -20,8 +21,23 @@ using core::Role;
 // than they save).
 constexpr std::size_t kCompressAbove = 32 * 1024;
 
+// Where the variables of one result file go: a MAT v5 file (MatWriter) or memory (MatCollector).
+class MatSink {
+ public:
+  virtual ~MatSink() = default;
+  // Column-major data of an r x c (x p) double array; one page (p = 1) is an r x c matrix, which is
+  // what Octave and MATLAB make of it anyway.
+  virtual void write(const char* name, std::size_t r, std::size_t c, std::vector<double> data, std::size_t p = 1) = 0;
+  // A char matrix, one string per row, blank-padded (MATLAB's char(...) of the strings).
+  virtual void text(const char* name, const std::vector<std::string>& rows) = 0;
+  void scalar(const char* name, double v) { write(name, 1, 1, {v}); }
+  void matrix(const char* name, const Eigen::MatrixXd& A) {
+    write(name, A.rows(), A.cols(), std::vector<double>(A.data(), A.data() + A.size()));
+  }
+};
+
 // One MAT v5 file; closed (and checked) by close(), closed silently on an exception.
-class MatWriter {
+class MatWriter : public MatSink {
  public:
   explicit MatWriter(std::string path) : path_(std::move(path)) {
     // Probe with stdio first: matio reports failures without a reason.
@@ -34,15 +50,13 @@ class MatWriter {
     mat_ = Mat_CreateVer(path_.c_str(), kMatHeader, MAT_FT_MAT5);
     if (!mat_) throw std::runtime_error("cannot write '" + path_ + "': matio could not create the MAT file");
   }
-  ~MatWriter() {
+  ~MatWriter() override {
     if (mat_) Mat_Close(mat_);
   }
   MatWriter(const MatWriter&) = delete;
   MatWriter& operator=(const MatWriter&) = delete;
 
-  // Column-major data of an r x c (x p) double array; one page (p = 1) is written as r x c,
-  // which is what Octave and MATLAB make of it anyway.
-  void write(const char* name, std::size_t r, std::size_t c, std::vector<double> data, std::size_t p = 1) {
+  void write(const char* name, std::size_t r, std::size_t c, std::vector<double> data, std::size_t p = 1) override {
     size_t dims[3] = {r, c, p};
     static double dummy = 0.0;
     double* ptr = data.empty() ? &dummy : data.data();
@@ -57,9 +71,7 @@ class MatWriter {
     if (rc != 0)
       throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
   }
-  void scalar(const char* name, double v) { write(name, 1, 1, {v}); }
-  // A char matrix, one string per row, blank-padded (MATLAB's char(...) of the strings).
-  void text(const char* name, const std::vector<std::string>& rows) {
+  void text(const char* name, const std::vector<std::string>& rows) override {
     std::size_t w = 0;
     for (const auto& r : rows) w = std::max(w, r.size());
     std::vector<unsigned char> data(rows.size() * w, ' ');
@@ -76,9 +88,6 @@ class MatWriter {
     if (rc != 0)
       throw std::runtime_error("cannot write '" + path_ + "': matio failed to write variable '" + name + "'");
   }
-  void matrix(const char* name, const Eigen::MatrixXd& A) {
-    write(name, A.rows(), A.cols(), std::vector<double>(A.data(), A.data() + A.size()));
-  }
   void close() {
     const int rc = Mat_Close(mat_);
     mat_ = nullptr;
@@ -88,6 +97,30 @@ class MatWriter {
  private:
   std::string path_;
   mat_t* mat_ = nullptr;
+};
+
+// The variables of one file, kept in memory.
+class MatCollector : public MatSink {
+ public:
+  explicit MatCollector(SpacarFileContents& file) : file_(file) {}
+  void write(const char* name, std::size_t r, std::size_t c, std::vector<double> data, std::size_t p = 1) override {
+    SpacarVariable v;
+    v.name = name;
+    v.dims = p != 1 ? std::vector<std::size_t>{r, c, p} : std::vector<std::size_t>{r, c};
+    v.data = std::move(data);
+    file_.variables.push_back(std::move(v));
+  }
+  void text(const char* name, const std::vector<std::string>& rows) override {
+    SpacarVariable v;
+    v.name = name;
+    v.isText = true;
+    v.text = rows;
+    file_.variables.push_back(std::move(v));
+  }
+  void close() {}
+
+ private:
+  SpacarFileContents& file_;
 };
 
 int groupOfX(Role r) {
@@ -268,16 +301,16 @@ namespace {
 // What the results hold (checked: sizes and finite values; std::invalid_argument naming the first
 // that is not as it should be).
 struct SpacarContents {
-  bool hasDx = false, hasD = false, hasFx = true, hasSys = false, hasK0B = false;
+  bool hasDx = false, hasDe = false, hasD = false, hasFx = true, hasSys = false, hasK0B = false;
   std::size_t m = 0, nev = 0;
 };
 SpacarContents checkSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r,
                                   const SpacarLayout& L) {
   const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
   SpacarContents c;
-  bool &hasDx = c.hasDx, &hasD = c.hasD, &hasFx = c.hasFx, &hasSys = c.hasSys, &hasK0B = c.hasK0B;
+  bool &hasDx = c.hasDx, &hasDe = c.hasDe, &hasD = c.hasD, &hasFx = c.hasFx, &hasSys = c.hasSys, &hasK0B = c.hasK0B;
   std::size_t &m = c.m, &nev = c.nev;
-  hasDx = hasD = nt > 0;
+  hasDx = hasDe = hasD = nt > 0;
   for (std::size_t k = 0; k < nt; ++k) {
     const SpacarStep& s = r.steps[k];
     auto check = [&](const char* name, const Eigen::MatrixXd& v, std::size_t rows, std::size_t cols) {
@@ -294,8 +327,10 @@ SpacarContents checkSpacarResults(const std::string& base, const core::Model& mo
     if (s.fxgrav.size()) check("fxgrav", s.fxgrav, nx, 1);
     check("e", s.e, ne, 1), check("ed", s.ed, ne, 1), check("edd", s.edd, ne, 1), check("sig", s.sig, ne, 1);
     hasDx = hasDx && s.dx.size() > 0;
+    hasDe = hasDe && s.de.size() > 0;
     hasD = hasD && s.bigd.size() > 0;
     if (s.dx.size()) check("dx", s.dx, nx, L.ndof());
+    if (s.de.size()) check("de", s.de, ne, L.ndof());
     if (s.bigd.size()) check("bigd", s.bigd, ne, nx);
     if (s.M0.size()) {
       if (!hasSys) m = s.M0.rows();
@@ -333,7 +368,7 @@ SpacarContents checkSpacarResults(const std::string& base, const core::Model& mo
   return c;
 }
 
-void writeSpacarStateSpace(MatWriter& w, const SpacarStateSpace& ss) {
+void writeSpacarStateSpace(MatSink& w, const SpacarStateSpace& ss) {
   w.matrix("A", ss.A);
   w.matrix("B", ss.B);
   w.matrix("C", ss.C);
@@ -342,11 +377,10 @@ void writeSpacarStateSpace(MatWriter& w, const SpacarStateSpace& ss) {
 }
 
 // <base>.sbd: counts, topology, element constants and the per-step x, e, sig, ... (and dx, bigd).
-void writeSbd(const std::string& path, const core::Model& model, const SpacarResults& r, const SpacarLayout& L,
+void writeSbd(MatSink& w, const core::Model& model, const SpacarResults& r, const SpacarLayout& L,
               const SpacarContents& c) {
   const std::size_t nt = r.time.size(), nx = model.nx, ne = model.ne;
   const bool hasFx = c.hasFx, hasDx = c.hasDx, hasD = c.hasD;
-  MatWriter w(path);
   // Counts.
   w.scalar("mode", r.mode);
   w.scalar("nx", static_cast<double>(nx));
@@ -371,8 +405,9 @@ void writeSbd(const std::string& path, const core::Model& model, const SpacarRes
   w.matrix("em", spacarElementConstants(model, ElementConstant::Mass, le.rows()));
   w.matrix("esig", spacarElementPrestress(model, le.rows()));
   w.matrix("x0", L.sortX(model.x0));
-  // Per step: one row per stored step.
+  // Per step: one row per stored step. `t` is SPACAR's name of the time (its spadraw reads it).
   w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
+  w.write("t", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
   auto rows = [&](const char* name, Eigen::VectorXd SpacarStep::*member, std::size_t n) {
     std::vector<double> data(nt * n);
     for (std::size_t k = 0; k < nt; ++k)
@@ -393,19 +428,22 @@ void writeSbd(const std::string& path, const core::Model& model, const SpacarRes
     w.write(name, a, b, std::move(data), nt);
   };
   if (hasDx) pages("dx", &SpacarStep::dx, nx, L.ndof());
+  if (c.hasDe) pages("de", &SpacarStep::de, ne, L.ndof());
   if (hasD) pages("bigd", &SpacarStep::bigd, ne, nx);
   w.scalar("nsteps", static_cast<double>(r.nsteps));
   w.scalar("nfailed", static_cast<double>(r.nfailed));
   w.scalar("nfevals", static_cast<double>(r.nfevals));
-  w.close();
 }
 
 // <base>.sbm: the linearised matrices, frequencies and modes per step (and the state-space model).
-void writeSbm(const std::string& path, const core::Model& model, const SpacarResults& r, const SpacarContents& c) {
+void writeSbm(MatSink& w, const core::Model& model, const SpacarResults& r, const SpacarLayout& L,
+              const SpacarContents& c) {
   const std::size_t nt = r.time.size(), nx = model.nx, m = c.m, nev = c.nev;
-  MatWriter w(path);
   w.write("time", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
+  w.write("t", nt, 1, std::vector<double>(r.time.begin(), r.time.end()));
   w.scalar("tdef", static_cast<double>(nt));
+  w.scalar("ndof", L.ndof());  // SPACAR's loadsbm lists them among the .sbm's variables
+  w.scalar("nddof", L.nddof());
   if (c.hasSys) {
     for (auto [name, member] : {std::pair{"M0", &SpacarStep::M0},
                                 {"K0", &SpacarStep::K0},
@@ -441,14 +479,12 @@ void writeSbm(const std::string& path, const core::Model& model, const SpacarRes
     if (xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
   }
   if (r.stateSpace) writeSpacarStateSpace(w, *r.stateSpace);
-  w.close();
 }
 
 // <base>.ltv: the transfer function's state-space model, or M0 and K0B over every kinematic degree
 // of freedom per step (mode 3 on a static file).
-void writeLtv(const std::string& path, const SpacarResults& r, const SpacarLayout& L) {
+void writeLtv(MatSink& w, const SpacarResults& r, const SpacarLayout& L) {
   const std::size_t nt = r.time.size();
-  MatWriter w(path);
   if (r.stateSpace) {
     // One step: the state-space model of the last load step (getss reads step 1).
     w.scalar("tdef", 1.0);
@@ -466,30 +502,81 @@ void writeLtv(const std::string& path, const SpacarResults& r, const SpacarLayou
       w.write(name, n, n, std::move(data), nt);
     }
   }
-  w.close();
+}
+
+}  // namespace
+
+namespace {
+
+// The files of a result set and what goes into each: fill(sink, i) writes file i's variables.
+struct SpacarFilePlan {
+  SpacarLayout L;
+  SpacarContents c;
+  std::vector<std::string> paths;
+};
+SpacarFilePlan planSpacarFiles(const std::string& base, const core::Model& model, const SpacarResults& r) {
+  SpacarFilePlan plan;
+  plan.L = spacarLayout(model);
+  const std::size_t nt = r.time.size();
+  if (r.steps.size() != nt)
+    throw std::invalid_argument("SPACAR results '" + base + "': " + std::to_string(nt) + " times, " +
+                                std::to_string(r.steps.size()) + " steps");
+  plan.c = checkSpacarResults(base, model, r, plan.L);
+  plan.paths.push_back(base + ".sbd");
+  if (plan.c.hasSys || plan.c.nev > 0) plan.paths.push_back(base + ".sbm");
+  if (r.stateSpace || plan.c.hasK0B) plan.paths.push_back(base + ".ltv");
+  return plan;
+}
+void fillSpacarFile(MatSink& w, const std::string& path, const SpacarFilePlan& plan, const core::Model& model,
+                    const SpacarResults& r) {
+  const std::string ext = path.substr(path.size() - 4);
+  if (ext == ".sbd")
+    writeSbd(w, model, r, plan.L, plan.c);
+  else if (ext == ".sbm")
+    writeSbm(w, model, r, plan.L, plan.c);
+  else
+    writeLtv(w, r, plan.L);
 }
 
 }  // namespace
 
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
-  const SpacarLayout L = spacarLayout(model);
-  const std::size_t nt = r.time.size();
-  if (r.steps.size() != nt)
-    throw std::invalid_argument("SPACAR results '" + base + "': " + std::to_string(nt) + " times, " +
-                                std::to_string(r.steps.size()) + " steps");
-  const SpacarContents c = checkSpacarResults(base, model, r, L);
-  std::vector<std::string> written;
-  writeSbd(base + ".sbd", model, r, L, c);
-  written.push_back(base + ".sbd");
-  if (c.hasSys || c.nev > 0) {
-    writeSbm(base + ".sbm", model, r, c);
-    written.push_back(base + ".sbm");
+  const SpacarFilePlan plan = planSpacarFiles(base, model, r);
+  for (const auto& path : plan.paths) {
+    MatWriter w(path);
+    fillSpacarFile(w, path, plan, model, r);
+    w.close();
   }
-  if (r.stateSpace || c.hasK0B) {
-    writeLtv(base + ".ltv", r, L);
-    written.push_back(base + ".ltv");
+  return plan.paths;
+}
+
+std::vector<SpacarFileContents> spacarResultFiles(const std::string& base, const core::Model& model,
+                                                  const SpacarResults& r) {
+  const SpacarFilePlan plan = planSpacarFiles(base, model, r);
+  std::vector<SpacarFileContents> files(plan.paths.size());
+  for (std::size_t i = 0; i < plan.paths.size(); ++i) {
+    files[i].path = plan.paths[i];
+    MatCollector w(files[i]);
+    fillSpacarFile(w, plan.paths[i], plan, model, r);
   }
-  return written;
+  return files;
+}
+
+void writeSpacarFile(const SpacarFileContents& file) {
+  try {
+    MatWriter w(file.path);
+    for (const auto& v : file.variables) {
+      if (v.isText)
+        w.text(v.name.c_str(), v.text);
+      else
+        w.write(v.name.c_str(), v.dims.at(0), v.dims.at(1), v.data, v.dims.size() > 2 ? v.dims[2] : 1);
+    }
+    w.close();
+  } catch (...) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(file.path, ec)) std::filesystem::remove(file.path, ec);  // no half file
+    throw;
+  }
 }
 
 }  // namespace flexmb::io

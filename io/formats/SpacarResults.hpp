@@ -70,6 +70,7 @@ struct SpacarStep {
                                     // gravity loads; written when every step has them
   Eigen::VectorXd e, ed, edd, sig;  // ne, SPACAR order
   Eigen::MatrixXd dx;               // nx x ndof (rows SPACAR order), when requested
+  Eigen::MatrixXd de;               // ne x ndof (rows SPACAR order): D dx, SPACAR's de, with dx
   Eigen::MatrixXd bigd;             // ne x nx (both SPACAR order), when requested
   // System matrices (m x m, m = nddof or the reduced size), when the analysis has them.
   Eigen::MatrixXd M0, K0, G0, C0, D0, N0;
@@ -107,5 +108,26 @@ struct SpacarResults {
 // naming the path. Returns the paths written.
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& results);
+
+// One variable of a result file, in memory: a double array (column-major data, dims 2 or 3) or a
+// char matrix (text, one string per row).
+struct SpacarVariable {
+  std::string name;
+  std::vector<std::size_t> dims;
+  std::vector<double> data;
+  std::vector<std::string> text;
+  bool isText = false;
+};
+struct SpacarFileContents {
+  std::string path;  // <base>.sbd, <base>.sbm, <base>.ltv
+  std::vector<SpacarVariable> variables;
+};
+// The files writeSpacarResults writes, with the same variables and checks, in memory (the gateway
+// puts them into the workspace whatever happens to the files).
+std::vector<SpacarFileContents> spacarResultFiles(const std::string& base, const core::Model& model,
+                                                  const SpacarResults& results);
+// Writes one of them (MAT v5, as writeSpacarResults); std::runtime_error naming the path on failure,
+// after removing what it wrote of the file.
+void writeSpacarFile(const SpacarFileContents& file);
 
 }  // namespace flexmb::io

@@ -283,3 +283,66 @@ TEST(SpacarResults, SpatialElementVariables) {
   EXPECT_EQ(esig.norm(), std::hypot(3.5, 1.25));  // nothing else
   fs::remove_all(dir);
 }
+
+// The files in memory (what the gateway puts into the workspace, issue 52) hold exactly what the
+// writer writes: the same variables in the same order, the same sizes and values; `t` is `time`
+// (SPACAR's name); a file that cannot be written throws naming it and leaves nothing behind.
+TEST(SpacarResults, FilesInMemoryAreTheFilesWritten) {
+  const core::Model m = fourbar();
+  const fs::path dir = fs::temp_directory_path() / "flexmb_spacar_memory_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  io::SpacarResults r = oneStep(m);
+  r.time = {0.25};
+  r.steps[0].x.setLinSpaced(m.nx, 1.0, 2.0);
+  const int n = 2;  // nddof: an .sbm as well
+  r.steps[0].M0 = r.steps[0].K0 = r.steps[0].G0 = Eigen::MatrixXd::Identity(n, n);
+  r.steps[0].C0 = r.steps[0].D0 = r.steps[0].N0 = Eigen::MatrixXd::Zero(n, n);
+  const std::string base = (dir / "mem").string();
+  const auto written = io::writeSpacarResults(base, m, r);
+  const auto files = io::spacarResultFiles(base, m, r);
+  ASSERT_EQ(files.size(), written.size());
+  ASSERT_EQ(files.size(), 2u);
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    EXPECT_EQ(files[f].path, written[f]);
+    mat_t* mat = Mat_Open(written[f].c_str(), MAT_ACC_RDONLY);
+    ASSERT_NE(mat, nullptr);
+    std::size_t k = 0;
+    while (matvar_t* v = Mat_VarReadNext(mat)) {
+      ASSERT_LT(k, files[f].variables.size()) << written[f] << ": more variables than in memory";
+      const io::SpacarVariable& mem = files[f].variables[k++];
+      EXPECT_EQ(mem.name, v->name);
+      std::size_t count = 1;
+      for (int d = 0; d < v->rank; ++d) count *= v->dims[d];
+      ASSERT_EQ(mem.data.size(), count) << mem.name;
+      for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(mem.data[i], static_cast<const double*>(v->data)[i]);
+      Mat_VarFree(v);
+    }
+    Mat_Close(mat);
+    EXPECT_EQ(k, files[f].variables.size()) << written[f];
+  }
+  auto find = [&](std::size_t f, const std::string& name) -> const io::SpacarVariable* {
+    for (const auto& v : files[f].variables)
+      if (v.name == name) return &v;
+    return nullptr;
+  };
+  for (std::size_t f = 0; f < 2; ++f) {
+    ASSERT_NE(find(f, "t"), nullptr);
+    EXPECT_EQ(find(f, "t")->data, std::vector<double>{0.25});
+  }
+  ASSERT_NE(find(1, "ndof"), nullptr);
+  EXPECT_EQ(find(1, "ndof")->data, std::vector<double>{3.0});
+  EXPECT_EQ(find(1, "nddof")->data, std::vector<double>{2.0});
+  // A folder of the file's name: an error naming the path, and the folder left as it was.
+  io::SpacarFileContents blocked = files[0];
+  blocked.path = (dir / "blocked.sbd").string();
+  fs::create_directory(blocked.path);
+  try {
+    io::writeSpacarFile(blocked);
+    FAIL() << "a folder accepted as the .sbd";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("blocked.sbd"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_directory(blocked.path));
+  fs::remove_all(dir);
+}

@@ -4,15 +4,14 @@
 // step of a static file without TIMESTEP, with name.ltv), 4 eigenfrequencies along the trajectory,
 // 9 transfer functions (name.ltv), 10 statics; a negative mode runs the same without console
 // output), writes name.sbd / name.sbm (io/results.md), puts their variables into the caller's
-// workspace and, when an output is requested, returns them in a struct. opts (modes 1, 3, 4): a
+// workspace from memory (also when a file cannot be written: a warning names it) and, when an
+// output is requested, returns them in a struct. opts (modes 1, 3, 4): a
 // struct choosing the integrator and its settings (parseOptions). Errors (input file:line, a failed
 // run, a failing user function, Ctrl-C) are MATLAB errors; a run that stops writes and assigns the
 // steps it stored first.
 // USERSIG / USERINP functions named in the file are called back through mexCallMATLAB
 // (tools/octave/MatlabUserFunctions.hpp).
 #include "mex.h"
-
-#include <matio.h>
 
 #include <cctype>
 #include <chrono>
@@ -47,23 +46,21 @@ namespace {
 
 using Variables = std::vector<std::pair<std::string, mxArray*>>;
 
-// Every double variable of a MAT file as mxArrays (the workspace gets exactly what the file holds).
-void readBack(const std::string& path, Variables& vars, bool skipTime) {
-  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
-  if (!mat) throw std::runtime_error("cannot read back '" + path + "'");
-  while (matvar_t* v = Mat_VarReadNext(mat)) {
-    const std::string name = v->name ? v->name : "";
-    if (v->class_type == MAT_C_DOUBLE && !v->isComplex && !(skipTime && (name == "time" || name == "tdef"))) {
-      std::vector<mwSize> dims(v->dims, v->dims + v->rank);
-      mxArray* a = mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
-      std::size_t n = 1;
-      for (int k = 0; k < v->rank; ++k) n *= v->dims[k];
-      if (n) std::memcpy(mxGetPr(a), v->data, n * sizeof(double));
-      vars.emplace_back(name, a);
-    }
-    Mat_VarFree(v);
+// The double variables of a result file as mxArrays, from memory (the workspace gets what the
+// file holds, whether or not it could be written), leaving out names already there (the .sbm's
+// time, tdef, ndof, nddof repeat the .sbd's) and `t` (SPACAR's file name of `time`; its loadsbd
+// puts `time` into the workspace). Each variable's data is released once it is copied.
+void toVariables(io::SpacarFileContents& file, Variables& vars) {
+  for (auto& v : file.variables) {
+    bool have = v.isText || v.name == "t";
+    for (const auto& w : vars) have = have || w.first == v.name;
+    if (have) continue;
+    std::vector<mwSize> dims(v.dims.begin(), v.dims.end());
+    mxArray* a = mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
+    if (!v.data.empty()) std::memcpy(mxGetPr(a), v.data.data(), v.data.size() * sizeof(double));
+    std::vector<double>().swap(v.data);
+    vars.emplace_back(v.name, a);
   }
-  Mat_Close(mat);
 }
 
 // spacar(mode, name, opts): the fields of opts (names case-insensitive), all optional:
@@ -123,6 +120,7 @@ struct Run {
   std::string error;  // empty: success
   std::string errorId = "flexmb:spacar:run";
   Variables vars;
+  std::string unwritten;  // the result files that could not be written, and why (a warning)
 };
 
 void say(bool silent, const std::string& s) {
@@ -383,20 +381,36 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   say(silent, out.str());
   if (!results.warning.empty() && !silent)
     mexWarnMsgIdAndTxt("flexmb:spacar:kinematics", "%s: %s", datFile.c_str(), results.warning.c_str());
+  std::vector<io::SpacarFileContents> files;
   try {
-    const auto written = io::writeSpacarResults(name, *resultModel, results);
-    for (const auto& p : written) say(silent, "spacar: wrote " + p + "\n");
-    // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's.
-    for (const auto& p : io::removeStaleSpacarCompanions(written))
-      say(silent, "spacar: " + io::describeRemovedStale(p) + "\n");
-    readBack(written[0], run.vars, false);
-    if (written.size() > 1) readBack(written[1], run.vars, true);
-    // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.
-    for (std::size_t k = 0, n = run.vars.size(); k < n; ++k)
-      if (run.vars[k].first == "fxt") run.vars.emplace_back("fxtot", mxDuplicateArray(run.vars[k].second));
+    files = io::spacarResultFiles(name, *resultModel, results);
   } catch (const std::exception& e) {
     if (run.error.empty()) run.error = e.what();
+    return;
   }
+  // Each file on its own: one that cannot be written (full disk, a folder of that name, no
+  // permission) is named in a warning; the workspace gets the variables from memory all the same.
+  std::vector<std::string> written, tried;
+  for (const auto& f : files) {
+    tried.push_back(f.path);
+    try {
+      io::writeSpacarFile(f);
+      written.push_back(f.path);
+      say(silent, "spacar: wrote " + f.path + "\n");
+    } catch (const std::exception& e) {
+      run.unwritten += std::string(run.unwritten.empty() ? "" : ", ") + f.path + " (" + e.what() + ")";
+    }
+  }
+  // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's
+  // (a file this run tried and failed to write is not an earlier run's).
+  if (!written.empty() && written[0] == files[0].path)
+    for (const auto& p : io::removeStaleSpacarCompanions(tried))
+      say(silent, "spacar: " + io::describeRemovedStale(p) + "\n");
+  for (auto& f : files)
+    if (f.path.size() > 4 && f.path.compare(f.path.size() - 4, 4, ".ltv") != 0) toVariables(f, run.vars);
+  // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.
+  for (std::size_t k = 0, n = run.vars.size(); k < n; ++k)
+    if (run.vars[k].first == "fxt") run.vars.emplace_back("fxtot", mxDuplicateArray(run.vars[k].second));
 }
 
 }  // namespace
@@ -440,6 +454,15 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
     for (auto& v : run.vars) mxDestroyArray(v.second);
   }
   run.vars.clear();
+  if (!run.unwritten.empty()) {
+    static std::string unwritten;
+    unwritten = run.unwritten;
+    run.unwritten.clear();
+    // (Octave puts the function's name before the message.)
+    mexWarnMsgIdAndTxt("flexmb:spacar:write",
+                       "could not write %s; the results are in the workspace (and the output struct) all the same",
+                       unwritten.c_str());
+  }
   if (!run.error.empty()) {
     // Static copies: MATLAB's error may leave this frame without running destructors.
     static std::string msg, id;
