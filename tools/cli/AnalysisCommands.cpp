@@ -12,6 +12,7 @@
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/ModesJob.hpp"
+#include "analysis/Participation.hpp"
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
@@ -52,6 +53,46 @@ void printFrequencies(std::ostream& o, const Eigen::VectorXd& omega) {
   }
 }
 
+// The effective masses per direction as shares of what all the modes carry (analysis/Participation.hpp),
+// their sums, and the model's mass and centre.
+void printParticipation(std::ostream& o, const core::Model& model, const Eigen::VectorXd& omega,
+                        const analysis::ModalParticipation& p) {
+  const Eigen::Index nd = static_cast<Eigen::Index>(p.directions.size());
+  const auto point = [&](const Eigen::Vector3d& v) {
+    std::string s = "(" + text::shortest(v[0]) + ", " + text::shortest(v[1]);
+    return s + (model.spatial ? ", " + text::shortest(v[2]) + ")" : ")");
+  };
+  o << "effective masses, % of what all the modes carry per direction (rotations about " << point(p.reference)
+    << "):\n  mode   f [Hz]        ";
+  for (const auto& d : p.directions) o << std::setw(8) << d;
+  o << "\n";
+  const std::streamsize precision = o.precision(6);
+  const auto pct = [&](double v, Eigen::Index d) {
+    const bool known = p.total[d] > 1e-10 * std::abs(p.rigidBody(d, d)) && p.total[d] > 0.0;
+    std::ostringstream c;
+    if (known)
+      c << std::fixed << std::setprecision(2) << 100.0 * v / p.total[d];
+    else
+      c << "-";
+    return c.str();
+  };
+  for (Eigen::Index i = 0; i < p.effective.rows(); ++i) {
+    o << "  " << std::setw(4) << i + 1 << "   " << std::setw(12) << omega[i] / (2 * M_PI) << "  ";
+    for (Eigen::Index d = 0; d < nd; ++d) o << std::setw(8) << pct(p.effective(i, d), d);
+    o << "\n";
+  }
+  o << "  sum of these " << std::setw(7) << p.effective.rows() << "  ";
+  for (Eigen::Index d = 0; d < nd; ++d) o << std::setw(8) << pct(p.effective.col(d).sum(), d);
+  o << "\n  all modes carry (mass; rotations: inertia):";
+  for (Eigen::Index d = 0; d < nd; ++d) o << " " << p.directions[d] << " " << (pct(1.0, d) == "-" ? 0.0 : p.total[d]);
+  o << "\n  the whole model, supports included: mass " << p.mass() << ", centre of mass ";
+  const Eigen::Vector3d c = p.centreOfMass();
+  o << "(" << c[0] << ", " << c[1] << (model.spatial ? ", " : "");
+  if (model.spatial) o << c[2];
+  o << ")\n";
+  o.precision(precision);
+}
+
 }  // namespace
 
 int runModes(const std::vector<std::string>& args) {
@@ -68,18 +109,39 @@ int runModes(const std::vector<std::string>& args) {
       "html", po::value(&html)->implicit_value("<model>_modes.html"), htmlHelp.c_str())(
       "vtk", po::value(&vtk)->implicit_value("<model>_modes"),
       "also write the mode shapes as a ParaView series <prefix>.pvd (default <model>_modes)");
-  std::string viewName;
+  std::string viewName, referenceText;
+  int referenceNode = 0;
+  d.add_options()("reference", po::value(&referenceText),
+                  "the point X,Y[,Z] the effective masses' rotations are about (default: the origin)")(
+      "reference-node", po::value(&referenceNode)->notifier(atLeast("reference-node", 1)),
+      "rotations about this position node instead");
   addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--out name] [--svg file.svg] "
-                             "[--view xy|xz|yz|iso] [--html [file.html]] [--vtk [prefix]]"))
+                             "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--reference X,Y[,Z] | "
+                             "--reference-node N] [--out name] [--svg file.svg] [--view xy|xz|yz|iso] "
+                             "[--html [file.html]] [--vtk [prefix]]"))
     return *rc;
+  analysis::ReferencePoint reference;
+  try {
+    if (!referenceText.empty()) {
+      if (referenceNode) throw po::error("--reference and --reference-node name the same point: give one");
+      const std::vector<double> v = numberList(referenceText, "reference");
+      if (v.size() < 2 || v.size() > 3)
+        throw po::error("--reference must be X,Y or X,Y,Z, not '" + referenceText + "'");
+      for (std::size_t k = 0; k < v.size(); ++k) reference.point[static_cast<Eigen::Index>(k)] = v[k];
+    }
+  } catch (const po::error& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kUsageError;
+  }
+  reference.node = referenceNode;
   const std::string stem = std::filesystem::path(m.file).stem().string();
   if (html == "<model>_modes.html") html = stem + "_modes.html";
   if (vtk == "<model>_modes") vtk = stem + "_modes";
   analysis::ModesOptions mo;
   mo.nev = nev;
   mo.basis.file = basisFile;
+  mo.reference = reference;
   analysis::ModesJob job(modelSource(m), mo);
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
@@ -92,6 +154,10 @@ int runModes(const std::vector<std::string>& args) {
   files.setting("model", m.file);
   files.setting("nev", std::to_string(job.options().nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
+  if (referenceNode)
+    files.setting("reference node", std::to_string(referenceNode));
+  else if (!referenceText.empty())
+    files.setting("reference point", referenceText);
   job.run();
   said = showDiagnostics(job, m.quiet, said);
   if (job.status() != analysis::JobStatus::Completed) return kNumericalFailure;
@@ -99,6 +165,12 @@ int runModes(const std::vector<std::string>& args) {
   const analysis::Frequencies& fr = im.frequencies;
   std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
   printFrequencies(std::cout, fr.omega);
+  if (!im.participation.empty()) {
+    printParticipation(std::cout, model, fr.omega, im.participation);
+    for (std::size_t k = 0; k < im.participation.directions.size(); ++k)
+      files.setting("all modes carry " + im.participation.directions[k],
+                    text::shortest(im.participation.total[static_cast<Eigen::Index>(k)]));
+  }
   try {
     const io::SpacarResults sr =
         analysis::spacarFromModes(model, model.settings.t0, im.eta, im.system, fr.omega, fr.modes, basis);
@@ -107,6 +179,9 @@ int runModes(const std::vector<std::string>& args) {
       files.adopt(p, files.prefix() + p.substr(temp.size()));
     // The frequencies' table every front end writes (analysis::modesTable).
     io::writeTextFile(files.temporaryFor("_modes.csv"), io::formatCsv(analysis::modesTable(fr)));
+    if (!im.participation.empty())  // analysis::participationTable, as Python's write
+      io::writeTextFile(files.temporaryFor("_participation.csv"),
+                        io::formatCsv(analysis::participationTable(fr.omega, im.participation)));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
     sayRemovedStale(files.removedStale());
   } catch (const std::exception& e) {

@@ -95,6 +95,8 @@ std::optional<int> parseCommand(const std::vector<std::string>& args, boost::pro
 std::function<void(const double&)> positive(const char* option);  // finite and > 0
 std::function<void(const double&)> finite(const char* option);
 std::function<void(const int&)> atLeast(const char* option, int minimum);
+// A comma-separated list of finite numbers ("0.01,0.02"); else a usage error naming --option.
+std::vector<double> numberList(const std::string& text, const char* option);
 
 // --view of the picture commands (show, modes, static, sweep): auto, xy, xz, yz or iso, anything else
 // a usage error; viewNamed reads the checked value (empty: auto).

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <boost/program_options.hpp>
+#include <charconv>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -84,6 +85,22 @@ std::function<void(const int&)> atLeast(const char* option, int minimum) {
       throw po::error(std::string("--") + option + " must be at least " + std::to_string(minimum) + ", not " +
                       std::to_string(v));
   };
+}
+
+std::vector<double> numberList(const std::string& text, const char* option) {
+  std::vector<double> out;
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', from);
+    const std::string t = text.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
+    double x = 0.0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), x);
+    if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(x))
+      throw po::error(std::string("--") + option + " must be finite numbers separated by commas, not '" + text + "'");
+    out.push_back(x);
+    if (comma == std::string::npos) return out;
+    from = comma + 1;
+  }
 }
 
 io::View viewNamed(const std::string& name) {

@@ -55,9 +55,21 @@ int runTransfer(const std::vector<std::string>& args) {
       "the Bode diagrams' frequencies FMIN,FMAX in Hz (default: a decade below the lowest to a decade above the "
       "highest eigenfrequency, at most five decades)")(
       "out", po::value(&out), "output prefix or folder (default: the model's name in the current folder)");
+  analysis::DampingOptions damping;
+  d.add_options()("damping-ratio", po::value<std::string>()->notifier([&](const std::string& v) {
+    damping.ratios = numberList(v, "damping-ratio");
+  }),
+                  "modal relative damping Z added to the model's EDAMP: one ratio for every mode, or Z1,Z2,... "
+                  "for modes 1, 2, ... (the last for the higher ones)")(
+      "rayleigh", po::value<std::string>()->notifier([&](const std::string& v) {
+        const std::vector<double> ab = numberList(v, "rayleigh");
+        if (ab.size() != 2) throw po::error("--rayleigh must be ALPHA,BETA, not '" + v + "'");
+        damping.alpha = ab[0], damping.beta = ab[1];
+      }),
+      "Rayleigh damping alpha M + beta K added (ALPHA,BETA in 1/s and s; beta K is EDAMP = beta * ESTIFF)");
   if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb transfer model.dat [--nev N] [--steps n] [--no-bode | --bode] "
-                             "[--freq-range FMIN,FMAX] [--out prefix]"))
+                             "usage: flexmb transfer model.dat [--nev N] [--steps n] [--damping-ratio Z[,Z2...]] "
+                             "[--rayleigh ALPHA,BETA] [--no-bode | --bode] [--freq-range FMIN,FMAX] [--out prefix]"))
     return *rc;
   if (noBode && fmin > 0.0) {
     std::cerr << "flexmb: --freq-range sets the Bode diagrams' frequencies: it cannot go with --no-bode\n";
@@ -67,6 +79,7 @@ int runTransfer(const std::vector<std::string>& args) {
   analysis::TransferOptions to;
   to.nev = nev;
   to.loadSteps = steps;
+  to.damping = damping;
   analysis::TransferJob job(modelSource(m), to);
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
@@ -76,6 +89,7 @@ int runTransfer(const std::vector<std::string>& args) {
   const std::string prefix = files.prefix();
   files.setting("command", "transfer");
   files.setting("model", m.file);
+  if (damping.any()) files.setting("added damping", analysis::dampingText(damping));
   if (fmin > 0.0) files.setting("Bode frequency range", text::shortest(fmin) + "," + text::shortest(fmax) + " Hz");
   Progress progress("transfer", !m.quiet);
   job.run({[&](int i, int total) { progress.update(i, total, "load steps"); }, nullptr, nullptr});
@@ -93,6 +107,7 @@ int runTransfer(const std::vector<std::string>& args) {
               << " states (dq, dqd in the order of M0), " << ni << " inputs, " << no << " outputs\n";
     for (Eigen::Index k = 0; k < ni; ++k) std::cout << "  input " << k + 1 << ": " << ss.inputNames[k] << "\n";
     for (Eigen::Index k = 0; k < no; ++k) std::cout << "  output " << k + 1 << ": " << ss.outputNames[k] << "\n";
+    if (damping.any()) std::cout << "  damping added to the model's: " << analysis::dampingText(damping) << "\n";
     if (const std::optional<Eigen::MatrixXd> G = analysis::staticGain(ss)) {
       std::cout << "  static gain -C A^-1 B + D (rows: outputs, columns: inputs):\n" << std::setprecision(8);
       for (Eigen::Index r = 0; r < no; ++r) {

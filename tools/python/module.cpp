@@ -23,6 +23,7 @@
 #include "analysis/Modes.hpp"
 #include "analysis/ModesJob.hpp"
 #include "analysis/OperatorPolicy.hpp"
+#include "analysis/Participation.hpp"
 #include "analysis/ReduceJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/ReductionFiles.hpp"
@@ -674,17 +675,43 @@ void bindModes(py::module_& m) {
       .def_property_readonly(
           "K0", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.system.K; },
           py::return_value_policy::reference_internal)
+      // The participation per global direction (analysis/Participation.hpp).
+      .def_property_readonly("directions", [](const ModesResult& r) { return r.modes.participation.directions; })
+      .def_property_readonly(
+          "gamma", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.participation.factors; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "meff", [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.participation.effective; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "meff_total", [](const ModesResult& r) -> const Eigen::VectorXd& { return r.modes.participation.total; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly(
+          "rigid_body_mass",
+          [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.participation.rigidBody; },
+          py::return_value_policy::reference_internal)
+      .def_property_readonly("mass", [](const ModesResult& r) { return r.modes.participation.mass(); })
+      .def_property_readonly("centre_of_mass",
+                             [](const ModesResult& r) { return r.modes.participation.centreOfMass(); })
+      .def_property_readonly("reference", [](const ModesResult& r) { return r.modes.participation.reference; })
       .def("write", [](const ModesResult& r, const std::string& prefix) {
-        return writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies));
+        std::vector<std::string> paths = {writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies))};
+        if (!r.modes.participation.empty())
+          paths.push_back(writeTable(prefix + "_participation.csv",
+                                     analysis::participationTable(r.modes.frequencies.omega, r.modes.participation)));
+        return paths;
       });
   m.def(
       "modes",
-      [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis) {
+      [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis,
+         const Eigen::Vector3d& referencePoint, int referenceNode) {
         const ModelPtr model = handle.last();
         ModesResult r;
         analysis::ModesOptions mo;
         mo.nev = nev;
         mo.basis.matrix = basis;
+        mo.reference.point = referencePoint;
+        mo.reference.node = referenceNode;
         analysis::ModesJob job(sourceOf(handle), std::move(mo));
         raiseIfRefused(job);
         {
@@ -699,7 +726,7 @@ void bindModes(py::module_& m) {
         r.model = model;
         return r;
       },
-      py::arg("model"), py::arg("nev"), py::arg("basis"));
+      py::arg("model"), py::arg("nev"), py::arg("basis"), py::arg("reference_point"), py::arg("reference_node"));
 }
 
 void bindSweep(py::module_& m) {
@@ -797,11 +824,14 @@ void bindTransfer(py::module_& m) {
       });
   m.def(
       "transfer",
-      [](const ModelHandle& handle, int nev, int loadSteps) {
+      [](const ModelHandle& handle, int nev, int loadSteps, const std::vector<double>& ratios, double alpha,
+         double beta) {
         const ModelPtr model = handle.last();
         TransferResultPy r;
         analysis::TransferOptions o;
         o.nev = nev, o.loadSteps = loadSteps;
+        o.damping.ratios = ratios;
+        o.damping.alpha = alpha, o.damping.beta = beta;
         analysis::TransferJob job(sourceOf(handle), o);
         raiseIfRefused(job);
         {
@@ -815,7 +845,8 @@ void bindTransfer(py::module_& m) {
         r.model = model;
         return r;
       },
-      py::arg("model"), py::arg("nev"), py::arg("load_steps"));
+      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("damping_ratio"), py::arg("alpha"),
+      py::arg("beta"));
 }
 
 void bindReduce(py::module_& m) {

@@ -81,11 +81,26 @@ def static(model, *, nev=6, load_steps=0, buckling=0):
                         _count(buckling, "buckling", 0))
 
 
-def modes(model, *, nev=6, basis=None):
+def modes(model, *, nev=6, basis=None, reference=None, reference_node=None):
     """Eigenfrequencies (Hz, `.freq`) and mode shapes (`.modes` in q, `.modex` in x) in the initial
-    configuration (`flexmb modes`)."""
+    configuration (`flexmb modes`), and per global direction (`.directions`: x, y, rz or x, y, z,
+    rx, ry, rz) the participation factors `.gamma` and effective masses `.meff` (modes by
+    directions), what all the modes carry `.meff_total`, the whole model's rigid-body mass matrix
+    `.rigid_body_mass`, `.mass` and `.centre_of_mass`. Rotations are about `reference` (x, y[, z];
+    default the origin) or the position node `reference_node`."""
     _model(model)
-    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model))
+    point = np.zeros(3)
+    node = 0
+    if reference is not None and reference_node is not None:
+        raise ValueError("reference and reference_node name the same point: give one")
+    if reference is not None:
+        values = [_real(v, "reference") for v in reference]
+        if len(values) not in (2, 3):
+            raise ValueError(f"reference: expected (x, y) or (x, y, z), got {len(values)} values")
+        point[:len(values)] = values
+    if reference_node is not None:
+        node = _count(reference_node, "reference_node", 1)
+    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node)
 
 
 def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0):
@@ -97,12 +112,27 @@ def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None,
                        _real(t, "t"))
 
 
-def transfer(model, *, nev=6, load_steps=0):
+def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None):
     """Mode 9: the state-space model A, B, C, D between the transfer block's inputs and outputs at
     the last load step (`flexmb transfer`); `.write(prefix, bode=True)` writes its files (A..D CSV,
-    SPACAR's .sbd/.sbm/.ltv, the Bode diagrams). nev: eigenfrequencies per load step in the .sbm."""
+    SPACAR's .sbd/.sbm/.ltv, the Bode diagrams). nev: eigenfrequencies per load step in the .sbm.
+    damping_ratio: modal relative damping added to the model's EDAMP, one ratio for every mode or a
+    list for modes 1, 2, ... (the last for the higher ones); rayleigh: (alpha, beta) adds
+    alpha M + beta K (beta K is EDAMP = beta * ESTIFF)."""
     _model(model)
-    return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0))
+    ratios = []
+    if damping_ratio is not None:
+        ratios = [_real(damping_ratio, "damping_ratio")] if isinstance(damping_ratio, numbers.Real) else \
+            [_real(z, "damping_ratio") for z in damping_ratio]
+        if not ratios or min(ratios) < 0:
+            raise ValueError(f"damping_ratio: expected ratios of at least 0, got {damping_ratio}")
+    alpha = beta = 0.0
+    if rayleigh is not None:
+        ab = [_real(v, "rayleigh") for v in rayleigh]
+        if len(ab) != 2 or min(ab) < 0:
+            raise ValueError(f"rayleigh: expected (alpha, beta), both at least 0, got {rayleigh}")
+        alpha, beta = ab
+    return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0), ratios, alpha, beta)
 
 
 def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weight=0.0, threshold=0.01, count=0,
@@ -147,7 +177,7 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
 
     integrator: "auto", "ode45", "bdf" or "galpha" (generalized-alpha). Default (None): auto, which runs
     galpha from the start on a model whose highest frequency would bound ode45's step, else ode45 until
-    its step is bound by stability; a reduced run with its reduced operators runs ode45. "ode45" is
+    its step is bound by stability (reduced runs alike; ode45 throughout with USERSIG). "ode45" is
     MATLAB's ode45 step by step (SPACAR's integrator). rho_inf (0 ... 1, default 0.8): galpha's
     spectral radius at infinite step (with galpha or auto only; given alone, it asks for auto).
 
