@@ -30,10 +30,10 @@ function out = checksbf(file)
     out = info;
     return;
   end
-  printf('%s: %d variables, %d stored steps (tdef)\n', file, numel(names), tdef);
+  fprintf('%s: %d variables, %d stored steps (tdef)\n', file, numel(names), tdef);
   what = struct('rows', 'per step (row k = step k)', 'pages', 'per step (page k = step k)', 'fixed', '');
   for k = 1:numel(info)
     dims = sprintf('%d x ', info(k).size);
-    printf('  %-12s %-16s %-7s %s\n', info(k).name, dims(1:end - 3), info(k).class, what.(info(k).kind));
+    fprintf('  %-12s %-16s %-7s %s\n', info(k).name, dims(1:end - 3), info(k).class, what.(info(k).kind));
   end
 end

@@ -127,6 +127,43 @@ void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
 }
 
+// The result files of a run: each written on its own (one that cannot be written, for a full disk,
+// no permission or a folder of that name, is named in run.unwritten) and the variables of the .sbd
+// and .sbm put into run.vars from memory, whatever happened to the files.
+void writeAndAssign(const std::string& name, bool silent, const core::Model& model, const io::SpacarResults& results,
+                    Run& run) {
+  std::vector<io::SpacarFileContents> files;
+  try {
+    files = io::spacarResultFiles(name, model, results);
+  } catch (const std::exception& e) {
+    if (run.error.empty()) run.error = e.what();
+    return;
+  }
+  // Each file on its own: one that cannot be written (full disk, a folder of that name, no
+  // permission) is named in a warning; the workspace gets the variables from memory all the same.
+  std::vector<std::string> written, tried;
+  for (const auto& f : files) {
+    tried.push_back(f.path);
+    try {
+      io::writeSpacarFile(f);
+      written.push_back(f.path);
+      say(silent, "spacar: wrote " + f.path + "\n");
+    } catch (const std::exception& e) {
+      run.unwritten += std::string(run.unwritten.empty() ? "" : ", ") + f.path + " (" + e.what() + ")";
+    }
+  }
+  // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's
+  // (a file this run tried and failed to write is not an earlier run's).
+  if (!written.empty() && written[0] == files[0].path)
+    for (const auto& p : io::removeStaleSpacarCompanions(tried))
+      say(silent, "spacar: " + io::describeRemovedStale(p) + "\n");
+  for (auto& f : files)
+    if (f.path.size() > 4 && f.path.compare(f.path.size() - 4, 4, ".ltv") != 0) toVariables(f, run.vars);
+  // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.
+  for (std::size_t k = 0, n = run.vars.size(); k < n; ++k)
+    if (run.vars[k].first == "fxt") run.vars.emplace_back("fxtot", mxDuplicateArray(run.vars[k].second));
+}
+
 // Modes 1, 3 (with TIMESTEP) and 4: the simulate job (analysis/SimulateJob.hpp: reduced with
 // opts.target), what it says in `out`, and SPACAR's results from it. False (run.error set) when the
 // run is refused before it starts.
@@ -381,36 +418,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   say(silent, out.str());
   if (!results.warning.empty() && !silent)
     mexWarnMsgIdAndTxt("flexmb:spacar:kinematics", "%s: %s", datFile.c_str(), results.warning.c_str());
-  std::vector<io::SpacarFileContents> files;
-  try {
-    files = io::spacarResultFiles(name, *resultModel, results);
-  } catch (const std::exception& e) {
-    if (run.error.empty()) run.error = e.what();
-    return;
-  }
-  // Each file on its own: one that cannot be written (full disk, a folder of that name, no
-  // permission) is named in a warning; the workspace gets the variables from memory all the same.
-  std::vector<std::string> written, tried;
-  for (const auto& f : files) {
-    tried.push_back(f.path);
-    try {
-      io::writeSpacarFile(f);
-      written.push_back(f.path);
-      say(silent, "spacar: wrote " + f.path + "\n");
-    } catch (const std::exception& e) {
-      run.unwritten += std::string(run.unwritten.empty() ? "" : ", ") + f.path + " (" + e.what() + ")";
-    }
-  }
-  // getfrsbf reads <name>.sbd with <name>.sbm: an earlier run's .sbm must not pass for this one's
-  // (a file this run tried and failed to write is not an earlier run's).
-  if (!written.empty() && written[0] == files[0].path)
-    for (const auto& p : io::removeStaleSpacarCompanions(tried))
-      say(silent, "spacar: " + io::describeRemovedStale(p) + "\n");
-  for (auto& f : files)
-    if (f.path.size() > 4 && f.path.compare(f.path.size() - 4, 4, ".ltv") != 0) toVariables(f, run.vars);
-  // SPACAR's workspace name of the total nodal forces (the .sbd's fxt): FIS and oopspa read fxtot.
-  for (std::size_t k = 0, n = run.vars.size(); k < n; ++k)
-    if (run.vars[k].first == "fxt") run.vars.emplace_back("fxtot", mxDuplicateArray(run.vars[k].second));
+  writeAndAssign(name, silent, *resultModel, results, run);
 }
 
 }  // namespace

@@ -163,6 +163,9 @@ function h = spadrawFigure(h, name)
                 'Position', [0.2 0.08 0.78 0.9]);
   n = numel(h.elements);
   h.lines = zeros(n, 1);
+  if exist('gobjects')  % MATLAB: graphics objects, not numbers
+    h.lines = gobjects(n, 1);
+  end
   for k = 1:n
     args = {'Parent', h.axes, 'XData', h.X(k, :, h.step), 'YData', h.Y(k, :, h.step), 'Color', h.color(k, :), ...
             'LineWidth', 2};
