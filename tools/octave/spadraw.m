@@ -2,8 +2,8 @@ function h = spadraw(name, step)
 % SPADRAW  The mechanism of a result file name.sbd in a MATLAB/Octave figure, as SPACAR's spadraw.
 %   spadraw(name)        draws the elements of name.sbd (name without the extension, as SPACAR's;
 %                        'name.sbd' is taken too) at its first stored step, with a slider over the
-%                        stored steps (the output times) when there are several (not in a visible
-%                        figure of Octave's gnuplot toolkit, which has none); the figure is named
+%                        stored steps (the output times) when there are several (not with Octave's
+%                        gnuplot toolkit, which draws no uicontrol); the figure is named
 %                        'Spacar: name [k/tdef] t = ...'.
 %   spadraw(name, k)     at stored step k (1..tdef).
 %   spadraw()            asks for the file (uigetfile), as SPACAR's.
@@ -16,8 +16,9 @@ function h = spadraw(name, step)
 % (green, q = ln(:, 2)), 10 PLPINBODY (red), 15 PLTUBE (orange); spatial 1 BEAM (blue, q = ln(:, 3)),
 % 2 TRUSS (green, q = ln(:, 2)), 9 PINBODY (red), 16 TUBE (orange), 17 SCREW (purple), 18 BEAMW
 % (light blue, q = ln(:, 4)); p is ln(:, 1). flexmb adds its RBEAM (code 103, grey, q = ln(:, 3)),
-% which SPACAR's spadraw does not know; hinges are not drawn. Axes: equal scales, limits over every
-% stored step; a spatial model is seen from azimuth 130, elevation 40.
+% which SPACAR's spadraw does not know; hinges are not drawn. Axes: equal scales (not for a spatial
+% model with Octave's gnuplot toolkit, which cannot show them), limits over every stored step; a
+% spatial model is seen from azimuth 130, elevation 40.
 % Without graphics (octave-cli without a display or gnuplot, or a figure that cannot be made) it
 % draws nothing, says why, and returns h with figure [] and the coordinates all the same; flexmb's
 % SVG picture of a model is spavisual(name).
@@ -159,8 +160,10 @@ function h = spadrawFigure(h, name)
     clf(f);
   end
   h.figure = f;
-  h.axes = axes('Parent', f, 'DataAspectRatio', [1 1 1], 'XGrid', 'on', 'YGrid', 'on', 'ZGrid', 'on', ...
-                'Position', [0.2 0.08 0.78 0.9]);
+  h.axes = axes('Parent', f, 'XGrid', 'on', 'YGrid', 'on', 'ZGrid', 'on', 'Position', [0.2 0.08 0.78 0.9]);
+  if h.ndim == 2 || spadrawHasControls(f)  % equal scales (gnuplot shrinks a 3-D plot with them to a dot)
+    set(h.axes, 'DataAspectRatio', [1 1 1]);
+  end
   n = numel(h.elements);
   h.lines = zeros(n, 1);
   if exist('gobjects')  % MATLAB: graphics objects, not numbers
@@ -174,17 +177,21 @@ function h = spadrawFigure(h, name)
     end
     h.lines(k) = line(args{:});
   end
-  lims = {'XLim', h.X; 'YLim', h.Y; 'ZLim', h.Z};
+  % Limits over every stored step, padded by 5 % of the largest extent (so that a model flat in one
+  % direction, such as a planar mechanism drawn in 3-D, keeps a visible depth).
+  coords = {h.X, h.Y, h.Z};
+  lo = zeros(1, h.ndim);
+  hi = zeros(1, h.ndim);
   for a = 1:h.ndim
-    v = lims{a, 2};
-    lo = min(v(:));
-    hi = max(v(:));
-    if isempty(lo)
-      lo = 0;
-      hi = 0;
+    if ~isempty(coords{a})
+      lo(a) = min(coords{a}(:));
+      hi(a) = max(coords{a}(:));
     end
-    pad = max(1e-14, 0.05 * (hi - lo));
-    set(h.axes, lims{a, 1}, [lo - pad, hi + pad]);
+  end
+  pad = max(0.05 * max(hi - lo), 1e-14);
+  names = {'XLim', 'YLim', 'ZLim'};
+  for a = 1:h.ndim
+    set(h.axes, names{a}, [lo(a) - pad, hi(a) + pad]);
   end
   if h.ndim == 3
     view(h.axes, [130 40]);
@@ -198,10 +205,10 @@ function h = spadrawFigure(h, name)
   spadrawShow(f, h.step);
 end
 
-% Whether figure f can show a slider: Octave's gnuplot toolkit draws no uicontrol (an invisible
-% figure, never drawn, may hold one).
+% Whether figure f can show a slider: Octave's gnuplot toolkit draws no uicontrol (a figure holding
+% one can neither be shown nor printed there).
 function yes = spadrawHasControls(f)
-  yes = ~(exist('graphics_toolkit') && strcmp(graphics_toolkit(f), 'gnuplot') && strcmp(get(f, 'Visible'), 'on'));
+  yes = ~(exist('graphics_toolkit') && strcmp(graphics_toolkit(f), 'gnuplot'));
 end
 
 % Slider: the nearest stored step.
