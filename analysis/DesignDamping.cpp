@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -59,6 +60,17 @@ Eigen::MatrixXd designDamping(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K
   if (o.alpha != 0.0) C += o.alpha * M;
   if (o.beta != 0.0) C += o.beta * K0;
   return C;
+}
+
+Eigen::VectorXd modalDampingRatios(const Eigen::MatrixXd& modes, const Eigen::VectorXd& omega, const Eigen::MatrixXd& M,
+                                   const Eigen::MatrixXd& C) {
+  Eigen::VectorXd zeta(modes.cols());
+  for (Eigen::Index i = 0; i < modes.cols(); ++i) {
+    const Eigen::VectorXd phi = modes.col(i);
+    zeta[i] = omega[i] > 0.0 ? phi.dot(C * phi) / (2.0 * omega[i] * phi.dot(M * phi))
+                             : std::numeric_limits<double>::quiet_NaN();
+  }
+  return zeta;
 }
 
 }  // namespace flexmb::analysis

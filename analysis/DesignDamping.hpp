@@ -40,4 +40,11 @@ Eigen::MatrixXd modalDamping(const Eigen::MatrixXd& M, const Eigen::MatrixXd& Kt
 Eigen::MatrixXd designDamping(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K0, const Eigen::MatrixXd& Kt,
                               const DampingOptions& options);
 
+// The damping ratio each mode has, zeta_i = phi_i^T C phi_i / (2 omega_i mu_i) with
+// mu_i = phi_i^T M phi_i (modes: columns; omega rad/s): exact for modal and Rayleigh damping (C
+// diagonal in the modes), the modes' own share of any other C (EDAMP on some elements only couples
+// the modes). NaN for omega_i <= 0.
+Eigen::VectorXd modalDampingRatios(const Eigen::MatrixXd& modes, const Eigen::VectorXd& omega, const Eigen::MatrixXd& M,
+                                   const Eigen::MatrixXd& C);
+
 }  // namespace flexmb::analysis

@@ -110,9 +110,11 @@ ModalParticipation modalParticipation(const core::Model& model, const Eigen::Vec
   return out;
 }
 
-io::CsvTable participationTable(const Eigen::VectorXd& omega, const ModalParticipation& p) {
+io::CsvTable participationTable(const Eigen::VectorXd& omega, const ModalParticipation& p,
+                                const Eigen::VectorXd* zeta) {
   io::CsvTable t;
   t.columns = {"mode", "f_Hz"};
+  if (zeta) t.columns.push_back("zeta");
   for (const auto& d : p.directions) t.columns.push_back("gamma_" + d);
   for (const auto& d : p.directions) t.columns.push_back("meff_" + d);
   for (const auto& d : p.directions) t.columns.push_back("meff_" + d + "_pct");
@@ -121,6 +123,7 @@ io::CsvTable participationTable(const Eigen::VectorXd& omega, const ModalPartici
   Eigen::VectorXd cum = Eigen::VectorXd::Zero(nd);
   for (Eigen::Index i = 0; i < p.effective.rows(); ++i) {
     std::vector<double> row = {static_cast<double>(i + 1), omega[i] / (2 * M_PI)};
+    if (zeta) row.push_back((*zeta)[i]);
     for (Eigen::Index d = 0; d < nd; ++d) row.push_back(p.factors(i, d));
     for (Eigen::Index d = 0; d < nd; ++d) row.push_back(p.effective(i, d));
     cum += p.effective.row(i).transpose();

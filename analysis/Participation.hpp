@@ -64,6 +64,8 @@ ModalParticipation modalParticipation(const core::Model& model, const Eigen::Vec
 // gamma_<d> per direction, meff_<d> per direction, meff_<d>_pct (of m_d) and meff_<d>_cum_pct (the
 // sum over the modes so far, of m_d; its last row is the sum over the modes computed). Empty cells
 // where m_d is not known (Mbar singular) or zero.
-io::CsvTable participationTable(const Eigen::VectorXd& omega, const ModalParticipation& p);
+// zeta (non-null, one per mode): a column `zeta` after f_Hz, each mode's damping ratio.
+io::CsvTable participationTable(const Eigen::VectorXd& omega, const ModalParticipation& p,
+                                const Eigen::VectorXd* zeta = nullptr);
 
 }  // namespace flexmb::analysis

@@ -2,7 +2,8 @@
 // against closed forms: a mass on a spring with modal ratio zeta has A = [0 1; -w^2, -2 zeta w] and
 // the peak |H(i w_n)| = 1 / (2 zeta k), its poles -zeta w +- i w sqrt(1 - zeta^2); Rayleigh's beta
 // gives the same state-space model as EDAMP = beta * ESTIFF (base motion and support force
-// included), alpha adds alpha to A's damping entry; on the spatial parallel leaf-spring stage every
+// included), alpha adds alpha to A's damping entry; modes say each mode's ratio (EDAMP = beta *
+// ESTIFF: beta w / 2; Rayleigh: alpha / 2w + beta w / 2); on the spatial parallel leaf-spring stage every
 // undamped mode i is damped alone, by 2 zeta_i w_i.
 #include <gtest/gtest.h>
 
@@ -10,11 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "analysis/DesignDamping.hpp"
+#include "analysis/ModesJob.hpp"
 #include "analysis/Transfer.hpp"
 #include "io/formats/DatReader.hpp"
 #include "text/NumberText.hpp"
@@ -137,4 +140,44 @@ TEST(DesignDamping, RefusesNegativeOrNonFiniteValues) {
   EXPECT_EQ(analysis::dampingRefusal(o), "");
   EXPECT_NE(analysis::dampingText(o).find("beta " + text::shortest(1e-4) + " s"), std::string::npos)
       << analysis::dampingText(o);
+}
+
+TEST(DesignDamping, ModesSayEachModesRatioFromEdampAndTheOptions) {
+  // The straight guidance unloaded (G0 = 0): EDAMP = beta * ESTIFF gives mode i beta w_i / 2,
+  // Rayleigh alpha + beta on the bare file alpha / (2 w_i) + beta w_i / 2, a modal ratio itself.
+  std::ifstream in(std::string(FLEXMB_SOURCE_DIR) + "/datfiles/straight_guidance.dat");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string bare = buffer.str();
+  const double beta = 1e-4, alpha = 0.5;
+  std::ostringstream edamp;
+  for (int e : {1, 2, 3, 4, 5, 11, 12, 13, 14, 15})
+    edamp << "EDAMP " << e << " " << beta * 6.3e6 << " " << beta * 0.525 << "\n";
+  std::string damped = bare;
+  const std::size_t at = damped.find("% Eq. 24");
+  ASSERT_NE(at, std::string::npos);
+  damped.insert(at, edamp.str());
+  auto ratios = [](const std::string& text, const analysis::DampingOptions& d) {
+    analysis::ModesOptions o;
+    o.nev = 5;
+    o.damping = d;
+    analysis::ModesJob job(analysis::sourceOfModel(io::readDatString(text, "g.dat")), o);
+    EXPECT_EQ(job.run(), analysis::JobStatus::Completed);
+    return std::make_pair(job.dampingRatios(), Eigen::VectorXd(job.result().frequencies.omega));
+  };
+  const auto [none, w0] = ratios(bare, {});
+  EXPECT_EQ(none.size(), 0);  // undamped: no ratios
+  const auto [byEdamp, w] = ratios(damped, {});
+  ASSERT_EQ(byEdamp.size(), 5);
+  analysis::DampingOptions o;
+  o.alpha = alpha, o.beta = beta;
+  const auto [byRayleigh, w1] = ratios(bare, o);
+  o = {};
+  o.ratios = {0.02, 0.05};
+  const auto [byRatio, w2] = ratios(bare, o);
+  for (Eigen::Index i = 0; i < 5; ++i) {
+    EXPECT_NEAR(byEdamp[i], beta * w[i] / 2, 1e-9 * beta * w[i]) << "mode " << i + 1;
+    EXPECT_NEAR(byRayleigh[i], alpha / (2 * w[i]) + beta * w[i] / 2, 1e-9 * byRayleigh[i]) << "mode " << i + 1;
+    EXPECT_NEAR(byRatio[i], i == 0 ? 0.02 : 0.05, 1e-9) << "mode " << i + 1;
+  }
 }

@@ -115,10 +115,13 @@ int runModes(const std::vector<std::string>& args) {
                   "the point X,Y[,Z] the effective masses' rotations are about (default: the origin)")(
       "reference-node", po::value(&referenceNode)->notifier(atLeast("reference-node", 1)),
       "rotations about this position node instead");
+  analysis::DampingOptions damping;  // for the modes' damping ratios
+  addDampingOptions(d, damping);
   addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--reference X,Y[,Z] | "
-                             "--reference-node N] [--out name] [--svg file.svg] [--view xy|xz|yz|iso] "
+                             "--reference-node N] [--damping-ratio Z[,Z2...]] [--rayleigh ALPHA,BETA] [--out name] "
+                             "[--svg file.svg] [--view xy|xz|yz|iso] "
                              "[--html [file.html]] [--vtk [prefix]]"))
     return *rc;
   analysis::ReferencePoint reference;
@@ -142,6 +145,7 @@ int runModes(const std::vector<std::string>& args) {
   mo.nev = nev;
   mo.basis.file = basisFile;
   mo.reference = reference;
+  mo.damping = damping;
   analysis::ModesJob job(modelSource(m), mo);
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
@@ -165,6 +169,14 @@ int runModes(const std::vector<std::string>& args) {
   const analysis::Frequencies& fr = im.frequencies;
   std::cout << "eigenfrequencies in the initial configuration (" << im.eta.size() << " degrees of freedom):\n";
   printFrequencies(std::cout, fr.omega);
+  const Eigen::VectorXd& zeta = job.dampingRatios();
+  if (zeta.size()) {
+    std::cout << "damping ratio per mode (phi^T C phi / (2 omega mu); C: the model's EDAMP"
+              << (damping.any() ? " + " + analysis::dampingText(damping) : std::string()) << "):\n";
+    for (Eigen::Index i = 0; i < zeta.size(); ++i)
+      std::cout << "  " << std::setw(4) << i + 1 << "   " << std::setprecision(6) << zeta[i] << "\n";
+    if (damping.any()) files.setting("added damping", analysis::dampingText(damping));
+  }
   if (!im.participation.empty()) {
     printParticipation(std::cout, model, fr.omega, im.participation);
     for (std::size_t k = 0; k < im.participation.directions.size(); ++k)
@@ -180,8 +192,9 @@ int runModes(const std::vector<std::string>& args) {
     // The frequencies' table every front end writes (analysis::modesTable).
     io::writeTextFile(files.temporaryFor("_modes.csv"), io::formatCsv(analysis::modesTable(fr)));
     if (!im.participation.empty())  // analysis::participationTable, as Python's write
-      io::writeTextFile(files.temporaryFor("_participation.csv"),
-                        io::formatCsv(analysis::participationTable(fr.omega, im.participation)));
+      io::writeTextFile(
+          files.temporaryFor("_participation.csv"),
+          io::formatCsv(analysis::participationTable(fr.omega, im.participation, zeta.size() ? &zeta : nullptr)));
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
     sayRemovedStale(files.removedStale());
   } catch (const std::exception& e) {

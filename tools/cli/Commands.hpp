@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
 
+#include "analysis/DesignDamping.hpp"
 #include "analysis/ModelJob.hpp"
 #include "analysis/ModelSource.hpp"
 #include "core/model/Model.hpp"
@@ -97,6 +98,9 @@ std::function<void(const double&)> finite(const char* option);
 std::function<void(const int&)> atLeast(const char* option, int minimum);
 // A comma-separated list of finite numbers ("0.01,0.02"); else a usage error naming --option.
 std::vector<double> numberList(const std::string& text, const char* option);
+// --damping-ratio Z[,Z2...] and --rayleigh ALPHA,BETA (transfer, modes): the damping a designer
+// states, added to the model's EDAMP (analysis/DesignDamping.hpp).
+void addDampingOptions(boost::program_options::options_description& d, analysis::DampingOptions& damping);
 
 // --view of the picture commands (show, modes, static, sweep): auto, xy, xz, yz or iso, anything else
 // a usage error; viewNamed reads the checked value (empty: auto).

@@ -103,6 +103,20 @@ std::vector<double> numberList(const std::string& text, const char* option) {
   }
 }
 
+void addDampingOptions(po::options_description& d, analysis::DampingOptions& damping) {
+  d.add_options()("damping-ratio", po::value<std::string>()->notifier([&damping](const std::string& v) {
+    damping.ratios = numberList(v, "damping-ratio");
+  }),
+                  "modal relative damping Z added to the model's EDAMP: one ratio for every mode, or Z1,Z2,... "
+                  "for modes 1, 2, ... (the last for the higher ones)")(
+      "rayleigh", po::value<std::string>()->notifier([&damping](const std::string& v) {
+        const std::vector<double> ab = numberList(v, "rayleigh");
+        if (ab.size() != 2) throw po::error("--rayleigh must be ALPHA,BETA, not '" + v + "'");
+        damping.alpha = ab[0], damping.beta = ab[1];
+      }),
+      "Rayleigh damping alpha M + beta K added (ALPHA,BETA in 1/s and s; beta K is EDAMP = beta * ESTIFF)");
+}
+
 io::View viewNamed(const std::string& name) {
   if (name == "xy") return io::View::XY;
   if (name == "xz") return io::View::XZ;

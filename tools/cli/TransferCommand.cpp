@@ -56,17 +56,7 @@ int runTransfer(const std::vector<std::string>& args) {
       "highest eigenfrequency, at most five decades)")(
       "out", po::value(&out), "output prefix or folder (default: the model's name in the current folder)");
   analysis::DampingOptions damping;
-  d.add_options()("damping-ratio", po::value<std::string>()->notifier([&](const std::string& v) {
-    damping.ratios = numberList(v, "damping-ratio");
-  }),
-                  "modal relative damping Z added to the model's EDAMP: one ratio for every mode, or Z1,Z2,... "
-                  "for modes 1, 2, ... (the last for the higher ones)")(
-      "rayleigh", po::value<std::string>()->notifier([&](const std::string& v) {
-        const std::vector<double> ab = numberList(v, "rayleigh");
-        if (ab.size() != 2) throw po::error("--rayleigh must be ALPHA,BETA, not '" + v + "'");
-        damping.alpha = ab[0], damping.beta = ab[1];
-      }),
-      "Rayleigh damping alpha M + beta K added (ALPHA,BETA in 1/s and s; beta K is EDAMP = beta * ESTIFF)");
+  addDampingOptions(d, damping);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb transfer model.dat [--nev N] [--steps n] [--damping-ratio Z[,Z2...]] "
                              "[--rayleigh ALPHA,BETA] [--no-bode | --bode] [--freq-range FMIN,FMAX] [--out prefix]"))

@@ -367,6 +367,7 @@ struct ModesResult {
   analysis::Diagnostics diagnostics;
   analysis::InitialModes modes;
   Eigen::VectorXd freq;  // Hz
+  Eigen::VectorXd zeta;  // damping ratio per mode (empty: undamped)
 };
 
 struct SweepResultPy {
@@ -690,6 +691,7 @@ void bindModes(py::module_& m) {
           "rigid_body_mass",
           [](const ModesResult& r) -> const Eigen::MatrixXd& { return r.modes.participation.rigidBody; },
           py::return_value_policy::reference_internal)
+      .def_readonly("zeta", &ModesResult::zeta)
       .def_property_readonly("mass", [](const ModesResult& r) { return r.modes.participation.mass(); })
       .def_property_readonly("centre_of_mass",
                              [](const ModesResult& r) { return r.modes.participation.centreOfMass(); })
@@ -698,13 +700,15 @@ void bindModes(py::module_& m) {
         std::vector<std::string> paths = {writeTable(prefix + "_modes.csv", analysis::modesTable(r.modes.frequencies))};
         if (!r.modes.participation.empty())
           paths.push_back(writeTable(prefix + "_participation.csv",
-                                     analysis::participationTable(r.modes.frequencies.omega, r.modes.participation)));
+                                     analysis::participationTable(r.modes.frequencies.omega, r.modes.participation,
+                                                                  r.zeta.size() ? &r.zeta : nullptr)));
         return paths;
       });
   m.def(
       "modes",
       [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis,
-         const Eigen::Vector3d& referencePoint, int referenceNode) {
+         const Eigen::Vector3d& referencePoint, int referenceNode, const std::vector<double>& ratios, double alpha,
+         double beta) {
         const ModelPtr model = handle.last();
         ModesResult r;
         analysis::ModesOptions mo;
@@ -712,6 +716,8 @@ void bindModes(py::module_& m) {
         mo.basis.matrix = basis;
         mo.reference.point = referencePoint;
         mo.reference.node = referenceNode;
+        mo.damping.ratios = ratios;
+        mo.damping.alpha = alpha, mo.damping.beta = beta;
         analysis::ModesJob job(sourceOf(handle), std::move(mo));
         raiseIfRefused(job);
         {
@@ -722,11 +728,13 @@ void bindModes(py::module_& m) {
           throw std::runtime_error(analysis::firstError(job.diagnostics()));
         r.modes = job.result();
         r.diagnostics = job.diagnostics();
+        r.zeta = job.dampingRatios();
         r.freq = r.modes.frequencies.omega / (2 * M_PI);
         r.model = model;
         return r;
       },
-      py::arg("model"), py::arg("nev"), py::arg("basis"), py::arg("reference_point"), py::arg("reference_node"));
+      py::arg("model"), py::arg("nev"), py::arg("basis"), py::arg("reference_point"), py::arg("reference_node"),
+      py::arg("damping_ratio"), py::arg("alpha"), py::arg("beta"));
 }
 
 void bindSweep(py::module_& m) {

@@ -81,13 +81,14 @@ def static(model, *, nev=6, load_steps=0, buckling=0):
                         _count(buckling, "buckling", 0))
 
 
-def modes(model, *, nev=6, basis=None, reference=None, reference_node=None):
+def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damping_ratio=None, rayleigh=None):
     """Eigenfrequencies (Hz, `.freq`) and mode shapes (`.modes` in q, `.modex` in x) in the initial
     configuration (`flexmb modes`), and per global direction (`.directions`: x, y, rz or x, y, z,
     rx, ry, rz) the participation factors `.gamma` and effective masses `.meff` (modes by
     directions), what all the modes carry `.meff_total`, the whole model's rigid-body mass matrix
     `.rigid_body_mass`, `.mass` and `.centre_of_mass`. Rotations are about `reference` (x, y[, z];
-    default the origin) or the position node `reference_node`."""
+    default the origin) or the position node `reference_node`. `.zeta`: each mode's damping ratio
+    from the model's EDAMP and damping_ratio / rayleigh (as `transfer`'s); empty when undamped."""
     _model(model)
     point = np.zeros(3)
     node = 0
@@ -100,7 +101,8 @@ def modes(model, *, nev=6, basis=None, reference=None, reference_node=None):
         point[:len(values)] = values
     if reference_node is not None:
         node = _count(reference_node, "reference_node", 1)
-    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node)
+    ratios, alpha, beta = _damping(damping_ratio, rayleigh)
+    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node, ratios, alpha, beta)
 
 
 def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0):
@@ -120,18 +122,7 @@ def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None):
     list for modes 1, 2, ... (the last for the higher ones); rayleigh: (alpha, beta) adds
     alpha M + beta K (beta K is EDAMP = beta * ESTIFF)."""
     _model(model)
-    ratios = []
-    if damping_ratio is not None:
-        ratios = [_real(damping_ratio, "damping_ratio")] if isinstance(damping_ratio, numbers.Real) else \
-            [_real(z, "damping_ratio") for z in damping_ratio]
-        if not ratios or min(ratios) < 0:
-            raise ValueError(f"damping_ratio: expected ratios of at least 0, got {damping_ratio}")
-    alpha = beta = 0.0
-    if rayleigh is not None:
-        ab = [_real(v, "rayleigh") for v in rayleigh]
-        if len(ab) != 2 or min(ab) < 0:
-            raise ValueError(f"rayleigh: expected (alpha, beta), both at least 0, got {rayleigh}")
-        alpha, beta = ab
+    ratios, alpha, beta = _damping(damping_ratio, rayleigh)
     return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0), ratios, alpha, beta)
 
 
@@ -262,6 +253,23 @@ def _write_transfer(self, prefix, *, bode=True):
 
 _core.TransferResult._write = _core.TransferResult.write
 _core.TransferResult.write = _write_transfer
+
+
+def _damping(damping_ratio, rayleigh):
+    """modes' and transfer's damping_ratio (a ratio or a list per mode) and rayleigh (alpha, beta)."""
+    ratios = []
+    if damping_ratio is not None:
+        ratios = [_real(damping_ratio, "damping_ratio")] if isinstance(damping_ratio, numbers.Real) else \
+            [_real(z, "damping_ratio") for z in damping_ratio]
+        if not ratios or min(ratios) < 0:
+            raise ValueError(f"damping_ratio: expected ratios of at least 0, got {damping_ratio}")
+    alpha = beta = 0.0
+    if rayleigh is not None:
+        ab = [_real(v, "rayleigh") for v in rayleigh]
+        if len(ab) != 2 or min(ab) < 0:
+            raise ValueError(f"rayleigh: expected (alpha, beta), both at least 0, got {rayleigh}")
+        alpha, beta = ab
+    return ratios, alpha, beta
 
 
 def _need(value, kind, name):

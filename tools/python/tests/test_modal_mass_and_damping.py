@@ -68,3 +68,13 @@ def test_rayleigh_beta_is_edamp():
         flexmb.transfer(flexmb.parse(spring_mass(m, k, 0.0)), damping_ratio=-0.1)
     with pytest.raises(ValueError, match="rayleigh"):
         flexmb.transfer(flexmb.parse(spring_mass(m, k, 0.0)), rayleigh=(1.0,))
+
+
+def test_modes_say_each_modes_damping_ratio():
+    model = flexmb.read(GUIDANCE)
+    assert flexmb.modes(model, nev=3).zeta.size == 0  # no EDAMP, nothing added
+    alpha, beta = 0.5, 1e-4
+    r = flexmb.modes(model, nev=3, rayleigh=(alpha, beta))
+    w = 2 * np.pi * r.freq
+    assert np.allclose(r.zeta, alpha / (2 * w) + beta * w / 2, rtol=1e-9)
+    assert np.allclose(flexmb.modes(model, nev=3, damping_ratio=[0.01, 0.04]).zeta, [0.01, 0.04, 0.04], rtol=1e-9)
