@@ -213,7 +213,8 @@ function [text, h] = evalc_spadraw(varargin)
   text = evalc('h = spadraw(varargin{:});');
 end
 
-% With graphics: one line per element at the step, the slider moves them. Without: a note.
+% With graphics: one line per element at the step, the slider moves them (a toolkit with uicontrols;
+% the lines at another step: spadraw(name, k) above). Without graphics: a note.
 function check_figure(h, text, step)
   if isempty(h.figure)
     assert(~isempty(strfind(text, 'not drawn')) && isempty(h.lines), 'spadraw without graphics said: %s', text);
@@ -225,7 +226,9 @@ function check_figure(h, text, step)
     assert(isequal(get(h.lines(k), 'XData'), h.X(k, :, step)), 'spadraw: line %d x', k);
     assert(isequal(get(h.lines(k), 'Color'), h.color(k, :)), 'spadraw: line %d colour', k);
   end
-  if numel(h.time) > 1
+  if numel(h.time) > 1 && isempty(h.slider)  % Octave's gnuplot toolkit draws no uicontrol
+    assert(strcmp(graphics_toolkit(h.figure), 'gnuplot'), 'spadraw: no slider over %d steps', numel(h.time));
+  elseif numel(h.time) > 1
     set(h.slider, 'Value', numel(h.time));
     cb = get(h.slider, 'Callback');
     cb(h.slider, []);
