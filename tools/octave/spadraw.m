@@ -7,7 +7,7 @@ function h = spadraw(name, step)
 %                        'Spacar: name [k/tdef] t = ...'.
 %   spadraw(name, k)     at stored step k (1..tdef).
 %   spadraw()            asks for the file (uigetfile), as SPACAR's.
-%   h = spadraw(...)     a struct: figure, axes, lines (one line per drawn element), slider, step,
+%   h = spadraw(...)     (only when asked for) a struct: figure, axes, lines (one line per drawn element), slider, step,
 %                        ndim (2 or 3), elements (labels), codes (it), p and q (node labels), color
 %                        (one RGB row per element), time, and X, Y, Z (elements x 2 x tdef: the
 %                        coordinates of p and q at every stored step; Z is [] in a planar model).
@@ -56,9 +56,7 @@ function h = spadraw(name, step)
     try
       h = spadrawFigure(h, name);
     catch err
-      if ~isempty(h.figure) && ishandle(h.figure)
-        delete(h.figure);
-      end
+      delete(findobj(0, 'Type', 'figure', 'Tag', 'SpaDraw'));  % what was made of it
       h.figure = [];
       h.axes = [];
       h.lines = [];
@@ -69,6 +67,9 @@ function h = spadraw(name, step)
   if ~isempty(why)
     fprintf('spadraw: %s.sbd not drawn (%s); the coordinates are in the returned struct, spavisual(''%s'') writes an SVG picture\n', ...
             name, why, name);
+  end
+  if nargout == 0
+    clear h;  % spadraw(name) without a semicolon (oopspa's test_slidercrank.m) prints no struct
   end
 end
 

@@ -182,6 +182,9 @@ function check_spadraw_planar()
   end
   assert(abs(h.Y(2, 2, 5) - d.x(5, d.lnp(3, 2))) == 0 && h.Y(2, 2, 5) < 0, 'spadraw: the loaded tip moves down');
   check_figure(h, text, 1);
+  % oopspa's test_slidercrank.m ends with spadraw(name), no semicolon: nothing printed but a note.
+  quiet = evalc('spadraw(''cant'')');
+  assert(isempty(strfind(quiet, 'elements')) && isempty(strfind(quiet, 'ans')), 'spadraw(name) printed %s', quiet);
   [text, h5] = evalc_spadraw('cant.sbd', 5);
   assert(h5.step == 5, 'spadraw at step 5');
   check_figure(h5, text, 5);
