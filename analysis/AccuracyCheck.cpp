@@ -107,7 +107,7 @@ core::AccuracyEstimate runWindows(const core::Model& model, const SimulationOpti
     o.keepStates = false;
     o.accuracyCheck = false;
     if (o.integrator == Integrator::Auto && w.ta >= galphaFrom) o.integrator = Integrator::GeneralizedAlpha;
-    // BDF's orders 1-2 at a 100x tighter tolerance take 30x the run itself on the refined guidance;
+    // BDF's orders 1-2 at a 100x tighter tolerance took 30x the run itself on the refined guidance;
     // galpha solves the same equations to that tolerance in a fraction of it.
     if (o.integrator == Integrator::Bdf) o.integrator = Integrator::GeneralizedAlpha;
     Eigen::VectorXd yEnd;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/LapClock.hpp"
 #include "analysis/ModelSource.hpp"
 #include "core/model/Model.hpp"
 
@@ -54,6 +55,8 @@ class ModelJob {
   const Diagnostics& diagnostics() const { return diagnostics_; }
   const std::string& file() const { return file_; }
   std::shared_ptr<const std::vector<io::AnalysisStage>> allStages() const { return stages_; }
+  // Wall-clock seconds since the job was made (reading the model included).
+  double secondsSoFar() const { return clock_.total(); }
 
  protected:
   // Reads the source once; a reading error is the job's first diagnostic (InputError).
@@ -75,6 +78,7 @@ class ModelJob {
   JobStatus finish(bool completed, bool interrupted, const std::string& analysis, const std::string& stopReason,
                    const std::string& kept);
 
+  LapClock clock_;  // first: it starts before the model is read
   std::string file_;
   std::shared_ptr<const std::vector<io::AnalysisStage>> stages_;
   JobStatus status_ = JobStatus::Ready;

@@ -10,6 +10,7 @@
 #include "analysis/AccuracyCheck.hpp"
 #include "analysis/AnchoredDynamics.hpp"
 #include "analysis/Interrupt.hpp"
+#include "analysis/LapClock.hpp"
 #include "analysis/Modes.hpp"
 #include "analysis/OperatorDynamics.hpp"
 #include "analysis/ReductionError.hpp"
@@ -276,6 +277,7 @@ class StageRun {
   core::Trajectory run(bool* interrupted) {
     // A failure no integrator maps to a stop (an unexpected exception from a solver, out of memory)
     // still keeps the output times reached: the run stops there with the reason.
+    LapClock clock;
     try {
       integrate(interrupted);
     } catch (const std::exception& e) {
@@ -283,16 +285,19 @@ class StageRun {
       traj_.stopReason =
           std::string(e.what()) + " after t = " + text::shortest(tReached_) + "; results before it are kept";
     }
+    traj_.seconds.integration = clock.lap();
     const double galphaFrom = switchAt_ ? *switchAt_ : std::numeric_limits<double>::infinity();
     if (windows_ && traj_.completed && opt_.deferAccuracy)
       *opt_.deferAccuracy = {true, set_.t0, set_.tEnd, galphaFrom, windows_->complete()};
     else if (windows_ && traj_.completed)
       traj_.accuracy = checkAccuracy(model_, opt_, set_.t0, set_.tEnd, windows_->complete(), galphaFrom);
+    traj_.seconds.accuracyCheck = clock.lap();
     // Also for a run that stopped: the states it reached say how good the basis was so far.
     if (opt_.basis && opt_.reductionEstimate && opt_.keepStates && !traj_.states.empty())
       traj_.reduction = estimateReductionError(model_, *opt_.basis, traj_);
     else if (opt_.basis && opt_.reductionEstimate && outputMap_ && !traj_.time.empty())
       traj_.reduction = estimateFromSamples();
+    traj_.seconds.reductionEstimate = clock.lap();
     return std::move(traj_);
   }
 
@@ -793,6 +798,8 @@ core::Trajectory simulateStages(const std::vector<const core::Model*>& stages, c
     all.nrhsfailed += part.nrhsfailed;
     all.njacevals += part.njacevals;
     all.nlinsetups += part.nlinsetups;
+    all.seconds.integration += part.seconds.integration;
+    all.seconds.accuracyCheck += part.seconds.accuracyCheck;
     if (std::isnan(all.switchedAt)) all.switchedAt = part.switchedAt;
     if (part.stiffBoundSteps > all.stiffBoundSteps)
       all.stiffSince = part.stiffSince, all.stiffLambda = part.stiffLambda, all.stiffBoundSteps = part.stiffBoundSteps;

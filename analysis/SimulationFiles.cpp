@@ -1,5 +1,7 @@
 #include "analysis/SimulationFiles.hpp"
 
+#include "analysis/LapClock.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -136,6 +138,7 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
                                   const core::Trajectory& traj, bool interrupted, const SimulationFiles& what,
                                   std::ostream& out, std::ostream& err) {
   WrittenSimulation w;
+  const LapClock clock;
   auto attempt = [&](const std::string& product, const std::function<void()>& step) {
     if (!files.attempt(product, step, err)) w.incomplete = true;
   };
@@ -182,6 +185,10 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
       files.record(files.prefix() + ".html");
     });
   w.paths = files.renameFiles();
+  w.seconds = clock.total();
+  files.setting("writing", text::significant(w.seconds, 2) + " s");
+  if (what.secondsBefore >= 0.0)
+    files.setting("wall time in all", text::significant(what.secondsBefore + w.seconds, 3) + " s");
   w.paths.push_back(files.writeManifest(traj.completed ? "complete" : "stopped: " + traj.stopReason));
   return w;
 }

@@ -30,11 +30,15 @@ struct SimulationFiles {
   // A driven rigid mechanism's nodal forces per output time (analysis::InverseDynamicsRun::fxt):
   // <prefix>_fxt.csv with the tables.
   const std::vector<Eigen::VectorXd>* fxt = nullptr;
+  // The job's wall time before writing (SimulateJob::wallSeconds; negative: not given): the manifest
+  // then says the whole command's, writing included.
+  double secondsBefore = -1.0;
 };
 
 struct WrittenSimulation {
   std::vector<std::string> paths;  // every file written, the manifest last
   bool incomplete = false;         // a derived product failed (said on err and in the manifest)
+  double seconds = 0.0;            // writing them (the manifest's own writing aside)
 };
 
 // Writes the file set; out gets the progress lines ("linearised at ...", "wrote ..." of the

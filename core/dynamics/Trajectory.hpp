@@ -94,6 +94,11 @@ struct Trajectory {
   AccuracyEstimate accuracy;
   ReductionEstimate reduction;  // reduced runs (a basis) that keep their states
   OperatorUse operators;        // reduced runs
+  // Where the run's time went (s, wall clock): the integration itself (output times included), the
+  // accuracy check and the reduction error estimate after it.
+  struct Seconds {
+    double integration = 0.0, accuracyCheck = 0.0, reductionEstimate = 0.0;
+  } seconds;
 };
 
 }  // namespace flexmb::core

@@ -116,7 +116,7 @@ void writeSetup(std::ostream& md, const Report& r) {
   md << "- ode45: flexmb's ode45-equivalent (Dormand-Prince 5(4), MATLAB's step control), same counting rule as "
         "MATLAB.\n";
   md << "- Status **ok**: the run completed and `simulate`'s a-posteriori accuracy check (analysis/AccuracyCheck.hpp: "
-        "three windows of the run, a tenth of the span, integrated again at a 100x tighter tolerance; their largest "
+        "three windows of the run, a tenth of the span, integrated again at a 10x tighter tolerance; their largest "
         "difference per second times the span, in positions relative to the model size) finds it converged, i.e. "
         "the estimate is at most 10 RelTol. **not converged**: completed, but the estimate is larger; such runs are "
         "plotted with their measured error. The column *accuracy check* is that estimate (the *error* column is the "

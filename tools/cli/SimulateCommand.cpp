@@ -29,7 +29,7 @@ struct SimulateArgs {
   double tEnd = 0, relTol = 0, absTol = 0, maxStep = 0;
   int intervals = -1, linearize = 0, bdfOrder = 0;
   double rhoInf = NAN;  // --rho-inf (NaN: not given)
-  std::string out, format = "both", echo, basisFile, dynamics = "auto", integrator = "auto", outputs = "all";
+  std::string out, format = "csv", echo, basisFile, dynamics = "auto", integrator = "auto", outputs = "all";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
   std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
@@ -54,7 +54,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "integrator", po::value(&a.integrator)->notifier([&a](const std::string&) { a.integratorGiven = true; }),
       "auto (default: galpha from the start where the highest eigenfrequency at rest bounds ode45 to more than "
       "10,000 steps, else ode45, switching to galpha once its step is bound by stability rather than accuracy; says "
-      "which; a reduced run with its reduced operators runs ode45), ode45 (explicit, MATLAB's ode45 step by step: "
+      "which; ode45 throughout on a model with USERSIG), ode45 (explicit, MATLAB's ode45 step by step: "
       "SPACAR's integrator and its counts), bdf (implicit: SUNDIALS CVODE's BDF with the analytic Jacobian of Eq. "
       "15, for stiff full models whose highest frequency bounds ode45's step) or galpha (implicit "
       "generalized-alpha: second order, numerical dissipation of the high frequencies set by --rho-inf, large steps "
@@ -67,7 +67,9 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "step but let undamped stiff modes bound the step)")(
       "out", po::value(&a.out),
       "output prefix or folder (default: the model's name in the current folder; with --basis the basis name is "
-      "appended)")("format", po::value(&a.format), "csv, mat, both or none")(
+      "appended)")("format", po::value(&a.format),
+                   "csv (default: the CSV tables <out>_x.csv ... _sig.csv), mat (<out>.mat and SPACAR's <out>.sbd, "
+                   "which getfrsbf reads), both or none")(
       "echo", po::value(&a.echo),
       "write the end-of-run state as a .dat input that continues the run (SPACAR95 restart: elements, XY/BETA, "
       "LENGTH0, E/ED, input rates, TIME, loads and settings)")(
@@ -101,7 +103,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "html", po::bool_switch(&a.html),
       (std::string("<out>.html: a self-contained page that plays the motion in a browser") + kHtmlUrlOptions).c_str())(
       "no-accuracy-check", po::bool_switch(&a.noAccuracyCheck),
-      "skip the a-posteriori accuracy check (three windows of the run integrated again at a 100x tighter "
+      "skip the a-posteriori accuracy check (three windows of the run integrated again at a 10x tighter "
       "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");
   if (auto rc = parseCommand(args, d, a.m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (!a.csv() && !a.mat() && a.format != "none") {
@@ -355,14 +357,19 @@ int runSimulate(const std::vector<std::string>& args) {
   if (job.status() == analysis::JobStatus::Failed) return kNumericalFailure;
   describeRun(files, a, job);
   analysis::WrittenSimulation written;
+  analysis::SimulationFiles what = filesAsked(a);
+  what.secondsBefore = job.wallSeconds();
   try {
-    written = analysis::writeSimulation(files, job.model(), job.options(), job.trajectory(), job.interrupted(),
-                                        filesAsked(a), std::cout, std::cerr);
+    written = analysis::writeSimulation(files, job.model(), job.options(), job.trajectory(), job.interrupted(), what,
+                                        std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
     return kWriteFailed;
   }
   for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
+  if (!a.m.quiet)
+    std::cout << "wall time in all " << text::significant(job.wallSeconds() + written.seconds, 3) << " s (writing "
+              << text::significant(written.seconds, 2) << " s)\n";
   sayRemovedStale(files.removedStale());
   if (job.interrupted()) return interruptedExitCode();
   if (written.incomplete) return kWriteFailed;

@@ -2,6 +2,7 @@
 // `flexmb --mode N model.dat`. Exit codes (Commands.hpp, README): 0 done, 1 input error (file:line
 // messages), 2 usage error, 3 numerical failure (time/coordinate and reason; results so far are
 // written), 4 a result file could not be written, 130 interrupted (results so far are written).
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -81,6 +82,11 @@ int main(int argc, char** argv) {
       return kUsageError;
     }
     command = it->second;
+    // SPACAR's modes of a run (1, 4, and 3 on a trajectory) write SPACAR's files by default, as
+    // SPACAR does; `simulate` alone writes the CSV tables (its --format default).
+    const bool formatGiven = std::any_of(
+        args.begin(), args.end(), [](const std::string& a) { return a == "--format" || a.rfind("--format=", 0) == 0; });
+    if ((command == "simulate" || command == "mode3") && !formatGiven) args.push_back("--format=both");
   }
   static const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
       {"check", runCheck},   {"simulate", runSimulate}, {"keywords", runKeywords}, {"modes", runModes},

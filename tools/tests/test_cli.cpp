@@ -256,7 +256,7 @@ TEST_F(Cli, FailedWritesAreErrors) {
 // earlier run's manifest goes away when a new run starts.
 TEST_F(Cli, FolderOutAndCompleteFileSets) {
   fs::create_directories(dir_ / "outd");
-  Result r = flexmb("simulate " + kData + "portal.dat -q --intervals 10 --out outd/");
+  Result r = flexmb("simulate " + kData + "portal.dat -q --intervals 10 --format both --out outd/");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "outd/portal_x.csv")) << joined(files());
   EXPECT_TRUE(fs::exists(dir_ / "outd/portal.mat"));
@@ -282,7 +282,7 @@ TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
   // ode45 (the default, auto, runs galpha here and would finish before the signal).
   expectInterruptKeepsTheResultsSoFar(kData +
                                       "manipulator.dat -q --integrator ode45 --t-end 20 --max-step 0.002 "
-                                      "--intervals 10000");
+                                      "--intervals 10000 --format both");
   EXPECT_TRUE(fs::exists(dir_ / "m.mat"));
 }
 
@@ -402,7 +402,7 @@ TEST_F(Cli, ReducedRunKeepsTheFullRunsFiles) {
 TEST_F(Cli, BdfIntegratorWritesTheSameFileSet) {
   fs::create_directories(dir_ / "a");
   fs::create_directories(dir_ / "b");
-  const std::string run = "simulate " + kData + "straight_guidance.dat -q --t-end 0.02 --intervals 10";
+  const std::string run = "simulate " + kData + "straight_guidance.dat -q --t-end 0.02 --intervals 10 --format both";
   Result r = flexmb(run + " --integrator ode45 --out a/");
   ASSERT_EQ(r.code, 0) << r.err;
   r = flexmb(run + " --integrator bdf --out b/");

@@ -397,7 +397,7 @@ TEST_F(StudyCli, VariantTablesAreTheCommandLinesBytes) {
   ASSERT_EQ(run("flexmb sweep " + model + " --node 4 --comp 3 --from -0.1 --to 0.1 --steps 5 --nev 6 --out sw -q").code,
             0);
   ASSERT_EQ(run("flexmb modes " + model + " --out md -q").code, 0);
-  ASSERT_EQ(run("flexmb simulate " + model + " --t-end 0.002 --intervals 4 --out sim -q").code, 0);
+  ASSERT_EQ(run("flexmb simulate " + model + " --t-end 0.002 --intervals 4 --format both --out sim -q").code, 0);
   for (const char* f :
        {"_x.csv", "_xd.csv", "_xdd.csv", "_e.csv", "_ed.csv", "_edd.csv", "_sig.csv", "_rot.csv", ".mat"})
     EXPECT_EQ(slurp(dir_ / ("sim" + std::string(f))), slurp(v / ("cross_spring_pivot_study" + std::string(f)))) << f;

@@ -123,7 +123,7 @@ TEST_F(UserPath, EveryRunThatWritesFilesListsThemInAManifest) {
   // simulate --html --vtk --echo, and shortest numbers (0.07, not 0.070000000000000007); the max step
   // says what the file's 0 means.
   r = flexmb("simulate " + kData + "manipulator.dat -q --t-end 0.07 --intervals 7 --html --vtk --echo end.dat " +
-             "--out sim --no-accuracy-check");
+             "--out sim --no-accuracy-check --format both");
   ASSERT_EQ(r.code, 0) << r.err;
   m = slurp(dir_ / "sim_run.txt");
   for (const char* f : {"file: sim.html", "file: sim.pvd", "file: sim_vtu/", "file: end.dat", "file: sim.sbd"})
@@ -186,7 +186,7 @@ TEST_F(UserPath, ANonConvergedRunIsFlagged) {
 // ---- 5. A driven rigid mechanism
 
 TEST_F(UserPath, ADrivenRigidMechanismIsSimulated) {
-  const Result r = flexmb("simulate " + kData + "slider_crank_rigid.dat --out sc");
+  const Result r = flexmb("simulate " + kData + "slider_crank_rigid.dat --format both --out sc");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_TRUE(has(r.out, "inverse dynamics")) << r.out;
   EXPECT_FALSE(has(r.err, "nothing moves")) << r.err;
@@ -283,7 +283,7 @@ TEST_F(UserPath, RunPrintsItsPlan) {
 TEST_F(UserPath, TheSliderCrankAndItsRestartRunWithTheAccuracyCheck) {
   // Item 1: the crank turns three times; the check's windows solve their kinematics from the run's
   // own configuration. Before: "simulation could not start", exit 3, nothing written.
-  Result r = flexmb("simulate " + kData + "tests/slider_crank_manual_s95.dat --echo end.dat --out sc");
+  Result r = flexmb("simulate " + kData + "tests/slider_crank_manual_s95.dat --echo end.dat --format both --out sc");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_TRUE(has(r.out, "accuracy check: converged")) << r.out;
   for (const char* f : {"sc_x.csv", "sc.mat", "sc.sbd", "end.dat"}) EXPECT_TRUE(fs::exists(dir_ / f)) << f;

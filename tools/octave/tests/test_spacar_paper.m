@@ -7,7 +7,7 @@ function test_spacar_paper(src, flexmb)
     name = models{m};
     copyfile(fullfile(src, 'datfiles', [name '.dat']), '.');
     mkdir('cli');
-    [status, out] = system(sprintf('"%s" simulate %s.dat --out cli/%s -q', flexmb, name, name));
+    [status, out] = system(sprintf('"%s" simulate %s.dat --format both --out cli/%s -q', flexmb, name, name));
     assert(status == 0, 'flexmb simulate %s failed: %s', name, out);
     t0 = tic;
     r = spacar(-1, name);   % silent; variables into this workspace, struct returned

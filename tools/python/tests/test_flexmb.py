@@ -186,7 +186,7 @@ def test_refusals_and_messages_are_the_jobs_words_as_the_command_line_says_them(
 @pytest.mark.parametrize("name", ["straight_guidance", "slider_crank_s95"])
 def test_simulate_writes_the_command_lines_files(work, name):
     path = model_path("datfiles", f"{name}.dat")
-    cli("simulate", path, "--t-end", "0.05", "--out", str(work / "cli" / name), "-q")
+    cli("simulate", path, "--t-end", "0.05", "--out", str(work / "cli" / name), "-q", "--format", "both")
     r = flexmb.simulate(flexmb.read(path), t_end=0.05)
     written = r.write(str(work / "py" / name))
     assert written[-1].endswith("_run.txt")
@@ -222,7 +222,7 @@ def test_reduce_and_a_reduced_run_write_the_command_lines_files(work):
     r.write(str(work / "py" / "m3.csv"))
     same_bytes(work / "cli" / "m3.csv", work / "py" / "m3.csv")
     cli("simulate", path, "--t-end", "0.05", "--basis", str(work / "cli" / "m3.csv"), "--out", str(work / "cli" / "g"),
-        "-q")
+        "-q", "--format", "both")
     run = flexmb.simulate(m, t_end=0.05, basis=str(work / "cli" / "m3.csv"))
     assert run.reduced_dynamics.startswith("reduced operators")
     assert run.integrator in ("ode45", "galpha")  # auto, the default, on the reduced operators
@@ -329,7 +329,7 @@ def test_userinp_equals_the_files_input_motion():
 
 def test_a_driven_rigid_mechanism_gives_the_command_lines_forces(work):
     path = model_path("datfiles", "slider_crank_rigid.dat")
-    cli("simulate", path, "--out", str(work / "cli" / "sc"), "-q")
+    cli("simulate", path, "--out", str(work / "cli" / "sc"), "-q", "--format", "both")
     r = flexmb.simulate(flexmb.read(path))
     assert r.nfevals == 0 and r.fxt.shape == (len(r.time), r.x.shape[1])
     r.write(str(work / "py" / "sc"))
@@ -341,7 +341,7 @@ def test_a_driven_rigid_mechanism_gives_the_command_lines_forces(work):
 
 def test_a_spacar95_file_runs_its_stages_as_the_command_line(work):
     path = model_path("datfiles", "tests", "slider_crank_manual_s95.dat")
-    cli("simulate", path, "--out", str(work / "cli" / "s95"), "-q")
+    cli("simulate", path, "--out", str(work / "cli" / "s95"), "-q", "--format", "both")
     r = flexmb.simulate(flexmb.read(path))
     r.write(str(work / "py" / "s95"))
     for suffix in ["_x.csv", "_e.csv", ".sbd"]:
