@@ -84,7 +84,13 @@ void printParticipation(std::ostream& o, const core::Model& model, const Eigen::
   o << "  sum of these " << std::setw(7) << p.effective.rows() << "  ";
   for (Eigen::Index d = 0; d < nd; ++d) o << std::setw(8) << pct(p.effective.col(d).sum(), d);
   o << "\n  all modes carry (mass; rotations: inertia):";
-  for (Eigen::Index d = 0; d < nd; ++d) o << " " << p.directions[d] << " " << (pct(1.0, d) == "-" ? 0.0 : p.total[d]);
+  for (Eigen::Index d = 0; d < nd; ++d) {  // NaN: M0 singular; round-off of a direction no mode moves: 0
+    o << " " << p.directions[d] << " ";
+    if (std::isnan(p.total[d]))
+      o << "unknown (the mass matrix is singular)";
+    else
+      o << (pct(1.0, d) == "-" ? 0.0 : p.total[d]);
+  }
   o << "\n  the whole model, supports included: mass " << p.mass() << ", centre of mass ";
   const Eigen::Vector3d c = p.centreOfMass();
   o << "(" << c[0] << ", " << c[1] << (model.spatial ? ", " : "");
