@@ -40,7 +40,8 @@ struct ElementEntry {
   bool hasStiffness = false, hasDamping = false;
   std::vector<double> stiffnessParams, dampingParams;  // as given (ESTIFF / EDAMP), for echoes
   std::vector<double> inertiaParams;                   // as given (EM / EMASS), for result files
-  DefMat S, Sd;                                        // constitutive stiffness and damping (ndef x ndef)
+  std::vector<double> vec;  // the element line's vector as given (BEAM's y1 y2 y3, HINGE's axis), for echoes
+  DefMat S, Sd;             // constitutive stiffness and damping (ndef x ndef)
   // The element's entries of a global nodal vector (positions, velocities, forces ...).
   void gather(const Eigen::VectorXd& v, ElemVec& out) const {
     out.resize(static_cast<int>(coords.size()));
@@ -140,9 +141,13 @@ struct Model {
   std::vector<ElementEntry> elements;
   std::map<int, int> elementByLabel;
 
-  int nx = 0;                      // number of nodal coordinates
-  int ne = 0;                      // number of deformations
-  Eigen::VectorXd x0;              // initial nodal coordinates (reference configuration)
+  int nx = 0;          // number of nodal coordinates
+  int ne = 0;          // number of deformations
+  Eigen::VectorXd x0;  // initial nodal coordinates (reference configuration)
+  // The configuration the element objects were created in (their undeformed reference): x0, except
+  // for the nodes a restart echo gives XREF (flexmb extension: a spatial restart's current X and
+  // its original reference differ). Size nx.
+  Eigen::VectorXd xRef;
   std::vector<Role> xRole;         // size nx
   std::vector<Role> eRole;         // size ne
   std::vector<int> xOwnerNode;     // x index -> node index

@@ -90,6 +90,7 @@ struct ModelBuilder::Impl {
 
   std::vector<ElemStmt> elements;
   std::vector<CoordStmt> coords;
+  std::vector<CoordStmt> referenceCoords;  // XREF
   std::vector<RoleStmt> xRoles, eRoles;
   std::vector<ScalarStmt> masses;
   std::vector<InertiaStmt> inertias;
@@ -145,6 +146,9 @@ void ModelBuilder::setGravity(double gx, double gy, double gz, int line) {
 }
 void ModelBuilder::setCoordinates(int node, std::span<const double> values, int line) {
   impl_->coords.push_back({node, {values.begin(), values.end()}, line});
+}
+void ModelBuilder::setReferenceCoordinates(int node, std::span<const double> values, int line) {
+  impl_->referenceCoords.push_back({node, {values.begin(), values.end()}, line});
 }
 void ModelBuilder::setCoordinateRole(int node, std::span<const int> comps, Role role, int line) {
   impl_->xRoles.push_back({node, {comps.begin(), comps.end()}, role, line});
@@ -371,6 +375,7 @@ struct ModelBuilder::Finalizer {
   void elements();
   int slotNode(const Impl::ElemStmt& st, size_t s, int ei, const ElementEntry& el);
   void initialCoordinates();
+  void referenceCoordinates();
   void coordinateRoles();
   void deformationRoles();
   void normalisationElements();
@@ -407,6 +412,7 @@ Model ModelBuilder::finalize(const ElementOptions& options) {
   Finalizer f(*impl_);
   f.elements();
   f.initialCoordinates();
+  f.referenceCoordinates();
   f.coordinateRoles();
   f.deformationRoles();
   f.normalisationElements();
@@ -465,6 +471,7 @@ void ModelBuilder::Finalizer::elements() {
     el.label = st.label;
     el.type = &type;
     el.line = st.line;
+    el.vec = st.vec;
     for (size_t s = 0; s < st.nodes.size(); ++s) {
       const int label = st.nodes[s];
       if (label <= 0) R::fail(st.line, "node label must be a positive integer, found " + std::to_string(label));
@@ -556,6 +563,23 @@ void ModelBuilder::Finalizer::initialCoordinates() {
         ", line " + std::to_string(m.elements[fe].line) + ") has no X line: it is placed at the origin (" +
         (n.kind == NodeKind::SpatialPosition ? "0, 0, 0" : "0, 0") + "), as SPACAR does; write X " +
         std::to_string(n.label) + (n.kind == NodeKind::SpatialPosition ? " 0 0 0" : " 0 0") + " if that is meant");
+  }
+}
+
+// XREF (flexmb extension, spatial restart echoes): where the elements are created, when X gives the
+// current configuration; every other node's reference is its X.
+void ModelBuilder::Finalizer::referenceCoordinates() {
+  m.xRef = m.x0;
+  for (const auto& st : in.referenceCoords) {
+    const int ni = r.node(st.node, st.line, "its reference coordinates would belong to nothing");
+    const Node& n = m.nodes[ni];
+    if (static_cast<int>(st.values.size()) != n.dim())
+      R::fail(st.line, r.nodeDescription(ni) + ": expected " + std::to_string(n.dim()) + " reference coordinate" +
+                           (n.dim() == 1 ? "" : "s") + ", found " + std::to_string(st.values.size()));
+    for (int c = 0; c < n.dim(); ++c) {
+      if (!std::isfinite(st.values[c])) R::fail(st.line, "reference coordinate is not finite");
+      m.xRef[n.firstCoord + c] = st.values[c];
+    }
   }
 }
 
@@ -671,7 +695,7 @@ void ModelBuilder::Finalizer::elementObjects(const ElementOptions& options) {
     if (nc > kMaxElemCoords || el.type->numDeformations() > kMaxElemDefs)
       R::fail(el.line, el.type->keyword + ": element type exceeds the fixed element capacity");
     ElemVec x0e(nc);
-    for (int c = 0; c < nc; ++c) x0e[c] = m.x0[el.coords[c]];
+    for (int c = 0; c < nc; ++c) x0e[c] = m.xRef[el.coords[c]];
     if (!el.type->create && !el.type->createWithVector)
       R::fail(el.line, el.type->keyword + ": element type cannot be created");
     try {

@@ -30,7 +30,10 @@ class ModelBuilder {
   // Spatial elements with a direction vector (BEAM ... y1 y2 y3, HINGE ... a1 a2 a3).
   void addElement(const ElementTypeInfo& type, int label, std::span<const int> nodeLabels,
                   std::span<const double> vector, int line);
-  void setCoordinates(int node, std::span<const double> values, int line);            // X, XY, BETA
+  void setCoordinates(int node, std::span<const double> values, int line);  // X, XY, BETA
+  // XREF (flexmb extension, written by spatial restart echoes): the node's coordinates in the
+  // configuration the elements are created in (their undeformed reference), when X gives another.
+  void setReferenceCoordinates(int node, std::span<const double> values, int line);
   void setCoordinateRole(int node, std::span<const int> comps, Role role, int line);  // 1-based; empty = all
   void setDeformationRole(int element, std::span<const int> comps, Role role, int line);
 

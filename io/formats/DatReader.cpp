@@ -750,6 +750,9 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
     case Action::CoordinatesBeta:
       b.setCoordinates(integer(s, 0), reals(1), line);
       break;
+    case Action::ReferenceCoordinates:
+      b.setReferenceCoordinates(integer(s, 0), reals(1), line);
+      break;
     case Action::Fix:
       b.setCoordinateRole(integer(s, 0), ints(1), Role::Fixed, line);
       break;

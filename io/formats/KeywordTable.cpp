@@ -297,6 +297,13 @@ std::vector<KeywordInfo> buildTable() {
   t.push_back(ext(kw("INPUTET", kBothDialects, B::Dynamic, A::InputEFunctions,
                      {element(), component(), expr("e(t)"), expr("v(t)"), expr("a(t)")},
                      "prescribed input deformation with its rate and acceleration")));
+  t.push_back(ext(kw("XREF", kBothDialects, B::Kinematic, A::ReferenceCoordinates,
+                     {node(), real("c1"), optReal("c2"), optReal("c3"), optReal("c4")},
+                     "reference coordinates of a node, as X lists them: the configuration its elements "
+                     "are created in (undeformed), where X gives another (the current one). Written by "
+                     "the restart echo of a spatial model (simulate --echo) for every node that moved: "
+                     "X and XREF then hold the end of the run and the original geometry, the element "
+                     "lines their original y vectors; SPACAR has no public keyword for it")));
 
   // Block structure.
   t.push_back(kw("END", kBothDialects, B::Structure, A::End, {},
@@ -546,14 +553,17 @@ struct Group {
 const std::vector<Group>& groups() {
   static const std::vector<Group> g = {
       {"Kinematic block (the first block: elements, coordinates, roles)",
-       [](const KeywordInfo& k) { return k.block == BlockKind::Kinematic && k.action != Action::Unsupported; }},
+       [](const KeywordInfo& k) {
+         return k.block == BlockKind::Kinematic && k.action != Action::Unsupported && !k.extension;
+       }},
       {"Dynamic / static block (after the kinematic block's END; in SPACAR95 also the first block)",
        [](const KeywordInfo& k) {
          return k.block == BlockKind::Dynamic && k.action != Action::Unsupported && !k.extension;
        }},
       {"Any block (settings; SPACAR95 end-of-run state)",
        [](const KeywordInfo& k) { return k.block == BlockKind::Anywhere; }},
-      {"flexmb extensions: time functions (muParser expressions in t, in double quotes)",
+      {"flexmb extensions: time functions (muParser expressions in t, in double quotes) and the spatial "
+       "restart's reference coordinates",
        [](const KeywordInfo& k) { return k.extension; }},
       {"Mode-9 transfer block (between a second END HALT and the final END END; `flexmb transfer`, "
        "`spacar(9, name)`)",
@@ -672,7 +682,14 @@ is an error naming one keyword of each.
   there are the given `E` (0 where not given) and reference lengths come from `LENGTH0`, so a
   restart from a deformed state keeps the undeformed geometry. SPACAR95 run settings without meaning
   in flexmb (`LGEOMY`, `DIR`, `EPSIND`, `FORCEMODE`, `ANIMATE`, `MATASC`, `RESTART`, `JOBID`) are
-  accepted and listed once as ignored.
+  accepted and listed once as ignored. A spatial model's end-of-run state (flexmb's; SPACAR
+  publishes no spatial restart format) is written in SPACAR 2013+ form: the element lines with their
+  original y vectors, `X` of every node where the run ended (positions, Euler parameters), `XREF` (a
+  flexmb extension) with the original coordinates of every node that moved, so that the elements read
+  back have the reference lengths and triads of the run, roles, `STARTDE` value and rate of every
+  `DYNE` deformation, inputs, `TIME`, loads (moments as `XF n Mx My Mz`) and settings. A spatial
+  model with a coordinate degree of freedom (`DYNX`, a free BEAMW warping coordinate) is refused: SPACAR
+  2013+ has no keyword for its rate.
 - **Load steps (static analysis, mode 10)**: `ITERSTEP maxit nsteps tol c4 c5 ninit`. `DELXF` and
   `DELINPX` are the TOTAL increments reached at the last load step, applied in `nsteps` equal parts
   (SPACAR Light writes the user's final load as `DELXF`). Load step 0 is the equilibrium under the

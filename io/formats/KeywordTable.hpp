@@ -52,6 +52,7 @@ enum class Action {
   Coordinates,
   CoordinatesXY,
   CoordinatesBeta,
+  ReferenceCoordinates,  // XREF (flexmb extension: a spatial restart's element references)
   Fix,
   InputXRole,
   DynX,

@@ -32,6 +32,8 @@ struct Writer {
   const Model& m;
   bool s95;
   std::string out;
+  // An element the writer lists: the automatic L2MIN1 of an orientation node is not one.
+  static bool listed(const core::ElementEntry& el) { return el.type != &core::normalisationType(); }
 
   void line(const std::string& s) { out += s + "\n"; }
   void comment(const std::string& s) { out += (s95 ? "* " : "# ") + s + "\n"; }
@@ -46,31 +48,59 @@ struct Writer {
 }  // namespace
 
 std::string restartUnsupportedReason(const Model& m) {
-  for (const auto& n : m.nodes)
-    if (core::isSpatial(n.kind))
-      return "the restart echo (--echo) is written for planar models only; " + m.sourceFile + " is spatial (node " +
-             std::to_string(n.label) +
-             "), and its echo would need Euler parameters and the elements' reference orientations";
+  // A spatial model's echo is written in SPACAR 2013+ form (X, XREF, STARTDE), which has no keyword
+  // for the rate of a DYNX coordinate: refused before the run when the model has one.
+  if (m.spatial)
+    for (const auto& d : m.dofs)
+      if (!d.isDeformation)
+        return "the restart echo (--echo) of a spatial model is written in SPACAR 2013+ form, which has no "
+               "keyword for the rate of a coordinate that is a degree of freedom (DYNX, or a BEAMW warping "
+               "coordinate: " +
+               m.coordName(d.index) + " of " + m.sourceFile + ")";
   return {};
 }
 
 namespace {
 
+// A spatial model's coordinates: X where the run ended (positions, Euler parameters, warping), and
+// XREF (flexmb extension) where the elements' undeformed reference configuration differs from it,
+// so that the elements read back are the ones that ran: same reference lengths and triads.
+void restartSpatialCoordinates(Writer& w, const Model& m, const core::StateOutputs& state) {
+  const Eigen::VectorXd& ref = m.xRef.size() == m.nx ? m.xRef : m.x0;
+  for (const auto& n : m.nodes) {
+    std::string x = "X " + std::to_string(n.label), r = "XREF " + std::to_string(n.label);
+    bool moved = false;
+    for (int c = 0; c < n.dim(); ++c) {
+      (x += ' ') += num(state.x[n.firstCoord + c]);
+      (r += ' ') += num(ref[n.firstCoord + c]);
+      moved = moved || state.x[n.firstCoord + c] != ref[n.firstCoord + c];
+    }
+    w.line(x);
+    if (moved) w.line(r);
+  }
+}
+
 // The elements, the coordinates where the run ended and the roles.
 void restartTopology(Writer& w, const Model& m, const core::StateOutputs& state) {
   for (const auto& el : m.elements) {
+    if (!Writer::listed(el)) continue;
     std::string s = el.type->keyword + " " + std::to_string(el.label);
     // Appended piecewise here and below: `" " + std::string` inside `+=` trips GCC 12's -Wrestrict
     // (a false positive in libstdc++'s inlined char_traits::copy, tools/README.md).
     for (int ni : el.nodes) (s += ' ') += std::to_string(m.nodes[ni].label);
+    for (double v : el.vec) (s += ' ') += num(v);  // BEAM's y vector as given: the reference is XREF's
     w.line(s);
   }
-  for (const auto& n : m.nodes) {
-    const double* x = state.x.data() + n.firstCoord;
-    if (n.kind == core::NodeKind::Position)
-      w.line((w.s95 ? "XY " : "X ") + std::to_string(n.label) + " " + num(x[0]) + " " + num(x[1]));
-    else
-      w.line((w.s95 ? "BETA " : "X ") + std::to_string(n.label) + " " + num(x[0]));
+  if (m.spatial) {
+    restartSpatialCoordinates(w, m, state);
+  } else {
+    for (const auto& n : m.nodes) {
+      const double* x = state.x.data() + n.firstCoord;
+      if (n.kind == core::NodeKind::Position)
+        w.line((w.s95 ? "XY " : "X ") + std::to_string(n.label) + " " + num(x[0]) + " " + num(x[1]));
+      else
+        w.line((w.s95 ? "BETA " : "X ") + std::to_string(n.label) + " " + num(x[0]));
+    }
   }
   // Roles (q in the model's order: DYNX and DYNE as its dofs list them).
   auto roleLines = [&](const char* keyword, Role role) {
@@ -99,9 +129,10 @@ void restartTopology(Writer& w, const Model& m, const core::StateOutputs& state)
 
 // Reference lengths (the undeformed geometry stays the original one), inertia, stiffness, damping.
 void restartProperties(Writer& w, const Model& m) {
-  for (const auto& el : m.elements)
-    if (el.impl && el.impl->referenceLength() > 0.0)
-      w.line("LENGTH0 " + std::to_string(el.label) + " " + num(el.impl->referenceLength()));
+  if (!m.spatial)  // a spatial model's references come from XREF
+    for (const auto& el : m.elements)
+      if (el.impl && el.impl->referenceLength() > 0.0)
+        w.line("LENGTH0 " + std::to_string(el.label) + " " + num(el.impl->referenceLength()));
 
   // Inertia, stiffness, damping.
   std::map<int, double> nodeMass;
@@ -109,7 +140,18 @@ void restartProperties(Writer& w, const Model& m) {
   for (const auto& [ni, value] : nodeMass)
     w.line((w.s95 ? "MASS " : "XM ") + std::to_string(m.nodes[ni].label) + " " + num(value));
   for (const auto& el : m.elements) {
-    if (el.inertia.any()) {
+    if (!Writer::listed(el)) {  // an orientation node's rigid-body inertia: XM n Ixx Ixy Ixz Iyy Iyz Izz
+      const auto& J = el.inertia;
+      if (J.any())
+        w.line("XM " + std::to_string(m.nodes[el.nodes[0]].label) + " " + num(J.jxx) + " " + num(J.jxy) + " " +
+               num(J.jxz) + " " + num(J.jyy) + " " + num(J.jyz) + " " + num(J.jzz));
+      continue;
+    }
+    if (m.spatial && el.inertia.any()) {  // EM in the element type's layout, as given
+      std::string s = "EM " + std::to_string(el.label);
+      for (double v : el.inertiaParams) (s += ' ') += num(v);
+      w.line(s);
+    } else if (el.inertia.any()) {
       if (w.s95) {
         if (el.inertia.rhoI != 0.0)
           throw std::invalid_argument("restart state: SPACAR95 EMASS has no rotary inertia per length");
@@ -142,11 +184,20 @@ void restartLoads(Writer& w, const Model& m) {
     if (any) w.line((w.s95 ? "FORCE " : "XF ") + std::to_string(n.label) + f);
     if (anyDel) w.line("DELXF " + std::to_string(n.label) + d);
   }
-  if (m.hasGravity) w.line("GRAVITY " + num(m.gravity[0]) + " " + num(m.gravity[1]));
+  for (const auto& mo : m.moments) {  // spatial: global moments on orientation nodes
+    const std::string node = std::to_string(m.nodes[mo.node].label);
+    if (mo.value.squaredNorm() > 0.0)
+      w.line("XF " + node + " " + num(mo.value[0]) + " " + num(mo.value[1]) + " " + num(mo.value[2]));
+    if (mo.increment.squaredNorm() > 0.0)
+      w.line("DELXF " + node + " " + num(mo.increment[0]) + " " + num(mo.increment[1]) + " " + num(mo.increment[2]));
+  }
+  if (m.hasGravity)
+    w.line("GRAVITY " + num(m.gravity[0]) + " " + num(m.gravity[1]) + (m.spatial ? " " + num(m.gravity[2]) : ""));
   // ESIG e s1 ... sn: every deformation's value (n >= 3 numbers on elements with several, so that
   // reading it back never meets the two-value reading of flexmb's former ESIG e i s).
   if (m.sigma0.size() == m.ne)
     for (const auto& el : m.elements) {
+      if (!Writer::listed(el)) continue;
       const int n = el.type->numDeformations();
       bool any = false;
       for (int c = 0; c < n; ++c) any = any || m.sigma0[el.firstDef + c] != 0.0;
@@ -205,6 +256,8 @@ void restartRates(Writer& w, const Model& m, const core::StateOutputs& state) {
   for (int di = 0; di < m.ne; ++di) {
     const Role role = m.eRole[di];
     if (role != Role::Dynamic && role != Role::Calculable) continue;
+    // A spatial echo places its elements by XREF: released deformations follow from X.
+    if (m.spatial && role != Role::Dynamic) continue;
     if (w.s95) {
       w.line("E " + w.eId(di) + " " + num(state.e[di]));
       if (role == Role::Dynamic) w.line("ED " + w.eId(di) + " " + num(state.ed[di]));
@@ -251,7 +304,8 @@ std::string restartText(const Model& m, double t, const core::StateOutputs& stat
   if (state.x.size() != m.nx || state.xd.size() != m.nx || state.e.size() != m.ne || state.ed.size() != m.ne)
     throw std::invalid_argument("restart state: the state does not match the model's sizes");
   if (!std::isfinite(t)) throw std::invalid_argument("restart state: the time is not finite");
-  Writer w{m, m.dialect == core::Dialect::Spacar95, {}};
+  // A spatial model's echo is in SPACAR 2013+ form (X with Euler parameters, XREF, STARTDE).
+  Writer w{m, m.dialect == core::Dialect::Spacar95 && !m.spatial, {}};
   w.comment("flexmb restart state of " + m.sourceFile + " at t = " + num(t));
   w.comment("(the configuration, deformations and input rates where the run ended; reading this file");
   w.comment("continues the run for one more period)");
