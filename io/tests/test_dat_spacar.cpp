@@ -436,6 +436,75 @@ TEST(Spacar2013Light, RestartEchoWritesEsigPerDeformation) {
   EXPECT_EQ(notesWith(back, "ESIG"), 0);
 }
 
+// A spatial echo (issue 52 item 3): X where the state is, XREF the original coordinates, so that the
+// elements read back have the run's reference lengths and triads and the state's deformations;
+// orientation inertia, moments and gravity come back, L2MIN1 is not written (the reader adds it).
+TEST(Spacar2013Light, SpatialRestartEchoKeepsTheElementReferences) {
+  const core::Model m = io::readDatString(
+      "BEAM 1 1 2 3 4 0 1 1\nBEAM 2 3 4 5 6 0 1 1\nX 1 0 0 0\nX 3 0.5 0 0\nX 5 1 0.1 0\nFIX 1\nFIX 2\n"
+      "DYNE 1\nDYNE 2\nEND\nHALT\nEM 1 2 0.01 0.02 0.03\nEM 2 2 0.01 0.02 0.03\nESTIFF 1 1e6 1e3 1e3 1e3\n"
+      "ESTIFF 2 1e6 1e3 1e3 1e3\nXM 6 0.1 0 0 0.2 0 0.3\nXF 6 0 0 1.5\nGRAVITY 0 0 -9.81\n"
+      "TIMESTEP 1 10\nEND\nEND\n",
+      "t.dat");
+  core::StateOutputs state;
+  state.x = m.x0;
+  const double c = std::cos(0.05), s = std::sin(0.05);  // the tip and the middle moved and turned
+  for (int node : {3, 5}) {
+    const auto& n = m.nodes[m.nodeByLabel.at(node)];
+    state.x[n.firstCoord + 2] += 0.01 * node;
+    const auto& o = m.nodes[m.nodeByLabel.at(node + 1)];
+    state.x[o.firstCoord] = c, state.x[o.firstCoord + 1] = s * 0.6, state.x[o.firstCoord + 3] = s * 0.8;
+  }
+  state.xd = Eigen::VectorXd::Zero(m.nx);
+  state.e = Eigen::VectorXd::Zero(m.ne);
+  for (const auto& el : m.elements) {
+    core::ElemVec xe;
+    el.gather(state.x, xe);
+    core::DefVec e(el.type->numDeformations());
+    el.impl->deformations(xe, e);
+    state.e.segment(el.firstDef, e.size()) = e;
+  }
+  state.ed = Eigen::VectorXd::Constant(m.ne, 0.25);
+  const std::string text = io::restartText(m, 0.5, state);
+  EXPECT_TRUE(contains(text, "\nBEAM 1 1 2 3 4 0 1 1\n")) << text;
+  EXPECT_TRUE(contains(text, "\nXREF 5 1 0.1 0\n")) << text;
+  EXPECT_FALSE(contains(text, "L2MIN1")) << text;
+  EXPECT_FALSE(contains(text, "LENGTH0")) << text;
+  const core::Model back = io::readDatString(text, "echo.dat");
+  ASSERT_EQ(back.nx, m.nx);
+  ASSERT_EQ(back.ne, m.ne);
+  EXPECT_EQ(back.x0, state.x);
+  EXPECT_EQ(back.xRef, m.x0);
+  for (size_t i = 0; i < m.elements.size(); ++i) {
+    const auto& a = m.elements[i];
+    const auto& b = back.elements[i];
+    ASSERT_EQ(a.type, b.type);
+    EXPECT_EQ(a.impl->referenceLength(), b.impl->referenceLength());
+    Eigen::Matrix3d fa, fb;
+    for (int end : {0, 1})
+      if (a.impl->elementFrame(end, fa)) {
+        ASSERT_TRUE(b.impl->elementFrame(end, fb));
+        EXPECT_EQ(fa, fb) << "element " << a.label << " end " << end;
+      }
+    core::ElemVec xe;
+    b.gather(back.x0, xe);
+    core::DefVec e(b.type->numDeformations());
+    b.impl->deformations(xe, e);
+    for (int d = 0; d < e.size(); ++d) EXPECT_NEAR(e[d], state.e[b.firstDef + d], 1e-15);
+    EXPECT_EQ(a.inertia.jxx, b.inertia.jxx);
+    EXPECT_EQ(a.inertia.jzz, b.inertia.jzz);
+  }
+  for (int di = 0; di < m.ne; ++di)
+    if (m.eRole[di] == core::Role::Dynamic) {
+      EXPECT_EQ(back.e0[di], state.e[di]);
+      EXPECT_EQ(back.ed0[di], 0.25);
+    }
+  ASSERT_EQ(back.moments.size(), 1u);
+  EXPECT_EQ(back.moments[0].value, m.moments[0].value);
+  EXPECT_EQ(back.gravity[2], -9.81);
+  EXPECT_EQ(back.settings.t0, 0.5);
+}
+
 // oopspa's public .dat files that flexmb refused (issue 34): SPACAR Huge's own output for
 // bcad60f_slidercrank.dat is in oopspa's history with it. io/tests/data/oopspa/README.md says where
 // each file comes from. All four read now (ESIG after the element, element-only EM/ESTIFF lines).
