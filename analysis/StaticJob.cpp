@@ -23,6 +23,11 @@ StaticJob::StaticJob(const ModelSource& source, StaticOptions options)
     return;
   }
   options_.loadSteps = static_cast<int>(steps);
+  if (const std::string missing = checkComplianceNodes(m, options_.complianceNodes); !missing.empty()) {
+    refuse(missing, file_);
+    diagnostics_.back().options = "compliance";
+    return;
+  }
   if (const auto massless = checkAssembly(m, true).massless; !massless.empty() && options_.nev > 0) {
     say(Diagnostic::Kind::Note,
         "no eigenfrequencies: " + std::to_string(massless.size()) +
@@ -39,6 +44,12 @@ JobStatus StaticJob::run(const RunHooks& hooks) {
   options_.interrupt = hooks.interrupt;
   options_.interruptSignal = hooks.interruptSignal;
   run_ = staticAnalysis(model(), options_);
+  try {
+    compliances_ = runCompliances(model(), run_, options_.complianceNodes);
+  } catch (const std::exception& e) {
+    say(Diagnostic::Kind::Warning, std::string("no compliances: ") + e.what(), file_);
+    compliances_.clear();
+  }
   return finish(run_.completed, run_.interrupted, "static analysis", run_.stopReason,
                 "the load steps before it are kept");
 }

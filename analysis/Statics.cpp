@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "analysis/Interrupt.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "core/kinematics/ElementValidity.hpp"
 #include "io/formats/ResultWriter.hpp"
@@ -398,10 +399,6 @@ std::string stabilityVerdict(const StaticStep& step) {
          step.kinetic->message + ")";
 }
 
-namespace {
-
-// The element's reference length: its own where it keeps one (PLBEAM), else the distance between
-// its first and last position node in the initial configuration.
 double elementLength(const core::Model& m, const core::ElementEntry& el) {
   if (el.impl && el.impl->referenceLength() > 0.0) return el.impl->referenceLength();
   int first = -1, last = -1;
@@ -412,6 +409,8 @@ double elementLength(const core::Model& m, const core::ElementEntry& el) {
   const auto& b = m.nodes[last];
   return (m.x0.segment(b.firstCoord, b.dim()) - m.x0.segment(a.firstCoord, a.dim())).norm();
 }
+
+namespace {
 
 // The column of a deformation's generalised stress and its scale to a force or moment: beams measure
 // bending and torsion as l0 times an angle (Eq. 3b/3c; core/elements/SpatialBeam.hpp), so their
@@ -501,6 +500,10 @@ io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buc
   const StaticStep none;
   for (const auto& f : sectionForceMaxima(model, Eigen::VectorXd())) t.columns.push_back(f.name);
   for (const auto& l : appliedNodalLoads(model, none)) t.columns.push_back(l.first);
+  // The largest von Mises stress and its element (StaticDesign.hpp), then the support reactions.
+  const bool stresses = !stressedElements(model).empty();
+  if (stresses) t.columns.insert(t.columns.end(), {"max_stress", "max_stress_element"});
+  for (const auto& r : supportReactions(model, none)) t.columns.push_back(r.first);
   const double empty = std::numeric_limits<double>::quiet_NaN();
   for (const auto& st : run.steps) {
     std::vector<double> row{static_cast<double>(st.loadStep), st.initialFactor, st.loadFactor};
@@ -510,6 +513,12 @@ io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buc
     for (int i = 0; i < buckling; ++i) row.push_back(i < st.buckling.size() ? st.buckling[i] : empty);
     for (const auto& f : sectionForceMaxima(model, st.sigma)) row.push_back(f.value);
     for (const auto& l : appliedNodalLoads(model, st)) row.push_back(l.second);
+    if (stresses) {
+      const ElementStress top = largestStress(model, st);
+      row.push_back(top.vonMises);
+      row.push_back(top.element >= 0 ? model.elements[top.element].label : empty);
+    }
+    for (const auto& r : supportReactions(model, st)) row.push_back(r.second);
     t.rows.push_back(std::move(row));
   }
   return t;

@@ -84,6 +84,8 @@ struct StaticOptions {
   int nev = 6;        // eigenfrequencies per equilibrium (0: none)
   int loadSteps = 0;  // > 0 overrides ITERSTEP's number of load steps
   int buckling = 0;   // buckling load factors per equilibrium
+  // Node labels whose compliance StaticJob computes at every step after the run (StaticDesign.hpp).
+  std::vector<int> complianceNodes;
   EigenPath eigenPath = EigenPath::Auto;
   std::function<void(int, int)> onStep;  // progress: called before load step i (0-based) of n
   // Set asynchronously (Ctrl-C): the run stops before its next load step or Newton sub-step and
@@ -97,6 +99,9 @@ StaticRun staticAnalysis(const core::Model& model, const StaticOptions& options)
 // sigma: max_axial_force (N), max_bending_moment (planar), max_bending_moment_y / _z (about the
 // section's local axes), max_torsion_moment (N m; a beam's generalised stress times its length), in
 // this order, each kind the model has (whatever sigma holds), with the element where it is largest.
+// An element's reference length l0: its own where it keeps one (PLBEAM), else the distance between
+// its first and last position node in the initial configuration.
+double elementLength(const core::Model& model, const core::ElementEntry& element);
 struct SectionForceMaximum {
   std::string name;
   double value = 0.0;

@@ -14,6 +14,7 @@
 #include "analysis/ModesJob.hpp"
 #include "analysis/Participation.hpp"
 #include "analysis/SpacarOutput.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/SweepJob.hpp"
@@ -289,6 +290,71 @@ void printForcesAndLoads(std::ostream& o, const core::Model& model, const analys
   if (!loads.empty()) o << "nodal loads applied at the last load step (gravity apart):\n";
   for (const auto& [name, value] : loads) o << "  " << name << " = " << io::shortNumber(value, 6) << "\n";
 }
+// The last load step's largest von Mises stress, the support reactions with the sums of forces that
+// check them against the loads, and the compliance of the named nodes (analysis/StaticDesign.hpp).
+void printStressReactionsCompliance(std::ostream& o, const core::Model& model, const analysis::StaticRun& run,
+                                    const analysis::StaticCompliances& compliances) {
+  if (run.steps.empty()) return;
+  const analysis::StaticStep& last = run.steps.back();
+  const analysis::ElementStress top = analysis::largestStress(model, last);
+  if (top.element >= 0)
+    o << "largest von Mises stress at the last load step: " << io::shortNumber(top.vonMises, 6) << " Pa ("
+      << model.elements[top.element].type->keyword << " " << model.elements[top.element].label
+      << "; sections from VISUALIZATION's CROSSDIM)\n";
+  const auto reactions = analysis::supportReactions(model, last);
+  if (!reactions.empty()) o << "support reactions at the last load step (the supports' forces on the model):\n";
+  for (const auto& [name, value] : reactions) o << "  " << name << " = " << io::shortNumber(value, 6) << "\n";
+  if (compliances.empty() || compliances.back().empty()) return;
+  o << "compliance at the last load step (displacement per unit load; m/N, rad/N, m/(N m), rad/(N m)):\n";
+  for (const auto& nc : compliances.back()) {
+    o << "  node " << nc.label << ":";
+    for (const auto& n : nc.names) o << " " << std::setw(12) << n;
+    o << "\n";
+    if (!nc.C.size()) {
+      o << "    none: K0 + G0 is singular\n";
+      continue;
+    }
+    for (Eigen::Index r = 0; r < nc.C.rows(); ++r) {
+      o << "  " << std::setw(8) << nc.names[static_cast<size_t>(r)] << ":";
+      for (Eigen::Index c = 0; c < nc.C.cols(); ++c) o << " " << std::setw(12) << io::shortNumber(nc.C(r, c), 6);
+      o << "\n";
+    }
+  }
+}
+
+// --compliance 3,5: node labels.
+std::vector<int> nodeLabelList(const std::string& text) {
+  std::vector<int> labels;
+  if (text.empty()) return labels;
+  for (double v : numberList(text, "compliance")) {
+    if (v != std::floor(v) || v < 0 || v > 1e9) throw po::error("--compliance must be node labels, not '" + text + "'");
+    labels.push_back(static_cast<int>(v));
+  }
+  return labels;
+}
+
+// SPACAR's <model>.sbd / .sbm beside the CSV, with SPACAR Light's stressmax, Freac, Mreac and the
+// compliances in the .sbd (analysis::spacarDesignVariables); temporary names adopted by `files`.
+void writeStaticSpacar(io::OutputSet& files, const std::string& base, const core::Model& model,
+                       const analysis::StaticRun& run, const analysis::StaticCompliances& compliances, bool ltv,
+                       bool matrices) {
+  analysis::SpacarOutputOptions spo;
+  // SPACAR's set unless --matrices none: SPACAR Light reads dx and bigd of the load steps in the .sbd
+  // and m0, k0, g0, n0 of every step in the .sbm (spacarlight.m).
+  spo.transferFunctions = spo.jacobian = spo.matrices = matrices;
+  const io::SpacarResults sr =
+      ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
+  const std::string tempBase = io::temporaryName(base);
+  auto contents = io::spacarResultFiles(tempBase, model, sr);
+  for (auto& f : contents)
+    if (f.path.size() > 4 && f.path.compare(f.path.size() - 4, 4, ".sbd") == 0)
+      for (auto& v : analysis::spacarDesignVariables(model, run, compliances)) f.variables.push_back(std::move(v));
+  for (const auto& f : contents) {
+    io::writeSpacarFile(f);
+    files.adopt(f.path, base + f.path.substr(tempBase.size()));
+  }
+}
+
 // Each load step: its factors, Newton iterations, frequencies and buckling load factors.
 void printStaticSteps(std::ostream& screen, const analysis::StaticRun& run, int buckling) {
   for (const auto& st : run.steps) {
@@ -349,7 +415,7 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
-  std::string out, svg, html, vtk, format = "both", matrices = "all";
+  std::string out, svg, html, vtk, format = "both", matrices = "all", compliance;
   const std::string htmlHelp = std::string(
                                    "also write a 3-D page that plays the load steps and the last one's mode "
                                    "shapes (default: beside the CSV)") +
@@ -366,22 +432,29 @@ int runStatic(const std::vector<std::string>& args) {
       "SPACAR's mode 3 on a static file (`--mode 3`): also M0 and K0B = K0 + N0 + G0 over every kinematic degree "
       "of freedom, inputs included, per load step in <model>.ltv (mode 3 in the .sbd)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
+      "compliance", po::value(&compliance),
+      "NODES: node labels separated by commas; the compliance matrix of each at every load step (K0 + G0 at the "
+      "equilibrium; a position node with the orientation node of its beam end: planar 3 x 3, spatial 6 x 6) in "
+      "<prefix>_compliance.csv, on screen (last load step) and in the .sbd (CMglob_node<N>)")(
       "buckling", po::value(&buckling)->implicit_value(3)->notifier(atLeast("buckling", 0)),
       "buckling load factors per equilibrium (SPACAR mode 8: (K0 + mu G0) v = 0; default 3 when given)")(
       "out", po::value(&out),
       "CSV with the equilibria: a file name, a prefix or a folder (default: <model>_static.csv); per load step the "
-      "coordinates, frequencies, buckling factors, then the largest section forces max_* and the nodal loads F.*, M.*")(
+      "coordinates, frequencies, buckling factors, then the largest section forces max_*, the nodal loads F.*, M.*, "
+      "the largest von Mises stress max_stress and its element, the support reactions R.*; beside it "
+      "<prefix>_stress.csv (each element's von Mises stress) when VISUALIZATION gives sections")(
       "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file")(
       "html", po::value(&html)->implicit_value("<prefix>.html"), htmlHelp.c_str())(
       "vtk", po::value(&vtk)->implicit_value("<prefix>"),
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
   std::string viewName;
   addViewOption(d, viewName, kShapeViewAuto);
-  if (auto rc = parseCommand(args, d, m,
-                             "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--ltv] "
-                             "[--matrices all|none] [--format "
-                             "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--view xy|xz|yz|iso] [--html "
-                             "[file.html]] [--vtk [prefix]]"))
+  if (auto rc = parseCommand(
+          args, d, m,
+          "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--compliance NODES] [--ltv] "
+          "[--matrices all|none] [--format "
+          "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--view xy|xz|yz|iso] [--html "
+          "[file.html]] [--vtk [prefix]]"))
     return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
@@ -404,6 +477,12 @@ int runStatic(const std::vector<std::string>& args) {
   so.nev = nev;
   so.loadSteps = steps;
   so.buckling = buckling;
+  try {
+    so.complianceNodes = nodeLabelList(compliance);
+  } catch (const po::error& e) {
+    std::cerr << "flexmb: " << e.what() << "\n";
+    return kUsageError;
+  }
   analysis::StaticJob job(modelSource(m), so);
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
@@ -427,6 +506,7 @@ int runStatic(const std::vector<std::string>& args) {
   files.setting("format", format);
   files.setting("matrices", matrices);
   if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
+  if (!compliance.empty()) files.setting("compliance nodes", compliance);
 
   installInterruptHandler();
   Progress progress("static", !m.quiet);
@@ -439,10 +519,18 @@ int runStatic(const std::vector<std::string>& args) {
     std::ostream& screen = m.quiet ? static_cast<std::ostream&>(quietSteps) : std::cout;
     printStaticSteps(screen, run, buckling);
     // The table every front end writes for a static run (analysis::staticTable).
-    if (writeCsv)
+    if (writeCsv) {
       io::writeTextFile(files.temporaryPath(csvPath), io::formatCsv(analysis::staticTable(model, run, buckling)));
+      if (!analysis::stressedElements(model).empty())
+        io::writeTextFile(files.temporaryPath(prefix + "_stress.csv"),
+                          io::formatCsv(analysis::stressTable(model, run)));
+      if (!job.compliances().empty())
+        io::writeTextFile(files.temporaryPath(prefix + "_compliance.csv"),
+                          io::formatCsv(analysis::complianceTable(run, job.compliances())));
+    }
     printFinalDisplacements(std::cout, model, run);
     printForcesAndLoads(std::cout, model, run);
+    printStressReactionsCompliance(std::cout, model, run, job.compliances());
     files.renameFiles();  // the load steps' CSV first: nothing after it can take it away
   } catch (const std::exception& e) {
     std::cerr << "flexmb: " << e.what() << "\n";
@@ -452,14 +540,7 @@ int runStatic(const std::vector<std::string>& args) {
   // each on its own (tryProduct).
   bool complete = !writeSpacar || tryProduct(files, "SPACAR's .sbd/.sbm", [&] {
     const auto base = (std::filesystem::path(csvPath).parent_path() / std::filesystem::path(m.file).stem()).string();
-    analysis::SpacarOutputOptions spo;
-    // SPACAR's set unless --matrices none: SPACAR Light reads dx and bigd of the load steps in the .sbd
-    // and m0, k0, g0, n0 of every step in the .sbm (spacarlight.m).
-    spo.transferFunctions = spo.jacobian = spo.matrices = matrices == "all";
-    const io::SpacarResults sr =
-        ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
-    const std::string tempBase = io::temporaryName(base);
-    for (const auto& p : io::writeSpacarResults(tempBase, model, sr)) files.adopt(p, base + p.substr(tempBase.size()));
+    writeStaticSpacar(files, base, model, run, job.compliances(), ltv, matrices == "all");
   });
   try {
     for (const auto& p : files.renameFiles()) std::cout << "wrote " << p << "\n";
