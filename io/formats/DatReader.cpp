@@ -738,11 +738,10 @@ void Reader::apply(const Statement& s, core::ModelBuilder& b, bool spacar95) {
       const size_t nn = info.elementType->slots.size();
       std::vector<int> nodes;
       for (size_t k = 1; k <= nn && k < s.args.size(); ++k) nodes.push_back(integer(s, k));
-      if (info.elementType->vector.empty()) {
+      if (info.elementType->vector.empty())
         b.addElement(*info.elementType, integer(s, 0), nodes, line);
-      } else {
+      else
         b.addElement(*info.elementType, integer(s, 0), nodes, reals(1 + nn), line);
-      }
       break;
     }
     case Action::Coordinates:
