@@ -28,6 +28,9 @@ struct TargetOptions {
   SimulationOptions run;   // the integrator and tolerances of the candidate runs (basis set here)
   int maxVectors = 0;      // reduced columns to try at most (0: every small coordinate but one)
   std::function<void(int vectors, double estimate)> onCandidate;  // progress
+  // Each candidate on stderr as the scan goes (issue 49): before its run the size and a time
+  // estimate from the last candidate's, after it the estimate and the time taken.
+  bool sayCandidates = false;
   // Keep the chosen candidate's run (TargetResult::run) with its accuracy check's windows, so that
   // the run asked for is not integrated a second time.
   bool keepChosenRun = false;
@@ -43,8 +46,12 @@ struct TargetCandidate {
 };
 
 struct TargetResult {
-  bool met = false;       // a basis smaller than the full model meets the target
-  bool full = false;      // none does: use the full model
+  bool met = false;   // a basis smaller than the full model meets the target
+  bool full = false;  // none does: use the full model
+  // Stopped by run.interrupt (Ctrl-C): basis is the best so far (met: the smallest that meets the
+  // target; else the completed candidate with the lowest estimate, if any; bestTried indexes it).
+  bool interrupted = false;
+  int bestTried = -1;
   ReductionResult basis;  // the chosen one (met), with its parameters (and "target")
   std::vector<TargetCandidate> tried;
   double buildSeconds = 0.0, seconds = 0.0;  // the basis of all candidates; everything
@@ -56,7 +63,7 @@ struct TargetResult {
 };
 
 // Throws std::invalid_argument for a target outside (0, 1) or a model without degrees of freedom
-// to reduce.
+// to reduce. An interrupt stops the scan after the candidate it reached (TargetResult::interrupted).
 TargetResult basisForTarget(const core::Model& model, const TargetOptions& options);
 
 }  // namespace flexmb::analysis

@@ -57,8 +57,17 @@ JobStatus ReduceJob::run(const RunHooks& hooks) {
       TargetOptions to;
       to.target = options_.target;
       to.basis = b;
+      to.run.interrupt = hooks.interrupt;
+      to.run.interruptSignal = hooks.interruptSignal;
+      to.sayCandidates = static_cast<bool>(hooks.progress);
       target_ = basisForTarget(model(), to);
       if (!target_.full) basis_ = target_.basis;
+      if (target_.interrupted) {  // the best so far is the basis (written by the front end), said
+        say(Diagnostic::Kind::Error,
+            "reduce: " + target_.note +
+                (target_.bestTried >= 0 ? "; the basis is the best so far" : "; no candidate completed: no basis"));
+        return status_ = JobStatus::Interrupted;
+      }
     } else {
       basis_ = buildBasis(model(), b);
     }

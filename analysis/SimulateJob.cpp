@@ -128,6 +128,7 @@ void SimulateJob::chooseBasisForTarget() {
   to.target = request_.target;
   to.run = request_.run;
   to.keepChosenRun = runs_.size() == 1;  // a candidate runs the last stage alone
+  to.sayCandidates = request_.run.progress;
   if (request_.autoBasis) to.basis = *request_.autoBasis;
   TargetResult tr;
   try {
@@ -145,6 +146,20 @@ void SimulateJob::chooseBasisForTarget() {
                           tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
   settings_.emplace_back("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
                                           : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
+  if (tr.interrupted) {  // Ctrl-C while choosing: what was found is said; there is no run
+    std::string best = "no candidate completed";
+    if (tr.bestTried >= 0) {
+      const TargetCandidate& c = tr.tried[static_cast<size_t>(tr.bestTried)];
+      best = "the best so far: " + std::to_string(c.vectors) + " vectors, estimate " +
+             text::significant(c.estimate.estimate, 2) + (tr.met ? " (meets the target)" : " (above the target)");
+    }
+    trajectory_.completed = false;
+    trajectory_.stopReason = "interrupted while choosing the basis (" + how + "); " + best;
+    say(Diagnostic::Kind::Error, trajectory_.stopReason);
+    interrupted_ = true;
+    status_ = JobStatus::Interrupted;
+    return;
+  }
   say(Diagnostic::Kind::Result,
       "basis auto: " + (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") + " (" + how + ")");
   if (tr.full) {

@@ -1,5 +1,6 @@
 // Reduced models q = V eta (Eq. 17-23) against the full model and modal truncation theory.
 #include <gtest/gtest.h>
+#include <atomic>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -289,4 +290,29 @@ TEST(ReductionErrorEstimate, ATargetBeyondTheOnePercentRuleIsMet) {
     t.target = bad;
     EXPECT_THROW(analysis::basisForTarget(m, t), std::invalid_argument) << bad;
   }
+}
+
+// Issue 49, item 5: Ctrl-C during the target scan stops it after the candidate it reached and keeps
+// what it found: here the first candidate (the 1% rule's 5 vectors, which miss 3e-4) is the best so
+// far, the second is stopped by the interrupt.
+TEST(ReductionTarget, AnInterruptKeepsTheBestBasisSoFar) {
+  const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
+  std::atomic<bool> stop{false};
+  analysis::TargetOptions t;
+  t.target = 3e-4;
+  t.basis = guidanceSvd(0);
+  t.run.interrupt = &stop;
+  t.onCandidate = [&](int, double) { stop = true; };  // Ctrl-C once the first candidate is in
+  const analysis::TargetResult r = analysis::basisForTarget(m, t);
+  ASSERT_TRUE(r.interrupted);
+  EXPECT_FALSE(r.met);
+  EXPECT_FALSE(r.full);  // not decided: the scan did not finish
+  ASSERT_EQ(r.bestTried, 0) << r.note;
+  ASSERT_GE(r.tried.size(), 1u);
+  EXPECT_LE(r.tried.size(), 2u);
+  if (r.tried.size() == 2) {
+    EXPECT_FALSE(r.tried[1].completed);
+  }
+  EXPECT_EQ(r.basis.V.cols() - static_cast<Eigen::Index>(r.basis.large.size()), r.tried[0].vectors);
+  EXPECT_NE(r.note.find("interrupted"), std::string::npos) << r.note;
 }

@@ -165,11 +165,29 @@ int runReduce(const std::vector<std::string>& args) {
   files.setting("command", "reduce");
   files.setting("model", m.file);
   describeReduction(files, o);
+  installInterruptHandler();  // Ctrl-C in a target scan keeps the best basis so far
   {
     Progress progress("reduce", !m.quiet);
-    job.run({[&](int i, int n) { progress.update(i, n, "configurations"); }, nullptr, nullptr});
+    job.run({[&](int i, int n) { progress.update(i, n, "configurations"); }, interruptFlag(), interruptSignal()});
   }
   said = showDiagnostics(job, m.quiet, said);
+  if (job.status() == analysis::JobStatus::Interrupted && job.hasTarget()) {
+    const analysis::TargetResult& tr = job.target();
+    printCandidates(std::cout, tr);
+    if (tr.bestTried >= 0) {
+      analysis::BasisOperators none;
+      none.note = "not built: the scan was interrupted";
+      try {
+        analysis::writeReduction(files, out, m.file, job.basis(), none);
+        files.commit("stopped: " + tr.note);
+      } catch (const std::exception& e) {
+        std::cerr << "flexmb: " << e.what() << "\n";
+        return kWriteFailed;
+      }
+      std::cout << "basis (the best so far) written to " << out << "\nwrote " << files.manifestPath() << "\n";
+    }
+    return interruptedExitCode();
+  }
   if (job.status() != analysis::JobStatus::Completed) return exitCodeOf(job.status());
   if (job.hasTarget()) {
     const analysis::TargetResult& tr = job.target();

@@ -286,6 +286,20 @@ TEST_F(Cli, InterruptKeepsTheResultsSoFar) {
   EXPECT_TRUE(fs::exists(dir_ / "m.mat"));
 }
 
+// Issue 49, item 5: Ctrl-C during reduce's target scan writes the best basis so far and says so;
+// the candidates are said as the scan goes.
+TEST_F(Cli, InterruptOfATargetScanKeepsTheBestBasisSoFar) {
+  const Result r = sh("flexmb reduce " + kData +
+                      "tests/straight_guidance_40.dat --target 1e-5 --out rt.csv & pid=$!; sleep 3; kill -INT $pid; "
+                      "wait $pid");
+  EXPECT_EQ(r.code, 130) << r.out << r.err;
+  EXPECT_NE(r.err.find("basis auto: trying 3 vectors"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("interrupted after"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("the best so far"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "rt.csv")) << listing();
+  EXPECT_NE(slurp(dir_ / "rt_run.txt").find("status: stopped: interrupted"), std::string::npos);
+}
+
 // Item 7: huge runs are refused up front with a message saying what to change.
 TEST_F(Cli, HugeRunsAreRefusedUpFront) {
   struct Case {
