@@ -31,6 +31,7 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Sweep.hpp"
@@ -332,6 +333,7 @@ struct StaticResult {
   int buckling = 0;
   Eigen::VectorXd loadFactor, initialFactor;
   RowMatrix x, e, sig, freq, bucklingFactors;
+  analysis::StaticCompliances compliances;  // per step, the named nodes' (analysis/StaticDesign.hpp)
 };
 
 // Rows of a matrix from per-step vectors (NaN where a step has fewer).
@@ -628,16 +630,82 @@ void bindStatic(py::module_& m) {
                                for (const auto& st : r.run.steps) s.push_back(st.loadStep);
                                return s;
                              })
+      .def_property_readonly("stress_elements",
+                             [](const StaticResult& r) {
+                               std::vector<int> labels;
+                               for (int i : analysis::stressedElements(*r.model))
+                                 labels.push_back(r.model->elements[static_cast<size_t>(i)].label);
+                               return labels;
+                             })
+      .def_property_readonly("stress",
+                             [](const StaticResult& r) {
+                               const int n = static_cast<int>(analysis::stressedElements(*r.model).size());
+                               return rowsOf(r.run.steps, n, [&](const auto& st) {
+                                 const auto v = analysis::elementStresses(*r.model, st);
+                                 Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+                                 for (size_t k = 0; k < v.size(); ++k)
+                                   out[static_cast<Eigen::Index>(k)] = v[k].vonMises;
+                                 return out;
+                               });
+                             })
+      .def_property_readonly("stressmax",
+                             [](const StaticResult& r) {
+                               std::vector<double> v;
+                               for (const auto& st : r.run.steps) {
+                                 const auto top = analysis::largestStress(*r.model, st);
+                                 v.push_back(top.element >= 0 ? top.vonMises : NAN);
+                               }
+                               return v;
+                             })
+      .def_property_readonly("reaction_names",
+                             [](const StaticResult& r) {
+                               std::vector<std::string> names;
+                               for (const auto& [n, v] : analysis::supportReactions(*r.model, analysis::StaticStep()))
+                                 names.push_back(n);
+                               return names;
+                             })
+      .def_property_readonly(
+          "reactions",
+          [](const StaticResult& r) {
+            const int n = static_cast<int>(analysis::supportReactions(*r.model, analysis::StaticStep()).size());
+            return rowsOf(r.run.steps, n, [&](const auto& st) {
+              const auto v = analysis::supportReactions(*r.model, st);
+              Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+              for (size_t k = 0; k < v.size(); ++k) out[static_cast<Eigen::Index>(k)] = v[k].second;
+              return out;
+            });
+          })
+      .def_property_readonly("compliance",
+                             [](const StaticResult& r) {
+                               py::dict d;
+                               for (const auto& step : r.compliances)
+                                 for (const auto& nc : step) {
+                                   const py::int_ key(nc.label);
+                                   if (!d.contains(key)) d[key] = py::list();
+                                   const Eigen::Index n = static_cast<Eigen::Index>(nc.names.size());
+                                   d[key].cast<py::list>().append(nc.C.size() ? Eigen::MatrixXd(nc.C)
+                                                                              : Eigen::MatrixXd::Constant(n, n, NAN));
+                                 }
+                               return d;
+                             })
+      .def_property_readonly("compliance_names",
+                             [](const StaticResult& r) {
+                               py::dict d;
+                               if (!r.compliances.empty())
+                                 for (const auto& nc : r.compliances.front()) d[py::int_(nc.label)] = nc.names;
+                               return d;
+                             })
       .def("write", [](const StaticResult& r, const std::string& path) {
         return writeTable(path, analysis::staticTable(*r.model, r.run, r.buckling));
       });
   m.def(
       "static",
-      [](const ModelHandle& handle, int nev, int loadSteps, int buckling) {
+      [](const ModelHandle& handle, int nev, int loadSteps, int buckling, const std::vector<int>& compliance) {
         const ModelPtr model = handle.last();
         InterruptScope scope;
         analysis::StaticOptions so;
         so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
+        so.complianceNodes = compliance;
         analysis::StaticJob job(sourceOf(handle), so);
         raiseIfRefused(job);
         {
@@ -646,6 +714,7 @@ void bindStatic(py::module_& m) {
         }
         analysis::StaticRun run = job.result();
         StaticResult r = makeStatic(model, std::move(run), job.options().nev, buckling);
+        r.compliances = job.compliances();
         r.diagnostics = job.diagnostics();
         if (r.run.interrupted)
           raiseWithResult(PyExc_KeyboardInterrupt,
@@ -653,7 +722,7 @@ void bindStatic(py::module_& m) {
                           py::cast(std::move(r)));
         return r;
       },
-      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"));
+      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"), py::arg("compliance"));
 }
 
 void bindModes(py::module_& m) {

@@ -73,12 +73,17 @@ def check(model):
     return _core.check(model)
 
 
-def static(model, *, nev=6, load_steps=0, buckling=0):
+def static(model, *, nev=6, load_steps=0, buckling=0, compliance=()):
     """Mode 10: equilibrium over the load steps (`flexmb static`); eigenfrequencies (Hz) and, with
-    buckling > 0, buckling load factors in each. Arrays have one row per step."""
+    buckling > 0, buckling load factors in each. Arrays have one row per step. Per step also the
+    von Mises stress of each element with a VISUALIZATION section (`.stress`, Pa, columns
+    `.stress_elements`; `.stressmax`), the support reactions (`.reactions`, columns
+    `.reaction_names`) and, for the node labels in `compliance`, the compliance matrices
+    (`.compliance[node]`: one matrix per step, rows and columns `.compliance_names[node]`)."""
     _model(model)
+    nodes = [_count(n, "compliance", 0) for n in compliance]
     return _core.static(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0),
-                        _count(buckling, "buckling", 0))
+                        _count(buckling, "buckling", 0), nodes)
 
 
 def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damping_ratio=None, rayleigh=None):
