@@ -140,8 +140,10 @@ void SimulateJob::chooseBasisForTarget() {
   }
   std::ostringstream tried;
   for (const auto& c : tr.tried)
-    tried << (tried.tellp() > 0 ? ", " : "") << c.vectors
-          << " vectors: " << (c.estimate.estimated ? text::significant(c.estimate.estimate, 2) : "not estimated");
+    tried << (tried.tellp() > 0 ? ", " : "") << c.vectors << " vectors: "
+          << (!c.completed           ? std::string("stopped")
+              : c.estimate.estimated ? text::significant(c.estimate.estimate, 2)
+                                     : std::string("not estimated"));
   const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; tried " +
                           tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
   settings_.emplace_back("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
@@ -158,6 +160,7 @@ void SimulateJob::chooseBasisForTarget() {
     say(Diagnostic::Kind::Error, trajectory_.stopReason);
     interrupted_ = true;
     status_ = JobStatus::Interrupted;
+    wall_ = secondsSoFar();
     return;
   }
   say(Diagnostic::Kind::Result,
