@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -243,14 +244,24 @@ TEST(CliModels, StaticWritesTheLargestSectionForcesAndTheLoads) {
   ASSERT_EQ(rows.size(), 7u) << "header and load steps 0..5";
   const std::vector<std::string>& h = rows[0];
   const core::Model model = io::readDatFile(kStage);
-  // The columns as before (load_step, initial_factor, load_factor, the coordinates, f1..f6), then the new.
-  ASSERT_EQ(h.size(), 3u + static_cast<size_t>(model.nx) + 6u + 5u);
+  // The columns as before (load_step, initial_factor, load_factor, the coordinates, f1..f6), then the
+  // section forces and loads, the largest stress and its element, the reactions of the two clamps.
+  const size_t base = 3u + static_cast<size_t>(model.nx) + 6u;
+  ASSERT_EQ(h.size(), base + 5u + 2u + 12u);
   EXPECT_EQ(h[3], "node1.x");
   EXPECT_EQ(h[3 + model.nx + 5], "f6_Hz");
-  const std::vector<std::string> added(h.end() - 5, h.end());
+  const std::vector<std::string> added(h.begin() + static_cast<long>(base), h.begin() + static_cast<long>(base) + 5);
   EXPECT_EQ(added, (std::vector<std::string>{"max_axial_force", "max_bending_moment_y", "max_bending_moment_z",
                                              "max_torsion_moment", "F.node45.x"}));
-  const size_t moment = h.size() - 4, load = h.size() - 1;
+  EXPECT_EQ(h[base + 5], "max_stress");
+  EXPECT_EQ(h[base + 7], "R.F.node1.x");
+  EXPECT_EQ(h[base + 13], "R.F.node23.x");
+  const size_t moment = base + 1, load = base + 4, stress = base + 5;
+  // The reactions balance the 1 N along x; a leaf's stress is 3 E t d / L^2 (d the stage's travel).
+  const size_t x45 = static_cast<size_t>(std::find(h.begin(), h.end(), "node45.x") - h.begin());
+  const double d = std::stod(rows[6][x45]) - std::stod(rows[1][x45]);
+  EXPECT_NEAR(std::stod(rows[6][base + 7]) + std::stod(rows[6][base + 13]), -1.0, 1e-9);
+  EXPECT_NEAR(std::stod(rows[6][stress]) / (3 * 210e9 * 0.2e-3 * d / (0.05 * 0.05)), 1.0, 0.01) << rows[6][stress];
   for (size_t r = 1; r < rows.size(); ++r) EXPECT_NEAR(std::stod(rows[r][load]), (r - 1) / 5.0, 1e-12);
   // A guided leaf carries half the load with a moment F/2 L/2 at its ends (0.0125 N m under 1 N).
   EXPECT_NEAR(std::stod(rows[6][moment]) / 0.0125, 1.0, 0.05) << rows[6][moment];
