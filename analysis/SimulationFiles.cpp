@@ -166,8 +166,17 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
       });
   }
   if (!what.echo.empty() && any)
-    attempt("the restart echo " + what.echo,
-            [&] { io::writeRestart(files.temporaryPath(what.echo), model, traj.time.back(), traj.states.back()); });
+    attempt("the restart echo " + what.echo, [&] {
+      // The settings this run used (the options over the file's): the echo continues this run.
+      core::Model settled = model;
+      core::AnalysisSettings& s = settled.settings;
+      if (opt.tEnd) s.tEnd = *opt.tEnd;
+      if (opt.intervals) s.outputIntervals = *opt.intervals;
+      if (opt.relTol) s.relTol = *opt.relTol;
+      if (opt.absTol) s.absTol = *opt.absTol;
+      if (opt.maxStep) s.hmax = *opt.maxStep;
+      io::writeRestart(files.temporaryPath(what.echo), settled, traj.time.back(), traj.states.back());
+    });
   if (any && what.vtk)  // pictures of the motion (they name their own files), then the manifest
     attempt("the VTK series", [&] {
       const auto series = io::writeVtkSeries(files.prefix(), model, traj);

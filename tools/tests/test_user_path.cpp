@@ -131,6 +131,10 @@ TEST_F(UserPath, EveryRunThatWritesFilesListsThemInAManifest) {
     EXPECT_TRUE(has(m, f)) << f << "\n" << m;
   EXPECT_TRUE(has(m, "0 to 0.07 s, 7 output intervals, reltol 0.001, abstol 1e-06")) << m;
   EXPECT_TRUE(has(m, "max step 0.007 s (not limited")) << m;
+  // The echo continues this run: its period and output intervals are the options', not the file's.
+  const std::string echo = slurp(dir_ / "end.dat");
+  EXPECT_TRUE(has(echo, "TIME 0.07\n")) << echo;
+  EXPECT_TRUE(has(echo, "TIMESTEP 0.14 7\n")) << echo;
   EXPECT_FALSE(std::regex_search(m, std::regex("[0-9]{12,}"))) << "a number in 17 digits:\n" << m;
 }
 
