@@ -470,7 +470,9 @@ class StageRun {
     o.relTol = tol.relTol;
     o.absTols = tol.absTols;
     o.maxStep = set_.maxStep;
-    anchorEta_ = y0.head(eom_.size());
+    // On the operators the kinematics were last solved at eomEta_ (an ode45 stretch before an auto
+    // switch may have stayed on the operators): the anchor catches up from there.
+    anchorEta_ = operators_ ? eomEta_ : Eigen::VectorXd(y0.head(eom_.size()));
     const ImplicitCallables c = implicitCallables();
     if (!opt_.basis) {  // full models: the sparse iteration matrix (a few RHS instead of Eq. 15's hundreds)
       SparseIteration system(
