@@ -530,9 +530,15 @@ SpacarFilePlan planSpacarFiles(const std::string& base, const core::Model& model
 void fillSpacarFile(MatSink& w, const std::string& path, const SpacarFilePlan& plan, const core::Model& model,
                     const SpacarResults& r) {
   const std::string ext = path.substr(path.size() - 4);
-  if (ext == ".sbd")
+  if (ext == ".sbd") {
     writeSbd(w, model, r, plan.L, plan.c);
-  else if (ext == ".sbm")
+    for (const auto& v : r.extraSbd) {
+      if (v.isText)
+        w.text(v.name.c_str(), v.text);
+      else
+        w.write(v.name.c_str(), v.dims.at(0), v.dims.at(1), v.data, v.dims.size() > 2 ? v.dims[2] : 1);
+    }
+  } else if (ext == ".sbm")
     writeSbm(w, model, r, plan.L, plan.c);
   else
     writeLtv(w, r, plan.L);

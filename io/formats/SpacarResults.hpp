@@ -88,6 +88,15 @@ struct SpacarStateSpace {
   std::vector<std::string> inputNames, outputNames;
 };
 
+// One variable of a result file, in memory: a double array (column-major data, dims 2 or 3) or a
+// char matrix (text, one string per row).
+struct SpacarVariable {
+  std::string name;
+  std::vector<std::size_t> dims;
+  std::vector<double> data;
+  std::vector<std::string> text;
+  bool isText = false;
+};
 struct SpacarResults {
   int mode = 1;              // SPACAR mode of the analysis (1, 3, 4, 10; 0 kinematic; 2 modes)
   std::vector<double> time;  // per step: time, or the load factor in a static analysis
@@ -98,6 +107,9 @@ struct SpacarResults {
   std::string warning;                         // a completed run that is worth a remark (mode 0 of a model that
                                                // is not uniquely solvable: initial configuration and bigd only)
   std::optional<SpacarStateSpace> stateSpace;  // mode 9
+  // Written at the end of the .sbd as they are: what an analysis derives beyond SPACAR's variables
+  // (statics: SPACAR Light's stressmax, Freac, Mreac, CMglob; analysis/StaticDesign.hpp).
+  std::vector<SpacarVariable> extraSbd;
 };
 
 // Writes <base>.sbd and, when a step holds system matrices, frequencies or modes, <base>.sbm; and
@@ -109,15 +121,6 @@ struct SpacarResults {
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& results);
 
-// One variable of a result file, in memory: a double array (column-major data, dims 2 or 3) or a
-// char matrix (text, one string per row).
-struct SpacarVariable {
-  std::string name;
-  std::vector<std::size_t> dims;
-  std::vector<double> data;
-  std::vector<std::string> text;
-  bool isText = false;
-};
 struct SpacarFileContents {
   std::string path;  // <base>.sbd, <base>.sbm, <base>.ltv
   std::vector<SpacarVariable> variables;

@@ -342,17 +342,11 @@ void writeStaticSpacar(io::OutputSet& files, const std::string& base, const core
   // SPACAR's set unless --matrices none: SPACAR Light reads dx and bigd of the load steps in the .sbd
   // and m0, k0, g0, n0 of every step in the .sbm (spacarlight.m).
   spo.transferFunctions = spo.jacobian = spo.matrices = matrices;
-  const io::SpacarResults sr =
+  io::SpacarResults sr =
       ltv ? analysis::spacarFromStaticPerturbation(model, run, spo) : analysis::spacarFromStatics(model, run, spo);
+  sr.extraSbd = analysis::spacarDesignVariables(model, run, compliances);
   const std::string tempBase = io::temporaryName(base);
-  auto contents = io::spacarResultFiles(tempBase, model, sr);
-  for (auto& f : contents)
-    if (f.path.size() > 4 && f.path.compare(f.path.size() - 4, 4, ".sbd") == 0)
-      for (auto& v : analysis::spacarDesignVariables(model, run, compliances)) f.variables.push_back(std::move(v));
-  for (const auto& f : contents) {
-    io::writeSpacarFile(f);
-    files.adopt(f.path, base + f.path.substr(tempBase.size()));
-  }
+  for (const auto& p : io::writeSpacarResults(tempBase, model, sr)) files.adopt(p, base + p.substr(tempBase.size()));
 }
 
 // Each load step: its factors, Newton iterations, frequencies and buckling load factors.

@@ -29,6 +29,7 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/TrajectoryModes.hpp"
@@ -363,6 +364,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         so.transferFunctions = true;  // as the command line: few steps, compliance scripts read dx
         so.jacobian = true;
         results = analysis::spacarFromStatics(model, *st, so);
+        // SPACAR Light's stressmax, Freac and Mreac beside SPACAR's variables (analysis/StaticDesign.hpp).
+        results.extraSbd = analysis::spacarDesignVariables(model, *st, {});
         break;
       }
       case 9: {
