@@ -2,6 +2,7 @@
 
 #include "analysis/ModesJob.hpp"
 #include "analysis/SimulateJob.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/SweepJob.hpp"
 
@@ -342,6 +343,8 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
       q.emplace_back("max_displacement", last ? maxDisplacement(model, last->x) : kNaN);
       if (last)
         for (const SectionForceMaximum& f : sectionForceMaxima(model, last->sigma)) q.emplace_back(f.name, f.value);
+      // The largest von Mises stress where VISUALIZATION gives sections (StaticDesign.hpp).
+      if (last && !stressedElements(model).empty()) q.emplace_back("max_stress", largestStress(model, *last).vonMises);
       if (last) {
         const std::vector<int> nodes = a.stiffnessNodes.empty() ? loadedNodes(model) : a.stiffnessNodes;
         for (int label : nodes) {

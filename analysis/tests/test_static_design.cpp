@@ -21,6 +21,7 @@
 
 #include "analysis/StaticDesign.hpp"
 #include "analysis/Statics.hpp"
+#include "analysis/Study.hpp"
 #include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
@@ -284,4 +285,22 @@ TEST(StaticDesign, CrossSpringPivotTurnsWithComplianceLOver2EI) {
   ASSERT_EQ(c[0].names.back(), "rz");
   const double expected = std::hypot(0.1, 0.1) / (2 * kLeafEI);
   EXPECT_NEAR(c[0].C(5, 5) / expected, 1.0, 1e-6) << c[0].C(5, 5);
+}
+
+TEST(StaticDesign, StudyReportsTheLargestStress) {
+  const core::Model m = io::readDatString(planarCantilever(4, 0.0, -0.01), "cantilever.dat");
+  analysis::StudyAnalyses a;
+  analysis::StaticOptions o;
+  o.nev = 0;
+  a.statics = o;
+  const analysis::VariantResults v = analysis::runVariant(m, a);
+  ASSERT_TRUE(v.failure.empty()) << v.failure;
+  const double I = 0.02 * 0.002 * 0.002 * 0.002 / 12, expected = 0.01 * kL * 0.001 / I;
+  bool found = false;
+  for (const auto& [name, value] : v.quantities)
+    if (name == "max_stress") {
+      found = true;
+      EXPECT_NEAR(value, expected, 1e-4 * expected);
+    }
+  EXPECT_TRUE(found);
 }
