@@ -410,6 +410,7 @@ int runStatic(const std::vector<std::string>& args) {
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
   std::string out, svg, html, vtk, format = "both", matrices = "all", compliance;
+  analysis::StaticOptions so;
   const std::string htmlHelp = std::string(
                                    "also write a 3-D page that plays the load steps and the last one's mode "
                                    "shapes (default: beside the CSV)") +
@@ -426,7 +427,8 @@ int runStatic(const std::vector<std::string>& args) {
       "SPACAR's mode 3 on a static file (`--mode 3`): also M0 and K0B = K0 + N0 + G0 over every kinematic degree "
       "of freedom, inputs included, per load step in <model>.ltv (mode 3 in the .sbd)")(
       "steps", po::value(&steps)->notifier(atLeast("steps", 1)), "load steps (default: ITERSTEP's second field)")(
-      "compliance", po::value(&compliance),
+      "compliance",
+      po::value(&compliance)->notifier([&so](const std::string& v) { so.complianceNodes = nodeLabelList(v); }),
       "NODES: node labels separated by commas; the compliance matrix of each at every load step (K0 + G0 at the "
       "equilibrium; a position node with the orientation node of its beam end: planar 3 x 3, spatial 6 x 6) in "
       "<prefix>_compliance.csv, on screen (last load step) and in the .sbd (CMglob_node<N>)")(
@@ -467,16 +469,9 @@ int runStatic(const std::vector<std::string>& args) {
     return kUsageError;
   }
   const bool writeCsv = format == "csv" || format == "both", writeSpacar = format == "mat" || format == "both";
-  analysis::StaticOptions so;
   so.nev = nev;
   so.loadSteps = steps;
   so.buckling = buckling;
-  try {
-    so.complianceNodes = nodeLabelList(compliance);
-  } catch (const po::error& e) {
-    std::cerr << "flexmb: " << e.what() << "\n";
-    return kUsageError;
-  }
   analysis::StaticJob job(modelSource(m), so);
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
