@@ -22,7 +22,8 @@ def check(cond, what):
         print("FAIL:", what)
 
 def run(args):
-    r = subprocess.run([flexmb] + args + ["-q"] if args[0] == "simulate" else [flexmb] + args,
+    # simulate writes SPACAR's .sbd/.mat on request (its default is the CSV tables)
+    r = subprocess.run([flexmb] + args + ["-q", "--format", "both"] if args[0] == "simulate" else [flexmb] + args,
                        cwd=work, capture_output=True, text=True)
     if r.returncode != 0:
         print(r.stdout, r.stderr)
