@@ -28,9 +28,9 @@ bool ElementTypeInfo::isLargeRotation(int deformation) const {
 
 namespace {
 // SPACAR type codes (`it`; io/results.md has the evidence): SPACAR's own where they are known
-// (BEAM 1, TRUSS 2, PLBEAM 5, PLTRUSS 7). The NL variants differ only in the elongation, which SPACAR
-// keeps as a per-element flag, not as a type: they share their element's code. Types whose SPACAR
-// code is unknown get flexmb's own codes from 101, clear of every code SPACAR's tools use (1-18).
+// (BEAM 1, TRUSS 2, HINGE 3, the Euler-parameter normalisation 4, PLBEAM 5, PLTRUSS 7). The NL variants differ only in
+// the elongation, which SPACAR keeps as a per-element flag, not as a type: they share their element's code. Types whose
+// SPACAR code is unknown get flexmb's own codes from 101, clear of every code SPACAR's tools use (1-18).
 constexpr int kOwnTypeIds = 100;
 }  // namespace
 
@@ -198,7 +198,7 @@ const std::vector<ElementTypeInfo>& elementTypes() {
                         nullptr};
       h.vector = {{"a1", "-", "hinge axis, x component"}, {"a2", "-", "y component"}, {"a3", "-", "z component"}};
       h.createWithVector = &SpatialHinge::create;
-      h.spacarTypeId = kOwnTypeIds + 2;
+      h.spacarTypeId = 3;      // SPACAR's own slidercrank.sbd (oopspa bcad60f): its HINGEs are IT 3
       h.largeRotations = {0};  // the rotation about the axis; the tilts stay small
       h.deformationKinds = {K::Rotation, K::Other, K::Other};
       t.push_back(h);
@@ -233,7 +233,7 @@ const ElementTypeInfo& normalisationType() {
                       {},
                       &EulerNormalisation::create};
     i.internal = true;
-    i.spacarTypeId = kOwnTypeIds + 4;
+    i.spacarTypeId = 4;  // SPACAR writes one such element of code 4 per orientation node (slidercrank.sbd)
     return i;
   }();
   return n;

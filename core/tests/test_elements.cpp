@@ -390,6 +390,8 @@ TEST(Elements, Registry) {
   EXPECT_EQ(findElementType("BEAM")->spacarTypeId, 1);
   EXPECT_EQ(findElementType("BEAMNL")->spacarTypeId, 1);
   EXPECT_EQ(findElementType("TRUSS")->spacarTypeId, 2);
+  EXPECT_EQ(findElementType("HINGE")->spacarTypeId, 3);  // SPACAR's slidercrank.sbd (io/results.md)
+  EXPECT_EQ(normalisationType().spacarTypeId, 4);
   for (const ElementTypeInfo* info : test::allElementTypes()) {
     EXPECT_GT(info->spacarTypeId, 0) << info->keyword;
     for (const ElementTypeInfo* other : test::allElementTypes())

@@ -224,12 +224,13 @@ SpacarTopology spacarTopology(const core::Model& model, const SpacarLayout& L) {
   for (const auto& n : model.nodes)
     for (int k = 0; k < n.dim(); ++k) lnp(n.label - 1, k) = L.xPos[n.firstCoord + k] + 1;
   Eigen::MatrixXd ln = Eigen::MatrixXd::Zero(maxEl, nodesPerEl), le = Eigen::MatrixXd::Zero(maxEl, defsPerEl);
-  Eigen::MatrixXd it = Eigen::MatrixXd::Zero(maxEl, 1), rl0 = Eigen::MatrixXd::Zero(maxEl, 1);
+  // it is a row (1 x elements), as IT in SPACAR's own .sbd; rl0 a column, as its RL0.
+  Eigen::MatrixXd it = Eigen::MatrixXd::Zero(1, maxEl), rl0 = Eigen::MatrixXd::Zero(maxEl, 1);
   for (const auto& E : model.elements) {
     for (std::size_t j = 0; j < E.nodes.size(); ++j) ln(E.label - 1, j) = model.nodes[E.nodes[j]].label;
     const int nd = E.impl ? E.impl->numDeformations() : 0;
     for (int j = 0; j < nd; ++j) le(E.label - 1, j) = L.ePos[E.firstDef + j] + 1;
-    it(E.label - 1, 0) = elementTypeId(E.type);
+    it(0, E.label - 1) = elementTypeId(E.type);
     // Reference length: distance of the first two position nodes in the initial configuration.
     std::vector<const core::Node*> pos;
     for (int ni : E.nodes)

@@ -37,7 +37,7 @@ SpacarLayout spacarLayout(const core::Model& model);
 
 // The topology tables (rows by node / element label, 0 for unused labels; io/results.md):
 // lnp (places of node coordinates in x), ln (element nodes), le (places of element deformations in
-// e), it (type ids), rl0 (reference lengths).
+// e), it (type ids: a row, 1 x elements, as SPACAR's IT), rl0 (reference lengths).
 struct SpacarTopology {
   Eigen::MatrixXd lnp, ln, le, it, rl0;
 };

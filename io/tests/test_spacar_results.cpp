@@ -218,11 +218,16 @@ TEST(SpacarResults, SpatialElementVariables) {
   ASSERT_EQ(rl0.rows(), rows);
   EXPECT_EQ(rl0.bottomRows(3).norm(), 0.0);
   EXPECT_NEAR(rl0(4), (x10 - x7).norm(), 1e-15);
+  // `it` is a row, as IT in SPACAR's own slidercrank.sbd (1 x 9: 3 1 3 1 4 4 4 4 4 for its
+  // HINGE, BEAM, HINGE, BEAM and five Euler-parameter normalisations; io/results.md).
   const Eigen::MatrixXd it = readMat(sbd, "it");
-  ASSERT_EQ(it.rows(), rows);
+  ASSERT_EQ(it.rows(), 1);
+  ASSERT_EQ(it.cols(), rows);
   EXPECT_EQ(it(0), 1.0);   // BEAM
+  EXPECT_EQ(it(1), 3.0);   // HINGE
   EXPECT_EQ(it(3), 2.0);   // TRUSS
   EXPECT_EQ(it(4), 18.0);  // BEAMW
+  for (int k = 5; k < rows; ++k) EXPECT_EQ(it(k), 4.0) << "L2MIN1 " << k + 1;
   EXPECT_NEAR(rl0(0), (x3 - x1).norm(), 1e-15);
   EXPECT_EQ(rl0(1), 0.0);
   EXPECT_NEAR(rl0(2), (x5 - x3).norm(), 1e-15);

@@ -75,6 +75,12 @@ int main(int argc, char** argv) {
                    "--buckling N model.dat gives the N lowest factors mu of (K0 + mu G0) v = 0 at every load step\n";
       return kUsageError;
     }
+    if (n == "2") {  // named by SPACAR's help of 2001, defined nowhere public (docs/frontends/octave.md)
+      std::cerr << "flexmb: mode 2 (SPACAR's inverse dynamic analysis with setpoint generation) is not supported: "
+                   "no public source says how its setpoint is given or what it writes; the inverse dynamics of a "
+                   "driven rigid mechanism (no degrees of freedom, moving inputs) is mode 1 (flexmb simulate)\n";
+      return kUsageError;
+    }
     if (it == modes.end()) {
       std::cerr << "flexmb: mode " << n
                 << " is not supported (supported: 0, 1, 3, 4, 9, 10; buckling, SPACAR's mode "

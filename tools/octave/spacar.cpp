@@ -395,7 +395,11 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
                  ? std::string("; buckling load factors (SPACAR's mode 8) come from mode 10's K0 and G0 (the .sbm: "
                                "getfrsbf), or from the command line: flexmb static --buckling N " +
                                datFile)
-                 : std::string());
+             : mode == 2 ? std::string("; SPACAR's mode 2 (inverse dynamic analysis with setpoint generation) is "
+                                       "not in flexmb: no public source says how its setpoint is given or what it "
+                                       "writes (docs/frontends/octave.md); a driven rigid mechanism (no degrees of "
+                                       "freedom, moving inputs) gets its inverse dynamics from mode 1")
+                         : std::string());
         run.errorId = "flexmb:spacar:mode";
         return;
     }

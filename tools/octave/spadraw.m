@@ -16,9 +16,9 @@ function h = spadraw(name, step)
 % (green, q = ln(:, 2)), 10 PLPINBODY (red), 15 PLTUBE (orange); spatial 1 BEAM (blue, q = ln(:, 3)),
 % 2 TRUSS (green, q = ln(:, 2)), 9 PINBODY (red), 16 TUBE (orange), 17 SCREW (purple), 18 BEAMW
 % (light blue, q = ln(:, 4)); p is ln(:, 1). flexmb adds its RBEAM (code 103, grey, q = ln(:, 3)),
-% which SPACAR's spadraw does not know; hinges are not drawn. Axes: equal scales (not for a spatial
-% model with Octave's gnuplot toolkit, which cannot show them), limits over every stored step; a
-% spatial model is seen from azimuth 130, elevation 40.
+% which SPACAR's spadraw does not know; hinges (3) and Euler-parameter normalisations (4) are not
+% drawn. Axes: equal scales (not for a spatial model with Octave's gnuplot toolkit, which cannot
+% show them), limits over every stored step; a spatial model is seen from azimuth 130, elevation 40.
 % Without graphics (octave-cli without a display or gnuplot, or a figure that cannot be made) it
 % draws nothing, says why, and returns h with figure [] and the coordinates all the same; flexmb's
 % SVG picture of a model is spavisual(name).

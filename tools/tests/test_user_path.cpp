@@ -407,6 +407,10 @@ TEST_F(UserPath, MessagesPointToWhatHelps) {
   Result r = flexmb("--mode 8 " + kData + "cantilever.dat");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r.err, "static --buckling")) << r.err;
+  // SPACAR's mode 2 (issue 52 item 5): refused with why, pointing to mode 1's inverse dynamics.
+  r = flexmb("--mode 2 " + kData + "cantilever.dat");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r.err, "setpoint") && has(r.err, "mode 1")) << r.err;
   r = flexmb("show " + kData + "cantilever.dat --veiw xy");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r.err, "did you mean --view?")) << r.err;

@@ -11,7 +11,7 @@ function test_getfrsbf(src, flexmb)
   nxp = getfrsbf(sbd, 'nxp'); nep = getfrsbf(sbd, 'nep');
   assert(isequal(size(nxp), [1 4]) && sum(nxp) == nx && isequal(size(nep), [1 4]) && sum(nep) == ne, 'nxp/nep');
   % Topology: as stored, with or without a step.
-  topo = {'lnp', [103 2]; 'ln', [2 4]; 'le', [2 3]; 'it', [2 1]; 'rl0', [2 1]; 'rxyz', [0 0]};
+  topo = {'lnp', [103 2]; 'ln', [2 4]; 'le', [2 3]; 'it', [1 2]; 'rl0', [2 1]; 'rxyz', [0 0]};
   for k = 1:rows(topo)
     assert(isequal(size(getfrsbf(sbd, topo{k, 1})), topo{k, 2}), '%s shape', topo{k, 1});
     assert(isequal(getfrsbf(sbd, upper(topo{k, 1}), 2), getfrsbf(sbd, topo{k, 1})), '%s with a step', topo{k, 1});

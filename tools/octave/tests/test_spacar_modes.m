@@ -38,7 +38,19 @@ function test_spacar_modes(src, flexmb)
     error('mode 2 accepted');
   catch err
     assert(~isempty(strfind(err.message, 'not supported')) && strcmp(err.identifier, 'flexmb:spacar:mode'), err.message);
+    assert(~isempty(strfind(err.message, 'setpoint')) && ~isempty(strfind(err.message, 'mode 1')), err.message);
   end
+  % Nothing of a refused mode reaches the workspace or a file (no silent partial answer).
+  clear x;
+  if exist('cant2.sbd', 'file'), delete('cant2.sbd'); end
+  copyfile('cant.dat', 'cant2.dat');
+  try
+    r2 = spacar(-2, 'cant2');
+    error('mode -2 accepted');
+  catch err
+    assert(strcmp(err.identifier, 'flexmb:spacar:mode'), err.identifier);
+  end
+  assert(exist('x', 'var') == 0 && exist('r2', 'var') == 0 && ~exist('cant2.sbd', 'file'), 'mode 2 left results');
   try
     spacar(1, 'cant_missing');
     error('missing file accepted');
