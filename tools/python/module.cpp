@@ -31,6 +31,7 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SimulationFiles.hpp"
+#include "analysis/SpacarOutput.hpp"
 #include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
@@ -594,6 +595,25 @@ void bindCheck(py::module_& m) {
         d["massless"] = c.assembly.massless;
         d["notes"] = handle->notes;
         d["warnings"] = handle->warnings;
+        return d;
+      },
+      py::arg("model"));
+  // SPACAR's mode 0 as SPACAR Light reads it from the .sbd (flexmb.light finds its releases from
+  // it): D = de/dx in SPACAR's row and column order, le, nep and nxp.
+  m.def(
+      "kinematic",
+      [](const ModelHandle& handle) {
+        const io::SpacarLayout layout = io::spacarLayout(*handle);
+        io::SpacarResults r;
+        {
+          py::gil_scoped_release release;
+          r = analysis::spacarKinematic(*handle);
+        }
+        py::dict d;
+        d["bigd"] = r.steps.empty() ? Eigen::MatrixXd() : r.steps.front().bigd;
+        d["le"] = io::spacarTopology(*handle, layout).le;
+        d["nep"] = std::vector<int>(layout.nep, layout.nep + 4);
+        d["nxp"] = std::vector<int>(layout.nxp, layout.nxp + 4);
         return d;
       },
       py::arg("model"));

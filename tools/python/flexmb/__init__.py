@@ -330,3 +330,4 @@ def _basis(basis, model):
 
 __all__ = ["read", "parse", "variant", "check", "static", "modes", "sweep", "transfer", "reduce", "simulate", "validate", "Model", "InputError",
            "UserFunctionError"]
+from . import light  # noqa: E402,F401  (SPACAR Light's inputs as a .dat: flexmb.light.build)
