@@ -130,11 +130,18 @@ class _Inputs:
         nn = len(self.nodes)
         if self.elements.min() < 1 or self.elements.max() > nn:
             raise ValueError(f"elements: node numbers must lie in 1..{nn}")
+        lengths = []
         for i, (p, q) in enumerate(self.elements, 1):
             if p == q:
                 raise ValueError(f"element {i}: both ends on node {p}")
-            if np.linalg.norm(self.nodes[q - 1] - self.nodes[p - 1]) <= 1e-5:
+            lengths.append(np.linalg.norm(self.nodes[q - 1] - self.nodes[p - 1]))
+            if lengths[-1] <= 1e-5:
                 raise ValueError(f"element {i}: length at most 1e-5 m")
+        if max(lengths) > 1000 * min(lengths):
+            raise ValueError("elements: the longest is more than 1000 times the shortest (SPACAR Light's limit)")
+        loose = sorted(set(range(1, nn + 1)) - set(self.elements.ravel().tolist()))
+        if loose:
+            raise ValueError(f"nodes {loose} belong to no element")
         self.nprops = self._nodes(nprops, nn)
         self.opt = dict(opt or {})
         for k in self.opt:

@@ -89,6 +89,7 @@ def test_write_and_unpack(tmp_path):
     (lambda n, e, p, s, o: s[1].update(elems=[2]), "already has properties"),
     (lambda n, e, p, s, o: s[0].update(orien=[0, 0, 1]), "along element"),
     (lambda n, e, p, s, o: p.update({9: {"fix": True}}), "node 9 does not exist"),
+    (lambda n, e, p, s, o: n.append([1, 1, 1]), r"nodes \[5\] belong to no element"),
     (lambda n, e, p, s, o: p[2].update(rot_x=0.1, rot_z=0.2), "more than one rotational input"),
     (lambda n, e, p, s, o: o.update(mode=4), "mode"),
     (lambda n, e, p, s, o: o.update(transfer=[True, 0.01]), "no nprops force"),
