@@ -389,7 +389,7 @@ class _Writer:
         out += self._geometry()
         out += self._fixes()
         out += self._inputs()
-        out += [f"{line}" for line in s.opt["customkin"]]
+        out += list(s.opt["customkin"])
         out += ["END", "HALT"]
         out += self._sections()
         out += self._nodal_masses()
@@ -625,7 +625,7 @@ def _find_releases(s, k, name):
         raise ValueError(f"{name}: the model is underconstrained ({under} coordinates not determined): "
                          "check the connectivity, the boundary conditions (fix) and opt rls")
     ids = list(range(1, m + 1))  # the places in e of D's remaining rows
-    last = {bs[-1]: i for i, bs in enumerate(_Beams(s)) if bs}
+    last = {bs[-1]: i for i, bs in enumerate(_beam_numbers(s))}
     for _ in range(over):
         U = svd(D, full_matrices=True, lapack_driver="gesvd")[0]
         oc = U[:, U.shape[1] - over] ** 2
@@ -636,7 +636,7 @@ def _find_releases(s, k, name):
             user = last.get(beam)
             if user is None:
                 continue
-            e, _, _, _, flex = s.element(user + 1)
+            flex = s.element(user + 1)[4]
             if mode in flex and mode not in releases[user]:
                 releases[user].append(mode)
                 del ids[row]
@@ -650,7 +650,7 @@ def _find_releases(s, k, name):
     return [sorted(r) for r in releases]
 
 
-def _Beams(s):
+def _beam_numbers(s):
     """SPACAR beam numbers per user element (the numbering of _Writer._geometry)."""
     beams, b = [], 1
     for i in range(1, len(s.elements) + 1):
