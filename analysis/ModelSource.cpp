@@ -5,6 +5,7 @@
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
 #include "core/model/UserFunctions.hpp"
+#include "io/formats/MeshRefinement.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
@@ -46,7 +47,12 @@ std::string firstError(const Diagnostics& d, const std::function<std::string(con
 }
 
 std::shared_ptr<const std::vector<io::AnalysisStage>> readStages(const ModelSource& source) {
-  if (source.stages) return source.stages;
+  if (source.stages) {
+    if (source.read.refine == 1) return source.stages;
+    auto refined = std::make_shared<std::vector<io::AnalysisStage>>(*source.stages);  // read unrefined
+    io::refineStages(*refined, source.read);
+    return refined;
+  }
   if (source.text)
     return std::make_shared<const std::vector<io::AnalysisStage>>(
         io::readDatStagesString(*source.text, source.file, source.read));

@@ -51,7 +51,8 @@ std::string withOptions(const Diagnostic& d, const std::function<std::string(con
 std::string firstError(const Diagnostics& d, const std::function<std::string(const std::string&)>& spell = {});
 
 // A model file and how to read it, or the stages of one already read (a Python Model, a study
-// variant): a job reads the file exactly once.
+// variant): a job reads the file exactly once. read.refine splits the flexible beams of either
+// (io/formats/MeshRefinement.hpp; given stages are taken as read without it).
 struct ModelSource {
   std::string file;
   io::ReadOptions read;

@@ -13,6 +13,7 @@
 #include "core/model/ModelBuilder.hpp"
 #include "io/formats/ExpressionFunction.hpp"
 #include "io/formats/KeywordTable.hpp"
+#include "io/formats/MeshRefinement.hpp"
 #include "io/formats/Visualization.hpp"
 
 namespace flexmb::io {
@@ -1078,7 +1079,9 @@ void Reader::resolveTransfer(core::Model& model) const {
 std::vector<AnalysisStage> readDatStagesString(std::string_view text, const std::string& virtualFileName,
                                                const ReadOptions& options) {
   Reader r(text, virtualFileName);
-  return r.build(options);
+  std::vector<AnalysisStage> stages = r.build(options);
+  refineStages(stages, options);
+  return stages;
 }
 
 core::Model readDatString(std::string_view text, const std::string& virtualFileName, const ReadOptions& options) {

@@ -58,6 +58,7 @@ class DatError : public std::runtime_error {
 struct ReadOptions {
   std::optional<core::Dialect> dialect;                  // overrides detection
   std::optional<core::ElongationDefinition> elongation;  // overrides the PLBEAM default
+  int refine = 1;  // every flexible beam split in this many elements (io/formats/MeshRefinement.hpp)
 };
 
 // The elongation definition PLBEAM gets for a dialect: SPACAR95 Plain, 2013+ BendingCorrected.
