@@ -48,6 +48,7 @@ struct ModelOptions {
   std::string file;
   std::string dialect;     // "", "95", "2013"
   std::string elongation;  // "", "plain", "corrected"
+  int refine = 1;          // --refine N: every flexible beam split in N (io/formats/MeshRefinement.hpp)
   bool quiet = false;      // --quiet: no progress, no notes
 };
 // acceptUserFunctions: a file naming USERSIG / USERINP is read (mode 0 never calls them); else it is

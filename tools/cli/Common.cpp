@@ -137,6 +137,10 @@ po::options_description commonModelOptions(ModelOptions& m) {
   po::options_description d("options");
   d.add_options()("dialect", po::value(&m.dialect), "force the dialect: 95 or 2013")(
       "elongation", po::value(&m.elongation), "PLBEAM elongation: plain (l - l0) or corrected (Eq. 3a)")(
+      "refine", po::value(&m.refine)->notifier([](int n) {
+        if (n < 1) throw po::error("--refine must be a whole number >= 1, not " + std::to_string(n));
+      }),
+      "split every flexible beam (PLBEAM, BEAM, BEAMW) in N elements; the original nodes keep their labels")(
       "quiet,q", po::bool_switch(&m.quiet), "no progress lines and notes on stderr");
   return d;
 }
@@ -213,6 +217,7 @@ io::ReadOptions readOptions(const ModelOptions& o) {
     ro.elongation = core::ElongationDefinition::Plain;
   else if (o.elongation == "corrected")
     ro.elongation = core::ElongationDefinition::BendingCorrected;
+  ro.refine = o.refine;
   return ro;
 }
 

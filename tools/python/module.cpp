@@ -43,6 +43,7 @@
 #include "core/model/UserFunctions.hpp"
 #include "io/formats/BasisFile.hpp"
 #include "io/formats/DatReader.hpp"
+#include "io/formats/MeshRefinement.hpp"
 #include "io/formats/OperatorFile.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/TextOutput.hpp"
@@ -472,6 +473,18 @@ std::string writeTable(const std::string& path, const io::CsvTable& table) {
 
 void bindModel(py::module_& m) {
   py::class_<ModelHandle>(m, "Model")
+      .def(
+          "refined",
+          [](const ModelHandle& h, int parts) {  // every stage alike (io/formats/MeshRefinement.hpp)
+            return asInputError([&] {
+              auto stages = std::make_shared<std::vector<io::AnalysisStage>>(*h.stages);
+              io::ReadOptions o;
+              o.refine = parts;
+              io::refineStages(*stages, o);
+              return ModelHandle{std::move(stages)};
+            });
+          },
+          py::arg("parts"))
       .def_property_readonly("file", [](const ModelHandle& h) { return h->sourceFile; })
       .def_property_readonly("nx", [](const ModelHandle& h) { return h->nx; })
       .def_property_readonly("ne", [](const ModelHandle& h) { return h->ne; })

@@ -37,20 +37,21 @@ from . import _core  # noqa: E402  (the exceptions above must exist before the n
 Model = _core.Model
 
 
-def read(path):
-    """The model of a SPACAR .dat file (both dialects; the last analysis stage)."""
+def read(path, *, refine=1):
+    """The model of a SPACAR .dat file (both dialects; the last analysis stage). refine=N splits every
+    flexible beam in N elements (`--refine N`; `Model.refined(N)`)."""
     if not isinstance(path, (str, bytes)) and not hasattr(path, "__fspath__"):
         raise TypeError(f"path: expected a file name, got {type(path).__name__}")
     import os
 
-    return _core.read(os.fsdecode(os.fspath(path)))
+    return _refined(_core.read(os.fsdecode(os.fspath(path))), refine)
 
 
-def parse(text, name="<string>"):
-    """The model of a .dat text; errors name `name` and the line."""
+def parse(text, name="<string>", *, refine=1):
+    """The model of a .dat text; errors name `name` and the line. refine: as read's."""
     _need(text, str, "text")
     _need(name, str, "name")
-    return _core.parse(text, name)
+    return _refined(_core.parse(text, name), refine)
 
 
 def variant(template, name="<template>", **parameters):
@@ -64,16 +65,17 @@ def variant(template, name="<template>", **parameters):
     return _core.parse(text, name)
 
 
-def check(model):
+def check(model, *, refine=1):
     """Mode 0 (`flexmb check`): a dict with `well_posed`, the kinematic report (`kinematics`: rank,
     degrees of freedom, redundant or missing equations), deformations that move without stiffness,
     values that overflow, the initial assembly's problem, massless degrees of freedom, notes and
     warnings."""
     _model(model)
+    model = _refined(model, refine)
     return _core.check(model)
 
 
-def static(model, *, nev=6, load_steps=0, buckling=0, compliance=()):
+def static(model, *, nev=6, load_steps=0, buckling=0, compliance=(), refine=1):
     """Mode 10: equilibrium over the load steps (`flexmb static`); eigenfrequencies (Hz) and, with
     buckling > 0, buckling load factors in each. Arrays have one row per step. Per step also the
     von Mises stress of each element with a VISUALIZATION section (`.stress`, Pa, columns
@@ -81,12 +83,14 @@ def static(model, *, nev=6, load_steps=0, buckling=0, compliance=()):
     `.reaction_names`) and, for the node labels in `compliance`, the compliance matrices
     (`.compliance[node]`: one matrix per step, rows and columns `.compliance_names[node]`)."""
     _model(model)
+    model = _refined(model, refine)
     nodes = [_count(n, "compliance", 0) for n in compliance]
     return _core.static(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0),
                         _count(buckling, "buckling", 0), nodes)
 
 
-def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damping_ratio=None, rayleigh=None):
+def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damping_ratio=None, rayleigh=None,
+          refine=1):
     """Eigenfrequencies (Hz, `.freq`) and mode shapes (`.modes` in q, `.modex` in x) in the initial
     configuration (`flexmb modes`), and per global direction (`.directions`: x, y, rz or x, y, z,
     rx, ry, rz) the participation factors `.gamma` and effective masses `.meff` (modes by
@@ -95,6 +99,7 @@ def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damp
     default the origin) or the position node `reference_node`. `.zeta`: each mode's damping ratio
     from the model's EDAMP and damping_ratio / rayleigh (as `transfer`'s); empty when undamped."""
     _model(model)
+    model = _refined(model, refine)
     point = np.zeros(3)
     node = 0
     if reference is not None and reference_node is not None:
@@ -110,16 +115,17 @@ def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damp
     return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node, ratios, alpha, beta)
 
 
-def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0):
+def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0, refine=1):
     """Eigenfrequencies over a range of motion (`flexmb sweep`): coordinate `component` of `node`
     prescribed from `start` to `stop` in `steps` configurations."""
     _model(model)
+    model = _refined(model, refine)
     return _core.sweep(model, _count(node, "node", 1), _count(component, "component", 1), _real(start, "start"),
                        _real(stop, "stop"), _count(steps, "steps", 2), _count(nev, "nev", 1), _basis(basis, model),
                        _real(t, "t"))
 
 
-def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None):
+def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None, refine=1):
     """Mode 9: the state-space model A, B, C, D between the transfer block's inputs and outputs at
     the last load step (`flexmb transfer`); `.write(prefix, bode=True)` writes its files (A..D CSV,
     SPACAR's .sbd/.sbm/.ltv, the Bode diagrams). nev: eigenfrequencies per load step in the .sbm.
@@ -127,19 +133,21 @@ def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None):
     list for modes 1, 2, ... (the last for the higher ones); rayleigh: (alpha, beta) adds
     alpha M + beta K (beta K is EDAMP = beta * ESTIFF)."""
     _model(model)
+    model = _refined(model, refine)
     ratios, alpha, beta = _damping(damping_ratio, rayleigh)
     return _core.transfer(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0), ratios, alpha, beta)
 
 
 def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weight=0.0, threshold=0.01, count=0,
            node=0, component=1, start=0.0, stop=0.0, large=None, target=None, operators=True, track=None,
-           track_elements=None):
+           track_elements=None, refine=1):
     """A reduction basis q = V eta (`flexmb reduce`): `.V` (ndof x k), its reduced operators
     (`.operators` says what was built), `.write(path)` the basis file and the operators beside it.
     With `target` the smallest basis of `method` whose reduction error estimate meets it (`.tried`
     lists the candidates; `.full` when none does). `track` / `track_elements`: node / element labels
     whose outputs the operators also fit. `.messages`: what the job said."""
     _model(model)
+    model = _refined(model, refine)
     o = _core.ReductionOptions()
     if method not in ("modal", "svd-modal"):
         raise ValueError(f"method: 'modal' or 'svd-modal', not {method!r}")
@@ -168,7 +176,8 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
 
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator=None,
-             basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None):
+             basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None,
+             refine=1):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
     integrator: "auto", "ode45", "bdf" or "galpha" (generalized-alpha). Default (None): auto, which runs
@@ -189,6 +198,7 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     kinematics and the forces its inputs need (`.fxt`), as `flexmb simulate` does.
     """
     _model(model)
+    model = _refined(model, refine)
     for name, f in (("usersig", usersig), ("userinp", userinp)):
         if f is not None and not callable(f):
             raise TypeError(f"{name}: expected a callable, got {type(f).__name__}")
@@ -285,6 +295,12 @@ def _need(value, kind, name):
 def _model(model):
     if not isinstance(model, Model):
         raise TypeError(f"model: expected a flexmb.Model (flexmb.read or flexmb.parse), got {type(model).__name__}")
+
+
+def _refined(model, refine):
+    # Every flexible beam split in `refine` elements (1: the model itself); see read().
+    parts = _count(refine, "refine", 1)
+    return model if parts == 1 else model.refined(parts)
 
 
 def _real(value, name):
