@@ -8,10 +8,12 @@
 #include <optional>
 
 #include "analysis/SpacarOutput.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "io/formats/RestartWriter.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "io/formats/SpacarResults.hpp"
 #include "io/formats/TextOutput.hpp"
+#include "io/pictures/DesignPlots.hpp"
 #include "io/pictures/HtmlAnimation.hpp"
 #include "io/pictures/VtkWriter.hpp"
 #include "text/NumberText.hpp"
@@ -91,6 +93,108 @@ io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& t
     std::vector<double> row{traj.time[k]};
     row.insert(row.end(), fxt[k].data(), fxt[k].data() + fxt[k].size());
     t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+namespace {
+
+// "stress_PLBEAM3" of each element with a von Mises stress (stressTable's names), in its order.
+std::vector<std::string> stressColumnNames(const core::Model& model) {
+  std::vector<std::string> names;
+  for (int i : stressedElements(model))
+    names.push_back("stress_" + model.elements[i].type->keyword + std::to_string(model.elements[i].label));
+  return names;
+}
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+}  // namespace
+
+std::vector<std::string> historyColumns(const core::Model& model, const std::vector<std::string>& labels) {
+  const std::vector<std::string> xNames = io::coordinateColumnNames(model), eNames = io::deformationColumnNames(model),
+                                 stresses = stressColumnNames(model);
+  std::vector<std::string> out;
+  for (const std::string& label : labels) {
+    const auto colon = label.find(':');
+    const std::string stem = colon == std::string::npos ? "" : label.substr(0, colon);
+    const std::string name = colon == std::string::npos ? label : label.substr(colon + 1);
+    if ((stem.empty() || stem == "x" || stem == "xd" || stem == "xdd") && contains(xNames, name)) {
+      out.push_back((stem.empty() ? "x" : stem) + ":" + name);
+      continue;
+    }
+    if ((stem == "e" || stem == "ed" || stem == "edd" || stem == "sig") && contains(eNames, name)) {
+      out.push_back(label);
+      continue;
+    }
+    if (stem.empty() && ((label == "max_stress" && !stresses.empty()) || contains(stresses, label))) {
+      out.push_back(label);
+      continue;
+    }
+    std::string why = "--plot: '" + label + "' is not a quantity of " + model.sourceFile + ". It has the coordinates " +
+                      io::listNames(xNames, 30) + " (as node6.x or x:node6.x, and xd:, xdd: for their rates)";
+    if (!eNames.empty())
+      why += "; the deformations " + io::listNames(eNames, 30) +
+             " (with e:, ed:, edd: or sig: for the deformation, its rates or its generalised stress)";
+    why += stresses.empty() ? "; no von Mises stress (no element has a VISUALIZATION section)"
+                            : "; the von Mises stresses max_stress, " + io::listNames(stresses, 30);
+    if (contains(eNames, name) && stem.empty())
+      why = "--plot: '" + label + "' is a deformation: write e:" + label + " (the deformation) or sig:" + label +
+            " (its generalised stress)";
+    throw std::invalid_argument(why);
+  }
+  return out;
+}
+
+io::CsvTable historyTable(const core::Model& model, const core::Trajectory& traj,
+                          const std::vector<std::string>& columns) {
+  io::CsvTable t;
+  t.columns.push_back("time");
+  t.columns.insert(t.columns.end(), columns.begin(), columns.end());
+  t.rows.assign(traj.time.size(), {});
+  for (size_t k = 0; k < traj.time.size(); ++k) t.rows[k].push_back(traj.time[k]);
+  if (!traj.tracked.empty()) {  // only what the operators tracked
+    const io::CsvTable tracked = trackedOutputTable(model, traj);
+    for (const std::string& c : columns) {
+      const std::size_t j = io::tableColumn(tracked, c, "the run's tracked outputs (--outputs tracked)");
+      for (size_t k = 0; k < traj.time.size() && k < tracked.rows.size(); ++k) t.rows[k].push_back(tracked.rows[k][j]);
+    }
+    return t;
+  }
+  const std::vector<std::string> xNames = io::coordinateColumnNames(model), eNames = io::deformationColumnNames(model),
+                                 stresses = stressColumnNames(model);
+  for (size_t k = 0; k < traj.time.size() && k < traj.states.size(); ++k) {
+    const core::StateOutputs& s = traj.states[k];
+    std::vector<ElementStress> vonMises;
+    for (const std::string& c : columns) {
+      const auto colon = c.find(':');
+      if (colon == std::string::npos) {  // a von Mises stress, from the state's sig and e
+        if (vonMises.empty()) {
+          StaticStep step;
+          step.sigma = s.sig, step.e = s.e;
+          vonMises = elementStresses(model, step);
+        }
+        double v = 0.0;
+        for (size_t i = 0; i < vonMises.size(); ++i)
+          if (c == "max_stress" ? vonMises[i].vonMises > v : c == stresses[i]) v = vonMises[i].vonMises;
+        t.rows[k].push_back(v);
+        continue;
+      }
+      const std::string stem = c.substr(0, colon), name = c.substr(colon + 1);
+      const bool nodal = stem[0] == 'x';
+      const std::vector<std::string>& names = nodal ? xNames : eNames;
+      const auto at = static_cast<Eigen::Index>(std::find(names.begin(), names.end(), name) - names.begin());
+      const Eigen::VectorXd& v = stem == "x"     ? s.x
+                                 : stem == "xd"  ? s.xd
+                                 : stem == "xdd" ? s.xdd
+                                 : stem == "e"   ? s.e
+                                 : stem == "ed"  ? s.ed
+                                 : stem == "edd" ? s.edd
+                                                 : s.sig;
+      t.rows[k].push_back(at < v.size() ? v[at] : NAN);
+    }
   }
   return t;
 }
@@ -176,6 +280,15 @@ WrittenSimulation writeSimulation(io::OutputSet& files, const core::Model& model
       if (opt.absTol) s.absTol = *opt.absTol;
       if (opt.maxStep) s.hmax = *opt.maxStep;
       io::writeRestart(files.temporaryPath(what.echo), settled, traj.time.back(), traj.states.back());
+    });
+  if (!traj.time.empty() && !what.plot.empty())
+    attempt("the time history " + files.prefix() + "_history.svg", [&] {
+      const std::string title = model.sourceFile + ": time history" + (traj.completed ? "" : " (stopped early)");
+      std::vector<double> initial;  // positions and rotations drawn from the model's initial configuration
+      for (const std::string& c : what.plot)
+        initial.push_back(c.rfind("x:", 0) == 0 ? model.x0[io::coordinateIndex(model, c.substr(2))] : NAN);
+      io::writeSvgStack(files.temporaryFor("_history.svg"),
+                        io::timeHistoryPlots(historyTable(model, traj, what.plot), initial, title));
     });
   if (any && what.vtk)  // pictures of the motion (they name their own files), then the manifest
     attempt("the VTK series", [&] {

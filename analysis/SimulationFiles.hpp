@@ -30,6 +30,9 @@ struct SimulationFiles {
   // A driven rigid mechanism's nodal forces per output time (analysis::InverseDynamicsRun::fxt):
   // <prefix>_fxt.csv with the tables.
   const std::vector<Eigen::VectorXd>* fxt = nullptr;
+  // simulate --plot: the time history of these columns (historyColumns' names) in
+  // <prefix>_history.svg (empty: none).
+  std::vector<std::string> plot;
   // The job's wall time before writing (SimulateJob::wallSeconds; negative: not given): the manifest
   // then says the whole command's, writing included.
   double secondsBefore = -1.0;
@@ -67,5 +70,15 @@ io::CsvTable trajectoryFrequencyTable(const TrajectoryModes& modes, int columns)
 io::CsvTable trackedOutputTable(const core::Model& model, const core::Trajectory& traj);
 io::CsvTable nodalForceTable(const core::Model& model, const core::Trajectory& traj,
                              const std::vector<Eigen::VectorXd>& fxt);
+
+// simulate --plot's columns, normalised: a coordinate "node6.x" or "x:node6.x", its rates "xd:node6.x",
+// "xdd:node6.x"; a deformation with its stem "e:PLBEAM3.e2_bending_p", "ed:", "edd:", "sig:" (its
+// generalised stress); "max_stress" (the largest von Mises stress over the elements with a
+// VISUALIZATION section, analysis/StaticDesign.hpp) and "stress_PLBEAM3" (one such element's). Throws
+// std::invalid_argument naming the first label the model does not have and listing those it has.
+std::vector<std::string> historyColumns(const core::Model& model, const std::vector<std::string>& labels);
+// time and those columns at every output time (a run with tracked outputs: from its tracked table).
+io::CsvTable historyTable(const core::Model& model, const core::Trajectory& traj,
+                          const std::vector<std::string>& columns);
 
 }  // namespace flexmb::analysis

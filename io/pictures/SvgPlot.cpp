@@ -402,7 +402,11 @@ void appendLegend(std::string& o, const Plot& plot, const std::vector<std::size_
 
 }  // namespace
 
-std::string renderSvg(const Plot& plot) {
+namespace {
+
+// One plot; its plot area's left and right margins at least minLeft and minRight (stacked panels
+// share their plot area's edges), the margins used in *used.
+std::string renderPanel(const Plot& plot, double minLeft, double minRight, std::pair<double, double>* used) {
   const double W = std::max(plot.width, 240), H = std::max(plot.height, 180);
 
   // Data ranges from the valid points.
@@ -460,9 +464,11 @@ std::string renderSvg(const Plot& plot) {
   legendW = legendItems.empty() ? 0 : std::min(legendW + 48, W * 0.4);
   double yLabelW = 0;
   for (const Tick& t : yt) yLabelW = std::max(yLabelW, t.width);
-  const double left = 10 + (plot.y.label.empty() ? 0 : 18) + yLabelW + 9;
+  const double left = std::max(minLeft, 10 + (plot.y.label.empty() ? 0 : 18) + yLabelW + 9);
   double right = legendItems.empty() ? 16 : legendW + 24;
   if (!xt.empty()) right = std::max(right, xt.back().width / 2 + 4);
+  right = std::max(right, minRight);
+  if (used) *used = {left, right};
   const double top = cursor + 12;
   const double bottom = 8 + 5 + 14 + (plot.x.label.empty() ? 0 : 18) + 4;
   const Rect area{left, top, std::max(left + 40, W - right), std::max(top + 20, H - bottom)};
@@ -544,11 +550,22 @@ std::string renderSvg(const Plot& plot) {
   return o;
 }
 
+}  // namespace
+
+std::string renderSvg(const Plot& plot) { return renderPanel(plot, 0, 0, nullptr); }
+
 std::string renderSvgStack(const std::vector<Plot>& plots) {
   double W = 240, H = 0;
   std::string body;
+  // The widest margins of all panels for each, so that their plot areas line up.
+  double minLeft = 0, minRight = 0;
+  for (const Plot& p : plots) {
+    std::pair<double, double> used;
+    renderPanel(p, 0, 0, &used);
+    minLeft = std::max(minLeft, used.first), minRight = std::max(minRight, used.second);
+  }
   for (std::size_t k = 0; k < plots.size(); ++k) {
-    std::string one = renderSvg(plots[k]);
+    std::string one = renderPanel(plots[k], minLeft, minRight, nullptr);
     one.erase(0, one.find("<svg"));  // no XML declaration inside
     // Each plot's clip path gets its own id.
     const std::string id = "flexmb-plot-area", own = id + "-" + std::to_string(k + 1);

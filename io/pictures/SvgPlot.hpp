@@ -60,7 +60,8 @@ std::string renderSvg(const Plot& plot);
 void writeSvg(const std::string& path, const Plot& plot);
 
 // Several plots stacked top to bottom in one document (a Bode diagram: magnitude over phase), each
-// rendered as renderSvg renders it.
+// rendered as renderSvg renders it, with the widest of their left and right margins (tick labels,
+// legend), so that their plot areas line up.
 std::string renderSvgStack(const std::vector<Plot>& plots);
 void writeSvgStack(const std::string& path, const std::vector<Plot>& plots);
 

@@ -1,13 +1,18 @@
 // Linear analyses: modes (initial configuration), static (mode 10), sweep (Fig. 5 style).
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <set>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "analysis/ModelCheck.hpp"
 #include "analysis/Modes.hpp"
@@ -23,6 +28,7 @@
 #include "io/formats/ResultWriter.hpp"
 #include "io/formats/SpacarResults.hpp"
 #include "io/formats/TextOutput.hpp"
+#include "io/pictures/DesignPlots.hpp"
 #include "io/pictures/SvgPlot.hpp"
 #include "io/templates/StudySummary.hpp"
 #include "text/NumberText.hpp"
@@ -162,7 +168,7 @@ int runModes(const std::vector<std::string>& args) {
   io::OutputSet files(io::OutputSet::resolvePrefix(out, m.file));
   if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "modes");
-  files.setting("model", m.file);
+  recordModel(files, m, model);
   files.setting("nev", std::to_string(job.options().nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
   if (referenceNode)
@@ -402,6 +408,78 @@ bool writeStaticPictures(io::OutputSet& files, const std::string& svg, io::View 
   return complete;
 }
 
+// --plot COORDS of static and sweep: each coordinate a known one (a usage error listing the model's
+// coordinates otherwise).
+bool plotCoordinatesKnown(const core::Model& model, const std::vector<std::string>& coordinates) {
+  try {
+    for (const auto& c : coordinates) io::coordinateIndex(model, c);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "flexmb: --plot: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
+// What --plot draws for a coordinate: its deflection from the model's initial configuration against
+// the load loadOf gives (its column and axis text).
+std::vector<io::ForceDeflection> forceDeflections(
+    const core::Model& model, const std::vector<std::string>& coordinates,
+    const std::function<std::pair<std::string, std::string>(const std::string&)>& loadOf) {
+  std::vector<io::ForceDeflection> out;
+  for (const auto& c : coordinates) {
+    io::ForceDeflection fd;
+    fd.coordinate = c;
+    fd.reference = model.x0[io::coordinateIndex(model, c)];
+    std::tie(fd.load, fd.loadLabel) = loadOf(c);
+    out.push_back(std::move(fd));
+  }
+  return out;
+}
+
+// <prefix>_force_deflection.svg: a panel per ForceDeflection over the table's rows.
+bool writeForceDeflection(io::OutputSet& files, const io::CsvTable& table, const std::vector<io::ForceDeflection>& what,
+                          const std::string& title) {
+  const std::string path = files.prefix() + "_force_deflection.svg";
+  return tryProduct(files, "the force-deflection plot " + path, [&] {
+    std::vector<io::Plot> panels;
+    for (const auto& fd : what) panels.push_back(io::forceDeflectionPlot(table, fd, panels.empty() ? title : ""));
+    io::writeSvgStack(path, panels);
+    files.record(path);
+    std::cout << "wrote " << path << "\n";
+  });
+}
+
+// The CSV column of a sweep's prescribed coordinate ("node6.x"; "value", the sweep table's, for a
+// spatial orientation node's rotation) and the x axis's words for it ("x(node 6, x) [m]").
+std::pair<std::string, std::string> sweptColumn(const core::Model& model, const analysis::SweepOptions& o) {
+  const auto at = model.nodeByLabel.find(o.node);
+  if (at == model.nodeByLabel.end()) return {"value", "prescribed value"};  // the job has said why
+  const core::Node& node = model.nodes[at->second];
+  if (node.kind == core::NodeKind::EulerParameters)
+    return {"value",
+            "rotation of node " + std::to_string(o.node) + " about global " + "xyz"[o.component - 1] + " [rad]"};
+  const int k = node.firstCoord + o.component - 1;
+  const std::string name = io::coordinateColumnNames(model)[static_cast<std::size_t>(k)];
+  const std::string unit = io::coordinateUnit(name);
+  return {name, model.coordName(k) + (unit.empty() ? "" : " [" + unit + "]")};
+}
+
+// static --plot COORDS: the load along each coordinate (the table's F.* / M.* column, else the load
+// factor) against its deflection over the load steps.
+bool writeStaticForceDeflection(io::OutputSet& files, const core::Model& model, const io::CsvTable& table,
+                                const std::vector<std::string>& coordinates, const std::string& modelFile) {
+  const auto what = forceDeflections(model, coordinates, [&](const std::string& c) {
+    const std::string load = io::staticLoadColumn(table, c);
+    return std::pair{load, io::staticLoadLabel(load)};
+  });
+  return writeForceDeflection(files, table, what, modelFile + ": load against deflection over the load steps");
+}
+
+constexpr const char* kPlotHelp =
+    "COORDS: coordinates as the CSV names them, separated by commas (node6.x,node6.y): per coordinate the load "
+    "along it (its F.* or M.* column; the load factor where none is applied there) against its deflection from the "
+    "initial configuration over the load steps, a panel each in <prefix>_force_deflection.svg";
+
 }  // namespace
 
 int runStatic(const std::vector<std::string>& args) {
@@ -409,7 +487,7 @@ int runStatic(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   int nev = 6, steps = 0, buckling = 0;
   bool ltv = false;
-  std::string out, svg, html, vtk, format = "both", matrices = "all", compliance;
+  std::string out, svg, html, vtk, format = "both", matrices = "all", compliance, plot;
   analysis::StaticOptions so;
   const std::string htmlHelp = std::string(
                                    "also write a 3-D page that plays the load steps and the last one's mode "
@@ -440,7 +518,7 @@ int runStatic(const std::vector<std::string>& args) {
       "the largest von Mises stress max_stress and its element, the support reactions R.*; beside it "
       "<prefix>_stress.csv (each element's von Mises stress) when VISUALIZATION gives sections")(
       "svg", po::value(&svg), "also draw the equilibria and the last one's mode shapes into this SVG file")(
-      "html", po::value(&html)->implicit_value("<prefix>.html"), htmlHelp.c_str())(
+      "plot", po::value(&plot), kPlotHelp)("html", po::value(&html)->implicit_value("<prefix>.html"), htmlHelp.c_str())(
       "vtk", po::value(&vtk)->implicit_value("<prefix>"),
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
   std::string viewName;
@@ -449,7 +527,7 @@ int runStatic(const std::vector<std::string>& args) {
           args, d, m,
           "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--compliance NODES] [--ltv] "
           "[--matrices all|none] [--format "
-          "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--view xy|xz|yz|iso] [--html "
+          "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--plot COORDS] [--view xy|xz|yz|iso] [--html "
           "[file.html]] [--vtk [prefix]]"))
     return *rc;
   if (format != "csv" && format != "mat" && format != "both" && format != "none") {
@@ -476,6 +554,7 @@ int runStatic(const std::vector<std::string>& args) {
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
   const core::Model& model = job.model();
+  if (!plotCoordinatesKnown(model, io::commaList(plot))) return kUsageError;
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis. One file set: the
   // CSV, SPACAR's <model>.sbd / .sbm beside it, the --svg figure, the manifest <prefix>_run.txt.
   std::string csvPath;
@@ -489,7 +568,7 @@ int runStatic(const std::vector<std::string>& args) {
   if (vtk == "<prefix>") vtk = prefix;
   if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
   files.setting("command", "static");
-  files.setting("model", m.file);
+  recordModel(files, m, model);
   files.setting("load steps", std::to_string(job.options().loadSteps));
   files.setting("nev", std::to_string(job.options().nev));
   files.setting("format", format);
@@ -539,6 +618,9 @@ int runStatic(const std::vector<std::string>& args) {
   }
   sayRemovedStale(files.removedStale());
   complete &= writeStaticPictures(files, svg, viewNamed(viewName), html, vtk, model, m.file, run);
+  if (!plot.empty() && !run.steps.empty())
+    complete &= writeStaticForceDeflection(files, model, analysis::staticTable(model, run, buckling),
+                                           io::commaList(plot), m.file);
   try {
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";
@@ -556,6 +638,7 @@ int runSweep(const std::vector<std::string>& args) {
   po::options_description d = commonModelOptions(m);
   analysis::SweepOptions o;
   std::string out, basisFile, svg;
+  std::string plot;  // --plot alone: "prescribed"
   d.add_options()("node", po::value(&o.node)->required(), "node label of the prescribed coordinate (required)")(
       "comp", po::value(&o.component)->default_value(1)->notifier(atLeast("comp", 1)),
       "its component (1-based; a spatial orientation node: 1, 2, 3 = its rotation about global x, y, z in rad from "
@@ -569,17 +652,28 @@ int runSweep(const std::vector<std::string>& args) {
       "nev", po::value(&o.nev)->default_value(4)->notifier(atLeast("nev", 1)), "eigenfrequencies per configuration")(
       "basis", po::value(&basisFile), "reduced model: q = V eta with V from this file")(
       "out", po::value(&out), "output prefix or folder (default: <model>_sweep): CSV and SVG")(
-      "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file");
+      "svg", po::value(&svg), "also draw the configurations and the first and last mode shapes into this SVG file")(
+      "plot", po::value(&plot)->implicit_value("prescribed"),
+      "[COORDS]: the load that holds the prescribed coordinate against the deflection of each of these coordinates "
+      "(as the CSV names them, separated by commas; `prescribed`, the default: the prescribed one) from the initial "
+      "configuration, a panel each in <prefix>_force_deflection.svg");
   std::string viewName;
   addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N] "
-                             "[--svg file.svg] [--view xy|xz|yz|iso]"))
+                             "[--svg file.svg] [--plot [COORDS]] [--view xy|xz|yz|iso]"))
     return *rc;
   analysis::SweepJob job(modelSource(m), o, {basisFile, std::nullopt});
   std::size_t said = showDiagnostics(job, m.quiet);
   if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
   const core::Model& model = job.model();
+  const std::pair<std::string, std::string> sweptName = sweptColumn(model, o);
+  std::vector<std::string> plotted = io::commaList(plot);
+  for (auto& c : plotted)
+    if (c == "prescribed") c = sweptName.first;
+  std::vector<std::string> coordinates;  // "value", a rotation's column, is the sweep table's own
+  std::copy_if(plotted.begin(), plotted.end(), std::back_inserter(coordinates), [](auto& c) { return c != "value"; });
+  if (!plotCoordinatesKnown(model, coordinates)) return kUsageError;
   o.nev = job.options().nev;
   std::string suffix = "_sweep";
   if (!basisFile.empty()) suffix += "_" + std::filesystem::path(basisFile).stem().string();
@@ -592,7 +686,7 @@ int runSweep(const std::vector<std::string>& args) {
     return kUsageError;
   }
   files.setting("command", "sweep");
-  files.setting("model", m.file);
+  recordModel(files, m, model);
   files.setting("prescribed", "node " + std::to_string(o.node) + " component " + std::to_string(o.component));
   files.setting("range", text::shortest(o.from) + " to " + text::shortest(o.to) + " in " + std::to_string(o.steps) +
                              " configurations");
@@ -609,26 +703,21 @@ int runSweep(const std::vector<std::string>& args) {
     return kInputError;
   }
   progress.finish();
+  const io::CsvTable table = analysis::sweepTable(model, r);  // what every front end writes for a sweep
   try {
-    io::Plot plot;
-    plot.title = "Eigenfrequencies against " + r.prescribed;
-    plot.x.label = "prescribed coordinate";
-    plot.y.label = "frequency [Hz]";
-    plot.series.resize(o.nev);
-    for (int i = 0; i < o.nev; ++i) plot.series[i].label = "f" + std::to_string(i + 1);
     std::cout << "  value          load           frequencies [Hz]\n";
     for (const auto& p : r.points) {
       std::cout << "  " << std::setw(12) << p.value << "  " << std::setw(12) << p.load << " ";
-      for (int i = 0; i < o.nev && i < p.omegaSorted.size(); ++i) {
+      for (int i = 0; i < o.nev && i < p.omegaSorted.size(); ++i)
         std::cout << "  " << std::setw(10) << p.omegaSorted[i] / (2 * M_PI);
-        plot.series[i].x.push_back(p.value);
-        plot.series[i].y.push_back(p.omegaSorted[i] / (2 * M_PI));
-      }
       std::cout << "\n";
     }
-    // The table every front end writes for a sweep (analysis::sweepTable).
-    io::writeTextFile(files.temporaryFor(".csv"), io::formatCsv(analysis::sweepTable(model, r)));
-    if (!r.points.empty()) io::writeSvg(files.temporaryFor(".svg"), plot);
+    io::writeTextFile(files.temporaryFor(".csv"), io::formatCsv(table));
+    // A panel per group of modes (io::modeGroups): 5 Hz and 500 Hz never share a linear axis.
+    if (!r.points.empty())
+      io::writeSvgStack(files.temporaryFor(".svg"),
+                        io::frequencyPanels(table, "value", "prescribed " + sweptName.second,
+                                            "Eigenfrequencies against " + r.prescribed));
     files.renameFiles();
     std::cout << "wrote " << prefix << ".csv" << (r.points.empty() ? "" : " and " + prefix + ".svg") << " ("
               << r.points.size() << " of " << o.steps << " configurations)\n";
@@ -637,6 +726,24 @@ int runSweep(const std::vector<std::string>& args) {
     return kWriteFailed;
   }
   bool complete = true;  // the picture on its own: a failure leaves the CSV and the manifest
+  if (!plotted.empty() && !r.points.empty()) {
+    const std::string unit = sweptName.first == "value"                   ? "N m"
+                             : io::coordinateUnit(sweptName.first) == "m" ? "N"
+                                                                          : "N m";
+    std::vector<io::ForceDeflection> what;
+    for (const auto& c : plotted) {
+      io::ForceDeflection fd;
+      fd.coordinate = c;
+      if (c == "value")  // a spatial orientation node's rotation: from its initial orientation
+        fd.deflectionLabel = "prescribed " + sweptName.second;
+      else
+        fd.reference = model.x0[io::coordinateIndex(model, c)];
+      fd.load = "load";
+      fd.loadLabel = "load holding " + r.prescribed + " [" + unit + "]";
+      what.push_back(std::move(fd));
+    }
+    complete &= writeForceDeflection(files, table, what, m.file + ": the load that holds " + r.prescribed);
+  }
   if (!svg.empty())
     complete = tryProduct(files, "the figure " + svg, [&] {
       if (!writeSweepFigure(svg, model, m.file, r, o.t, viewNamed(viewName))) throw ProductFailed("see above");

@@ -14,6 +14,7 @@
 #include "analysis/SimulationFiles.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/RestartWriter.hpp"
+#include "io/pictures/DesignPlots.hpp"
 #include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 #include "tools/cli/Visuals.hpp"
@@ -32,6 +33,7 @@ struct SimulateArgs {
   std::string out, format = "csv", echo, basisFile, dynamics = "auto", integrator = "auto", outputs = "all";
   bool matrices = false, vtk = false, html = false, noAccuracyCheck = false, fullKinematics = false;
   double target = NAN;  // --target: the reduction error target (NaN: not given)
+  std::string plot;     // --plot COLUMN[,COLUMN...]: the time history <out>_history.svg
   std::string svdPath;  // --svd-path NODE,COMP,FROM,TO: --basis auto builds an SVD-modal basis along it
   analysis::Integrator chosen = analysis::Integrator::Auto;
   bool integratorGiven = false;  // --integrator given (an empty one is a usage error, not the default)
@@ -102,6 +104,11 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
                        "ParaView time series: <out>.pvd and one .vtu per output time in <out>_vtu/")(
       "html", po::bool_switch(&a.html),
       (std::string("<out>.html: a self-contained page that plays the motion in a browser") + kHtmlUrlOptions).c_str())(
+      "plot", po::value(&a.plot),
+      "COLUMNS: the time history of these, separated by commas, in <out>_history.svg (a panel per quantity): "
+      "coordinates as the CSV names them (node6.x, or x:node6.x; xd:, xdd: their rates), deformations with e:, "
+      "ed:, edd: or sig: (their generalised stress: sig:PLBEAM3.e2_bending_p), and with VISUALIZATION sections "
+      "the von Mises stress max_stress (the largest over the elements) or stress_PLBEAM3 (one element's)")(
       "no-accuracy-check", po::bool_switch(&a.noAccuracyCheck),
       "skip the a-posteriori accuracy check (three windows of the run integrated again at a 10x tighter "
       "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");
@@ -230,6 +237,7 @@ analysis::SimulationFiles filesAsked(const SimulateArgs& a) {
   f.echo = a.echo;
   f.vtk = a.vtk;
   f.html = a.html;
+  f.plot = io::commaList(a.plot);
   return f;
 }
 
@@ -297,6 +305,7 @@ int runDrivenMechanism(const SimulateArgs& a, analysis::SimulateJob& job) {
   if (!traj.time.empty()) printInputForces(std::cout, model, traj, job.fxt());
   printDiagnostics(job.diagnostics(), a.m.quiet, said + 1);
   analysis::SimulationFiles what = filesAsked(a);
+  what.plot = analysis::historyColumns(model, what.plot);
   what.fxt = &job.fxt();
   analysis::WrittenSimulation written;
   try {
@@ -342,6 +351,14 @@ int runSimulate(const std::vector<std::string>& args) {
   printDiagnostics(job.diagnostics(), a.m.quiet);
   if (job.status() == analysis::JobStatus::InputError) return kInputError;
   if (!userFunctionsAllowed(a.m, job.model())) return kInputError;
+  if (!a.plot.empty()) {  // the labels checked before the run
+    try {
+      analysis::historyColumns(job.model(), io::commaList(a.plot));
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "flexmb: " << e.what() << "\n";
+      return kUsageError;
+    }
+  }
   if (job.driven()) return runDrivenMechanism(a, job);
 
   // Output location checked before the analysis (and before choosing a basis).
@@ -358,6 +375,7 @@ int runSimulate(const std::vector<std::string>& args) {
   describeRun(files, a, job);
   analysis::WrittenSimulation written;
   analysis::SimulationFiles what = filesAsked(a);
+  what.plot = analysis::historyColumns(job.model(), what.plot);
   what.secondsBefore = job.wallSeconds();
   try {
     written = analysis::writeSimulation(files, job.model(), job.options(), job.trajectory(), job.interrupted(), what,
