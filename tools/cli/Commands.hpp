@@ -67,6 +67,9 @@ std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOpt
                                                                   bool acceptUserFunctions = false);
 // The model file as a job's source (with the text read ahead, when it was).
 analysis::ModelSource modelSource(const ModelOptions& o);
+// The manifest's model settings: the file, and what --refine made of it (the model's note
+// "refined: every flexible beam split in N (K elements, M nodes)").
+void recordModel(io::OutputSet& files, const ModelOptions& o, const core::Model& model);
 // Reads the file's text once for the whole command (throws io::DatError); the analysis then parses
 // this text instead of opening the file again.
 std::shared_ptr<const std::string> readAhead(const std::string& file);

@@ -241,6 +241,13 @@ analysis::ModelSource modelSource(const ModelOptions& o) {
   return s;
 }
 
+void recordModel(io::OutputSet& files, const ModelOptions& o, const core::Model& model) {
+  files.setting("model", o.file);
+  const std::string refined = "refined: ";
+  for (const std::string& note : model.notes)
+    if (note.rfind(refined, 0) == 0) files.setting("refined", note.substr(refined.size()));
+}
+
 std::string optionSpelling(const std::string& name) {
   if (name == "load_steps") return "--steps";
   std::string flag = "--" + name;

@@ -163,7 +163,7 @@ int runReduce(const std::vector<std::string>& args) {
   io::OutputSet files(std::filesystem::path(out).replace_extension("").string());
   if (!outputsWritable(files)) return kInputError;
   files.setting("command", "reduce");
-  files.setting("model", m.file);
+  recordModel(files, m, job.model());
   describeReduction(files, o);
   installInterruptHandler();  // Ctrl-C in a target scan keeps the best basis so far
   {

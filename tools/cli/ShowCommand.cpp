@@ -89,7 +89,7 @@ int runShow(const std::vector<std::string>& args) {
   try {
     io::OutputSet files((std::filesystem::path(out).parent_path() / std::filesystem::path(out).stem()).string());
     files.setting("command", "show");
-    files.setting("model", m.file);
+    recordModel(files, m, model);
     files.setting("view", viewName.empty() ? "auto" : viewName);
     files.record(out);
     if (!html.empty()) files.record(html);

@@ -244,7 +244,7 @@ analysis::SimulationFiles filesAsked(const SimulateArgs& a) {
 // The run manifest's settings: the command, then the job's (basis, reduced dynamics, run notes).
 void describeRun(io::OutputSet& files, const SimulateArgs& a, const analysis::SimulateJob& job) {
   files.setting("command", "simulate");
-  files.setting("model", a.m.file);
+  recordModel(files, a.m, job.model());
   if (!a.basisFile.empty() && a.basisFile != "auto") files.setting("basis", a.basisFile);
   analysis::describeIntegration(files, job.model(), job.options());
   files.setting("dynamics", a.dynamics);
@@ -288,7 +288,7 @@ int runDrivenMechanism(const SimulateArgs& a, analysis::SimulateJob& job) {
   io::OutputSet files(io::OutputSet::resolvePrefix(a.out, a.m.file));
   if (!simulateOutputsWritable(files, a, model)) return kInputError;
   files.setting("command", "simulate");
-  files.setting("model", a.m.file);
+  recordModel(files, a.m, job.model());
   files.setting("analysis",
                 "driven rigid mechanism (no degrees of freedom): kinematics and inverse dynamics at the output "
                 "times, no integrator");

@@ -78,7 +78,7 @@ int runTransfer(const std::vector<std::string>& args) {
   if (!outputsWritable(files)) return kInputError;
   const std::string prefix = files.prefix();
   files.setting("command", "transfer");
-  files.setting("model", m.file);
+  recordModel(files, m, model);
   if (damping.any()) files.setting("added damping", analysis::dampingText(damping));
   if (fmin > 0.0) files.setting("Bode frequency range", text::shortest(fmin) + "," + text::shortest(fmax) + " Hz");
   Progress progress("transfer", !m.quiet);

@@ -1,4 +1,4 @@
-// `--refine N` on the command line: the run says what it refined, the result files keep the original
+// `--refine N` on the command line: the run and its manifest say what it refined, the result files keep the original
 // nodes under their labels in their places (the new nodes after them), the deflection of the
 // refined guidance is the original's to the beams' discretisation error, and a bad N is a usage error.
 #include <sstream>
@@ -38,6 +38,8 @@ TEST_F(RefineCli, ResultsKeepTheOriginalNodeLabels) {
   ASSERT_EQ(b.code, 0) << b.err;
   // 10 flexure beams in 4 (the rigid body whole): 11 + 30 elements, 24 + 60 nodes.
   EXPECT_TRUE(has(b.err, "refined: every flexible beam split in 4 (41 elements, 84 nodes)")) << b.err;
+  EXPECT_TRUE(has(slurp(dir_ / "b_run.txt"), "\nrefined: every flexible beam split in 4 (41 elements, 84 nodes)\n"));
+  EXPECT_FALSE(has(slurp(dir_ / "a_run.txt"), "refined"));
   const std::string ta = slurp(dir_ / "a.csv"), tb = slurp(dir_ / "b.csv");
   const std::vector<std::string> ha = headerOf(ta), hb = headerOf(tb);
   // The original coordinates' columns, in the same places: load_step ... node116.angle.
