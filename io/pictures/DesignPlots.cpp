@@ -194,10 +194,15 @@ std::string historyQuantity(const std::string& c) {
   // A deformation "PLBEAM3.e2_bending_p": its kind after the element.
   const auto dot = name.rfind('.');
   const std::string kind = dot == std::string::npos ? name : name.substr(dot + 1);
-  if (stem == "sig") return "generalised stress of " + kind;
-  if (stem == "e") return "deformation " + kind;
-  if (stem == "ed") return "rate of " + kind + " [1/s]";
-  if (stem == "edd") return "acceleration of " + kind + " [1/s^2]";
+  // An elongation is a length, its stress a force; a bending or torsion deformation an angle, its
+  // stress a moment (stress times deformation is work).
+  const bool length = kind.find("elongation") != std::string::npos;
+  const bool angle = kind.find("bending") != std::string::npos || kind.find("torsion") != std::string::npos;
+  const std::string unit = length ? "m" : angle ? "rad" : "";
+  if (stem == "sig") return "generalised stress of " + kind + (length ? " [N]" : angle ? " [N m]" : "");
+  if (stem == "e") return "deformation " + kind + bracketed(unit);
+  if (stem == "ed") return "rate of " + kind + bracketed(unit + (unit.empty() ? "1/s" : "/s"));
+  if (stem == "edd") return "acceleration of " + kind + bracketed(unit + (unit.empty() ? "1/s^2" : "/s^2"));
   return stem + ": " + kind;
 }
 

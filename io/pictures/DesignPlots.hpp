@@ -61,8 +61,9 @@ std::vector<Plot> frequencyPanels(const CsvTable& table, const std::string& xCol
 
 // The quantity of a time-history column, its panel's y axis text: "x:node6.x" position [m],
 // "x:node106.angle" rotation [rad], "xd:"/"xdd:" their rates, "e:"/"ed:"/"edd:"/"sig:" + a deformation
-// name the deformation (its rates, its generalised stress) of that kind ("sig: e2_bending_p"),
-// "max_stress" / "stress_<element>" "von Mises stress [MPa]".
+// name the deformation (its rates, its generalised stress) of that kind ("generalised stress of
+// e2_bending_p [N m]": elongations in m and N, bending and torsion in rad and N m, others without a
+// unit), "max_stress" / "stress_<element>" "von Mises stress [MPa]".
 std::string historyQuantity(const std::string& column);
 // The panels of a time history: column 0 is the time [s]; the other columns in order, one panel per
 // historyQuantity (von Mises stresses drawn in MPa, the table holds Pa). initial: per column after

@@ -108,7 +108,7 @@ TEST(TimeHistory, APanelPerQuantityStressesInMPaDisplacementsFromTheStart) {
   EXPECT_EQ(panels[0].y.label, "displacement from the initial position [m]");
   EXPECT_EQ(panels[1].y.label, "rotation from the initial angle [rad]");
   EXPECT_EQ(panels[2].y.label, "position [m]");
-  EXPECT_EQ(panels[3].y.label, "generalised stress of e2_bending_p");
+  EXPECT_EQ(panels[3].y.label, "generalised stress of e2_bending_p [N m]");
   EXPECT_EQ(panels[4].y.label, "von Mises stress [MPa]");
   EXPECT_EQ(panels[0].series[0].label, "node6.x");
   EXPECT_DOUBLE_EQ(panels[0].series[0].y[1], 0.05);
@@ -120,6 +120,8 @@ TEST(TimeHistory, APanelPerQuantityStressesInMPaDisplacementsFromTheStart) {
   EXPECT_EQ(historyQuantity("xd:node6.y"), "velocity [m/s]");
   EXPECT_EQ(historyQuantity("xdd:node106.angle"), "angular acceleration [rad/s^2]");
   EXPECT_EQ(historyQuantity("stress_BEAM3"), "von Mises stress [MPa]");
+  EXPECT_EQ(historyQuantity("sig:TRUSS2.e1_elongation"), "generalised stress of e1_elongation [N]");
+  EXPECT_EQ(historyQuantity("ed:BEAM2.e2_torsion"), "rate of e2_torsion [rad/s]");
 }
 
 TEST(DesignPlotColumns, AnUnknownColumnListsTheTablesColumns) {
