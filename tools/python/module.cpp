@@ -1073,10 +1073,11 @@ void bindSimulate(py::module_& m) {
                                return r.trajectory.reduction.estimate;
                              })
       .def("write", [](const SimulationResult& r, const std::string& prefix, bool csv, bool mat, int linearize,
-                       bool matrices, bool vtk, bool html) {
+                       bool matrices, bool vtk, bool html, const std::vector<std::string>& plot) {
         analysis::SimulationFiles what;
         what.csv = csv, what.mat = mat, what.linearize = linearize, what.matrices = matrices, what.vtk = vtk,
         what.html = html;
+        what.plot = analysis::historyColumns(*r.model, plot);  // ValueError naming the names there are
         if (!r.fxtRows.empty()) what.fxt = &r.fxtRows;
         io::OutputSet files(prefix);
         files.checkWritable();

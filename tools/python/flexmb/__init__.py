@@ -249,11 +249,18 @@ def validate(source, out, *, sweep_steps=21, quiet=True):
     return _core.validate(source, out, _count(sweep_steps, "sweep_steps", 2), bool(quiet))
 
 
-def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False):
-    """The files `flexmb simulate --out prefix` writes (CSV tables, .mat, SPACAR's .sbd, ...)."""
+def _write_simulation(self, prefix, *, csv=True, mat=True, linearize=0, matrices=False, vtk=False, html=False,
+                      plot=()):
+    """The files `flexmb simulate --out prefix` writes (CSV tables, .mat, SPACAR's .sbd, ...); plot: the
+    columns of `--plot` ("node6.x,sig:PLBEAM3.e2_bending_p" or a list) drawn in <prefix>_history.svg."""
     _need(prefix, str, "prefix")
+    if isinstance(plot, str):
+        plot = [c.strip() for c in plot.split(",") if c.strip()]
+    plot = list(plot)
+    for c in plot:
+        _need(c, str, "plot")
     return _core.SimulationResult._write(self, prefix, bool(csv), bool(mat), _count(linearize, "linearize", 0),
-                                         bool(matrices), bool(vtk), bool(html))
+                                         bool(matrices), bool(vtk), bool(html), plot)
 
 
 _core.SimulationResult._write = _core.SimulationResult.write

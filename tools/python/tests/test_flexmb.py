@@ -199,6 +199,18 @@ def test_simulate_writes_the_command_lines_files(work, name):
     assert r.completed and r.nfevals > 0 and not r.x.flags.writeable
 
 
+def test_simulate_write_plots_the_command_lines_history(work):
+    path = model_path("datfiles", "straight_guidance.dat")
+    cli("simulate", path, "--t-end", "0.02", "--out", str(work / "cli" / "h"), "-q",
+        "--plot", "node6.x,sig:PLBEAM3.e2_bending_p")
+    r = flexmb.simulate(flexmb.read(path), t_end=0.02)
+    written = r.write(str(work / "py" / "h"), mat=False, plot="node6.x, sig:PLBEAM3.e2_bending_p")
+    assert str(work / "py" / "h_history.svg") in written
+    same_bytes(work / "cli" / "h_history.svg", work / "py" / "h_history.svg")
+    with pytest.raises(ValueError, match="'node6.q' is not a quantity.*node6.x"):
+        r.write(str(work / "py" / "bad"), plot=["node6.q"])
+
+
 def test_transfer_writes_the_command_lines_files(work):
     path = model_path("datfiles", "spatial", "cross_spring_pivot_transfer.dat")
     cli("transfer", path, "--out", str(work / "cli" / "t"), "-q")
