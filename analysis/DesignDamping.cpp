@@ -21,6 +21,28 @@ std::string dampingRefusal(const DampingOptions& o) {
   return "";
 }
 
+std::string timeRunDampingRefusal(const DampingOptions& o) {
+  if (!o.ratios.empty())
+    return "a modal damping ratio has no form in a nonlinear time run (the modes change with the configuration); "
+           "give Rayleigh's beta alone (alpha 0), which damps mode i by the ratio beta omega_i / 2 (beta = 2 zeta / "
+           "omega_1 gives the first mode zeta and the higher ones more), or EDAMP; the modal ratio applies to the "
+           "linear analyses (transfer, modes)";
+  if (o.alpha != 0.0)
+    return "Rayleigh's alpha M (mass-proportional damping) is not in the nonlinear equations of motion: a time run "
+           "takes beta K alone (alpha 0; beta K is EDAMP = beta * ESTIFF); alpha applies to the linear analyses "
+           "(transfer, modes)";
+  return "";
+}
+
+void addStiffnessProportionalDamping(core::Model& model, double beta) {
+  if (beta == 0.0) return;
+  for (core::ElementEntry& e : model.elements) {
+    if (!e.hasStiffness) continue;
+    e.Sd = e.hasDamping ? core::DefMat(e.Sd + beta * e.S) : core::DefMat(beta * e.S);
+    e.hasDamping = true;
+  }
+}
+
 std::string dampingText(const DampingOptions& o) {
   std::ostringstream s;
   if (!o.ratios.empty()) {

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "core/model/Model.hpp"
+
 namespace flexmb::analysis {
 
 struct DampingOptions {
@@ -35,6 +37,16 @@ std::string dampingText(const DampingOptions& options);
 // The modal term M Phi diag(2 zeta_i omega_i) Phi^T M (m x m) of (Kt, M); M symmetric positive
 // definite. Throws std::runtime_error when the eigenproblem fails.
 Eigen::MatrixXd modalDamping(const Eigen::MatrixXd& M, const Eigen::MatrixXd& Kt, const std::vector<double>& ratios);
+
+// A nonlinear time run (simulate) takes Rayleigh's beta K0 the way EDAMP = beta * ESTIFF gives it:
+// element damping Sd += beta S on every element with stiffness, so that sigma = S e + Sd ed holds in
+// large motion too and linearises to D0 = beta K0. The other two terms have no such form: a modal
+// ratio needs the modes of one configuration (they change along the motion), and alpha M is not a
+// force of the elements (flexmb's equations of motion have no mass-proportional term). Why the
+// options cannot be used in a time run (empty: they can).
+std::string timeRunDampingRefusal(const DampingOptions& options);
+// Sd += beta S on every element with stiffness (hasDamping set where beta > 0).
+void addStiffnessProportionalDamping(core::Model& model, double beta);
 
 // Everything above on the degrees of freedom: modalDamping + alpha M + beta K0.
 Eigen::MatrixXd designDamping(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K0, const Eigen::MatrixXd& Kt,

@@ -28,7 +28,27 @@ SimulateJob::SimulateJob(const ModelSource& source, SimulateRequest request)
     : ModelJob(source), request_(std::move(request)) {
   if (!read()) return;
   runs_ = stagesThatRun(*stages_);
+  if (request_.damping.any() && !addDamping()) return;
   prepare();
+}
+
+bool SimulateJob::addDamping() {
+  const DampingOptions& d = request_.damping;
+  std::string why = dampingRefusal(d);
+  if (why.empty()) why = timeRunDampingRefusal(d);
+  if (why.empty() && (request_.basis || !request_.basisFile.empty()))
+    why =
+        "added damping applies to full-model runs (a reduction basis and its operators are of the model as the "
+        "file gives it): give EDAMP in the file and reduce again";
+  if (!why.empty()) return refuse(why);
+  auto damped = std::make_shared<std::vector<io::AnalysisStage>>(*stages_);
+  for (io::AnalysisStage& stage : *damped) addStiffnessProportionalDamping(stage.model, d.beta);
+  stages_ = damped;
+  runs_ = stagesThatRun(*stages_);
+  settings_.emplace_back("added damping", dampingText(d) + " (beta K as element damping: EDAMP + beta ESTIFF)");
+  say(Diagnostic::Kind::Note, "damping added to the model's EDAMP: Rayleigh beta " + text::shortest(d.beta) +
+                                  " s as element damping (EDAMP + beta ESTIFF on every element with stiffness)");
+  return true;
 }
 
 void SimulateJob::prepare() {

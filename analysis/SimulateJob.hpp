@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/DesignDamping.hpp"
 #include "analysis/ModelJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
@@ -39,6 +40,9 @@ struct SimulateRequest {
   // The integrator was not asked for: run.integrator is the front end's default (auto). The manifest
   // says which integrator ran and that it was the default.
   bool defaultIntegrator = false;
+  // Damping a designer states, added to the model's EDAMP: Rayleigh's beta K0 as element damping
+  // (analysis/DesignDamping.hpp); a modal ratio or alpha is refused with why; full-model runs only.
+  DampingOptions damping;
 };
 
 class SimulateJob : public ModelJob {
@@ -74,6 +78,7 @@ class SimulateJob : public ModelJob {
 
  private:
   void prepare();
+  bool addDamping();  // request_.damping into copies of the stages (false: refused)
   void prepareBasis();
   void chooseDefaultIntegrator();
   void chooseBasisForTarget();

@@ -4,7 +4,9 @@
 // gives the same state-space model as EDAMP = beta * ESTIFF (base motion and support force
 // included), alpha adds alpha to A's damping entry; modes say each mode's ratio (EDAMP = beta *
 // ESTIFF: beta w / 2; Rayleigh: alpha / 2w + beta w / 2); on the spatial parallel leaf-spring stage every
-// undamped mode i is damped alone, by 2 zeta_i w_i.
+// undamped mode i is damped alone, by 2 zeta_i w_i. In a nonlinear time run (simulate) Rayleigh's beta
+// is element damping: the mass on the spring under a step force follows the damped step response
+// with zeta = beta w / 2, as EDAMP = beta k does; a modal ratio or alpha is refused there.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -12,12 +14,14 @@
 #include <cmath>
 #include <complex>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "analysis/DesignDamping.hpp"
 #include "analysis/ModesJob.hpp"
+#include "analysis/SimulateJob.hpp"
 #include "analysis/Transfer.hpp"
 #include "io/formats/DatReader.hpp"
 #include "text/NumberText.hpp"
@@ -180,4 +184,87 @@ TEST(DesignDamping, ModesSayEachModesRatioFromEdampAndTheOptions) {
     EXPECT_NEAR(byRayleigh[i], alpha / (2 * w[i]) + beta * w[i] / 2, 1e-9 * byRayleigh[i]) << "mode " << i + 1;
     EXPECT_NEAR(byRatio[i], i == 0 ? 0.02 : 0.05, 1e-9) << "mode " << i + 1;
   }
+}
+
+namespace {
+
+// The mass m on the spring k (l0 = 1) sliding along x from rest under a step force F at t = 0.
+std::string springMassStep(double m, double k, double d, double F, double tEnd, int intervals) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2 2\nDYNE 1 1\nEND\nHALT\nESTIFF 1 " << k << "\n";
+  if (d > 0) s << "EDAMP 1 " << d << "\n";
+  s << "XM 2 " << m << "\nXF 2 " << F << " 0\nTIMESTEP " << tEnd << " " << intervals << "\nEND\nEND\n";
+  return s.str();
+}
+
+analysis::SimulateJob stepRun(const std::string& text, const analysis::DampingOptions& damping) {
+  analysis::SimulateRequest r;
+  r.run.integrator = analysis::Integrator::Ode45;
+  r.run.relTol = 1e-10;
+  r.run.absTol = 1e-15;
+  r.damping = damping;
+  return analysis::SimulateJob(analysis::sourceOfModel(io::readDatString(text, "step.dat")), r);
+}
+
+}  // namespace
+
+TEST(DesignDamping, RayleighBetaInATimeRunIsTheDampedStepResponse) {
+  const double m = 4.0, k = 400.0, beta = 4e-3, F = 1e-3, w = std::sqrt(k / m), zeta = beta * w / 2;  // zeta 0.02
+  ASSERT_NEAR(zeta, 0.02, 1e-15);
+  analysis::DampingOptions o;
+  o.beta = beta;
+  analysis::SimulateJob byBeta = stepRun(springMassStep(m, k, 0.0, F, 2.0, 200), o);
+  ASSERT_EQ(byBeta.status(), analysis::JobStatus::Ready);
+  ASSERT_EQ(byBeta.run(), analysis::JobStatus::Completed);
+  analysis::SimulateJob byEdamp = stepRun(springMassStep(m, k, beta * k, F, 2.0, 200), {});
+  ASSERT_EQ(byEdamp.run(), analysis::JobStatus::Completed);
+  analysis::SimulateJob bare = stepRun(springMassStep(m, k, 0.0, F, 2.0, 200), {});
+  ASSERT_EQ(bare.run(), analysis::JobStatus::Completed);
+  const core::Trajectory &t = byBeta.trajectory(), &te = byEdamp.trajectory(), &t0 = bare.trajectory();
+  ASSERT_EQ(t.time.size(), 201u);
+  ASSERT_EQ(te.time.size(), 201u);
+  // x of node 2 (model order: node 1's x, y, then node 2's x, y).
+  const double wd = w * std::sqrt(1 - zeta * zeta), xs = F / k;
+  double worst = 0.0, worstEdamp = 0.0;
+  for (std::size_t i = 0; i < t.time.size(); ++i) {
+    const double tt = t.time[i];
+    const double exact =
+        1.0 + xs * (1 - std::exp(-zeta * w * tt) *
+                            (std::cos(wd * tt) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * tt)));
+    worst = std::max(worst, std::abs(t.states[i].x[2] - exact));
+    worstEdamp = std::max(worstEdamp, std::abs(t.states[i].x[2] - te.states[i].x[2]));
+  }
+  std::cout << "step response, zeta " << zeta << ": largest departure from the closed form " << worst / xs
+            << " of F/k, from EDAMP = beta k " << worstEdamp / xs << "\n";
+  EXPECT_LT(worst, 1e-6 * xs) << "largest departure from the closed form, m";
+  EXPECT_LT(worstEdamp, 1e-12 * xs) << "beta against EDAMP = beta k";
+  // Without the damping the oscillation about F/k keeps its amplitude (|x - F/k| up to F/k).
+  double undampedMax = 0.0;
+  for (std::size_t i = 150; i < t0.time.size(); ++i)
+    undampedMax = std::max(undampedMax, std::abs(t0.states[i].x[2] - 1.0 - xs));
+  EXPECT_GT(undampedMax, 0.9 * xs);
+  // The manifest says what was added.
+  bool said = false;
+  for (const auto& [key, value] : byBeta.settings()) said |= key == "added damping";
+  EXPECT_TRUE(said);
+}
+
+TEST(DesignDamping, ATimeRunRefusesAModalRatioAndAlphaWithWhy) {
+  const std::string text = springMassStep(4.0, 400.0, 0.0, 1e-3, 0.1, 10);
+  auto refusal = [&](const analysis::DampingOptions& d) {
+    analysis::SimulateJob job = stepRun(text, d);
+    EXPECT_EQ(job.status(), analysis::JobStatus::InputError);
+    return analysis::firstError(job.diagnostics());
+  };
+  analysis::DampingOptions o;
+  o.ratios = {0.01};
+  EXPECT_NE(refusal(o).find("modal damping ratio has no form in a nonlinear time run"), std::string::npos)
+      << refusal(o);
+  o = {};
+  o.alpha = 0.5, o.beta = 1e-3;
+  EXPECT_NE(refusal(o).find("alpha M"), std::string::npos) << refusal(o);
+  o = {};
+  o.beta = -1.0;
+  EXPECT_NE(refusal(o).find("at least 0"), std::string::npos) << refusal(o);
 }

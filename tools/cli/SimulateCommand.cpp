@@ -38,6 +38,8 @@ struct SimulateArgs {
   analysis::Integrator chosen = analysis::Integrator::Auto;
   bool integratorGiven = false;  // --integrator given (an empty one is a usage error, not the default)
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
+  // --damping-ratio, --rayleigh: a time run takes Rayleigh's beta (the job refuses the rest, with why)
+  analysis::DampingOptions damping;
   bool csv() const { return format == "csv" || format == "both"; }
   bool mat() const { return format == "mat" || format == "both"; }
 };
@@ -112,6 +114,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "no-accuracy-check", po::bool_switch(&a.noAccuracyCheck),
       "skip the a-posteriori accuracy check (three windows of the run integrated again at a 10x tighter "
       "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");
+  addDampingOptions(d, a.damping);
   if (auto rc = parseCommand(args, d, a.m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (!a.csv() && !a.mat() && a.format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << a.format << "'\n";
@@ -332,6 +335,7 @@ int runSimulate(const std::vector<std::string>& args) {
   request.basisFile = a.basisFile;
   request.target = a.target;
   request.fullKinematics = a.fullKinematics;
+  request.damping = a.damping;
   request.trackedOutputs = a.outputs == "tracked";
   // The default (auto; ode45 for a run with reduced operators): neither --integrator nor --rho-inf
   // (galpha's setting, which asks for auto) given.

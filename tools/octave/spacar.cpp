@@ -74,8 +74,30 @@ void toVariables(io::SpacarFileContents& file, Variables& vars) {
 //   bdforder    the highest BDF order, 1 to 5 (bdf)
 //   target      a reduction error target (0 < target < 1): the run is reduced with the smallest modal
 //               basis whose reduction error estimate meets it (analysis/BasisForTarget.hpp)
+//   dampingratio, rayleigh   damping a designer states, added to the model's EDAMP
+//               (analysis/DesignDamping.hpp): the modal ratio (a number, or one per mode) and
+//               [alpha beta]; mode 9 takes both, modes 1, 3, 4 (a time run) beta alone, the
+//               simulate job refusing the others with why. `integration`: a field of the time
+//               integration was given (modes 1, 3, 4 only).
 // Returns an error message (empty: fine).
-std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, double& target) {
+std::string parseDamping(const std::string& name, const mxArray* v, analysis::DampingOptions& damping) {
+  const bool real = v && mxIsDouble(v) && !mxIsComplex(v) && mxGetNumberOfElements(v) >= 1;
+  const std::vector<double> values =
+      real ? std::vector<double>(mxGetPr(v), mxGetPr(v) + mxGetNumberOfElements(v)) : std::vector<double>();
+  if (name == "rayleigh") {
+    if (values.size() != 2) return "spacar: opts.rayleigh must be [alpha beta] (1/s and s: alpha M + beta K)";
+    damping.alpha = values[0], damping.beta = values[1];
+  } else {
+    if (values.empty())
+      return "spacar: opts.dampingratio must be a number, or one per mode (modes 1, 2, ...; the last for the higher)";
+    damping.ratios = values;
+  }
+  const std::string why = analysis::dampingRefusal(damping);
+  return why.empty() ? "" : "spacar: opts." + name + ": " + why;
+}
+
+std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, double& target,
+                         analysis::DampingOptions& damping, bool& integration) {
   if (!mxIsStruct(o) || mxGetNumberOfElements(o) != 1)
     return "spacar: the third argument must be a struct of options (integrator, reltol, abstol, maxstep, tend, "
            "intervals, bdforder)";
@@ -83,6 +105,11 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
     std::string name = mxGetFieldNameByNumber(o, k);
     for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const mxArray* v = mxGetFieldByNumber(o, 0, k);
+    if (name == "dampingratio" || name == "rayleigh") {
+      if (std::string e = parseDamping(name, v, damping); !e.empty()) return e;
+      continue;
+    }
+    integration = true;
     if (name == "integrator") {
       char* text = v && mxIsChar(v) ? mxArrayToString(v) : nullptr;
       const std::string value = text ? text : "";
@@ -111,7 +138,8 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
       (name == "reltol" ? opt.relTol : name == "abstol" ? opt.absTol : name == "maxstep" ? opt.maxStep : opt.tEnd) = x;
     } else {
       return "spacar: unknown option '" + name +
-             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, rhoinf, target)";
+             "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, rhoinf, target, "
+             "dampingratio, rayleigh)";
     }
   }
   return "";
@@ -123,6 +151,11 @@ struct Run {
   Variables vars;
   std::string unwritten;  // the result files that could not be written, and why (a warning)
 };
+
+void usageError(Run& run, std::string text) {
+  run.error = std::move(text);
+  run.errorId = "flexmb:spacar:usage";
+}
 
 void say(bool silent, const std::string& s) {
   if (!silent) mexPrintf("%s", s.c_str());
@@ -209,10 +242,12 @@ bool refused(const analysis::ModelJob& job, Run& run) {
 bool runDynamics(int mode, bool silent, const std::string& name, const std::string& datFile,
                  std::shared_ptr<const std::vector<io::AnalysisStage>> stages,
                  const octave_gateway::MatlabUserFunctions& user, const analysis::SimulationOptions& simOptions,
-                 double target, std::ostringstream& out, io::SpacarResults& results, bool& interrupted,
-                 std::string& afterRun, Run& run, const core::Model*& resultModel) {
+                 double target, const analysis::DampingOptions& damping, std::ostringstream& out,
+                 io::SpacarResults& results, bool& interrupted, std::string& afterRun, Run& run,
+                 const core::Model*& resultModel, std::shared_ptr<const std::vector<io::AnalysisStage>>& kept) {
   analysis::SimulateRequest request;
   request.run = simOptions;
+  request.damping = damping;
   request.target = target;
   if (!std::isnan(target)) request.basisFile = "auto";  // opts.target: the smallest modal basis meeting it
   octave_gateway::InterruptWatch watch;                 // Ctrl-C stops the run; the steps so far are written below
@@ -232,6 +267,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   }
   const core::Model& model = job.model();
   resultModel = &model;
+  kept = job.allStages();  // the job's models (copies when it added damping) outlive it: resultModel
   const core::Trajectory& traj = job.trajectory();
   const double wall = job.wallSeconds();
   out << "spacar: " << traj.time.size() << " output times, " << traj.nsteps << " steps, " << traj.nfailed
@@ -287,7 +323,7 @@ std::optional<analysis::StaticRun> runStatic(const std::string& datFile,
 }
 
 void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
-               Run& run) {
+               const analysis::DampingOptions& damping, Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
   // The file is read once; the dynamics modes run its SPACAR95 stages (analysis/SimulateJob.hpp).
@@ -328,6 +364,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
   }
   io::SpacarResults results;
   const core::Model* resultModel = &model;  // the model the results belong to (dynamics: the last stage run)
+  std::shared_ptr<const std::vector<io::AnalysisStage>> kept;  // what resultModel points into
   std::ostringstream out;
   bool interrupted = false;
   std::string afterRun;  // a step after a completed run that failed (its results are still written)
@@ -340,6 +377,11 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         break;
       case 3:
         if (staticFile) {  // a static file: SPACAR's mode 3 perturbs its load steps
+          if (damping.any())
+            return usageError(run,
+                              "spacar: opts.dampingratio / opts.rayleigh: mode 3 on a static file (no "
+                              "TIMESTEP) stores the load steps' matrices, which the damping a designer "
+                              "states does not enter; mode 9 takes it");
           const auto st = runStatic(datFile, stages, silent, out, run);
           if (!st) return;
           out << "spacar: static analysis with linearised matrices, " << st->steps.size() << " load steps\n";
@@ -352,8 +394,8 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
         [[fallthrough]];
       case 1:
       case 4:
-        if (!runDynamics(mode, silent, name, datFile, stages, *user, simOptions, target, out, results, interrupted,
-                         afterRun, run, resultModel))
+        if (!runDynamics(mode, silent, name, datFile, stages, *user, simOptions, target, damping, out, results,
+                         interrupted, afterRun, run, resultModel, kept))
           return;
         break;
       case 10: {
@@ -371,6 +413,7 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
       case 9: {
         analysis::TransferOptions to;
         to.nev = 6;  // as flexmb transfer (capped at the degrees of freedom)
+        to.damping = damping;
         analysis::TransferJob job(analysis::ModelSource{datFile, {}, stages, nullptr}, to);
         std::size_t said = 0;
         show(job, said, silent, out);
@@ -441,19 +484,24 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   const std::string name = nameC ? nameC : "";
   mxFree(nameC);
   Run run;
-  double target = std::nan("");  // opts.target
+  double target = std::nan("");      // opts.target
+  analysis::DampingOptions damping;  // opts.dampingratio, opts.rayleigh
+  bool integration = false;          // opts has a field of the time integration
   analysis::SimulationOptions options;
   options.integrator = analysis::Integrator::Auto;  // the default of modes 1, 3, 4 (opts.integrator: another)
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";
-  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target)).empty()) {
+  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target, damping, integration)).empty()) {
     run.errorId = "flexmb:spacar:usage";
-  } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4) {
-    run.error = "spacar: options (the third argument) apply to modes 1, 3 and 4 (time integration)";
+  } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4 &&
+             !(std::abs(m) == 9 && !integration)) {
+    run.error =
+        "spacar: options (the third argument) apply to modes 1, 3 and 4 (time integration); mode 9 takes "
+        "opts.dampingratio and opts.rayleigh alone";
     run.errorId = "flexmb:spacar:usage";
   } else {
-    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, run);
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, damping, run);
   }
   // Results so far go to the workspace even when the run stopped.
   // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().
