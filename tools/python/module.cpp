@@ -408,6 +408,8 @@ struct SimulateOptionsPy {
   py::object reduced = py::none();  // a ReduceResult
   bool fullKinematics = false, accuracyCheck = false;
   std::optional<py::function> usersig, userinp;
+  std::vector<double> dampingRatio;  // refused by the job (a time run), with why
+  double alpha = 0.0, beta = 0.0;    // Rayleigh: beta K as element damping; alpha refused
 };
 
 struct SimulationResult {
@@ -1111,7 +1113,10 @@ void bindSimulate(py::module_& m) {
       .def_readwrite("full_kinematics", &SimulateOptionsPy::fullKinematics, "Eq. 19 even where operators hold")
       .def_readwrite("usersig", &SimulateOptionsPy::usersig, "f(t, x, xd, e, ed) -> sig or (sig, f)")
       .def_readwrite("userinp", &SimulateOptionsPy::userinp, "f(t, order) -> one value per input")
-      .def_readwrite("accuracy_check", &SimulateOptionsPy::accuracyCheck, "the a-posteriori accuracy check");
+      .def_readwrite("accuracy_check", &SimulateOptionsPy::accuracyCheck, "the a-posteriori accuracy check")
+      .def_readwrite("damping_ratio", &SimulateOptionsPy::dampingRatio, "modal ratios (refused in a time run)")
+      .def_readwrite("alpha", &SimulateOptionsPy::alpha, "Rayleigh's alpha (refused in a time run unless 0)")
+      .def_readwrite("beta", &SimulateOptionsPy::beta, "Rayleigh's beta: beta K as element damping (EDAMP)");
   m.def(
       "simulate",
       [](const ModelHandle& handle, const SimulateOptionsPy& o) {
@@ -1128,6 +1133,7 @@ void bindSimulate(py::module_& m) {
         opt.accuracyCheck = o.accuracyCheck;
         request.basis = o.basis;
         request.fullKinematics = o.fullKinematics;
+        request.damping.ratios = o.dampingRatio, request.damping.alpha = o.alpha, request.damping.beta = o.beta;
         if (o.basisFile) {
           request.basis.reset();
           request.basisFile = *o.basisFile;

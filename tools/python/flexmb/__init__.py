@@ -177,7 +177,7 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator=None,
              basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None,
-             refine=1):
+             refine=1, rayleigh=None, damping_ratio=None):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
     integrator: "auto", "ode45", "bdf" or "galpha" (generalized-alpha). Default (None): auto, which runs
@@ -196,9 +196,13 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     An exception in either stops the run: UserFunctionError with the time, the traceback and the
     results so far (`.result`). A driven rigid mechanism (no degrees of freedom) gets its
     kinematics and the forces its inputs need (`.fxt`), as `flexmb simulate` does.
+    rayleigh=(0, beta): beta K added as element damping (EDAMP = beta * ESTIFF), as `flexmb simulate
+    --rayleigh 0,BETA`; an alpha or a damping_ratio has no form in a nonlinear time run: ValueError
+    saying why (modes and transfer take them).
     """
     _model(model)
     model = _refined(model, refine)
+    ratios, alpha, beta = _damping(damping_ratio, rayleigh)
     for name, f in (("usersig", usersig), ("userinp", userinp)):
         if f is not None and not callable(f):
             raise TypeError(f"{name}: expected a callable, got {type(f).__name__}")
@@ -230,6 +234,7 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     o.basis, o.basis_file, o.reduced = array, path, reduced
     o.full_kinematics, o.accuracy_check = bool(full_kinematics), bool(accuracy_check)
     o.usersig, o.userinp = usersig, userinp
+    o.damping_ratio, o.alpha, o.beta = ratios, alpha, beta
     return _core.simulate(model, o)
 
 

@@ -78,3 +78,23 @@ def test_modes_say_each_modes_damping_ratio():
     w = 2 * np.pi * r.freq
     assert np.allclose(r.zeta, alpha / (2 * w) + beta * w / 2, rtol=1e-9)
     assert np.allclose(flexmb.modes(model, nev=3, damping_ratio=[0.01, 0.04]).zeta, [0.01, 0.04, 0.04], rtol=1e-9)
+
+def test_simulate_rayleigh_beta_is_the_damped_step_response():
+    # A mass 4 on a spring 400 (w = 10 rad/s) from rest under a step force 1e-3: with beta 4e-3 as
+    # element damping, zeta = beta w / 2 = 0.02 and x = F/k (1 - exp(-zeta w t) (cos wd t + ...)).
+    step = "XF 2 0.001 0\nTIMESTEP 2 200\nEND\nEND\n"
+    body = "PLTRUSS 1 1 2\nX 1 0 0\nX 2 1 0\nFIX 1\nFIX 2 2\nDYNE 1 1\nEND\nHALT\nESTIFF 1 400\n"
+    tight = dict(integrator="ode45", reltol=1e-10, abstol=1e-15)
+    run = flexmb.simulate(flexmb.parse(body + "XM 2 4\n" + step), rayleigh=(0.0, 4e-3), **tight)
+    by_edamp = flexmb.simulate(flexmb.parse(body + "EDAMP 1 1.6\nXM 2 4\n" + step), **tight)
+    w, zeta, xs = 10.0, 0.02, 1e-3 / 400
+    wd, t = w * np.sqrt(1 - zeta ** 2), run.time
+    exact = 1 + xs * (1 - np.exp(-zeta * w * t) * (np.cos(wd * t) + zeta / np.sqrt(1 - zeta ** 2) * np.sin(wd * t)))
+    assert len(t) == 201
+    assert np.max(np.abs(run.x[:, 2] - exact)) < 1e-6 * xs
+    assert np.max(np.abs(run.x[:, 2] - by_edamp.x[:, 2])) < 1e-12 * xs
+    model = flexmb.parse(body + "XM 2 4\n" + step)
+    with pytest.raises(ValueError, match="no form in a nonlinear time run"):
+        flexmb.simulate(model, damping_ratio=0.02)
+    with pytest.raises(ValueError, match="alpha M"):
+        flexmb.simulate(model, rayleigh=(0.5, 4e-3))
