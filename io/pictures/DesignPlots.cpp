@@ -106,7 +106,7 @@ Plot forceDeflectionPlot(const CsvTable& table, const ForceDeflection& what, con
   p.y.label = what.loadLabel;
   p.height = kPanelHeight + 60;
   Series s;
-  s.label = what.coordinate;
+  s.label = what.deflectionLabel.empty() ? what.coordinate : "";  // a named quantity: the axis says it
   s.markers = true;
   s.y = column(table, cy);
   for (double v : column(table, cx)) s.x.push_back(v - what.reference);
@@ -118,7 +118,8 @@ std::vector<std::vector<int>> modeGroups(const std::vector<double>& lowest, cons
   std::vector<std::vector<int>> groups;
   double limit = 0.0;
   for (std::size_t i = 0; i < lowest.size() && i < highest.size(); ++i) {
-    if (groups.empty() || !(highest[i] <= limit)) {
+    const bool gap = i > 0 && lowest[i] > 3.0 * highest[i - 1];
+    if (groups.empty() || gap || !(highest[i] <= limit)) {
       groups.emplace_back();
       limit = 10.0 * std::max(lowest[i], 0.0);
     }
@@ -150,7 +151,7 @@ std::vector<Plot> frequencyPanels(const CsvTable& table, const std::string& xCol
                                   ? "mode " + std::to_string(g.front() + 1)
                                   : "modes " + std::to_string(g.front() + 1) + " to " + std::to_string(g.back() + 1);
     p.notes.push_back(modes + (panels.empty() && g.size() < f.size()
-                                   ? " (a panel per group of modes within a decade of the group's lowest)"
+                                   ? " (a panel per group of modes: a gap of 3x or a decade starts the next)"
                                    : ""));
     p.x.label = xLabel;
     p.y.label = "frequency [Hz]";
@@ -199,10 +200,10 @@ std::string historyQuantity(const std::string& c) {
   const bool length = kind.find("elongation") != std::string::npos;
   const bool angle = kind.find("bending") != std::string::npos || kind.find("torsion") != std::string::npos;
   const std::string unit = length ? "m" : angle ? "rad" : "";
-  if (stem == "sig") return "generalised stress of " + kind + (length ? " [N]" : angle ? " [N m]" : "");
-  if (stem == "e") return "deformation " + kind + bracketed(unit);
-  if (stem == "ed") return "rate of " + kind + bracketed(unit + (unit.empty() ? "1/s" : "/s"));
-  if (stem == "edd") return "acceleration of " + kind + bracketed(unit + (unit.empty() ? "1/s^2" : "/s^2"));
+  if (stem == "sig") return "sig of " + kind + (length ? " [N]" : angle ? " [N m]" : "");
+  if (stem == "e") return "e of " + kind + bracketed(unit);
+  if (stem == "ed") return "ed of " + kind + bracketed(unit + (unit.empty() ? "1/s" : "/s"));
+  if (stem == "edd") return "edd of " + kind + bracketed(unit + (unit.empty() ? "1/s^2" : "/s^2"));
   return stem + ": " + kind;
 }
 

@@ -39,7 +39,7 @@ struct ForceDeflection {
   double reference = 0.0;       // its value in the model's initial configuration: deflection = column - reference
   std::string load;             // the load's column ("F.node6.x", "load_factor", "load")
   std::string loadLabel;        // the y axis's text, unit included
-  std::string deflectionLabel;  // the x axis's text (empty: "deflection <c> - <c>(initial) [unit]")
+  std::string deflectionLabel;  // the x axis's text, no legend (empty: "deflection <c> - <c>(initial) [unit]")
 };
 // The load a static table gives along a coordinate: "F.<c>" or "M.<c>" where the table has that
 // column (the nodal load applied on the coordinate), else "load_factor".
@@ -50,10 +50,11 @@ std::string staticLoadLabel(const std::string& loadColumn);
 Plot forceDeflectionPlot(const CsvTable& table, const ForceDeflection& what, const std::string& title);
 
 // Groups of consecutive modes (indices into `lowest` / `highest`, each mode's smallest and largest
-// |frequency| over the stroke, modes in ascending order): a mode joins the current group while its
-// highest frequency is at most ten times the lowest frequency of the group's first mode; otherwise
-// it starts the next group. A group whose first mode reaches 0 Hz somewhere (a rigid-body mode, a
-// buckling point) holds only the modes that stay at 0 Hz.
+// |frequency| over the stroke, modes in ascending order): a mode starts the next group where its
+// lowest frequency is more than 3 times the previous mode's highest (a gap in the spectrum) or its
+// highest more than 10 times the lowest of the group's first mode (no panel spans more than a
+// decade); otherwise it joins the current group. A group whose first mode reaches 0 Hz somewhere (a
+// rigid-body mode, a buckling point) holds only the modes that stay at 0 Hz.
 std::vector<std::vector<int>> modeGroups(const std::vector<double>& lowest, const std::vector<double>& highest);
 // The columns f1_Hz, f2_Hz, ... of a sweep table against xColumn, one panel per modeGroups group.
 std::vector<Plot> frequencyPanels(const CsvTable& table, const std::string& xColumn, const std::string& xLabel,
@@ -61,9 +62,9 @@ std::vector<Plot> frequencyPanels(const CsvTable& table, const std::string& xCol
 
 // The quantity of a time-history column, its panel's y axis text: "x:node6.x" position [m],
 // "x:node106.angle" rotation [rad], "xd:"/"xdd:" their rates, "e:"/"ed:"/"edd:"/"sig:" + a deformation
-// name the deformation (its rates, its generalised stress) of that kind ("generalised stress of
-// e2_bending_p [N m]": elongations in m and N, bending and torsion in rad and N m, others without a
-// unit), "max_stress" / "stress_<element>" "von Mises stress [MPa]".
+// name the deformation (its rates, its generalised stress) of that kind ("sig of e2_bending_p [N m]":
+// elongations in m and N, bending and torsion in rad and N m, others without a unit), "max_stress" /
+// "stress_<element>" "von Mises stress [MPa]".
 std::string historyQuantity(const std::string& column);
 // The panels of a time history: column 0 is the time [s]; the other columns in order, one panel per
 // historyQuantity (von Mises stresses drawn in MPa, the table holds Pa). initial: per column after

@@ -40,8 +40,15 @@ TEST(ModeGroups, ADecadeFromTheGroupsLowestStartsTheNextGroup) {
   EXPECT_EQ(g[1], std::vector<int>({1, 2, 3, 4, 5}));
   // 1 Hz and 1 kHz; 10 Hz is still within a decade of 1 Hz, 10.5 Hz is not.
   EXPECT_EQ(modeGroups({1, 1000}, {1, 1000}).size(), 2u);
-  EXPECT_EQ(modeGroups({1, 9}, {1, 10}).size(), 1u);
-  EXPECT_EQ(modeGroups({1, 9}, {1, 10.5}).size(), 2u);
+  EXPECT_EQ(modeGroups({1, 2.5}, {1, 10}).size(), 1u);
+  EXPECT_EQ(modeGroups({1, 2.5}, {1, 10.5}).size(), 2u);
+  // A gap of more than 3x between neighbours splits within a decade (the cross-spring pivot's sweep:
+  // 7.3 Hz apart from 53 .. 85 Hz, not 7.3 .. 57 Hz apart from 85 Hz).
+  const auto p = modeGroups({7.2, 53, 56.8, 80}, {7.3, 53.3, 57, 84.5});
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[1], std::vector<int>({1, 2, 3}));
+  EXPECT_EQ(modeGroups({1, 3}, {1, 9}).size(), 1u);
+  EXPECT_EQ(modeGroups({1, 3.1}, {1, 9}).size(), 2u);
   // Rigid-body modes (0 Hz) keep to themselves.
   const auto r = modeGroups({0, 0, 5}, {0, 0, 6});
   ASSERT_EQ(r.size(), 2u);
@@ -108,7 +115,7 @@ TEST(TimeHistory, APanelPerQuantityStressesInMPaDisplacementsFromTheStart) {
   EXPECT_EQ(panels[0].y.label, "displacement from the initial position [m]");
   EXPECT_EQ(panels[1].y.label, "rotation from the initial angle [rad]");
   EXPECT_EQ(panels[2].y.label, "position [m]");
-  EXPECT_EQ(panels[3].y.label, "generalised stress of e2_bending_p [N m]");
+  EXPECT_EQ(panels[3].y.label, "sig of e2_bending_p [N m]");
   EXPECT_EQ(panels[4].y.label, "von Mises stress [MPa]");
   EXPECT_EQ(panels[0].series[0].label, "node6.x");
   EXPECT_DOUBLE_EQ(panels[0].series[0].y[1], 0.05);
@@ -120,8 +127,8 @@ TEST(TimeHistory, APanelPerQuantityStressesInMPaDisplacementsFromTheStart) {
   EXPECT_EQ(historyQuantity("xd:node6.y"), "velocity [m/s]");
   EXPECT_EQ(historyQuantity("xdd:node106.angle"), "angular acceleration [rad/s^2]");
   EXPECT_EQ(historyQuantity("stress_BEAM3"), "von Mises stress [MPa]");
-  EXPECT_EQ(historyQuantity("sig:TRUSS2.e1_elongation"), "generalised stress of e1_elongation [N]");
-  EXPECT_EQ(historyQuantity("ed:BEAM2.e2_torsion"), "rate of e2_torsion [rad/s]");
+  EXPECT_EQ(historyQuantity("sig:TRUSS2.e1_elongation"), "sig of e1_elongation [N]");
+  EXPECT_EQ(historyQuantity("ed:BEAM2.e2_torsion"), "ed of e2_torsion [rad/s]");
 }
 
 TEST(DesignPlotColumns, AnUnknownColumnListsTheTablesColumns) {

@@ -739,7 +739,7 @@ int runSweep(const std::vector<std::string>& args) {
       else
         fd.reference = model.x0[io::coordinateIndex(model, c)];
       fd.load = "load";
-      fd.loadLabel = "load holding " + r.prescribed + " [" + unit + "]";
+      fd.loadLabel = "the holding load [" + unit + "]";  // the title names what it holds
       what.push_back(std::move(fd));
     }
     complete &= writeForceDeflection(files, table, what, m.file + ": the load that holds " + r.prescribed);

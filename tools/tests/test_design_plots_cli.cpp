@@ -170,7 +170,7 @@ TEST_F(DesignPlotsCli, SimulateTimeHistoryOfACoordinateAndAStress) {
   // node 6 starts at x = 0: its displacement is its x.
   expectPoints(ps[0], 0, csvColumn(x, "time"), csvColumn(x, "node6.x"));
   expectPoints(ps[1], 0, csvColumn(sig, "time"), csvColumn(sig, "PLBEAM3.e2_bending_p"));
-  EXPECT_TRUE(has(ps[1].text, ">generalised stress of e2_bending_p [N m]<"));
+  EXPECT_TRUE(has(ps[1].text, ">sig of e2_bending_p [N m]<"));
 }
 
 TEST_F(DesignPlotsCli, SimulateVonMisesStressesTheLargestIsTheLargestElements) {
