@@ -44,8 +44,9 @@ std::string whyWhole(const Model& m, const ElementEntry& el, const std::set<int>
     if (m.sigma0.size() > e && m.sigma0[e] != 0.0 && kind != DeformationKind::Elongation &&
         kind != DeformationKind::Torsion)
       return "a bending prestress (ESIG)";
-    for (const Eigen::VectorXd* v : {&m.e0, &m.ed0, &m.edd0})
-      if (v->size() > e && !std::isnan((*v)[e])) return "initial values of its deformations (E, ED, STARTDE)";
+    for (const Eigen::VectorXd* v : {&m.e0, &m.ed0, &m.edd0})  // zero: the reference at rest, as in every part
+      if (v->size() > e && !std::isnan((*v)[e]) && (*v)[e] != 0.0)
+        return "initial values of its deformations (E, ED, STARTDE)";
   }
   return "";
 }

@@ -41,8 +41,8 @@ struct RefinedModel {
 // released only where it was: a bending deformation at p in the first sub-element, at q in the last,
 // an elongation or a torsion in the last; the sub-elements' other copies of it are DYNE when it has
 // stiffness, fixed when it has none. A beam with an input deformation (INPUTE, INPUTET), a
-// time-dependent stress (ESIGT, EREF), a bending prestress or initial values of its deformations (E,
-// ED, STARTDE) stays whole (said in RefinementSummary::whole). Throws std::invalid_argument for
+// time-dependent stress (ESIGT, EREF), a bending prestress or non-zero initial values of its
+// deformations (E, ED, STARTDE) stays whole (said in RefinementSummary::whole). Throws std::invalid_argument for
 // parts < 1 and for a restart state (LENGTH0, XREF): its X is not the reference configuration.
 // `options` are the ones the model's elements were created with (the PLBEAM elongation).
 RefinedModel refineModel(const Model& model, int parts, const ElementOptions& options);

@@ -140,6 +140,14 @@ TEST(MeshRefinement, LeavesWholeWhatCannotBeSplit) {
   EXPECT_NEAR(totalMass(a, 0), 2.0 * 1.0 + 0.5, 1e-14);
   EXPECT_EQ((r.f0.head(a.nx) - a.f0).norm(), 0.0);
   ASSERT_EQ(r.lumpedMasses.size(), a.lumpedMasses.size());
+  // Initial values of a beam's deformations: zero ones are the reference (it is split), others not.
+  for (const auto& [start, split] : {std::pair{"STARTDE 1 2 0 0\n", true}, std::pair{"STARTDE 1 2 0.01\n", false}}) {
+    std::string text = kCantilever;
+    text.replace(text.find("XM 5"), 0, start);
+    const core::Model s = io::readDatString(text, "cantilever.dat", refined(4));
+    EXPECT_EQ(s.elements.size(), a.elements.size() + (split ? 3 : 0)) << start;
+    EXPECT_EQ(hasNote(s, "refinement left PLBEAM 1: initial values"), !split) << start;
+  }
 }
 
 TEST(MeshRefinement, RefusesWhatItCannotDo) {
