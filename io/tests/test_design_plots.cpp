@@ -32,7 +32,7 @@ CsvTable sweepLike() {
 
 }  // namespace
 
-TEST(ModeGroups, ADecadeFromTheGroupsLowestStartsTheNextGroup) {
+TEST(ModeGroups, AGapOf3xOrADecadeFromTheGroupsLowestStartsTheNextGroup) {
   // 5 Hz alone; 130 .. 740 Hz within ten times 130 Hz.
   const auto g = modeGroups({5.3, 130, 136, 151, 214, 714}, {5.5, 135, 141, 374, 375, 740});
   ASSERT_EQ(g.size(), 2u);
