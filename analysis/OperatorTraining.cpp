@@ -689,6 +689,29 @@ OperatorFit operatorFitAtHeldOut(const core::Model& model, const Eigen::MatrixXd
   return f;
 }
 
+// The declared fit: the larger of training's and a run's own measure at the held-out
+// configurations (operatorFitAtHeldOut); those that do not solve from the initial configuration
+// are dropped.
+void declareHeldOutFit(const core::Model& model, const Eigen::MatrixXd& V, ReducedOperators& ops) {
+  for (int pass = 0; pass < 3; ++pass) {
+    const OperatorFit fit = operatorFitAtHeldOut(model, V, ops);
+    if (fit.unsolved == 0) {
+      ops.forceError = std::max(ops.forceError, fit.force);
+      ops.massError = std::max(ops.massError, fit.mass);
+      break;
+    }
+    const std::vector<core::OperatorOutput> none;
+    OperatorSampler again(model, V * ops.rotation, V * ops.centre, ops.loads, none);
+    std::vector<int> keep;
+    for (int r = 0; r < ops.heldOut.rows(); ++r) {
+      OperatorSample d;
+      if (again.sample(ops.heldOut.row(r).transpose(), d)) keep.push_back(r);
+    }
+    ops.heldOut = Eigen::MatrixXd(ops.heldOut(keep, Eigen::all));
+    if (pass == 2) throw std::runtime_error("the held-out configurations do not solve reproducibly");
+  }
+}
+
 ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd& V, const OperatorTrainingOptions& o) {
   const std::string why = operatorsUnsupported(model);
   if (!why.empty()) throw std::invalid_argument("no reduced operators: " + why);
@@ -822,23 +845,7 @@ ReducedOperators trainOperators(const core::Model& model, const Eigen::MatrixXd&
   ops.loadScale = samples.scale[kLoads];
   ops.heldOut.resize(static_cast<int>(samples.check.size()), m);
   for (size_t r = 0; r < samples.check.size(); ++r) ops.heldOut.row(static_cast<int>(r)) = samples.check[r].eta;
-  for (int pass = 0; pass < 3; ++pass) {
-    const OperatorFit fit = operatorFitAtHeldOut(model, V, ops);
-    if (fit.unsolved == 0) {
-      ops.forceError = std::max(ops.forceError, fit.force);
-      ops.massError = std::max(ops.massError, fit.mass);
-      break;
-    }
-    const std::vector<core::OperatorOutput> none;
-    OperatorSampler again(model, V * ops.rotation, V * ops.centre, ops.loads, none);
-    std::vector<int> keep;
-    for (int r = 0; r < ops.heldOut.rows(); ++r) {
-      OperatorSample d;
-      if (again.sample(ops.heldOut.row(r).transpose(), d)) keep.push_back(r);
-    }
-    ops.heldOut = Eigen::MatrixXd(ops.heldOut(keep, Eigen::all));
-    if (pass == 2) throw std::runtime_error("the held-out configurations do not solve reproducibly");
-  }
+  declareHeldOutFit(model, V, ops);
   timeOneEvaluation(model, V, ops);
   ops.trainingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return ops;
