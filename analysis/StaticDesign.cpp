@@ -203,7 +203,8 @@ std::vector<int> supportedNodes(const core::Model& m) {
   return out;
 }
 
-std::vector<std::pair<std::string, double>> supportReactions(const core::Model& m, const StaticStep& step) {
+std::vector<std::pair<std::string, double>> supportReactions(const core::Model& m, const StaticStep& step,
+                                                             const Eigen::VectorXd& extraLoads) {
   std::vector<std::pair<std::string, double>> out;
   const std::vector<int> nodes = supportedNodes(m);
   if (nodes.empty()) return out;
@@ -218,7 +219,7 @@ std::vector<std::pair<std::string, double>> supportReactions(const core::Model& 
     rq.setState(t, dofsOf(m, s, 0), step.loadFactor, step.initialFactor, &s.x);
     Eigen::VectorXd sig, fxt;
     core::ResultQuantities::AppliedForces applied;
-    rq.forces(t, step.loadFactor, s, Eigen::VectorXd(), sig, fxt, step.initialFactor, &applied);
+    rq.forces(t, step.loadFactor, s, extraLoads, sig, fxt, step.initialFactor, &applied);
     reaction = fxt - applied.loads - applied.gravity;
   }
   for (int n : nodes) {

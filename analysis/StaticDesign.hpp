@@ -48,7 +48,10 @@ std::vector<int> stressedElements(const core::Model& model);
 
 // Reaction components at the supported nodes, in node order: "R.F.node1.x" (N), "R.M.node2.z" (N m;
 // planar orientation nodes "R.M.node2.angle").
-std::vector<std::pair<std::string, double>> supportReactions(const core::Model& model, const StaticStep& step);
+// extraLoads (nx, empty: none): nodal loads beyond the model's in the step's equilibrium (a sweep's
+// holding load), which the reaction stresses balance too.
+std::vector<std::pair<std::string, double>> supportReactions(const core::Model& model, const StaticStep& step,
+                                                             const Eigen::VectorXd& extraLoads = Eigen::VectorXd());
 // The nodes supportReactions reports (indices into Model::nodes): a fixed or input coordinate each.
 std::vector<int> supportedNodes(const core::Model& model);
 

@@ -12,6 +12,7 @@
 
 #include "analysis/Interrupt.hpp"
 #include "analysis/Modes.hpp"
+#include "analysis/StaticDesign.hpp"
 #include "core/kinematics/ElementValidity.hpp"
 #include "core/linearization/Linearization.hpp"
 #include "core/linearization/PrescribedEquilibrium.hpp"
@@ -83,16 +84,22 @@ std::string pathEnds(const std::string& coord, double v, const std::string& err,
   return s.str();
 }
 
-// The equilibrium at prescribed value v (load P on it) with its modes, in the order of the previous
-// point's (`previousModes`, unit columns over q; updated).
+// The equilibrium at prescribed value v (load P on it, along pq's gradient g) with its modes, in the
+// order of the previous point's (`previousModes`, unit columns over q; updated), and its stresses
+// (atRest's sigma, the holding load in its nodal forces).
 SweepPoint sweepPoint(core::Linearization& lin, double v, double P, const Eigen::VectorXd& eta, const Frequencies& fr,
-                      Eigen::MatrixXd& previousModes) {
+                      Eigen::MatrixXd& previousModes, const Eigen::VectorXd& sigma, const core::PrescribedQuantity& pq,
+                      const Eigen::Vector4d& g) {
   SweepPoint pt;
   pt.value = v;
   pt.load = P;
   pt.eta = eta;
   lin.dofs(eta, pt.q);
   pt.x = lin.kinematics().x();
+  pt.e = lin.kinematics().e();
+  pt.sigma = sigma;
+  pt.holding = Eigen::VectorXd::Zero(lin.model().nx);
+  for (int j = 0; j < pq.width(); ++j) pt.holding[pq.coord + j] = P * g[j];
   Eigen::MatrixXd modesQ = lin.basis() ? Eigen::MatrixXd(*lin.basis() * fr.modes) : fr.modes;
   pt.modesAscending = modesQ;
   for (Eigen::Index j = 0; j < modesQ.cols(); ++j) modesQ.col(j).normalize();
@@ -245,7 +252,7 @@ SweepResult sweep(const core::Model& model, const SweepOptions& o) {
         return res;
       }
       const Frequencies fr = held ? subproblemModes(*held, sys, o.nev) : naturalFrequencies(lin, sys, o.nev);
-      res.points.push_back(sweepPoint(lin, v, P, eta, fr, previousModes));
+      res.points.push_back(sweepPoint(lin, v, P, eta, fr, previousModes, sys.sigma, pq, g));
     } catch (const std::exception& e) {
       std::ostringstream s;
       s << "with the prescribed coordinate " << coord << " at " << v << ": " << e.what();
@@ -265,6 +272,9 @@ io::CsvTable sweepTable(const core::Model& model, const SweepResult& r) {
   for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("f", i + 1, "_Hz"));
   for (Eigen::Index i = 0; i < nev; ++i) t.columns.push_back(io::numberedColumn("tracked", i + 1, "_Hz"));
   for (const auto& name : io::coordinateColumnNames(model)) t.columns.push_back(name);
+  const bool stresses = !stressedElements(model).empty();
+  if (stresses) t.columns.insert(t.columns.end(), {"max_stress", "max_stress_element"});
+  for (const auto& reaction : supportReactions(model, StaticStep())) t.columns.push_back(reaction.first);
   const double empty = std::numeric_limits<double>::quiet_NaN();
   for (const auto& p : r.points) {
     std::vector<double> row{p.value, p.load};
@@ -273,6 +283,15 @@ io::CsvTable sweepTable(const core::Model& model, const SweepResult& r) {
     for (Eigen::Index i = 0; i < nev; ++i) row.push_back(i < p.omega.size() ? p.omega[i] / (2 * M_PI) : empty);
     for (Eigen::Index i = 0; i < p.x.size(); ++i) row.push_back(p.x[i]);
     for (Eigen::Index i = p.x.size(); i < model.nx; ++i) row.push_back(empty);
+    // The point as a static step at load factor 0 (the sweep holds the file's initial loads).
+    StaticStep st;
+    st.loadFactor = 0.0, st.x = p.x, st.e = p.e, st.sigma = p.sigma;
+    if (stresses) {
+      const ElementStress top = p.sigma.size() == model.ne ? largestStress(model, st) : ElementStress{-1, empty};
+      row.push_back(top.vonMises);
+      row.push_back(top.element >= 0 ? model.elements[top.element].label : empty);
+    }
+    for (const auto& reaction : supportReactions(model, st, p.holding)) row.push_back(reaction.second);
     t.rows.push_back(std::move(row));
   }
   return t;

@@ -46,6 +46,10 @@ struct SweepPoint {
   // The eigenvectors in q as the eigensolver gave them (ascending frequencies, omegaSorted; not
   // normalised; zero at heldCoordinates), for reduction bases.
   Eigen::MatrixXd modesAscending;
+  // What a designer reads besides (issue 53 item 1): the deformations, the stresses (elastic and the
+  // reaction stresses of the constrained deformations, in equilibrium with the file's initial loads
+  // and the holding load) and the holding load as nodal forces (nx: `load` along the coordinate).
+  Eigen::VectorXd e, sigma, holding;
 };
 
 struct SweepResult {
@@ -61,5 +65,8 @@ SweepResult sweep(const core::Model& model, const SweepOptions& options);
 // The sweep as a table, the one every front end writes (`flexmb sweep`, the study): value, load,
 // f1_Hz... ascending, tracked1_Hz... in tracked order (as many as any point has), every nodal
 // coordinate.
+// The sweep's table: value, load, frequencies (ascending, then tracked), the coordinates; with
+// VISUALIZATION sections the largest von Mises stress and its element (max_stress,
+// max_stress_element), then the support reactions R.* (analysis/StaticDesign.hpp), as static's.
 io::CsvTable sweepTable(const core::Model& model, const SweepResult& result);
 }  // namespace flexmb::analysis

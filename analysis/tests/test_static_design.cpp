@@ -8,7 +8,11 @@
 //    rectangle under pure torsion sqrt(3) T/(k2 b h^2) with Roark's k2 = 0.208 and 0.312;
 //  - the parallel leaf stage translates with compliance L^3/(24 EI), the cross-spring pivot turns with
 //    L/(2 EI) (the shipped models without gravity);
-//  - the .sbd variables under SPACAR Light's names have the shapes documented.
+//  - the .sbd variables under SPACAR Light's names have the shapes documented;
+//  - a sweep's table has the same per configuration: a cantilever whose tip is held at a lateral
+//    offset d carries P = 3 EI d / L^3 with M c / I at the clamp and reactions -P, -P L; one whose
+//    tip is pulled along x through a first element with a rigid elongation (its axial force a
+//    reaction stress) has the clamp's reaction -P and the stress P / A.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -18,10 +22,12 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "analysis/StaticDesign.hpp"
 #include "analysis/Statics.hpp"
 #include "analysis/Study.hpp"
+#include "analysis/Sweep.hpp"
 #include "io/formats/DatReader.hpp"
 
 using namespace flexmb;
@@ -303,4 +309,55 @@ TEST(StaticDesign, StudyReportsTheLargestStress) {
       EXPECT_NEAR(value, expected, 1e-4 * expected);
     }
   EXPECT_TRUE(found);
+}
+
+namespace {
+
+// Column `name` of a table, every row.
+std::vector<double> column(const io::CsvTable& t, const std::string& name) {
+  const auto at = std::find(t.columns.begin(), t.columns.end(), name) - t.columns.begin();
+  std::vector<double> v;
+  if (static_cast<size_t>(at) == t.columns.size()) return v;
+  for (const auto& row : t.rows) v.push_back(row[static_cast<size_t>(at)]);
+  return v;
+}
+
+}  // namespace
+
+TEST(StaticDesign, SweepReportsStressAndReactionsPerConfiguration) {
+  const double w = 0.02, t = 0.002, I = w * t * t * t / 12, A = w * t;
+  // Bending: the tip (node 5) held at y = d; P = 3 EI d / L^3.
+  const core::Model bent = io::readDatString(planarCantilever(4, 0.0, 0.0), "bent.dat");
+  analysis::SweepOptions o;
+  o.node = 5, o.component = 2, o.from = 0.0, o.to = 1e-3, o.steps = 3, o.nev = 2;
+  const analysis::SweepResult r = analysis::sweep(bent, o);
+  ASSERT_TRUE(r.completed) << r.stopReason;
+  const io::CsvTable table = analysis::sweepTable(bent, r);
+  const auto load = column(table, "load"), stress = column(table, "max_stress"),
+             element = column(table, "max_stress_element"), ry = column(table, "R.F.node1.y"),
+             mz = column(table, "R.M.node101.angle");
+  ASSERT_EQ(stress.size(), 3u);
+  ASSERT_EQ(ry.size(), 3u);
+  ASSERT_EQ(mz.size(), 3u);
+  const double P = load.back();
+  EXPECT_NEAR(P, 3 * kEI * 1e-3 / (kL * kL * kL), 1e-4 * P);
+  EXPECT_NEAR(stress.back(), P * kL * (t / 2) / I, 1e-4 * P * kL * (t / 2) / I);
+  EXPECT_EQ(element.back(), 1.0);
+  EXPECT_NEAR(ry.back(), -P, 1e-9 * P);
+  EXPECT_NEAR(mz.back(), -P * kL, 1e-5 * P * kL);
+  EXPECT_EQ(stress.front(), 0.0);  // at the start nothing holds the tip
+  // Axial: the first element's elongation rigid, the tip pulled along x by d; the others stretch.
+  std::string text = planarCantilever(4, 0.0, 0.0);
+  const std::string dyne1 = "DYNE 1 1 2 3\n";
+  ASSERT_NE(text.find(dyne1), std::string::npos);
+  text.replace(text.find(dyne1), dyne1.size(), "DYNE 1 2 3\n");
+  const core::Model pulled = io::readDatString(text, "pulled.dat");
+  o.component = 1, o.from = kL, o.to = kL + 1e-6;
+  const analysis::SweepResult ra = analysis::sweep(pulled, o);
+  ASSERT_TRUE(ra.completed) << ra.stopReason;
+  const io::CsvTable ta = analysis::sweepTable(pulled, ra);
+  const double Pa = column(ta, "load").back();
+  EXPECT_NEAR(Pa, kEA * 1e-6 / (0.75 * kL), 1e-6 * Pa);  // three elements of L/4 in series
+  EXPECT_NEAR(column(ta, "R.F.node1.x").back(), -Pa, 1e-9 * Pa);
+  EXPECT_NEAR(column(ta, "max_stress").back(), Pa / A, 1e-6 * Pa / A);
 }
