@@ -114,6 +114,38 @@ Plot forceDeflectionPlot(const CsvTable& table, const ForceDeflection& what, con
   return p;
 }
 
+std::vector<Plot> staticForceDeflectionPlots(const core::Model& model, const CsvTable& table,
+                                             const std::vector<std::string>& coordinates, const std::string& title) {
+  std::vector<Plot> panels;
+  for (const auto& c : coordinates) {
+    ForceDeflection fd;
+    fd.coordinate = c;
+    fd.reference = model.x0[coordinateIndex(model, c)];
+    fd.load = staticLoadColumn(table, c);
+    fd.loadLabel = staticLoadLabel(fd.load);
+    panels.push_back(forceDeflectionPlot(table, fd, panels.empty() ? title : ""));
+  }
+  return panels;
+}
+
+std::vector<Plot> sweepForceDeflectionPlots(const core::Model& model, const CsvTable& table,
+                                            const std::vector<std::string>& coordinates, const std::string& valueLabel,
+                                            const std::string& loadUnit, const std::string& title) {
+  std::vector<Plot> panels;
+  for (const auto& c : coordinates) {
+    ForceDeflection fd;
+    fd.coordinate = c;
+    if (c == "value")
+      fd.deflectionLabel = valueLabel;
+    else
+      fd.reference = model.x0[coordinateIndex(model, c)];
+    fd.load = "load";
+    fd.loadLabel = "the holding load" + bracketed(loadUnit);  // the title names what it holds
+    panels.push_back(forceDeflectionPlot(table, fd, panels.empty() ? title : ""));
+  }
+  return panels;
+}
+
 std::vector<std::vector<int>> modeGroups(const std::vector<double>& lowest, const std::vector<double>& highest) {
   std::vector<std::vector<int>> groups;
   double limit = 0.0;

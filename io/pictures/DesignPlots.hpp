@@ -49,6 +49,17 @@ std::string staticLoadLabel(const std::string& loadColumn);
 // One panel: the load against the deflection over the table's rows (line and a marker per row).
 Plot forceDeflectionPlot(const CsvTable& table, const ForceDeflection& what, const std::string& title);
 
+// static --plot: per coordinate (a name of coordinateIndex) a panel of the load along it
+// (staticLoadColumn, staticLoadLabel) against its deflection from the model's initial configuration.
+std::vector<Plot> staticForceDeflectionPlots(const core::Model& model, const CsvTable& table,
+                                             const std::vector<std::string>& coordinates, const std::string& title);
+// sweep --plot: per coordinate a panel of the sweep table's holding `load` (in loadUnit) against its
+// deflection; "value" is the table's prescribed value itself (a spatial orientation node's rotation
+// from its initial orientation), valueLabel on its axis.
+std::vector<Plot> sweepForceDeflectionPlots(const core::Model& model, const CsvTable& table,
+                                            const std::vector<std::string>& coordinates, const std::string& valueLabel,
+                                            const std::string& loadUnit, const std::string& title);
+
 // Groups of consecutive modes (indices into `lowest` / `highest`, each mode's smallest and largest
 // |frequency| over the stroke, modes in ascending order): a mode starts the next group where its
 // lowest frequency is more than 3 times the previous mode's highest (a gap in the spectrum) or its

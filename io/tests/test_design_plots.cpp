@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "io/pictures/DesignPlots.hpp"
 
 using namespace flexmb::io;
@@ -163,4 +165,55 @@ TEST(SvgStack, StackedPanelsShareTheirPlotAreasEdges) {
   // Alone, the two would differ.
   const std::string one = renderSvg(a), two = renderSvg(b);
   EXPECT_NE(one.substr(one.find("class=\"frame\""), 40), two.substr(two.find("class=\"frame\""), 40));
+}
+
+namespace {
+// A tip: position node 5 at (1, 0) and its orientation node 105.
+flexmb::core::Model tipModel() {
+  using flexmb::core::NodeKind;
+  flexmb::core::Model m;
+  m.sourceFile = "tip.dat";
+  flexmb::core::Node p, o;
+  p.label = 5, p.kind = NodeKind::Position, p.firstCoord = 0;
+  o.label = 105, o.kind = NodeKind::Orientation, o.firstCoord = 2;
+  m.nodes = {p, o};
+  m.nodeByLabel = {{5, 0}, {105, 1}};
+  m.nx = 3;
+  m.x0 = Eigen::Vector3d(1.0, 0.0, 0.0);
+  return m;
+}
+}  // namespace
+
+TEST(ForceDeflection, StaticAndSweepPanelsFromTheModelsInitialConfiguration) {
+  const flexmb::core::Model m = tipModel();
+  CsvTable s;
+  s.columns = {"load_step", "initial_factor", "load_factor", "node5.x", "node5.y", "node105.angle", "F.node5.y"};
+  s.rows = {{0, 1, 0, 1.0, 0.0, 0.0, 0.0}, {1, 1, 1, 0.99, -0.1, -0.15, -2.0}};
+  const auto st = staticForceDeflectionPlots(m, s, {"node5.y", "node5.x"}, "static");
+  ASSERT_EQ(st.size(), 2u);
+  EXPECT_EQ(st[0].title, "static");
+  EXPECT_EQ(st[1].title, "");
+  EXPECT_EQ(st[0].series[0].y, std::vector<double>({0.0, -2.0}));  // F.node5.y
+  EXPECT_EQ(st[1].series[0].y, std::vector<double>({0.0, 1.0}));   // the load factor: no load along x
+  EXPECT_DOUBLE_EQ(st[1].series[0].x[1], 0.99 - 1.0);              // from X = 1
+  // A sweep of the tip's rotation: its value is the deflection itself, the holding load in N m.
+  CsvTable w;
+  w.columns = {"value", "load", "f1_Hz", "node5.x", "node5.y", "node105.angle"};
+  w.rows = {{-0.1, -0.5, 3, 0.99, -0.1, -0.1}, {0.1, 0.5, 3, 0.99, 0.1, 0.1}};
+  const auto sw = sweepForceDeflectionPlots(m, w, {"value", "node5.x"}, "prescribed rotation [rad]", "N m", "sweep");
+  ASSERT_EQ(sw.size(), 2u);
+  EXPECT_EQ(sw[0].x.label, "prescribed rotation [rad]");
+  EXPECT_EQ(sw[0].y.label, "the holding load [N m]");
+  EXPECT_EQ(sw[0].series[0].label, "");  // the axis names it
+  EXPECT_EQ(sw[0].series[0].x, std::vector<double>({-0.1, 0.1}));
+  EXPECT_EQ(sw[1].series[0].y, std::vector<double>({-0.5, 0.5}));
+  EXPECT_NEAR(sw[1].series[0].x[0], -0.01, 1e-15);
+  try {
+    staticForceDeflectionPlots(m, s, {"node5.z"}, "static");
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "'node5.z' is not a coordinate of tip.dat; its coordinates (the CSV columns): node5.x, node5.y, "
+              "node105.angle");
+  }
 }

@@ -11,7 +11,6 @@
 #include <iterator>
 #include <set>
 #include <sstream>
-#include <tuple>
 #include <utility>
 
 #include "analysis/ModelCheck.hpp"
@@ -66,8 +65,11 @@ void printParticipation(std::ostream& o, const core::Model& model, const Eigen::
                         const analysis::ModalParticipation& p) {
   const Eigen::Index nd = static_cast<Eigen::Index>(p.directions.size());
   const auto point = [&](const Eigen::Vector3d& v) {
-    std::string s = "(" + text::shortest(v[0]) + ", " + text::shortest(v[1]);
-    return s + (model.spatial ? ", " + text::shortest(v[2]) + ")" : ")");
+    // Appended piece by piece: GCC 12's -Wrestrict misreads "(" + std::string here.
+    std::string s(1, '(');
+    s.append(text::shortest(v[0])).append(", ").append(text::shortest(v[1]));
+    if (model.spatial) s.append(", ").append(text::shortest(v[2]));
+    return s.append(")");
   };
   o << "effective masses, % of what all the modes carry per direction (rotations about " << point(p.reference)
     << "):\n  mode   f [Hz]        ";
@@ -420,30 +422,12 @@ bool plotCoordinatesKnown(const core::Model& model, const std::vector<std::strin
   return true;
 }
 
-// What --plot draws for a coordinate: its deflection from the model's initial configuration against
-// the load loadOf gives (its column and axis text).
-std::vector<io::ForceDeflection> forceDeflections(
-    const core::Model& model, const std::vector<std::string>& coordinates,
-    const std::function<std::pair<std::string, std::string>(const std::string&)>& loadOf) {
-  std::vector<io::ForceDeflection> out;
-  for (const auto& c : coordinates) {
-    io::ForceDeflection fd;
-    fd.coordinate = c;
-    fd.reference = model.x0[io::coordinateIndex(model, c)];
-    std::tie(fd.load, fd.loadLabel) = loadOf(c);
-    out.push_back(std::move(fd));
-  }
-  return out;
-}
-
-// <prefix>_force_deflection.svg: a panel per ForceDeflection over the table's rows.
-bool writeForceDeflection(io::OutputSet& files, const io::CsvTable& table, const std::vector<io::ForceDeflection>& what,
-                          const std::string& title) {
+// <prefix>_force_deflection.svg: the panels of io::staticForceDeflectionPlots or
+// io::sweepForceDeflectionPlots (made inside, so that a failure is this product's only).
+bool writeForceDeflection(io::OutputSet& files, const std::function<std::vector<io::Plot>()>& panels) {
   const std::string path = files.prefix() + "_force_deflection.svg";
   return tryProduct(files, "the force-deflection plot " + path, [&] {
-    std::vector<io::Plot> panels;
-    for (const auto& fd : what) panels.push_back(io::forceDeflectionPlot(table, fd, panels.empty() ? title : ""));
-    io::writeSvgStack(path, panels);
+    io::writeSvgStack(path, panels());
     files.record(path);
     std::cout << "wrote " << path << "\n";
   });
@@ -464,15 +448,14 @@ std::pair<std::string, std::string> sweptColumn(const core::Model& model, const 
   return {name, model.coordName(k) + (unit.empty() ? "" : " [" + unit + "]")};
 }
 
-// static --plot COORDS: the load along each coordinate (the table's F.* / M.* column, else the load
-// factor) against its deflection over the load steps.
-bool writeStaticForceDeflection(io::OutputSet& files, const core::Model& model, const io::CsvTable& table,
-                                const std::vector<std::string>& coordinates, const std::string& modelFile) {
-  const auto what = forceDeflections(model, coordinates, [&](const std::string& c) {
-    const std::string load = io::staticLoadColumn(table, c);
-    return std::pair{load, io::staticLoadLabel(load)};
+// static --plot COORDS (empty: nothing to draw).
+bool writeStaticForceDeflection(io::OutputSet& files, const core::Model& model, const analysis::StaticRun& run,
+                                int buckling, const std::string& plot, const std::string& modelFile) {
+  if (plot.empty() || run.steps.empty()) return true;
+  return writeForceDeflection(files, [&] {
+    return io::staticForceDeflectionPlots(model, analysis::staticTable(model, run, buckling), io::commaList(plot),
+                                          modelFile + ": load against deflection over the load steps");
   });
-  return writeForceDeflection(files, table, what, modelFile + ": load against deflection over the load steps");
 }
 
 constexpr const char* kPlotHelp =
@@ -618,9 +601,7 @@ int runStatic(const std::vector<std::string>& args) {
   }
   sayRemovedStale(files.removedStale());
   complete &= writeStaticPictures(files, svg, viewNamed(viewName), html, vtk, model, m.file, run);
-  if (!plot.empty() && !run.steps.empty())
-    complete &= writeStaticForceDeflection(files, model, analysis::staticTable(model, run, buckling),
-                                           io::commaList(plot), m.file);
+  complete &= writeStaticForceDeflection(files, model, run, buckling, plot, m.file);
   try {
     files.writeManifest(run.completed ? "complete" : "stopped: " + run.stopReason);
     std::cout << "wrote " << files.manifestPath() << "\n";
@@ -730,19 +711,10 @@ int runSweep(const std::vector<std::string>& args) {
     const std::string unit = sweptName.first == "value"                   ? "N m"
                              : io::coordinateUnit(sweptName.first) == "m" ? "N"
                                                                           : "N m";
-    std::vector<io::ForceDeflection> what;
-    for (const auto& c : plotted) {
-      io::ForceDeflection fd;
-      fd.coordinate = c;
-      if (c == "value")  // a spatial orientation node's rotation: from its initial orientation
-        fd.deflectionLabel = "prescribed " + sweptName.second;
-      else
-        fd.reference = model.x0[io::coordinateIndex(model, c)];
-      fd.load = "load";
-      fd.loadLabel = "the holding load [" + unit + "]";  // the title names what it holds
-      what.push_back(std::move(fd));
-    }
-    complete &= writeForceDeflection(files, table, what, m.file + ": the load that holds " + r.prescribed);
+    complete &= writeForceDeflection(files, [&] {
+      return io::sweepForceDeflectionPlots(model, table, plotted, "prescribed " + sweptName.second, unit,
+                                           m.file + ": the load that holds " + r.prescribed);
+    });
   }
   if (!svg.empty())
     complete = tryProduct(files, "the figure " + svg, [&] {
