@@ -614,6 +614,38 @@ int runStatic(const std::vector<std::string>& args) {
   return complete ? kOk : kWriteFailed;
 }
 
+// The sweep's largest von Mises stress and each support reaction's largest magnitude over its
+// configurations, with where they occur (the CSV's max_stress and R.* columns; issue 53 item 1).
+void printSweepStressAndReactions(std::ostream& o, const io::CsvTable& table) {
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(table.columns.begin(), table.columns.end(), name);
+    return it == table.columns.end() ? -1 : static_cast<int>(it - table.columns.begin());
+  };
+  const int value = column("value"), stress = column("max_stress"), element = column("max_stress_element");
+  const auto largest = [&](int c) {  // the row with the largest finite |value| in column c, or -1
+    int best = -1;
+    for (size_t r = 0; r < table.rows.size(); ++r)
+      if (std::isfinite(table.rows[r][c]) && (best < 0 || std::abs(table.rows[r][c]) > std::abs(table.rows[best][c])))
+        best = static_cast<int>(r);
+    return best;
+  };
+  if (stress >= 0)
+    if (const int r = largest(stress); r >= 0)
+      o << "largest von Mises stress over the sweep: " << io::shortNumber(table.rows[r][stress], 6) << " Pa (element "
+        << table.rows[r][element] << ", at value " << io::shortNumber(table.rows[r][value], 6)
+        << "; sections from VISUALIZATION's CROSSDIM)\n";
+  bool said = false;
+  for (size_t c = 0; c < table.columns.size(); ++c) {
+    if (table.columns[c].rfind("R.", 0) != 0) continue;
+    const int r = largest(static_cast<int>(c));
+    if (r < 0) continue;
+    if (!said) o << "largest support reactions over the sweep (the supports' forces on the model):\n";
+    said = true;
+    o << "  " << table.columns[c] << " = " << io::shortNumber(table.rows[r][c], 6) << " at value "
+      << io::shortNumber(table.rows[r][value], 6) << "\n";
+  }
+}
+
 int runSweep(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
@@ -693,6 +725,7 @@ int runSweep(const std::vector<std::string>& args) {
         std::cout << "  " << std::setw(10) << p.omegaSorted[i] / (2 * M_PI);
       std::cout << "\n";
     }
+    printSweepStressAndReactions(std::cout, table);
     io::writeTextFile(files.temporaryFor(".csv"), io::formatCsv(table));
     // A panel per group of modes (io::modeGroups): 5 Hz and 500 Hz never share a linear axis.
     if (!r.points.empty())

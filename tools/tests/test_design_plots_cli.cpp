@@ -199,3 +199,23 @@ TEST_F(DesignPlotsCli, SimulateVonMisesStressesTheLargestIsTheLargestElements) {
   EXPECT_GT(peak, 7.5);
   EXPECT_LT(peak, 15.1);
 }
+
+// Issue 53 item 1: the sweep says its largest stress and reactions on screen, as its CSV has them.
+TEST_F(DesignPlotsCli, SweepSaysItsLargestStressAndReactions) {
+  const Result r = flexmb("sweep " + kData +
+                          "spatial/cross_spring_pivot.dat --node 4 --comp 3 --from -0.1 --to 0.1 --steps 5 --out pv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir_ / "pv.csv");
+  double top = 0.0;
+  for (double s : csvColumn(csv, "max_stress")) top = std::max(top, std::abs(s));
+  const std::string said = "largest von Mises stress over the sweep: ";
+  const auto at = r.out.find(said);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(at + said.size())), top, 1e-5 * top) << r.out;
+  double reaction = 0.0;
+  for (double v : csvColumn(csv, "R.F.node1.z")) reaction = std::abs(v) > std::abs(reaction) ? v : reaction;
+  const std::string line = "  R.F.node1.z = ";
+  const auto ra = r.out.find(line);
+  ASSERT_NE(ra, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(ra + line.size())), reaction, 1e-5 * std::abs(reaction)) << r.out;
+}
