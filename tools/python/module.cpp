@@ -852,6 +852,19 @@ void bindSweep(py::module_& m) {
       .def_property_readonly("prescribed", [](const SweepResultPy& r) { return r.sweep.prescribed; })
       .def_property_readonly("completed", [](const SweepResultPy& r) { return r.sweep.completed; })
       .def_property_readonly("stop_reason", [](const SweepResultPy& r) { return r.sweep.stopReason; })
+      // The CSV's columns by name (max_stress, max_stress_element, the reactions R.*, ...; issue 53).
+      .def_property_readonly("table",
+                             [](const SweepResultPy& r) {
+                               const io::CsvTable t = analysis::sweepTable(*r.model, r.sweep);
+                               py::dict d;
+                               for (size_t c = 0; c < t.columns.size(); ++c) {
+                                 Eigen::VectorXd v(static_cast<Eigen::Index>(t.rows.size()));
+                                 for (size_t k = 0; k < t.rows.size(); ++k)
+                                   v[static_cast<Eigen::Index>(k)] = t.rows[k][c];
+                                 d[py::str(t.columns[c])] = v;
+                               }
+                               return d;
+                             })
       .def("write", [](const SweepResultPy& r, const std::string& path) {
         return writeTable(path, analysis::sweepTable(*r.model, r.sweep));
       });

@@ -56,3 +56,19 @@ def test_same_as_the_command_line(tmp_path):
 def test_unknown_node_is_refused(tmp_path):
     with pytest.raises(Exception, match="77"):
         flexmb.static(flexmb.read(sectioned(tmp_path)), compliance=[77])
+
+
+def test_sweep_table_has_the_largest_stress_and_reactions(tmp_path):
+    """The sweep's columns in Python are the CSV's: max_stress and the reactions per configuration."""
+    m = flexmb.read(os.path.join(SRC, "datfiles", "spatial", "cross_spring_pivot.dat"))
+    sw = flexmb.sweep(m, node=4, component=3, start=-0.1, stop=0.1, steps=5)
+    t = sw.table
+    assert len(t["max_stress"]) == 5
+    sw.write(str(tmp_path / "pv.csv"))
+    with open(tmp_path / "pv.csv") as f:
+        rows = list(csv.DictReader(f))
+    for k, row in enumerate(rows):
+        assert t["max_stress"][k] == pytest.approx(float(row["max_stress"]), rel=1e-9)
+        assert t["R.F.node1.z"][k] == pytest.approx(float(row["R.F.node1.z"]), rel=1e-9, abs=1e-15)
+    # The pivot's von Mises stress grows with the rotation: the ends exceed the middle.
+    assert t["max_stress"][0] > t["max_stress"][2] and t["max_stress"][4] > t["max_stress"][2]
