@@ -47,6 +47,8 @@
 #include "io/formats/OperatorFile.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/TextOutput.hpp"
+#include "io/pictures/DesignPlots.hpp"
+#include "io/pictures/SvgPlot.hpp"
 #include "io/templates/ModelTemplate.hpp"
 #include "validation/PaperValidation.hpp"
 
@@ -730,9 +732,28 @@ void bindStatic(py::module_& m) {
                                  for (const auto& nc : r.compliances.front()) d[py::int_(nc.label)] = nc.names;
                                return d;
                              })
-      .def("write", [](const StaticResult& r, const std::string& path) {
-        return writeTable(path, analysis::staticTable(*r.model, r.run, r.buckling));
-      });
+      // plot: coordinates as the CSV names them; beside the CSV, <stem>_force_deflection.svg as
+      // static --plot writes it (io/pictures/DesignPlots.hpp). An unknown name is a ValueError.
+      // Returns the CSV's path, as before.
+      .def(
+          "write",
+          [](const StaticResult& r, const std::string& path, const std::vector<std::string>& plot) {
+            const io::CsvTable table = analysis::staticTable(*r.model, r.run, r.buckling);
+            const auto panels =
+                plot.empty()
+                    ? std::vector<io::Plot>()
+                    : io::staticForceDeflectionPlots(
+                          *r.model, table, plot, r.model->sourceFile + ": load against deflection over the load steps");
+            writeTable(path, table);
+            if (panels.empty()) return path;
+            const std::string stem = path.size() > 4 && path.compare(path.size() - 4, 4, ".csv") == 0
+                                         ? path.substr(0, path.size() - 4)
+                                         : path;
+            const std::string svg = stem + "_force_deflection.svg";
+            io::writeSvgStack(svg, panels);
+            return path;
+          },
+          py::arg("path"), py::arg("plot") = std::vector<std::string>());
   m.def(
       "static",
       [](const ModelHandle& handle, int nev, int loadSteps, int buckling, const std::vector<int>& compliance) {

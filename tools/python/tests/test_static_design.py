@@ -72,3 +72,17 @@ def test_sweep_table_has_the_largest_stress_and_reactions(tmp_path):
         assert t["R.F.node1.z"][k] == pytest.approx(float(row["R.F.node1.z"]), rel=1e-9, abs=1e-15)
     # The pivot's von Mises stress grows with the rotation: the ends exceed the middle.
     assert t["max_stress"][0] > t["max_stress"][2] and t["max_stress"][4] > t["max_stress"][2]
+
+
+def test_static_write_plots_as_the_command_line(tmp_path):
+    """write(path, plot=[...]) draws the force-deflection plot static --plot draws, byte for byte."""
+    model = sectioned(tmp_path)
+    r = flexmb.static(flexmb.read(model), nev=0)
+    assert r.write(str(tmp_path / "py.csv"), plot=["node5.y"]) == str(tmp_path / "py.csv")
+    subprocess.run([CLI, "static", model, "--nev", "0", "--plot", "node5.y", "--out", str(tmp_path / "cli.csv"), "-q"],
+                   check=True, capture_output=True)
+    py = (tmp_path / "py_force_deflection.svg").read_text()
+    cli = (tmp_path / "cli_force_deflection.svg").read_text()
+    assert py == cli
+    with pytest.raises(ValueError, match="node99"):
+        r.write(str(tmp_path / "bad.csv"), plot=["node99.y"])
