@@ -1,5 +1,6 @@
 // Linear analyses: modes (initial configuration), static (mode 10), sweep (Fig. 5 style).
 #include <algorithm>
+#include <array>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <iomanip>
 #include <iostream>
 #include <iterator>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -132,6 +134,8 @@ int runModes(const std::vector<std::string>& args) {
       "rotations about this position node instead");
   analysis::DampingOptions damping;  // for the modes' damping ratios
   addDampingOptions(d, damping);
+  AccuracyArgs accuracy;
+  addAccuracyOptions(d, accuracy);
   addViewOption(d, viewName, kShapeViewAuto);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb modes model.dat [--nev N] [--basis V.csv] [--reference X,Y[,Z] | "
@@ -161,9 +165,13 @@ int runModes(const std::vector<std::string>& args) {
   mo.basis.file = basisFile;
   mo.reference = reference;
   mo.damping = damping;
-  analysis::ModesJob job(modelSource(m), mo);
+  analysis::AccurateRun<analysis::ModesJob> accurate;  // --accuracy, --error-estimate
+  const auto owned = commandJob(m, mo, accuracy, &analysis::modesToAccuracy, accurate,
+                                basisFile.empty() ? "" : "run the full model (a basis belongs to one mesh)");
+  if (!owned) return kUsageError;
+  analysis::ModesJob& job = *owned;
   std::size_t said = showDiagnostics(job, m.quiet);
-  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  if (!jobCanGoOn(job, accuracy.asked())) return exitCodeOf(job.status());
   const core::Model& model = job.model();
   const std::optional<Eigen::MatrixXd>& basis = job.basis();
   // One file set: <out>.sbd / .sbm, the --svg figure and the manifest <out>_run.txt.
@@ -177,6 +185,7 @@ int runModes(const std::vector<std::string>& args) {
     files.setting("reference node", std::to_string(referenceNode));
   else if (!referenceText.empty())
     files.setting("reference point", referenceText);
+  if (accuracy.asked()) reportAccuracy(files, accurate.budget, accurate.diagnostics, m.quiet);
   job.run();
   said = showDiagnostics(job, m.quiet, said);
   if (job.status() != analysis::JobStatus::Completed) return kNumericalFailure;
@@ -465,6 +474,20 @@ constexpr const char* kPlotHelp =
 
 }  // namespace
 
+// The static run's manifest settings: the command, the model, the settled options and the files asked.
+void describeStatic(io::OutputSet& files, const ModelOptions& m, const analysis::StaticJob& job,
+                    const std::array<std::string, 3>& formatMatricesCompliance) {
+  const auto& [format, matrices, compliance] = formatMatricesCompliance;
+  files.setting("command", "static");
+  recordModel(files, m, job.model());
+  files.setting("load steps", std::to_string(job.options().loadSteps));
+  files.setting("nev", std::to_string(job.options().nev));
+  files.setting("format", format);
+  files.setting("matrices", matrices);
+  if (job.options().buckling > 0) files.setting("buckling load factors", std::to_string(job.options().buckling));
+  if (!compliance.empty()) files.setting("compliance nodes", compliance);
+}
+
 int runStatic(const std::vector<std::string>& args) {
   ModelOptions m;
   po::options_description d = commonModelOptions(m);
@@ -506,6 +529,8 @@ int runStatic(const std::vector<std::string>& args) {
       "also write the load steps as a ParaView series <prefix>.pvd (default: beside the CSV)");
   std::string viewName;
   addViewOption(d, viewName, kShapeViewAuto);
+  AccuracyArgs accuracy;
+  addAccuracyOptions(d, accuracy);
   if (auto rc = parseCommand(
           args, d, m,
           "usage: flexmb static model.dat [--nev N] [--steps n] [--buckling [N]] [--compliance NODES] [--ltv] "
@@ -533,9 +558,12 @@ int runStatic(const std::vector<std::string>& args) {
   so.nev = nev;
   so.loadSteps = steps;
   so.buckling = buckling;
-  analysis::StaticJob job(modelSource(m), so);
+  analysis::AccurateRun<analysis::StaticJob> accurate;  // --accuracy, --error-estimate
+  const auto owned = commandJob(m, so, accuracy, &analysis::staticToAccuracy, accurate);
+  if (!owned) return kUsageError;
+  analysis::StaticJob& job = *owned;
   std::size_t said = showDiagnostics(job, m.quiet);
-  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  if (!jobCanGoOn(job, accuracy.asked())) return exitCodeOf(job.status());
   const core::Model& model = job.model();
   if (!plotCoordinatesKnown(model, io::commaList(plot))) return kUsageError;
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis. One file set: the
@@ -550,14 +578,8 @@ int runStatic(const std::vector<std::string>& args) {
   if (html == "<prefix>.html") html = prefix + ".html";
   if (vtk == "<prefix>") vtk = prefix;
   if (!outputsWritable(files, {svg, html, vtk})) return kInputError;
-  files.setting("command", "static");
-  recordModel(files, m, model);
-  files.setting("load steps", std::to_string(job.options().loadSteps));
-  files.setting("nev", std::to_string(job.options().nev));
-  files.setting("format", format);
-  files.setting("matrices", matrices);
-  if (buckling > 0) files.setting("buckling load factors", std::to_string(buckling));
-  if (!compliance.empty()) files.setting("compliance nodes", compliance);
+  describeStatic(files, m, job, {format, matrices, compliance});
+  if (accuracy.asked()) reportAccuracy(files, accurate.budget, accurate.diagnostics, m.quiet);
 
   installInterruptHandler();
   Progress progress("static", !m.quiet);

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <boost/program_options/options_description.hpp>
 
+#include "analysis/AccuracyTarget.hpp"
 #include "analysis/DesignDamping.hpp"
 #include "analysis/ModelJob.hpp"
 #include "analysis/ModelSource.hpp"
@@ -67,8 +68,9 @@ std::shared_ptr<const std::vector<io::AnalysisStage>> loadChecked(const ModelOpt
                                                                   bool acceptUserFunctions = false);
 // The model file as a job's source (with the text read ahead, when it was).
 analysis::ModelSource modelSource(const ModelOptions& o);
-// The manifest's model settings: the file, and what --refine made of it (the model's note
-// "refined: every flexible beam split in N (K elements, M nodes)").
+// The manifest's model settings: the file, what --refine made of it (the model's note
+// "refined: every flexible beam split in N (K elements, M nodes)") and where the results are
+// ("results": at the original nodes and elements, or every node of the refined model).
 void recordModel(io::OutputSet& files, const ModelOptions& o, const core::Model& model);
 // Reads the file's text once for the whole command (throws io::DatError); the analysis then parses
 // this text instead of opening the file again.
@@ -105,6 +107,43 @@ std::vector<double> numberList(const std::string& text, const char* option);
 // --damping-ratio Z[,Z2...] and --rayleigh ALPHA,BETA (transfer, modes): the damping a designer
 // states, added to the model's EDAMP (analysis/DesignDamping.hpp).
 void addDampingOptions(boost::program_options::options_description& d, analysis::DampingOptions& damping);
+
+// --error-estimate, --accuracy EPS and --max-seconds S (static, modes, simulate): the error against
+// the converged model (analysis/AccuracyTarget.hpp).
+struct AccuracyArgs {
+  bool estimate = false;
+  double eps = 0.0;  // 0: not given
+  double maxSeconds = 300.0;
+  bool asked() const { return estimate || eps > 0.0; }
+};
+void addAccuracyOptions(boost::program_options::options_description& d, AccuracyArgs& a);
+// The request for the analysis (progress lines on stderr unless quiet); a usage error (printed)
+// when both are given or `clash` names an option they cannot go with.
+std::optional<analysis::AccuracyRequest> accuracyRequest(const AccuracyArgs& a, bool quiet,
+                                                         const std::string& clash = "");
+// A command's job: under --accuracy / --error-estimate the ladder's answer, already run (`accurate`
+// keeps the ladder's budget and lines), else a new one; null after a usage error (printed).
+template <class Job, class Options>
+std::unique_ptr<Job> commandJob(const ModelOptions& m, const Options& options, const AccuracyArgs& accuracy,
+                                analysis::AccurateRun<Job> (*ladder)(analysis::ModelSource, const Options&,
+                                                                     const analysis::AccuracyRequest&),
+                                analysis::AccurateRun<Job>& accurate, const std::string& clash = "") {
+  if (!accuracy.asked()) return std::make_unique<Job>(modelSource(m), options);
+  const std::optional<analysis::AccuracyRequest> ask = accuracyRequest(accuracy, m.quiet, clash);
+  if (!ask) return nullptr;
+  accurate = ladder(modelSource(m), options, *ask);
+  return std::move(accurate.job);
+}
+// A new job goes on when it is Ready; one from the ladder (ran: true) has run already and goes on to
+// its files unless it could not start.
+inline bool jobCanGoOn(const analysis::ModelJob& job, bool ran) {
+  const analysis::JobStatus s = job.status();
+  return ran ? s != analysis::JobStatus::InputError && s != analysis::JobStatus::Failed
+             : s == analysis::JobStatus::Ready;
+}
+// The ladder's lines (the estimate, the total) and the budget's manifest settings.
+void reportAccuracy(io::OutputSet& files, const analysis::ErrorBudget& budget, const analysis::Diagnostics& ladder,
+                    bool quiet);
 
 // --view of the picture commands (show, modes, static, sweep): auto, xy, xz, yz or iso, anything else
 // a usage error; viewNamed reads the checked value (empty: auto).

@@ -15,6 +15,7 @@
 #include "io/formats/DatReader.hpp"
 #include "io/formats/KeywordTable.hpp"
 #include "io/formats/OutputFile.hpp"
+#include "text/NumberText.hpp"
 #include "tools/cli/Commands.hpp"
 
 namespace po = boost::program_options;
@@ -115,6 +116,51 @@ void addDampingOptions(po::options_description& d, analysis::DampingOptions& dam
         damping.alpha = ab[0], damping.beta = ab[1];
       }),
       "Rayleigh damping alpha M + beta K added (ALPHA,BETA in 1/s and s; beta K is EDAMP = beta * ESTIFF)");
+}
+
+namespace {
+std::function<void(const double&)> betweenZeroAndOne(const char* option) {
+  return [option](const double& v) {
+    if (!(v > 0.0 && v < 1.0))
+      throw po::error(std::string("--") + option + " must be between 0 and 1, not " + text::shortest(v));
+  };
+}
+}  // namespace
+
+void addAccuracyOptions(po::options_description& d, AccuracyArgs& a) {
+  d.add_options()("error-estimate", po::bool_switch(&a.estimate),
+                  "also estimate the discretization error against the converged model: the analysis runs again "
+                  "with every flexible beam split in 2 and 4 (Richardson's extrapolation with the observed order; "
+                  "the results written are the model's own mesh)")(
+      "accuracy", po::value(&a.eps)->notifier(betweenZeroAndOne("accuracy")),
+      "EPS: refine the mesh (and, for simulate, tighten the integrator's tolerance to EPS / 20) until the total "
+      "error estimate against the converged model is at most EPS (positions relative to the motion; frequencies "
+      "relative); the results written are the finest mesh's, at the original nodes")(
+      "max-seconds", po::value(&a.maxSeconds)->notifier(positive("max-seconds")),
+      "with --accuracy: start no mesh predicted to end after this many seconds in all (default 300)");
+}
+
+std::optional<analysis::AccuracyRequest> accuracyRequest(const AccuracyArgs& a, bool quiet, const std::string& clash) {
+  if (a.estimate && a.eps > 0.0) {
+    std::cerr << "flexmb: --accuracy estimates the error itself: give --accuracy or --error-estimate, not both\n";
+    return std::nullopt;
+  }
+  if (!clash.empty()) {
+    std::cerr << "flexmb: --accuracy and --error-estimate " << clash << "\n";
+    return std::nullopt;
+  }
+  analysis::AccuracyRequest r;
+  if (a.eps > 0.0) r.eps = a.eps;
+  r.maxSeconds = a.maxSeconds;
+  r.progress = [quiet](const analysis::Diagnostic& d) { printDiagnostics({d}, quiet); };
+  return r;
+}
+
+void reportAccuracy(io::OutputSet& files, const analysis::ErrorBudget& budget, const analysis::Diagnostics& ladder,
+                    bool quiet) {
+  for (const auto& [key, value] : budget.settings) files.setting(key, value);
+  for (const analysis::Diagnostic& d : ladder)
+    if (d.kind != analysis::Diagnostic::Kind::Note) printDiagnostics({d}, quiet);  // the notes were said as they came
 }
 
 io::View viewNamed(const std::string& name) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "analysis/SimulateJob.hpp"
@@ -40,6 +41,7 @@ struct SimulateArgs {
   core::DynamicsForm dynamicsForm = core::DynamicsForm::Automatic;
   // --damping-ratio, --rayleigh: a time run takes Rayleigh's beta (the job refuses the rest, with why)
   analysis::DampingOptions damping;
+  AccuracyArgs accuracy;  // --error-estimate, --accuracy EPS
   bool csv() const { return format == "csv" || format == "both"; }
   bool mat() const { return format == "mat" || format == "both"; }
 };
@@ -115,6 +117,7 @@ std::optional<int> parseSimulate(const std::vector<std::string>& args, SimulateA
       "skip the a-posteriori accuracy check (three windows of the run integrated again at a 10x tighter "
       "tolerance: about a tenth of the run's cost or more; it warns when the result is not converged)");
   addDampingOptions(d, a.damping);
+  addAccuracyOptions(d, a.accuracy);
   if (auto rc = parseCommand(args, d, a.m, "usage: flexmb simulate model.dat [options]")) return *rc;
   if (!a.csv() && !a.mat() && a.format != "none") {
     std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << a.format << "'\n";
@@ -351,7 +354,27 @@ int runSimulate(const std::vector<std::string>& args) {
   installInterruptHandler();
   request.run.interrupt = interruptFlag();
   request.run.interruptSignal = interruptSignal();
-  analysis::SimulateJob job(modelSource(a.m), std::move(request));
+  // --accuracy / --error-estimate: the job is the ladder's answer, already run (AccuracyTarget.hpp).
+  std::unique_ptr<analysis::SimulateJob> owned;
+  analysis::AccurateRun<analysis::SimulateJob> accurate;
+  if (a.accuracy.asked()) {
+    const bool clash = !a.basisFile.empty() || a.intervals == 0 || a.noAccuracyCheck;
+    const std::optional<analysis::AccuracyRequest> ask = accuracyRequest(
+        a.accuracy, a.m.quiet,
+        clash ? "compare full runs on several meshes at the output times, with the accuracy check's integration "
+                "error: they go with no --basis, --intervals 0 or --no-accuracy-check"
+              : "");
+    if (!ask) return kUsageError;
+    accurate = analysis::simulateToAccuracy(modelSource(a.m), std::move(request), *ask);
+    if (!accurate.job) {
+      printDiagnostics(accurate.diagnostics, a.m.quiet);
+      return kInputError;
+    }
+    owned = std::move(accurate.job);
+  } else {
+    owned = std::make_unique<analysis::SimulateJob>(modelSource(a.m), std::move(request));
+  }
+  analysis::SimulateJob& job = *owned;
   printDiagnostics(job.diagnostics(), a.m.quiet);
   if (job.status() == analysis::JobStatus::InputError) return kInputError;
   if (!userFunctionsAllowed(a.m, job.model())) return kInputError;
@@ -377,6 +400,7 @@ int runSimulate(const std::vector<std::string>& args) {
   printDiagnostics(job.diagnostics(), a.m.quiet, said);
   if (job.status() == analysis::JobStatus::Failed) return kNumericalFailure;
   describeRun(files, a, job);
+  if (a.accuracy.asked()) reportAccuracy(files, accurate.budget, accurate.diagnostics, a.m.quiet);
   analysis::WrittenSimulation written;
   analysis::SimulationFiles what = filesAsked(a);
   what.plot = analysis::historyColumns(job.model(), what.plot);
@@ -390,8 +414,11 @@ int runSimulate(const std::vector<std::string>& args) {
   }
   for (const auto& f : written.paths) std::cout << "wrote " << f << "\n";
   if (!a.m.quiet)
-    std::cout << "wall time in all " << text::significant(job.wallSeconds() + written.seconds, 3) << " s (writing "
-              << text::significant(written.seconds, 2) << " s)\n";
+    std::cout << "wall time in all "
+              << text::significant(std::max(job.wallSeconds(), accurate.budget.seconds) + written.seconds, 3)
+              << " s (writing " << text::significant(written.seconds, 2) << " s"
+              << (a.accuracy.asked() ? ", " + std::to_string(accurate.ladder.estimate.levels.size()) + " meshes" : "")
+              << ")\n";
   sayRemovedStale(files.removedStale());
   if (job.interrupted()) return interruptedExitCode();
   if (written.incomplete) return kWriteFailed;

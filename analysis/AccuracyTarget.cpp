@@ -1,0 +1,258 @@
+#include "analysis/AccuracyTarget.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "text/NumberText.hpp"
+
+namespace flexmb::analysis {
+
+namespace {
+
+// The position coordinates of the file's own nodes (indices kept by every refinement).
+std::vector<int> originalPositions(const ModelSource& source) {
+  ModelSource base = source;
+  base.read.refine = 1;
+  const auto stages = readStages(base);
+  const core::Model& model = stages->back().model;
+  std::vector<int> out;
+  for (int i = 0; i < model.nx; ++i)
+    if (core::isTranslational(model.nodes[model.xOwnerNode[i]].kind)) out.push_back(i);
+  return out;
+}
+
+// The motion (largest displacement of an original position from its initial value), or the model
+// size where the motion is below a thousandth of it: the scale of the reduction error estimate.
+struct Scale {
+  double value = 1.0;
+  std::string text;
+};
+Scale motionOrSize(double motion, double size) {
+  const double L = size > 0.0 ? size : 1.0;
+  if (motion >= 1e-3 * L) return {motion, "of the motion (" + text::significant(motion, 3) + " m)"};
+  return {L, "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)"};
+}
+
+// Positions at each of `states` (x vectors), stacked, and their scale.
+template <class XOf>
+MeshLevel positionsLevel(const core::Model& model, const std::vector<int>& positions, size_t count, XOf xOf,
+                         const Eigen::VectorXd& initial, std::string& measure) {
+  MeshLevel l;
+  l.values.resize(static_cast<Eigen::Index>(count * positions.size()));
+  double motion = 0.0;
+  Eigen::Index k = 0;
+  for (size_t s = 0; s < count; ++s) {
+    const Eigen::VectorXd& x = xOf(s);
+    for (int i : positions) {
+      l.values[k++] = x[i];
+      motion = std::max(motion, std::abs(x[i] - initial[i]));
+    }
+  }
+  const Scale scale = motionOrSize(motion, model.lengthScale());
+  l.scale = scale.value;
+  measure = scale.text;
+  l.ok = count > 0;
+  if (!l.ok) l.reason = "no result to compare";
+  return l;
+}
+
+std::string refusalOf(const ModelJob& job) {
+  const std::string e = firstError(job.diagnostics());
+  return e.empty() ? "it did not complete" : e;
+}
+
+// The ladder around one kind of job: make(source) builds and runs the job on a mesh, measure(job)
+// gives the level's values; the answer's job is kept.
+template <class Job, class Make, class Measure>
+AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::string& analysis, Make make,
+                       Measure measure, double elementOrder = kBeamOrder) {
+  AccurateRun<Job> out;
+  if (!source.stages && !source.text) {
+    try {
+      source.text = std::make_shared<const std::string>(io::readDatText(source.file));
+    } catch (const std::exception&) {  // the job says what is wrong with the file
+      out.job = make(source);
+      return out;
+    }
+  }
+  std::vector<int> positions;
+  try {
+    positions = originalPositions(source);
+  } catch (const std::exception&) {
+    out.job = make(source);
+    return out;
+  }
+  std::map<int, std::unique_ptr<Job>> jobs;
+  std::string measureText;
+  auto tell = [&](Diagnostic::Kind kind, const std::string& text) {
+    Diagnostic d(kind, "", text);
+    if (a.progress) a.progress(d);
+    out.diagnostics.push_back(std::move(d));
+  };
+  LadderOptions lo;
+  lo.start = source.read.refine;
+  lo.target = std::isnan(a.eps) ? a.eps : kDiscretizationShare * a.eps;
+  lo.maxRefine = a.maxRefine;
+  lo.maxSeconds = a.maxSeconds;
+  lo.elementOrder = elementOrder;
+  lo.onLevel = [&](int refine, const std::string& why) {
+    tell(Diagnostic::Kind::Note, analysis + " at refine " + std::to_string(refine) + " (" + why + ")");
+  };
+  out.ladder = climbMeshLadder(
+      [&](int refine) {
+        ModelSource s = source;
+        s.read.refine = refine;
+        std::unique_ptr<Job> job = make(s);
+        MeshLevel l;
+        if (job->status() == JobStatus::Completed) {
+          l = measure(*job, positions, measureText);
+        } else {
+          l.reason = refusalOf(*job);
+        }
+        l.seconds = job->secondsSoFar();
+        jobs[refine] = std::move(job);
+        return l;
+      },
+      lo);
+  DiscretizationEstimate& est = out.ladder.estimate;
+  est.measure = measureText;
+  const int chosen = est.levels.empty() ? lo.start : est.levels[static_cast<size_t>(out.ladder.chosen)].refine;
+  out.job = std::move(jobs[chosen]);
+  if (!out.job) out.job = make(source);  // never reached: the first level always runs
+  for (size_t k = 1; k < est.levels.size(); ++k)
+    if (!std::isnan(est.levels[k].differenceToPrevious))
+      tell(Diagnostic::Kind::Note, "refine " + std::to_string(est.levels[k].refine) + " differs from refine " +
+                                       std::to_string(est.levels[k - 1].refine) + " by " +
+                                       text::significant(est.levels[k].differenceToPrevious, 2) + " " + measureText +
+                                       " (" + text::significant(est.levels[k].seconds, 2) + " s)");
+  return out;
+}
+
+// The budget's words and manifest lines, from the ladder and the chosen level's other errors
+// (integrationWords empty: the analysis has none to add).
+template <class Job>
+void fillBudget(AccurateRun<Job>& run, const AccuracyRequest& a, const std::string& integrationWords) {
+  const DiscretizationEstimate& est = run.ladder.estimate;
+  ErrorBudget& b = run.budget;
+  auto setting = [&](const std::string& k, const std::string& v) { b.settings.emplace_back(k, v); };
+  if (!std::isnan(a.eps)) setting("accuracy target", text::significant(a.eps, 3) + " " + est.measure);
+  setting("discretization error estimate", describeDiscretization(est));
+  std::string levels;
+  for (const MeshLevel& l : est.levels)
+    levels += (levels.empty() ? "" : "; ") + std::string("refine ") + std::to_string(l.refine) + " " +
+              (l.ok ? text::significant(l.seconds, 2) + " s" : "failed: " + l.reason);
+  setting("meshes run", levels);
+  for (const MeshLevel& l : est.levels) b.seconds += l.seconds;
+  if (!est.estimated) {
+    run.diagnostics.emplace_back(Diagnostic::Kind::Warning, "", "discretization error " + describeDiscretization(est));
+    return;
+  }
+  const MeshLevel& chosen = est.levels[static_cast<size_t>(est.of)];
+  b.discretization = est.estimate;
+  b.integration = chosen.otherError;
+  b.total = b.discretization + b.reduction + b.integration;
+  b.estimated = true;
+  b.met = !std::isnan(a.eps) && b.total <= a.eps;
+  b.line =
+      "total error estimate: " + text::significant(b.total, 2) + " (discretization " +
+      text::significant(b.discretization, 2) + ", reduction 0: the full model ran" +
+      (integrationWords.empty() ? std::string() : ", " + integrationWords + " " + text::significant(b.integration, 2)) +
+      ") " + est.measure + " at refine " + std::to_string(est.ofRefine);
+  setting("total error estimate", b.line.substr(std::string("total error estimate: ").size()));
+  setting("refinement chosen", std::to_string(est.ofRefine) + " parts per flexible beam");
+  run.diagnostics.emplace_back(Diagnostic::Kind::Result, "",
+                               "discretization error estimate: " + describeDiscretization(est));
+  run.diagnostics.emplace_back(Diagnostic::Kind::Result, "", b.line);
+  if (!std::isnan(a.eps) && !b.met)
+    run.diagnostics.emplace_back(Diagnostic::Kind::Warning, "",
+                                 "the accuracy target " + text::significant(a.eps, 2) +
+                                     " is not met: the total error estimate is " + text::significant(b.total, 2) +
+                                     (run.ladder.stopNote.empty() ? std::string() : " (" + run.ladder.stopNote + ")"),
+                                 "", "", "max_seconds");
+  else if (!est.note.empty())
+    run.diagnostics.emplace_back(Diagnostic::Kind::Warning, "", "discretization error estimate: " + est.note);
+}
+
+}  // namespace
+
+AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest request, const AccuracyRequest& a) {
+  const bool eps = !std::isnan(a.eps);
+  if (eps && !request.run.relTol) request.run.relTol = a.eps / kToleranceDivisor;
+  if (eps && !request.run.absTol) request.run.absTol = *request.run.relTol * 1e-2;
+  request.run.accuracyCheck = true;
+  const bool basis = !request.basisFile.empty() || request.basis;
+  auto make = [&](const ModelSource& s) {
+    auto job = std::make_unique<SimulateJob>(s, request);
+    if (job->status() == JobStatus::Ready) job->run();
+    return job;
+  };
+  if (basis) {
+    AccurateRun<SimulateJob> out;
+    out.diagnostics.emplace_back(Diagnostic::Kind::Error, "",
+                                 "a reduced basis belongs to one mesh: the error against the converged model is "
+                                 "estimated on the full model (run without the basis)");
+    return out;
+  }
+  auto measure = [](const SimulateJob& job, const std::vector<int>& positions, std::string& text) {
+    const core::Trajectory& t = job.trajectory();
+    const core::Model& m = job.model();
+    MeshLevel l = positionsLevel(
+        m, positions, t.completed ? t.states.size() : 0,
+        [&](size_t s) -> const Eigen::VectorXd& { return t.states[s].x; }, m.x0, text);
+    if (!t.completed) l.reason = "stopped: " + t.stopReason;
+    // The accuracy check's position estimate is relative to the model size: on the motion's scale.
+    if (t.accuracy.checked) l.otherError = t.accuracy.positionEstimate * m.lengthScale() / l.scale;
+    return l;
+  };
+  AccurateRun<SimulateJob> out = climb<SimulateJob>(std::move(source), a, "simulate", make, measure);
+  if (!out.job || out.ladder.estimate.levels.empty()) return out;
+  fillBudget(out, a, "integration");
+  if (out.job->options().relTol)
+    out.budget.settings.emplace_back(
+        "integrator tolerance",
+        "RelTol " + text::significant(*out.job->options().relTol, 3) + (eps ? " (the accuracy target / 20)" : ""));
+  return out;
+}
+
+AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions& options, const AccuracyRequest& a) {
+  auto make = [&](const ModelSource& s) {
+    auto job = std::make_unique<StaticJob>(s, options);
+    if (job->status() == JobStatus::Ready) job->run();
+    return job;
+  };
+  auto measure = [](const StaticJob& job, const std::vector<int>& positions, std::string& text) {
+    std::vector<const Eigen::VectorXd*> xs;
+    for (const StaticStep& s : job.result().steps)
+      if (s.loadStep >= 0) xs.push_back(&s.x);
+    const core::Model& m = job.model();
+    return positionsLevel(
+        m, positions, xs.size(), [&](size_t s) -> const Eigen::VectorXd& { return *xs[s]; }, m.x0, text);
+  };
+  AccurateRun<StaticJob> out = climb<StaticJob>(std::move(source), a, "static", make, measure);
+  if (out.job && !out.ladder.estimate.levels.empty()) fillBudget(out, a, "");
+  return out;
+}
+
+AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& options, const AccuracyRequest& a) {
+  auto make = [&](const ModelSource& s) {
+    auto job = std::make_unique<ModesJob>(s, options);
+    if (job->status() == JobStatus::Ready) job->run();
+    return job;
+  };
+  // ln f of the lowest modes: their differences are relative.
+  auto measure = [](const ModesJob& job, const std::vector<int>&, std::string& text) {
+    MeshLevel l;
+    const Eigen::VectorXd& w = job.result().frequencies.omega;
+    l.values = w.array().max(1e-300).log().matrix();
+    l.ok = w.size() > 0 && (w.array() > 0.0).all();
+    if (!l.ok) l.reason = "a mode without a positive frequency";
+    text = "relative (the largest over the " + std::to_string(w.size()) + " lowest frequencies)";
+    return l;
+  };
+  AccurateRun<ModesJob> out = climb<ModesJob>(std::move(source), a, "modes", make, measure, kFrequencyOrder);
+  if (out.job && !out.ladder.estimate.levels.empty()) fillBudget(out, a, "");
+  return out;
+}
+
+}  // namespace flexmb::analysis

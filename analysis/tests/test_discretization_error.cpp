@@ -1,0 +1,215 @@
+// The discretization error estimate (analysis/DiscretizationError.hpp) on quantities whose error is
+// known: synthetic Q_r = Q* + C r^-p, then the shipped models against closed forms (Euler-Bernoulli
+// cantilever frequencies, Mattiasson's elastica) and a mesh far finer than the one under test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "analysis/AccuracyTarget.hpp"
+#include "analysis/DiscretizationError.hpp"
+
+namespace flexmb::analysis {
+namespace {
+
+// Q_r = 1 + c r^-p on three components (their largest difference is the first's).
+MeshLevel powerLaw(int r, double c, double p, double other = 0.0) {
+  MeshLevel l;
+  l.refine = r;
+  l.ok = true;
+  l.values = Eigen::Vector3d(1.0 + c * std::pow(r, -p), 2.0 + 0.5 * c * std::pow(r, -p), 3.0);
+  l.otherError = other;
+  return l;
+}
+
+TEST(DiscretizationError, ObservedOrderRecoversThePowerOnAnyRatios) {
+  for (double p : {1.0, 2.0, 4.0}) {
+    for (auto [r0, r1, r2] : {std::tuple{1, 2, 4}, std::tuple{2, 3, 7}, std::tuple{1, 2, 8}}) {
+      const double d01 = std::pow(r0, -p) - std::pow(r1, -p), d12 = std::pow(r1, -p) - std::pow(r2, -p);
+      EXPECT_NEAR(observedOrder(r0, r1, r2, d01, d12), p, 1e-9) << r0 << " " << r1 << " " << r2;
+    }
+  }
+  EXPECT_TRUE(std::isnan(observedOrder(1, 2, 4, 1e-3, 2e-3)));  // differences that grow
+  EXPECT_TRUE(std::isnan(observedOrder(1, 2, 4, 0.0, 0.0)));
+}
+
+TEST(DiscretizationError, RichardsonGivesTheExactErrorOfAPowerLaw) {
+  const double c = 0.03;
+  const std::vector<MeshLevel> levels{powerLaw(1, c, 2), powerLaw(2, c, 2), powerLaw(4, c, 2)};
+  for (int of : {0, 1, 2}) {
+    const DiscretizationEstimate e = richardsonEstimate(levels, of, "of the motion");
+    ASSERT_TRUE(e.estimated);
+    EXPECT_NEAR(e.observedOrder, 2.0, 1e-9);
+    EXPECT_TRUE(e.asymptotic);
+    EXPECT_NEAR(e.estimate, c * std::pow(levels[static_cast<size_t>(of)].refine, -2.0), 1e-12);
+    EXPECT_TRUE(e.note.empty()) << e.note;
+  }
+}
+
+TEST(DiscretizationError, AFasterObservedOrderIsNotTrusted) {
+  // p = 4 observed where the element's is 2: the estimate uses 2 (larger, never smaller than the truth).
+  const std::vector<MeshLevel> levels{powerLaw(1, 0.1, 4), powerLaw(2, 0.1, 4), powerLaw(4, 0.1, 4)};
+  const DiscretizationEstimate e = richardsonEstimate(levels, 2, "");
+  EXPECT_NEAR(e.observedOrder, 4.0, 1e-9);
+  EXPECT_FALSE(e.asymptotic);
+  EXPECT_DOUBLE_EQ(e.order, kBeamOrder);
+  const double truth = 0.1 * std::pow(4, -4.0);
+  EXPECT_GT(e.estimate, truth);
+  EXPECT_LT(e.estimate, 10 * truth);
+  EXPECT_NE(e.note.find("not in the asymptotic range"), std::string::npos);
+  // With the frequencies' order the same levels are asymptotic and exact.
+  const DiscretizationEstimate f = richardsonEstimate(levels, 2, "", kFrequencyOrder);
+  EXPECT_TRUE(f.asymptotic);
+  EXPECT_NEAR(f.estimate, truth, 1e-12);
+}
+
+TEST(DiscretizationError, DifferencesThatDoNotFallAreSaidAndEstimatedSlowly) {
+  std::vector<MeshLevel> levels{powerLaw(1, 0.01, 2), powerLaw(2, 0.01, 2), powerLaw(4, 0.01, 2)};
+  levels[2].values[0] = levels[1].values[0] + 0.01;  // the last difference grows
+  const DiscretizationEstimate e = richardsonEstimate(levels, 2, "");
+  EXPECT_TRUE(std::isnan(e.observedOrder));
+  EXPECT_NE(e.note.find("do not fall"), std::string::npos);
+  EXPECT_GT(e.estimate, 0.01);  // order 0.5: 2.4x the last difference
+}
+
+TEST(DiscretizationError, MeshesCloserThanTheirIntegrationErrorAreNotResolved) {
+  const std::vector<MeshLevel> levels{powerLaw(1, 1e-4, 2, 1e-4), powerLaw(2, 1e-4, 2, 1e-4)};
+  const DiscretizationEstimate e = richardsonEstimate(levels, 1, "");
+  EXPECT_FALSE(e.resolved);
+  EXPECT_NE(e.note.find("not resolved"), std::string::npos);
+  EXPECT_NE(describeDiscretization(e).find("not resolved"), std::string::npos);
+}
+
+TEST(DiscretizationError, LadderRefinesUntilTheTargetIsMetAndNoFurther) {
+  const double c = 0.05;
+  std::vector<int> ran;
+  LadderOptions o;
+  o.target = 1e-3;
+  const LadderResult r = climbMeshLadder(
+      [&](int refine) {
+        ran.push_back(refine);
+        MeshLevel l = powerLaw(refine, c, 2);
+        l.seconds = 0.01 * refine;
+        return l;
+      },
+      o);
+  ASSERT_TRUE(r.met) << r.stopNote;
+  ASSERT_GE(ran.size(), 3u);  // the order observed before it is trusted
+  const int chosen = r.estimate.levels[static_cast<size_t>(r.chosen)].refine;
+  EXPECT_EQ(chosen, ran.back());
+  const double truth = c * std::pow(chosen, -2.0);
+  EXPECT_LE(truth, 1e-3);
+  EXPECT_NEAR(r.estimate.estimate / truth, 1.0, 1e-9);
+  // The refinement predicted, not a doubling per step: c / r^2 <= 1e-3 needs r >= 7.1.
+  EXPECT_LE(chosen, 10);
+  EXPECT_LE(ran.size(), 4u);
+}
+
+TEST(DiscretizationError, LadderSaysBeforeALevelThatWouldTakeTooLong) {
+  LadderOptions o;
+  o.target = 1e-6;
+  o.maxSeconds = 1.0;
+  std::vector<int> ran;
+  const LadderResult r = climbMeshLadder(
+      [&](int refine) {
+        ran.push_back(refine);
+        MeshLevel l = powerLaw(refine, 0.05, 2);
+        l.seconds = 0.05 * refine * refine;
+        return l;
+      },
+      o);
+  EXPECT_FALSE(r.met);
+  EXPECT_NE(r.stopNote.find("predicted to take"), std::string::npos) << r.stopNote;
+  double spent = 0.0;
+  for (int k : ran) spent += 0.05 * k * k;
+  EXPECT_LE(spent, 1.0);  // no level was started that the prediction put beyond the limit
+  EXPECT_TRUE(r.estimate.estimated);
+}
+
+TEST(DiscretizationError, EstimateAloneRunsTheModelsMeshAndTwoRefinements) {
+  std::vector<int> ran;
+  LadderOptions o;
+  o.start = 3;
+  const LadderResult r = climbMeshLadder(
+      [&](int refine) {
+        ran.push_back(refine);
+        return powerLaw(refine, 0.02, 2);
+      },
+      o);
+  EXPECT_EQ(ran, (std::vector<int>{3, 6, 12}));
+  EXPECT_EQ(r.chosen, 0);
+  EXPECT_NEAR(r.estimate.estimate, 0.02 / 9.0, 1e-12);
+}
+
+// --- the shipped models against closed forms ---------------------------------------------------
+
+std::string datfile(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR) + "/datfiles/" + name; }
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The cantilever (1 m steel strip, 4 PLBEAM; EI = 2.8 N m^2, rho A = 0.312 kg/m): Euler-Bernoulli's
+// omega_i = (beta_i L)^2 sqrt(EI / (rho A L^4)).
+TEST(DiscretizationError, CantileverFrequenciesAgainstEulerBernoulli) {
+  const double betaL[] = {1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349};
+  const double unit = std::sqrt(2.8 / 0.312);
+  ModesOptions mo;
+  mo.nev = 4;
+  mo.participation = false;
+  AccuracyRequest a;
+  const AccurateRun<ModesJob> run =
+      modesToAccuracy(ModelSource{datfile("cantilever.dat"), {}, nullptr, nullptr}, mo, a);
+  ASSERT_TRUE(run.job && run.job->status() == JobStatus::Completed);
+  const Eigen::VectorXd& w = run.job->result().frequencies.omega;
+  double truth = 0.0;
+  for (int i = 0; i < 4; ++i) truth = std::max(truth, std::abs(std::log(w[i] / (betaL[i] * betaL[i] * unit))));
+  ASSERT_TRUE(run.budget.estimated);
+  const double effectivity = run.budget.discretization / truth;
+  EXPECT_GE(effectivity, 1.0) << "estimate " << run.budget.discretization << " true " << truth;
+  EXPECT_LE(effectivity, 10.0) << "estimate " << run.budget.discretization << " true " << truth;
+  // --accuracy 1e-3: the frequencies written are within it of Euler-Bernoulli's.
+  a.eps = 1e-3;
+  const AccurateRun<ModesJob> tight =
+      modesToAccuracy(ModelSource{datfile("cantilever.dat"), {}, nullptr, nullptr}, mo, a);
+  ASSERT_TRUE(tight.budget.met);
+  const Eigen::VectorXd& wt = tight.job->result().frequencies.omega;
+  for (int i = 0; i < 4; ++i) EXPECT_LE(std::abs(wt[i] / (betaL[i] * betaL[i] * unit) - 1.0), 1e-3) << i;
+}
+
+// Mattiasson's elastica: a cantilever under a dead tip load P with P L^2 / EI = 2 has its tip at
+// u / L = 0.16064 (shortening) and w / L = 0.49346 (deflection).
+TEST(DiscretizationError, ElasticaTipAgainstMattiasson) {
+  std::string text = readText(datfile("cantilever.dat"));
+  text = std::regex_replace(text, std::regex("DELXF 5  0.0  -0.1"), "DELXF 5  0.0  -5.6");
+  text = std::regex_replace(text, std::regex("ITERSTEP 10 1"), "ITERSTEP 30 10");
+  ASSERT_NE(text.find("-5.6"), std::string::npos);
+  StaticOptions so;
+  so.nev = 0;
+  for (double eps : {std::nan(""), 1e-3}) {
+    AccuracyRequest a;
+    a.eps = eps;
+    ModelSource source{"elastica.dat", {}, nullptr, std::make_shared<const std::string>(text)};
+    const AccurateRun<StaticJob> run = staticToAccuracy(source, so, a);
+    ASSERT_TRUE(run.job && run.job->status() == JobStatus::Completed);
+    const core::Model& m = run.job->model();
+    const Eigen::VectorXd& x = run.job->result().steps.back().x;
+    const int tip = m.nodes[static_cast<size_t>(m.nodeByLabel.at(5))].firstCoord;
+    const double motion = std::hypot(1.0 - x[tip], x[tip + 1]);  // the tip moves most
+    const double truth = std::max(std::abs((1.0 - x[tip]) - 0.16064), std::abs(-x[tip + 1] - 0.49346)) / motion;
+    ASSERT_TRUE(run.budget.estimated);
+    EXPECT_GE(run.budget.discretization / truth, 1.0) << "estimate " << run.budget.discretization << " true " << truth;
+    EXPECT_LE(run.budget.discretization / truth, 10.0) << "estimate " << run.budget.discretization << " true " << truth;
+    if (!std::isnan(eps)) {
+      EXPECT_LE(truth, eps);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace flexmb::analysis
