@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 
+#include "analysis/AccuracyTarget.hpp"
 #include "analysis/BasisForTarget.hpp"
 #include "analysis/InverseDynamics.hpp"
 #include "analysis/ModelCheck.hpp"
@@ -333,6 +334,9 @@ void installInputs(const py::function& f, core::Model& model) {
 struct StaticResult {
   ModelPtr model;
   analysis::Diagnostics diagnostics;
+  std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate=
+  int refine = 1;
+  double order = std::nan("");
   analysis::StaticRun run;
   int buckling = 0;
   Eigen::VectorXd loadFactor, initialFactor;
@@ -371,6 +375,9 @@ StaticResult makeStatic(ModelPtr model, analysis::StaticRun run, int nev, int bu
 struct ModesResult {
   ModelPtr model;
   analysis::Diagnostics diagnostics;
+  std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate=
+  int refine = 1;
+  double order = std::nan("");
   analysis::InitialModes modes;
   Eigen::VectorXd freq;  // Hz
   Eigen::VectorXd zeta;  // damping ratio per mode (empty: undamped)
@@ -400,6 +407,42 @@ struct ReduceResult {
   std::string note;
 };
 
+// error_estimate= / accuracy= (analysis/AccuracyTarget.hpp): the request (None: neither asked).
+std::optional<analysis::AccuracyRequest> accuracyAsked(bool estimate, double accuracy, double maxSeconds) {
+  if (!estimate && !(accuracy > 0.0)) return std::nullopt;
+  analysis::AccuracyRequest a;
+  if (accuracy > 0.0) a.eps = accuracy;
+  a.maxSeconds = maxSeconds;
+  return a;
+}
+
+// A result's .error_estimate: the budget of --accuracy / --error-estimate (None: not asked).
+py::object budgetOf(const std::optional<analysis::ErrorBudget>& b, int refine, double order) {
+  if (!b) return py::none();
+  py::dict d;
+  d["estimated"] = b->estimated;
+  d["total"] = b->total, d["discretization"] = b->discretization, d["reduction"] = b->reduction;
+  d["integration"] = b->integration, d["met"] = b->met, d["refine"] = refine;
+  d["observed_order"] = std::isnan(order) ? py::object(py::none()) : py::object(py::float_(order));
+  d["seconds"] = b->seconds;
+  py::dict settings;
+  for (const auto& [k, v] : b->settings) settings[py::str(k)] = v;
+  d["settings"] = settings;
+  return d;
+}
+
+// The ladder's answer: its job (already run), the budget and lines kept for the result.
+template <class Job>
+std::unique_ptr<Job> fromLadder(analysis::AccurateRun<Job>&& run, std::optional<analysis::ErrorBudget>& budget,
+                                int& refine, double& order, analysis::Diagnostics& said) {
+  budget = run.budget;
+  refine = run.ladder.estimate.ofRefine;
+  order = run.ladder.estimate.observedOrder;
+  said = run.diagnostics;
+  if (!run.job) throw py::value_error(analysis::firstError(run.diagnostics));
+  return std::move(run.job);
+}
+
 // flexmb.simulate's options (the Python wrapper's keyword arguments, checked there).
 struct SimulateOptionsPy {
   std::optional<double> tEnd, relTol, absTol, maxStep, rhoInf;
@@ -412,11 +455,17 @@ struct SimulateOptionsPy {
   std::optional<py::function> usersig, userinp;
   std::vector<double> dampingRatio;  // refused by the job (a time run), with why
   double alpha = 0.0, beta = 0.0;    // Rayleigh: beta K as element damping; alpha refused
+  bool errorEstimate = false;        // error_estimate=: the discretization error of the model's mesh
+  double accuracy = 0.0;             // accuracy=EPS (0: not asked)
+  double maxSeconds = 300.0;
 };
 
 struct SimulationResult {
   ModelPtr model;
-  analysis::Diagnostics diagnostics;  // what the run said (the command line's lines)
+  analysis::Diagnostics diagnostics;            // what the run said (the command line's lines)
+  std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate=
+  int refine = 1;
+  double order = std::nan("");
   analysis::SimulationOptions options;
   core::Trajectory trajectory;
   bool interrupted = false;
@@ -640,6 +689,8 @@ void bindStatic(py::module_& m) {
   // ---- static ----
   py::class_<StaticResult>(m, "StaticResult")
       .def_property_readonly("messages", [](const StaticResult& r) { return messagesOf(r.diagnostics); })
+      .def_property_readonly("error_estimate",
+                             [](const StaticResult& r) { return budgetOf(r.budget, r.refine, r.order); })
       .def_readonly("load_factor", &StaticResult::loadFactor)
       .def_readonly("initial_factor", &StaticResult::initialFactor)
       .def_readonly("x", &StaticResult::x)
@@ -756,14 +807,30 @@ void bindStatic(py::module_& m) {
           py::arg("path"), py::arg("plot") = std::vector<std::string>());
   m.def(
       "static",
-      [](const ModelHandle& handle, int nev, int loadSteps, int buckling, const std::vector<int>& compliance) {
-        const ModelPtr model = handle.last();
+      [](const ModelHandle& handle, int nev, int loadSteps, int buckling, const std::vector<int>& compliance,
+         bool errorEstimate, double accuracy, double maxSeconds) {
         InterruptScope scope;
         analysis::StaticOptions so;
         so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
         so.complianceNodes = compliance;
-        analysis::StaticJob job(sourceOf(handle), so);
+        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
+        int refine = 1;
+        double order = std::nan("");
+        analysis::Diagnostics ladderSaid;
+        std::unique_ptr<analysis::StaticJob> owned;
+        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
+          analysis::AccurateRun<analysis::StaticJob> run;
+          {
+            py::gil_scoped_release release;
+            run = analysis::staticToAccuracy(sourceOf(handle), so, *ask);
+          }
+          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
+        } else {
+          owned = std::make_unique<analysis::StaticJob>(sourceOf(handle), so);
+        }
+        analysis::StaticJob& job = *owned;
         raiseIfRefused(job);
+        const ModelPtr model(job.allStages(), &job.model());
         {
           py::gil_scoped_release release;
           job.run({nullptr, scope.flag(), scope.signal()});
@@ -772,19 +839,24 @@ void bindStatic(py::module_& m) {
         StaticResult r = makeStatic(model, std::move(run), job.options().nev, buckling);
         r.compliances = job.compliances();
         r.diagnostics = job.diagnostics();
+        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
+        r.budget = budget, r.refine = refine, r.order = order;
         if (r.run.interrupted)
           raiseWithResult(PyExc_KeyboardInterrupt,
                           "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
                           py::cast(std::move(r)));
         return r;
       },
-      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"), py::arg("compliance"));
+      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"), py::arg("compliance"),
+      py::arg("error_estimate"), py::arg("accuracy"), py::arg("max_seconds"));
 }
 
 void bindModes(py::module_& m) {
   // ---- modes ----
   py::class_<ModesResult>(m, "ModesResult")
       .def_property_readonly("messages", [](const ModesResult& r) { return messagesOf(r.diagnostics); })
+      .def_property_readonly("error_estimate",
+                             [](const ModesResult& r) { return budgetOf(r.budget, r.refine, r.order); })
       .def_readonly("freq", &ModesResult::freq)
       .def_property_readonly(
           "omega", [](const ModesResult& r) -> const Eigen::VectorXd& { return r.modes.frequencies.omega; },
@@ -833,8 +905,7 @@ void bindModes(py::module_& m) {
       "modes",
       [](const ModelHandle& handle, int nev, const std::optional<Eigen::MatrixXd>& basis,
          const Eigen::Vector3d& referencePoint, int referenceNode, const std::vector<double>& ratios, double alpha,
-         double beta) {
-        const ModelPtr model = handle.last();
+         double beta, bool errorEstimate, double accuracy, double maxSeconds) {
         ModesResult r;
         analysis::ModesOptions mo;
         mo.nev = nev;
@@ -843,8 +914,24 @@ void bindModes(py::module_& m) {
         mo.reference.node = referenceNode;
         mo.damping.ratios = ratios;
         mo.damping.alpha = alpha, mo.damping.beta = beta;
-        analysis::ModesJob job(sourceOf(handle), std::move(mo));
+        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
+        int refine = 1;
+        double order = std::nan("");
+        analysis::Diagnostics ladderSaid;
+        std::unique_ptr<analysis::ModesJob> owned;
+        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
+          analysis::AccurateRun<analysis::ModesJob> run;
+          {
+            py::gil_scoped_release release;
+            run = analysis::modesToAccuracy(sourceOf(handle), mo, *ask);
+          }
+          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
+        } else {
+          owned = std::make_unique<analysis::ModesJob>(sourceOf(handle), std::move(mo));
+        }
+        analysis::ModesJob& job = *owned;
         raiseIfRefused(job);
+        const ModelPtr model(job.allStages(), &job.model());
         {
           py::gil_scoped_release release;
           job.run();
@@ -854,12 +941,15 @@ void bindModes(py::module_& m) {
         r.modes = job.result();
         r.diagnostics = job.diagnostics();
         r.zeta = job.dampingRatios();
+        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
+        r.budget = budget, r.refine = refine, r.order = order;
         r.freq = r.modes.frequencies.omega / (2 * M_PI);
         r.model = model;
         return r;
       },
       py::arg("model"), py::arg("nev"), py::arg("basis"), py::arg("reference_point"), py::arg("reference_node"),
-      py::arg("damping_ratio"), py::arg("alpha"), py::arg("beta"));
+      py::arg("damping_ratio"), py::arg("alpha"), py::arg("beta"), py::arg("error_estimate"), py::arg("accuracy"),
+      py::arg("max_seconds"));
 }
 
 void bindSweep(py::module_& m) {
@@ -1088,6 +1178,8 @@ void bindSimulate(py::module_& m) {
       .def_readonly("fxt", &SimulationResult::fxt)
       .def_property_readonly("completed", [](const SimulationResult& r) { return r.trajectory.completed; })
       .def_property_readonly("messages", [](const SimulationResult& r) { return messagesOf(r.diagnostics); })
+      .def_property_readonly("error_estimate",
+                             [](const SimulationResult& r) { return budgetOf(r.budget, r.refine, r.order); })
       .def_property_readonly("stop_reason", [](const SimulationResult& r) { return r.trajectory.stopReason; })
       .def_property_readonly("integrator", [](const SimulationResult& r) { return r.trajectory.integrator; })
       .def_property_readonly("nsteps", [](const SimulationResult& r) { return r.trajectory.nsteps; })
@@ -1150,7 +1242,10 @@ void bindSimulate(py::module_& m) {
       .def_readwrite("accuracy_check", &SimulateOptionsPy::accuracyCheck, "the a-posteriori accuracy check")
       .def_readwrite("damping_ratio", &SimulateOptionsPy::dampingRatio, "modal ratios (refused in a time run)")
       .def_readwrite("alpha", &SimulateOptionsPy::alpha, "Rayleigh's alpha (refused in a time run unless 0)")
-      .def_readwrite("beta", &SimulateOptionsPy::beta, "Rayleigh's beta: beta K as element damping (EDAMP)");
+      .def_readwrite("beta", &SimulateOptionsPy::beta, "Rayleigh's beta: beta K as element damping (EDAMP)")
+      .def_readwrite("error_estimate", &SimulateOptionsPy::errorEstimate, "the discretization error of the mesh")
+      .def_readwrite("accuracy", &SimulateOptionsPy::accuracy, "the total error target EPS (0: none)")
+      .def_readwrite("max_seconds", &SimulateOptionsPy::maxSeconds, "accuracy=: the time allowed in all");
   m.def(
       "simulate",
       [](const ModelHandle& handle, const SimulateOptionsPy& o) {
@@ -1189,7 +1284,25 @@ void bindSimulate(py::module_& m) {
         }
         InterruptScope scope;
         opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
-        analysis::SimulateJob job(analysis::ModelSource{handle->sourceFile, {}, stages, nullptr}, std::move(request));
+        const bool errorEstimate = o.errorEstimate;
+        const double accuracy = o.accuracy, maxSeconds = o.maxSeconds;
+        const analysis::ModelSource source{handle->sourceFile, {}, stages, nullptr};
+        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
+        int refine = 1;
+        double order = std::nan("");
+        analysis::Diagnostics ladderSaid;
+        std::unique_ptr<analysis::SimulateJob> owned;
+        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
+          analysis::AccurateRun<analysis::SimulateJob> run;
+          {
+            py::gil_scoped_release release;
+            run = analysis::simulateToAccuracy(source, std::move(request), *ask);
+          }
+          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
+        } else {
+          owned = std::make_unique<analysis::SimulateJob>(source, std::move(request));
+        }
+        analysis::SimulateJob& job = *owned;
         if (job.status() == analysis::JobStatus::InputError) {
           const std::string why = analysis::firstError(job.diagnostics(), keyword);
           throw py::value_error(job.driven() ? "basis: " + why : why);
@@ -1205,6 +1318,8 @@ void bindSimulate(py::module_& m) {
         const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
         SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
         r.diagnostics = job.diagnostics();
+        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
+        r.budget = budget, r.refine = refine, r.order = order;
         r.fxtRows = job.fxt();
         r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
         if (job.interrupted())

@@ -75,29 +75,40 @@ def check(model, *, refine=1):
     return _core.check(model)
 
 
-def static(model, *, nev=6, load_steps=0, buckling=0, compliance=(), refine=1):
+def static(model, *, nev=6, load_steps=0, buckling=0, compliance=(), refine=1, error_estimate=False, accuracy=None,
+           max_seconds=300.0):
     """Mode 10: equilibrium over the load steps (`flexmb static`); eigenfrequencies (Hz) and, with
     buckling > 0, buckling load factors in each. Arrays have one row per step. Per step also the
     von Mises stress of each element with a VISUALIZATION section (`.stress`, Pa, columns
     `.stress_elements`; `.stressmax`), the support reactions (`.reactions`, columns
     `.reaction_names`) and, for the node labels in `compliance`, the compliance matrices
-    (`.compliance[node]`: one matrix per step, rows and columns `.compliance_names[node]`)."""
+    (`.compliance[node]`: one matrix per step, rows and columns `.compliance_names[node]`).
+    error_estimate=True: also the discretization error of the model's mesh against the converged
+    model (runs on meshes split in 2 and 4, Richardson's extrapolation; `.error_estimate`).
+    accuracy=EPS: the mesh refined (and for simulate the tolerance tightened to EPS / 20) until the
+    total error estimate is at most EPS; the finest mesh's results (`.error_estimate["refine"]`);
+    max_seconds bounds the time it may spend (`flexmb ... --accuracy EPS`)."""
     _model(model)
     model = _refined(model, refine)
     nodes = [_count(n, "compliance", 0) for n in compliance]
     return _core.static(model, _count(nev, "nev", 0), _count(load_steps, "load_steps", 0),
-                        _count(buckling, "buckling", 0), nodes)
+                        _count(buckling, "buckling", 0), nodes, *_accuracy(error_estimate, accuracy, max_seconds))
 
 
 def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damping_ratio=None, rayleigh=None,
-          refine=1):
+          refine=1, error_estimate=False, accuracy=None, max_seconds=300.0):
     """Eigenfrequencies (Hz, `.freq`) and mode shapes (`.modes` in q, `.modex` in x) in the initial
     configuration (`flexmb modes`), and per global direction (`.directions`: x, y, rz or x, y, z,
     rx, ry, rz) the participation factors `.gamma` and effective masses `.meff` (modes by
     directions), what all the modes carry `.meff_total`, the whole model's rigid-body mass matrix
     `.rigid_body_mass`, `.mass` and `.centre_of_mass`. Rotations are about `reference` (x, y[, z];
     default the origin) or the position node `reference_node`. `.zeta`: each mode's damping ratio
-    from the model's EDAMP and damping_ratio / rayleigh (as `transfer`'s); empty when undamped."""
+    from the model's EDAMP and damping_ratio / rayleigh (as `transfer`'s); empty when undamped.
+    error_estimate=True: also the discretization error of the model's mesh against the converged
+    model (runs on meshes split in 2 and 4, Richardson's extrapolation; `.error_estimate`).
+    accuracy=EPS: the mesh refined (and for simulate the tolerance tightened to EPS / 20) until the
+    total error estimate is at most EPS; the finest mesh's results (`.error_estimate["refine"]`);
+    max_seconds bounds the time it may spend (`flexmb ... --accuracy EPS`)."""
     _model(model)
     model = _refined(model, refine)
     point = np.zeros(3)
@@ -112,7 +123,10 @@ def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damp
     if reference_node is not None:
         node = _count(reference_node, "reference_node", 1)
     ratios, alpha, beta = _damping(damping_ratio, rayleigh)
-    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node, ratios, alpha, beta)
+    asked = _accuracy(error_estimate, accuracy, max_seconds)
+    if basis is not None and (asked[0] or asked[1] > 0):
+        raise ValueError("basis: a basis belongs to one mesh; error_estimate and accuracy run the full model")
+    return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node, ratios, alpha, beta, *asked)
 
 
 def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0, refine=1):
@@ -177,7 +191,7 @@ def reduce(model, *, method="modal", modes=3, normalise="mass", configs=10, weig
 
 def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, intervals=None, integrator=None,
              basis=None, full_kinematics=False, usersig=None, userinp=None, accuracy_check=False, rho_inf=None,
-             refine=1, rayleigh=None, damping_ratio=None):
+             refine=1, rayleigh=None, damping_ratio=None, error_estimate=False, accuracy=None, max_seconds=300.0):
     """Mode 1: forward dynamics (`flexmb simulate`). Unset options come from the file.
 
     integrator: "auto", "ode45", "bdf" or "galpha" (generalized-alpha). Default (None): auto, which runs
@@ -199,6 +213,12 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     rayleigh=(0, beta): beta K added as element damping (EDAMP = beta * ESTIFF), as `flexmb simulate
     --rayleigh 0,BETA`; an alpha or a damping_ratio has no form in a nonlinear time run: ValueError
     saying why (modes and transfer take them).
+    error_estimate=True: also the discretization error of the model's mesh against the converged
+    model (runs on meshes split in 2 and 4, Richardson's extrapolation; `.error_estimate`).
+    accuracy=EPS: the mesh refined (and for simulate the tolerance tightened to EPS / 20) until the
+    total error estimate is at most EPS; the finest mesh's results (`.error_estimate["refine"]`);
+    max_seconds bounds the time it may spend (`flexmb ... --accuracy EPS`).
+    With either, the accuracy check runs (it gives the integration error) and no basis is taken.
     """
     _model(model)
     model = _refined(model, refine)
@@ -235,6 +255,13 @@ def simulate(model, *, t_end=None, reltol=None, abstol=None, max_step=None, inte
     o.full_kinematics, o.accuracy_check = bool(full_kinematics), bool(accuracy_check)
     o.usersig, o.userinp = usersig, userinp
     o.damping_ratio, o.alpha, o.beta = ratios, alpha, beta
+    o.error_estimate, o.accuracy, o.max_seconds = _accuracy(error_estimate, accuracy, max_seconds)
+    if o.error_estimate or o.accuracy > 0:
+        if basis is not None:
+            raise ValueError("basis: a basis belongs to one mesh; error_estimate and accuracy run the full model")
+        if o.intervals == 0:
+            raise ValueError("intervals: error_estimate and accuracy compare the meshes at the output times, not 0")
+        o.accuracy_check = True
     return _core.simulate(model, o)
 
 
