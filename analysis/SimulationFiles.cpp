@@ -9,6 +9,7 @@
 
 #include "analysis/SpacarOutput.hpp"
 #include "analysis/StaticDesign.hpp"
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/RestartWriter.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "io/formats/SpacarResults.hpp"
@@ -203,12 +204,14 @@ void writeTrajectoryFiles(io::OutputSet& files, const core::Model& model, const 
                           const SimulationFiles& what) {
   if (traj.time.empty()) return;
   if (!traj.tracked.empty()) {  // the tracked outputs stand for the states: one table
-    io::writeTextFile(files.temporaryFor("_tracked.csv"), io::formatCsv(trackedOutputTable(model, traj)));
+    io::writeTextFile(files.temporaryFor("_tracked.csv"),
+                      io::formatCsv(io::originalColumns(model, trackedOutputTable(model, traj))));
     return;
   }
   if (what.csv) {
     if (what.fxt)
-      io::writeTextFile(files.temporaryFor("_fxt.csv"), io::formatCsv(nodalForceTable(model, traj, *what.fxt)));
+      io::writeTextFile(files.temporaryFor("_fxt.csv"),
+                        io::formatCsv(io::originalColumns(model, nodalForceTable(model, traj, *what.fxt))));
     for (const char* q : {"_x", "_xd", "_xdd", "_e", "_ed", "_edd", "_sig"})
       files.temporaryFor(std::string(q) + ".csv");
     io::writeCsv(files.temporaryPrefix(), model, traj);

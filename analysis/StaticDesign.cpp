@@ -11,6 +11,7 @@
 #include "core/dynamics/Inertia.hpp"
 #include "core/dynamics/ResultQuantities.hpp"
 #include "core/linearization/Linearization.hpp"
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/ResultWriter.hpp"
 
 namespace flexmb::analysis {
@@ -329,7 +330,7 @@ io::CsvTable stressTable(const core::Model& m, const StaticRun& run) {
     for (const auto& s : elementStresses(m, st)) row.push_back(s.vonMises);
     t.rows.push_back(std::move(row));
   }
-  return t;
+  return io::originalColumns(m, std::move(t));  // a refined model's: the original elements
 }
 
 StaticCompliances runCompliances(const core::Model& m, const StaticRun& run, const std::vector<int>& labels) {

@@ -12,6 +12,7 @@
 #include "analysis/StaticDesign.hpp"
 #include "core/elements/EulerParameters.hpp"
 #include "core/kinematics/ElementValidity.hpp"
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "solvers/EigenSolver.hpp"
 #include "solvers/KineticStability.hpp"
@@ -521,7 +522,7 @@ io::CsvTable staticTable(const core::Model& model, const StaticRun& run, int buc
     for (const auto& r : supportReactions(model, st)) row.push_back(r.second);
     t.rows.push_back(std::move(row));
   }
-  return t;
+  return io::originalColumns(model, std::move(t));  // a refined model's: at the original nodes
 }
 
 }  // namespace flexmb::analysis

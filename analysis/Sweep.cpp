@@ -1,5 +1,6 @@
 #include "analysis/Sweep.hpp"
 
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/ResultWriter.hpp"
 
 #include <Eigen/LU>
@@ -294,7 +295,7 @@ io::CsvTable sweepTable(const core::Model& model, const SweepResult& r) {
     for (const auto& reaction : supportReactions(model, st, p.holding)) row.push_back(reaction.second);
     t.rows.push_back(std::move(row));
   }
-  return t;
+  return io::originalColumns(model, std::move(t));  // a refined model's: at the original nodes
 }
 
 }  // namespace flexmb::analysis

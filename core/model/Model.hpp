@@ -201,6 +201,11 @@ struct Model {
   int userStressLine = 0, userInputLine = 0;
   std::shared_ptr<UserFunctions> userFunctions;
 
+  // A refined model (core/model/Refinement.hpp): the model as read, whose nodes, elements,
+  // coordinates [0, nx) and deformations [0, ne) are this one's first. Result writers write at those
+  // (io/formats/OriginalResults.hpp); null: not refined, or the refined model's own results asked for.
+  std::shared_ptr<const Model> unrefined;
+
   int numDofs() const { return static_cast<int>(dofs.size()); }
   // Human-readable names for messages: "x(node 3, 2)" and "e(element 5, 3)".
   std::string coordName(int xIndex) const;

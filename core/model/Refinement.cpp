@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string_view>
@@ -257,6 +258,8 @@ RefinedModel refineModel(const Model& model, int parts, const ElementOptions& op
       dofs.insert(dofs.end(), added.begin(), added.end());
     }
     m.dofs = std::move(dofs);
+    // Refined twice: still the first model's.
+    m.unrefined = model.unrefined ? model.unrefined : std::make_shared<const Model>(model);
   }
   for (const ElementEntry& el : m.elements) s.elements += el.type->internal ? 0 : 1;
   s.nodes = static_cast<int>(m.nodes.size());

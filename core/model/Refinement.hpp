@@ -4,7 +4,8 @@
 // model keeps the original's nodes, elements, coordinate and deformation indices and labels (the
 // original element keeps its label as the sub-element at its node p), so every load, mass, input,
 // fix, transfer channel and output that names an original node still names it; the new nodes and
-// elements come after them with labels above the largest used. docs/models.md "Refining the mesh"
+// elements come after them with labels above the largest used; Model::unrefined keeps the model as
+// read, so that results can be written at its nodes and elements. docs/models.md "Refining the mesh"
 // gives the rules for users.
 #include <string>
 #include <vector>

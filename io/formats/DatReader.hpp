@@ -59,6 +59,9 @@ struct ReadOptions {
   std::optional<core::Dialect> dialect;                  // overrides detection
   std::optional<core::ElongationDefinition> elongation;  // overrides the PLBEAM default
   int refine = 1;  // every flexible beam split in this many elements (io/formats/MeshRefinement.hpp)
+  // With refine > 1: results of the refined model's every node and element (Model::unrefined left
+  // null); false: at the original nodes and elements under their labels (io/formats/OriginalResults.hpp).
+  bool refinedResults = false;
 };
 
 // The elongation definition PLBEAM gets for a dialect: SPACAR95 Plain, 2013+ BendingCorrected.

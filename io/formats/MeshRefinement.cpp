@@ -20,6 +20,7 @@ void refineStages(std::vector<AnalysisStage>& stages, const ReadOptions& options
     }
     r.model.notes.push_back(r.summary.text());
     for (const std::string& w : r.summary.whole) r.model.notes.push_back("refinement left " + w + " whole");
+    if (options.refinedResults) r.model.unrefined.reset();  // the refined model's own results
     m = std::move(r.model);
   }
 }

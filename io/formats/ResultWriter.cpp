@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/elements/EulerParameters.hpp"
+#include "io/formats/OriginalResults.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::io {
@@ -222,6 +223,7 @@ std::vector<std::string> deformationColumnNames(const Model& model) {
 }
 
 std::vector<std::string> writeCsv(const std::string& prefix, const Model& model, const Trajectory& traj) {
+  if (model.unrefined) return writeCsv(prefix, *model.unrefined, originalTrajectory(model, traj));
   const auto xNames = coordinateColumnNames(model);
   const auto eNames = deformationColumnNames(model);
   checkTrajectory(traj, model, xNames, eNames, "CSV output '" + prefix + "_*.csv'");
@@ -292,6 +294,7 @@ void writeMatrixCsv(const std::string& path, const Eigen::MatrixXd& A, const std
 }
 
 std::string writeOrientationCsv(const std::string& prefix, const Model& model, const Trajectory& traj) {
+  if (model.unrefined) return writeOrientationCsv(prefix, *model.unrefined, originalTrajectory(model, traj));
   const auto nodes = eulerNodes(model);
   if (nodes.empty()) return "";
   const auto xNames = coordinateColumnNames(model);
@@ -327,6 +330,7 @@ std::string writeOrientationCsv(const std::string& prefix, const Model& model, c
 }
 
 void writeMat(const std::string& path, const Model& model, const Trajectory& traj) {
+  if (model.unrefined) return writeMat(path, *model.unrefined, originalTrajectory(model, traj));
   const auto xNames = coordinateColumnNames(model);
   const auto eNames = deformationColumnNames(model);
   checkTrajectory(traj, model, xNames, eNames, "MAT output '" + path + "'");

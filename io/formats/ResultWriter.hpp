@@ -8,6 +8,8 @@
 // (nx / ne), and every value must be finite (a NaN or Inf throws, naming the quantity, the time and
 // the column). Write failures (cannot open the file, short write, matio failure) throw
 // std::runtime_error naming the path and the reason. Numbers are formatted locale-independently.
+// A refined model with Model::unrefined (`--refine N`) is written at its original nodes and elements
+// (io/formats/OriginalResults.hpp): the columns and variables of the model as read.
 #include <string>
 #include <vector>
 

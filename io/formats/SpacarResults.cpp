@@ -1,5 +1,6 @@
 #include "io/formats/SpacarResults.hpp"
 
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/ResultWriter.hpp"
 
 #include <matio.h>
@@ -465,20 +466,21 @@ void writeSbm(MatSink& w, const core::Model& model, const SpacarResults& r, cons
     for (Eigen::Index i = 0; i < r.steps[k].freq.size(); ++i) f[i * nt + k] = r.steps[k].freq[i];
   w.write("freq", nt, nev, std::move(f));
   std::size_t mq = 0;
-  bool hasModes = nt > 0;
+  // modeq and modex each when every step has them (a refined model's results at its original nodes
+  // have modex alone: io/formats/OriginalResults.hpp).
+  bool hasModeq = nt > 0, hasModex = nt > 0;
   for (const auto& s : r.steps) {
-    hasModes = hasModes && s.modeq.size() > 0 && static_cast<std::size_t>(s.modeq.cols()) == nev;
+    hasModeq = hasModeq && s.modeq.size() > 0 && static_cast<std::size_t>(s.modeq.cols()) == nev;
+    hasModex = hasModex && s.modex.size() > 0 && static_cast<std::size_t>(s.modex.cols()) == nev;
     mq = std::max<std::size_t>(mq, s.modeq.rows());
   }
-  if (hasModes) {
-    std::vector<double> q, xm;
-    for (const auto& s : r.steps) {
-      q.insert(q.end(), s.modeq.data(), s.modeq.data() + s.modeq.size());
-      xm.insert(xm.end(), s.modex.data(), s.modex.data() + s.modex.size());
-    }
-    if (q.size() == mq * nev * nt) w.write("modeq", mq, nev, std::move(q), nt);
-    if (xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
+  std::vector<double> q, xm;
+  for (const auto& s : r.steps) {
+    if (hasModeq) q.insert(q.end(), s.modeq.data(), s.modeq.data() + s.modeq.size());
+    if (hasModex) xm.insert(xm.end(), s.modex.data(), s.modex.data() + s.modex.size());
   }
+  if (hasModeq && q.size() == mq * nev * nt) w.write("modeq", mq, nev, std::move(q), nt);
+  if (hasModex && xm.size() == nx * nev * nt) w.write("modex", nx, nev, std::move(xm), nt);
   if (r.stateSpace) writeSpacarStateSpace(w, *r.stateSpace);
 }
 
@@ -548,6 +550,7 @@ void fillSpacarFile(MatSink& w, const std::string& path, const SpacarFilePlan& p
 }  // namespace
 
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model, const SpacarResults& r) {
+  if (model.unrefined) return writeSpacarResults(base, *model.unrefined, originalSpacarResults(model, r));
   const SpacarFilePlan plan = planSpacarFiles(base, model, r);
   for (const auto& path : plan.paths) {
     MatWriter w(path);
@@ -559,6 +562,7 @@ std::vector<std::string> writeSpacarResults(const std::string& base, const core:
 
 std::vector<SpacarFileContents> spacarResultFiles(const std::string& base, const core::Model& model,
                                                   const SpacarResults& r) {
+  if (model.unrefined) return spacarResultFiles(base, *model.unrefined, originalSpacarResults(model, r));
   const SpacarFilePlan plan = planSpacarFiles(base, model, r);
   std::vector<SpacarFileContents> files(plan.paths.size());
   for (std::size_t i = 0; i < plan.paths.size(); ++i) {

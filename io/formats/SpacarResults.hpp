@@ -117,7 +117,8 @@ struct SpacarResults {
 // model A, B, C, D, DFT (1 when D is not zero), inputnames, outputnames (mode 9; A .. D also in
 // the .sbm), or with M0 and K0B of every step (mode 3). Checks sizes and finiteness first
 // (std::invalid_argument naming the variable and step); write failures throw std::runtime_error
-// naming the path. Returns the paths written.
+// naming the path. Returns the paths written. A refined model with Model::unrefined (`--refine N`)
+// is written in its original model's layout (io/formats/OriginalResults.hpp).
 std::vector<std::string> writeSpacarResults(const std::string& base, const core::Model& model,
                                             const SpacarResults& results);
 

@@ -25,6 +25,7 @@
 #include "analysis/Statics.hpp"
 #include "analysis/SweepJob.hpp"
 #include "io/formats/BasisFile.hpp"
+#include "io/formats/OriginalResults.hpp"
 #include "io/formats/OutputFile.hpp"
 #include "io/formats/ResultWriter.hpp"
 #include "io/formats/SpacarResults.hpp"
@@ -420,10 +421,10 @@ bool writeStaticPictures(io::OutputSet& files, const std::string& svg, io::View 
 }
 
 // --plot COORDS of static and sweep: each coordinate a known one (a usage error listing the model's
-// coordinates otherwise).
+// coordinates otherwise); a refined model's original ones, as its table has them.
 bool plotCoordinatesKnown(const core::Model& model, const std::vector<std::string>& coordinates) {
   try {
-    for (const auto& c : coordinates) io::coordinateIndex(model, c);
+    for (const auto& c : coordinates) io::coordinateIndex(io::resultModel(model), c);
   } catch (const std::invalid_argument& e) {
     std::cerr << "flexmb: --plot: " << e.what() << "\n";
     return false;

@@ -47,10 +47,11 @@ int runMode3(const std::vector<std::string>& args);     // --mode 3: trajectory 
 // Reads a model with the common options (--dialect, --elongation); prints errors, returns false.
 struct ModelOptions {
   std::string file;
-  std::string dialect;     // "", "95", "2013"
-  std::string elongation;  // "", "plain", "corrected"
-  int refine = 1;          // --refine N: every flexible beam split in N (io/formats/MeshRefinement.hpp)
-  bool quiet = false;      // --quiet: no progress, no notes
+  std::string dialect;          // "", "95", "2013"
+  std::string elongation;       // "", "plain", "corrected"
+  int refine = 1;               // --refine N: every flexible beam split in N (io/formats/MeshRefinement.hpp)
+  bool refinedResults = false;  // --refined-results: files of every node (io/formats/OriginalResults.hpp)
+  bool quiet = false;           // --quiet: no progress, no notes
 };
 // acceptUserFunctions: a file naming USERSIG / USERINP is read (mode 0 never calls them); else it is
 // refused with a message that they run only through spacar().

@@ -186,7 +186,10 @@ po::options_description commonModelOptions(ModelOptions& m) {
       "refine", po::value(&m.refine)->notifier([](int n) {
         if (n < 1) throw po::error("--refine must be a whole number >= 1, not " + std::to_string(n));
       }),
-      "split every flexible beam (PLBEAM, BEAM, BEAMW) in N elements; the original nodes keep their labels")(
+      "split every flexible beam (PLBEAM, BEAM, BEAMW) in N elements; the original nodes keep their labels, and "
+      "the result files hold them alone")(
+      "refined-results", po::bool_switch(&m.refinedResults),
+      "with --refine: the result files hold every node and element of the refined model")(
       "quiet,q", po::bool_switch(&m.quiet), "no progress lines and notes on stderr");
   return d;
 }
@@ -264,6 +267,7 @@ io::ReadOptions readOptions(const ModelOptions& o) {
   else if (o.elongation == "corrected")
     ro.elongation = core::ElongationDefinition::BendingCorrected;
   ro.refine = o.refine;
+  ro.refinedResults = o.refinedResults;
   return ro;
 }
 
@@ -291,7 +295,11 @@ void recordModel(io::OutputSet& files, const ModelOptions& o, const core::Model&
   files.setting("model", o.file);
   const std::string refined = "refined: ";
   for (const std::string& note : model.notes)
-    if (note.rfind(refined, 0) == 0) files.setting("refined", note.substr(refined.size()));
+    if (note.rfind(refined, 0) == 0) {
+      files.setting("refined", note.substr(refined.size()));
+      files.setting("results", model.unrefined ? "at the original nodes and elements (--refined-results: every node)"
+                                               : "every node and element of the refined model (--refined-results)");
+    }
 }
 
 std::string optionSpelling(const std::string& name) {

@@ -245,6 +245,7 @@ int runStudy(const std::vector<std::string>& args) {
   if (sa.m.elongation == "plain") s.readOptions.elongation = core::ElongationDefinition::Plain;
   if (sa.m.elongation == "corrected") s.readOptions.elongation = core::ElongationDefinition::BendingCorrected;
   s.readOptions.refine = sa.m.refine;
+  s.readOptions.refinedResults = sa.m.refinedResults;
   if (auto rc = study::chooseStudyAnalyses(args, sa, s.analyses)) return *rc;
   if (auto rc = study::prepareStudy(args, sa, s)) return *rc;
   if (sa.slurm.submit) return submitStudy(sa.slurm, args, s.dir, static_cast<int>(s.variants.size()), sa.m.quiet);

@@ -80,7 +80,9 @@ void toVariables(io::SpacarFileContents& file, Variables& vars) {
 //               simulate job refusing the others with why. `integration`: a field of the time
 //               integration was given (modes 1, 3, 4 only).
 //   refine      every flexible beam split in this many elements, for every mode
-//               (io/formats/MeshRefinement.hpp)
+//               (io/formats/MeshRefinement.hpp); the results at the original nodes and elements
+//   refinedresults  true: with refine, the refined model's own results, every node and element
+//               (io::ReadOptions::refinedResults)
 // Returns an error message (empty: fine).
 std::string parseDamping(const std::string& name, const mxArray* v, analysis::DampingOptions& damping) {
   const bool real = v && mxIsDouble(v) && !mxIsComplex(v) && mxGetNumberOfElements(v) >= 1;
@@ -99,7 +101,7 @@ std::string parseDamping(const std::string& name, const mxArray* v, analysis::Da
 }
 
 std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, double& target,
-                         analysis::DampingOptions& damping, int& refine, bool& integration) {
+                         analysis::DampingOptions& damping, io::ReadOptions& read, bool& integration) {
   if (!mxIsStruct(o) || mxGetNumberOfElements(o) != 1)
     return "spacar: the third argument must be a struct of options (integrator, reltol, abstol, maxstep, tend, "
            "intervals, bdforder)";
@@ -116,7 +118,13 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
       const double x = whole ? mxGetScalar(v) : std::nan("");
       if (!(x >= 1 && x == std::floor(x) && x <= 1000))
         return "spacar: opts.refine must be a whole number from 1 to 1000 (elements per flexible beam)";
-      refine = static_cast<int>(x);
+      read.refine = static_cast<int>(x);
+      continue;
+    }
+    if (name == "refinedresults") {
+      if (!v || !(mxIsLogicalScalar(v) || (mxIsNumeric(v) && mxGetNumberOfElements(v) == 1)))
+        return "spacar: opts.refinedresults must be true or false";
+      read.refinedResults = mxGetScalar(v) != 0.0;
       continue;
     }
     integration = true;
@@ -149,7 +157,7 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
     } else {
       return "spacar: unknown option '" + name +
              "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, rhoinf, target, "
-             "dampingratio, rayleigh, refine)";
+             "dampingratio, rayleigh, refine, refinedresults)";
     }
   }
   return "";
@@ -333,14 +341,12 @@ std::optional<analysis::StaticRun> runStatic(const std::string& datFile,
 }
 
 void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
-               const analysis::DampingOptions& damping, int refine, Run& run) {
+               const analysis::DampingOptions& damping, const io::ReadOptions& read, Run& run) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
   // The file is read once; the dynamics modes run its SPACAR95 stages (analysis/SimulateJob.hpp).
   std::shared_ptr<std::vector<io::AnalysisStage>> stages;
   try {
-    io::ReadOptions read;
-    read.refine = refine;
     stages = std::make_shared<std::vector<io::AnalysisStage>>(io::readDatStages(datFile, read));
   } catch (const std::exception& e) {
     run.error = e.what();
@@ -499,13 +505,13 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   double target = std::nan("");      // opts.target
   analysis::DampingOptions damping;  // opts.dampingratio, opts.rayleigh
   bool integration = false;          // opts has a field of the time integration
-  int refine = 1;                    // opts.refine
+  io::ReadOptions read;              // opts.refine, opts.refinedresults
   analysis::SimulationOptions options;
   options.integrator = analysis::Integrator::Auto;  // the default of modes 1, 3, 4 (opts.integrator: another)
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";
-  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target, damping, refine, integration)).empty()) {
+  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target, damping, read, integration)).empty()) {
     run.errorId = "flexmb:spacar:usage";
   } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4 &&
              (integration || (damping.any() && std::abs(m) != 9))) {
@@ -514,7 +520,7 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
         "opts.dampingratio and opts.rayleigh alone; opts.refine applies to every mode";
     run.errorId = "flexmb:spacar:usage";
   } else {
-    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, damping, refine, run);
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, damping, read, run);
   }
   // Results so far go to the workspace even when the run stopped.
   // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().

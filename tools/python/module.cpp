@@ -528,16 +528,18 @@ void bindModel(py::module_& m) {
   py::class_<ModelHandle>(m, "Model")
       .def(
           "refined",
-          [](const ModelHandle& h, int parts) {  // every stage alike (io/formats/MeshRefinement.hpp)
+          [](const ModelHandle& h, int parts,
+             bool refinedResults) {  // every stage alike (io/formats/MeshRefinement.hpp)
             return asInputError([&] {
               auto stages = std::make_shared<std::vector<io::AnalysisStage>>(*h.stages);
               io::ReadOptions o;
               o.refine = parts;
+              o.refinedResults = refinedResults;  // write(): every node, not the original ones
               io::refineStages(*stages, o);
               return ModelHandle{std::move(stages)};
             });
           },
-          py::arg("parts"))
+          py::arg("parts"), py::kw_only(), py::arg("refined_results") = false)
       .def_property_readonly("file", [](const ModelHandle& h) { return h->sourceFile; })
       .def_property_readonly("nx", [](const ModelHandle& h) { return h->nx; })
       .def_property_readonly("ne", [](const ModelHandle& h) { return h->ne; })

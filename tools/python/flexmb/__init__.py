@@ -37,21 +37,23 @@ from . import _core  # noqa: E402  (the exceptions above must exist before the n
 Model = _core.Model
 
 
-def read(path, *, refine=1):
+def read(path, *, refine=1, refined_results=False):
     """The model of a SPACAR .dat file (both dialects; the last analysis stage). refine=N splits every
-    flexible beam in N elements (`--refine N`; `Model.refined(N)`)."""
+    flexible beam in N elements (`--refine N`; `Model.refined(N)`); the files its results write
+    hold the original nodes and elements, every node with refined_results=True
+    (`--refined-results`)."""
     if not isinstance(path, (str, bytes)) and not hasattr(path, "__fspath__"):
         raise TypeError(f"path: expected a file name, got {type(path).__name__}")
     import os
 
-    return _refined(_core.read(os.fsdecode(os.fspath(path))), refine)
+    return _refined(_core.read(os.fsdecode(os.fspath(path))), refine, refined_results)
 
 
-def parse(text, name="<string>", *, refine=1):
-    """The model of a .dat text; errors name `name` and the line. refine: as read's."""
+def parse(text, name="<string>", *, refine=1, refined_results=False):
+    """The model of a .dat text; errors name `name` and the line. refine, refined_results: as read's."""
     _need(text, str, "text")
     _need(name, str, "name")
-    return _refined(_core.parse(text, name), refine)
+    return _refined(_core.parse(text, name), refine, refined_results)
 
 
 def variant(template, name="<template>", **parameters):
@@ -336,10 +338,12 @@ def _model(model):
         raise TypeError(f"model: expected a flexmb.Model (flexmb.read or flexmb.parse), got {type(model).__name__}")
 
 
-def _refined(model, refine):
+def _refined(model, refine, refined_results=False):
     # Every flexible beam split in `refine` elements (1: the model itself); see read().
     parts = _count(refine, "refine", 1)
-    return model if parts == 1 else model.refined(parts)
+    if not isinstance(refined_results, bool):
+        raise TypeError(f"refined_results: expected True or False, got {type(refined_results).__name__}")
+    return model if parts == 1 else model.refined(parts, refined_results=refined_results)
 
 
 def _real(value, name):

@@ -51,3 +51,33 @@ def test_refine_refuses_bad_values(bad):
         flexmb.modes(flexmb.read(GUIDANCE), refine=bad)
     with pytest.raises(TypeError):
         flexmb.read(GUIDANCE, refine=1.5)
+
+
+def _header(path):
+    with open(path) as f:
+        return f.readline().strip().split(",")
+
+
+def test_refined_files_hold_the_original_nodes(tmp_path):
+    # write() of a refined run: the unrefined file's columns, the refined run's values there (the
+    # leading entries of r.x, which holds every node); refined_results=True: every node, as the
+    # command line's --refined-results.
+    plain = flexmb.simulate(flexmb.read(GUIDANCE), t_end=0.01)
+    fine = flexmb.simulate(flexmb.read(GUIDANCE, refine=2), t_end=0.01)
+    every = flexmb.simulate(flexmb.read(GUIDANCE, refine=2, refined_results=True), t_end=0.01)
+    plain.write(str(tmp_path / "a"), mat=False)
+    fine.write(str(tmp_path / "b"), mat=False)
+    every.write(str(tmp_path / "c"), mat=False)
+    ha, hb, hc = (_header(tmp_path / f"{p}_x.csv") for p in "abc")
+    assert hb == ha
+    assert len(hc) > len(ha) and hc[: len(ha)] == ha
+    assert fine.x.shape[1] == len(hc) - 1  # in memory: every node of the refined model
+    xb = np.loadtxt(tmp_path / "b_x.csv", delimiter=",", skiprows=1, ndmin=2)
+    np.testing.assert_array_equal(xb[:, 1:], fine.x[:, : len(ha) - 1])
+    np.testing.assert_array_equal(xb[:, 0], fine.time)
+    cli = subprocess.run([CLI, "simulate", GUIDANCE, "--t-end", "0.01", "--refine", "2", "--format", "csv", "-q",
+                          "--out", str(tmp_path / "d")], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    assert (tmp_path / "d_x.csv").read_bytes() == (tmp_path / "b_x.csv").read_bytes()
+    with pytest.raises(TypeError, match="refined_results"):
+        flexmb.read(GUIDANCE, refine=2, refined_results="yes")
