@@ -255,4 +255,33 @@ AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& op
   return out;
 }
 
+AccurateRun<SweepJob> sweepToAccuracy(ModelSource source, const SweepOptions& options, const AccuracyRequest& a) {
+  auto make = [&](const ModelSource& s) {
+    auto job = std::make_unique<SweepJob>(s, options);
+    if (job->status() == JobStatus::Ready) job->run();
+    return job;
+  };
+  // ln f of every configuration's frequencies (ascending): their differences are relative.
+  auto measure = [](const SweepJob& job, const std::vector<int>&, std::string& text) {
+    MeshLevel l;
+    const std::vector<SweepPoint>& points = job.result().points;
+    Eigen::Index n = 0;
+    for (const SweepPoint& p : points) n += p.omegaSorted.size();
+    l.values.resize(n);
+    n = 0;
+    l.ok = !points.empty() && job.result().completed;
+    for (const SweepPoint& p : points)
+      for (Eigen::Index i = 0; i < p.omegaSorted.size(); ++i) {
+        l.ok = l.ok && p.omegaSorted[i] > 0.0;
+        l.values[n++] = std::log(std::max(p.omegaSorted[i], 1e-300));
+      }
+    if (!l.ok) l.reason = "a configuration without positive frequencies, or the sweep stopped";
+    text = "relative (the largest over the frequencies of the " + std::to_string(points.size()) + " configurations)";
+    return l;
+  };
+  AccurateRun<SweepJob> out = climb<SweepJob>(std::move(source), a, "sweep", make, measure);
+  if (out.job && !out.ladder.estimate.levels.empty()) fillBudget(out, a, "");
+  return out;
+}
+
 }  // namespace flexmb::analysis

@@ -2,7 +2,7 @@
 // An answer with its error against the converged model (issue 50): `--error-estimate` (the
 // discretization error of the model's own mesh, from it and two refinements) and `--accuracy EPS`
 // (the refinement and the integrator tolerance chosen so that the total error estimate is at most
-// EPS), for the simulate, static and modes jobs. Each runs the job on a ladder of meshes
+// EPS), for the simulate, static, modes and sweep jobs. Each runs the job on a ladder of meshes
 // (analysis/DiscretizationError.hpp) from the file's text read once, compares the original nodes'
 // positions (or the frequencies) and returns the job whose results are the answer, for the front end
 // to write as it writes any run of that job.
@@ -22,6 +22,7 @@
 #include "analysis/ModesJob.hpp"
 #include "analysis/SimulateJob.hpp"
 #include "analysis/StaticJob.hpp"
+#include "analysis/SweepJob.hpp"
 
 namespace flexmb::analysis {
 
@@ -65,5 +66,8 @@ struct AccurateRun {
 AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest request, const AccuracyRequest& a);
 AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions& options, const AccuracyRequest& a);
 AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& options, const AccuracyRequest& a);
+// The sweep's frequencies at every configuration (relative, as modes'; the element's order 2: the
+// configurations are deformed); options.basis must be empty.
+AccurateRun<SweepJob> sweepToAccuracy(ModelSource source, const SweepOptions& options, const AccuracyRequest& a);
 
 }  // namespace flexmb::analysis

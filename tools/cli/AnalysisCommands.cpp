@@ -475,6 +475,18 @@ constexpr const char* kPlotHelp =
 
 }  // namespace
 
+// Why static's --format, --matrices and --ltv do not go together (empty: they do).
+std::string staticFilesRefusal(const std::string& format, const std::string& matrices, bool ltv) {
+  if (format != "csv" && format != "mat" && format != "both" && format != "none")
+    return "--format must be csv, mat, both or none, not '" + format + "'";
+  if (matrices != "all" && matrices != "none") return "--matrices must be all or none, not '" + matrices + "'";
+  if (ltv && matrices == "none")
+    return "--ltv writes the matrices of every load step: it cannot go with --matrices none";
+  if (ltv && (format == "csv" || format == "none"))
+    return "--ltv writes SPACAR's .ltv beside the .sbd: it needs --format mat or both";
+  return "";
+}
+
 // The static run's manifest settings: the command, the model, the settled options and the files asked.
 void describeStatic(io::OutputSet& files, const ModelOptions& m, const analysis::StaticJob& job,
                     const std::array<std::string, 3>& formatMatricesCompliance) {
@@ -539,20 +551,8 @@ int runStatic(const std::vector<std::string>& args) {
           "csv|mat|both|none] [--out file.csv] [--svg file.svg] [--plot COORDS] [--view xy|xz|yz|iso] [--html "
           "[file.html]] [--vtk [prefix]]"))
     return *rc;
-  if (format != "csv" && format != "mat" && format != "both" && format != "none") {
-    std::cerr << "flexmb: --format must be csv, mat, both or none, not '" << format << "'\n";
-    return kUsageError;
-  }
-  if (matrices != "all" && matrices != "none") {
-    std::cerr << "flexmb: --matrices must be all or none, not '" << matrices << "'\n";
-    return kUsageError;
-  }
-  if (ltv && matrices == "none") {
-    std::cerr << "flexmb: --ltv writes the matrices of every load step: it cannot go with --matrices none\n";
-    return kUsageError;
-  }
-  if (ltv && (format == "csv" || format == "none")) {
-    std::cerr << "flexmb: --ltv writes SPACAR's .ltv beside the .sbd: it needs --format mat or both\n";
+  if (const std::string why = staticFilesRefusal(format, matrices, ltv); !why.empty()) {
+    std::cerr << "flexmb: " << why << "\n";
     return kUsageError;
   }
   const bool writeCsv = format == "csv" || format == "both", writeSpacar = format == "mat" || format == "both";
@@ -560,13 +560,18 @@ int runStatic(const std::vector<std::string>& args) {
   so.loadSteps = steps;
   so.buckling = buckling;
   analysis::AccurateRun<analysis::StaticJob> accurate;  // --accuracy, --error-estimate
-  const auto owned = commandJob(m, so, accuracy, &analysis::staticToAccuracy, accurate);
+  const auto owned = commandJob(m, so, accuracy, &analysis::staticToAccuracy, accurate, "");
   if (!owned) return kUsageError;
   analysis::StaticJob& job = *owned;
   std::size_t said = showDiagnostics(job, m.quiet);
   if (!jobCanGoOn(job, accuracy.asked())) return exitCodeOf(job.status());
   const core::Model& model = job.model();
   if (!plotCoordinatesKnown(model, io::commaList(plot))) return kUsageError;
+  if (ltv && model.unrefined) {  // the .ltv is over the degrees of freedom: the original layout has no place for it
+    std::cerr << "flexmb: --ltv writes the refined model's matrices over its degrees of freedom: it needs "
+                 "--refined-results with --refine\n";
+    return kUsageError;
+  }
   // Output: --out file.csv, a prefix, or a folder; checked before the analysis. One file set: the
   // CSV, SPACAR's <model>.sbd / .sbm beside it, the --svg figure, the manifest <prefix>_run.txt.
   std::string csvPath;
@@ -695,13 +700,20 @@ int runSweep(const std::vector<std::string>& args) {
       "configuration, a panel each in <prefix>_force_deflection.svg");
   std::string viewName;
   addViewOption(d, viewName, kShapeViewAuto);
+  AccuracyArgs accuracy;
+  addAccuracyOptions(d, accuracy);
   if (auto rc = parseCommand(args, d, m,
                              "usage: flexmb sweep model.dat --node N --comp i --from a --to b --steps n [--nev N] "
                              "[--svg file.svg] [--plot [COORDS]] [--view xy|xz|yz|iso]"))
     return *rc;
-  analysis::SweepJob job(modelSource(m), o, {basisFile, std::nullopt});
+  analysis::AccurateRun<analysis::SweepJob> accurate;  // --accuracy, --error-estimate
+  const auto owned = commandJob(m, o, accuracy, &analysis::sweepToAccuracy, accurate,
+                                basisFile.empty() ? "" : "run the full model (a basis belongs to one mesh)",
+                                analysis::BasisInput{basisFile, std::nullopt});
+  if (!owned) return kUsageError;
+  analysis::SweepJob& job = *owned;
   std::size_t said = showDiagnostics(job, m.quiet);
-  if (job.status() != analysis::JobStatus::Ready) return exitCodeOf(job.status());
+  if (!jobCanGoOn(job, accuracy.asked())) return exitCodeOf(job.status());
   const core::Model& model = job.model();
   const std::pair<std::string, std::string> sweptName = sweptColumn(model, o);
   std::vector<std::string> plotted = io::commaList(plot);
@@ -728,6 +740,7 @@ int runSweep(const std::vector<std::string>& args) {
                              " configurations");
   files.setting("nev", std::to_string(o.nev));
   if (!basisFile.empty()) files.setting("basis", basisFile);
+  if (accuracy.asked()) reportAccuracy(files, accurate.budget, accurate.diagnostics, m.quiet);
 
   installInterruptHandler();
   Progress progress("sweep", !m.quiet);

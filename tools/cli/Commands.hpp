@@ -123,13 +123,14 @@ void addAccuracyOptions(boost::program_options::options_description& d, Accuracy
 std::optional<analysis::AccuracyRequest> accuracyRequest(const AccuracyArgs& a, bool quiet,
                                                          const std::string& clash = "");
 // A command's job: under --accuracy / --error-estimate the ladder's answer, already run (`accurate`
-// keeps the ladder's budget and lines), else a new one; null after a usage error (printed).
-template <class Job, class Options>
+// keeps the ladder's budget and lines), else a new one from (source, options, extra...); null after
+// a usage error (printed; clash: an option the ladder cannot go with, empty: none).
+template <class Job, class Options, class... Extra>
 std::unique_ptr<Job> commandJob(const ModelOptions& m, const Options& options, const AccuracyArgs& accuracy,
                                 analysis::AccurateRun<Job> (*ladder)(analysis::ModelSource, const Options&,
                                                                      const analysis::AccuracyRequest&),
-                                analysis::AccurateRun<Job>& accurate, const std::string& clash = "") {
-  if (!accuracy.asked()) return std::make_unique<Job>(modelSource(m), options);
+                                analysis::AccurateRun<Job>& accurate, const std::string& clash, const Extra&... extra) {
+  if (!accuracy.asked()) return std::make_unique<Job>(modelSource(m), options, extra...);
   const std::optional<analysis::AccuracyRequest> ask = accuracyRequest(accuracy, m.quiet, clash);
   if (!ask) return nullptr;
   accurate = ladder(modelSource(m), options, *ask);

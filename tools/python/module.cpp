@@ -431,14 +431,31 @@ py::object budgetOf(const std::optional<analysis::ErrorBudget>& b, int refine, d
   return d;
 }
 
-// The ladder's answer: its job (already run), the budget and lines kept for the result.
-template <class Job>
-std::unique_ptr<Job> fromLadder(analysis::AccurateRun<Job>&& run, std::optional<analysis::ErrorBudget>& budget,
-                                int& refine, double& order, analysis::Diagnostics& said) {
-  budget = run.budget;
-  refine = run.ladder.estimate.ofRefine;
-  order = run.ladder.estimate.observedOrder;
-  said = run.diagnostics;
+// What the ladder of accuracy= / error_estimate= leaves a result besides its job.
+struct LadderKept {
+  std::optional<analysis::ErrorBudget> budget;
+  int refine = 1;
+  double order = std::nan("");
+  analysis::Diagnostics said;
+  template <class Result>
+  void into(Result& r) const {
+    r.diagnostics.insert(r.diagnostics.end(), said.begin(), said.end());
+    r.budget = budget, r.refine = refine, r.order = order;
+  }
+};
+
+// The analysis's job: the ladder's answer (already run, GIL released) when asked, else a new one.
+template <class Job, class Ladder, class Options>
+std::unique_ptr<Job> jobOrLadder(const std::optional<analysis::AccuracyRequest>& ask, Ladder ladder,
+                                 const analysis::ModelSource& source, Options options, LadderKept& kept) {
+  if (!ask) return std::make_unique<Job>(source, std::move(options));
+  analysis::AccurateRun<Job> run;
+  {
+    py::gil_scoped_release release;
+    run = ladder(source, std::move(options), *ask);
+  }
+  kept.budget = run.budget, kept.refine = run.ladder.estimate.ofRefine;
+  kept.order = run.ladder.estimate.observedOrder, kept.said = run.diagnostics;
   if (!run.job) throw py::value_error(analysis::firstError(run.diagnostics));
   return std::move(run.job);
 }
@@ -687,6 +704,35 @@ void bindCheck(py::module_& m) {
       py::arg("model"));
 }
 
+// flexmb.static: the static job (or the ladder of accuracy=), its result for Python.
+StaticResult staticPy(const ModelHandle& handle, int nev, int loadSteps, int buckling,
+                      const std::vector<int>& compliance, bool errorEstimate, double accuracy, double maxSeconds) {
+  InterruptScope scope;
+  analysis::StaticOptions so;
+  so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
+  so.complianceNodes = compliance;
+  LadderKept kept;  // accuracy= / error_estimate= (analysis/AccuracyTarget.hpp)
+  const auto owned = jobOrLadder<analysis::StaticJob>(accuracyAsked(errorEstimate, accuracy, maxSeconds),
+                                                      &analysis::staticToAccuracy, sourceOf(handle), so, kept);
+  analysis::StaticJob& job = *owned;
+  raiseIfRefused(job);
+  const ModelPtr model(job.allStages(), &job.model());
+  {
+    py::gil_scoped_release release;
+    job.run({nullptr, scope.flag(), scope.signal()});
+  }
+  analysis::StaticRun run = job.result();
+  StaticResult r = makeStatic(model, std::move(run), job.options().nev, buckling);
+  r.compliances = job.compliances();
+  r.diagnostics = job.diagnostics();
+  kept.into(r);
+  if (r.run.interrupted)
+    raiseWithResult(PyExc_KeyboardInterrupt,
+                    "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
+                    py::cast(std::move(r)));
+  return r;
+}
+
 void bindStatic(py::module_& m) {
   // ---- static ----
   py::class_<StaticResult>(m, "StaticResult")
@@ -807,50 +853,8 @@ void bindStatic(py::module_& m) {
             return path;
           },
           py::arg("path"), py::arg("plot") = std::vector<std::string>());
-  m.def(
-      "static",
-      [](const ModelHandle& handle, int nev, int loadSteps, int buckling, const std::vector<int>& compliance,
-         bool errorEstimate, double accuracy, double maxSeconds) {
-        InterruptScope scope;
-        analysis::StaticOptions so;
-        so.nev = nev, so.loadSteps = loadSteps, so.buckling = buckling;
-        so.complianceNodes = compliance;
-        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
-        int refine = 1;
-        double order = std::nan("");
-        analysis::Diagnostics ladderSaid;
-        std::unique_ptr<analysis::StaticJob> owned;
-        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
-          analysis::AccurateRun<analysis::StaticJob> run;
-          {
-            py::gil_scoped_release release;
-            run = analysis::staticToAccuracy(sourceOf(handle), so, *ask);
-          }
-          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
-        } else {
-          owned = std::make_unique<analysis::StaticJob>(sourceOf(handle), so);
-        }
-        analysis::StaticJob& job = *owned;
-        raiseIfRefused(job);
-        const ModelPtr model(job.allStages(), &job.model());
-        {
-          py::gil_scoped_release release;
-          job.run({nullptr, scope.flag(), scope.signal()});
-        }
-        analysis::StaticRun run = job.result();
-        StaticResult r = makeStatic(model, std::move(run), job.options().nev, buckling);
-        r.compliances = job.compliances();
-        r.diagnostics = job.diagnostics();
-        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
-        r.budget = budget, r.refine = refine, r.order = order;
-        if (r.run.interrupted)
-          raiseWithResult(PyExc_KeyboardInterrupt,
-                          "flexmb.static: " + r.run.stopReason + "; the load steps reached are in .result",
-                          py::cast(std::move(r)));
-        return r;
-      },
-      py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"), py::arg("compliance"),
-      py::arg("error_estimate"), py::arg("accuracy"), py::arg("max_seconds"));
+  m.def("static", &staticPy, py::arg("model"), py::arg("nev"), py::arg("load_steps"), py::arg("buckling"),
+        py::arg("compliance"), py::arg("error_estimate"), py::arg("accuracy"), py::arg("max_seconds"));
 }
 
 void bindModes(py::module_& m) {
@@ -916,21 +920,9 @@ void bindModes(py::module_& m) {
         mo.reference.node = referenceNode;
         mo.damping.ratios = ratios;
         mo.damping.alpha = alpha, mo.damping.beta = beta;
-        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
-        int refine = 1;
-        double order = std::nan("");
-        analysis::Diagnostics ladderSaid;
-        std::unique_ptr<analysis::ModesJob> owned;
-        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
-          analysis::AccurateRun<analysis::ModesJob> run;
-          {
-            py::gil_scoped_release release;
-            run = analysis::modesToAccuracy(sourceOf(handle), mo, *ask);
-          }
-          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
-        } else {
-          owned = std::make_unique<analysis::ModesJob>(sourceOf(handle), std::move(mo));
-        }
+        LadderKept kept;  // accuracy= / error_estimate= (analysis/AccuracyTarget.hpp)
+        const auto owned = jobOrLadder<analysis::ModesJob>(accuracyAsked(errorEstimate, accuracy, maxSeconds),
+                                                           &analysis::modesToAccuracy, sourceOf(handle), mo, kept);
         analysis::ModesJob& job = *owned;
         raiseIfRefused(job);
         const ModelPtr model(job.allStages(), &job.model());
@@ -943,8 +935,7 @@ void bindModes(py::module_& m) {
         r.modes = job.result();
         r.diagnostics = job.diagnostics();
         r.zeta = job.dampingRatios();
-        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
-        r.budget = budget, r.refine = refine, r.order = order;
+        kept.into(r);
         r.freq = r.modes.frequencies.omega / (2 * M_PI);
         r.model = model;
         return r;
@@ -1166,6 +1157,74 @@ void bindReduce(py::module_& m) {
       .def_readwrite("stop", &analysis::ReductionOptions::to);
 }
 
+// flexmb.simulate: the simulate job (or the ladder of accuracy=), its result for Python.
+SimulationResult simulatePy(const ModelHandle& handle, const SimulateOptionsPy& o) {
+  analysis::SimulateRequest request;
+  analysis::SimulationOptions& opt = request.run;
+  const auto chosen = analysis::parseIntegrator(o.integrator.value_or("auto"));
+  if (!chosen) throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + *o.integrator + "'");
+  opt.integrator = *chosen;
+  request.defaultIntegrator = !o.integrator;
+  if (o.rhoInf) opt.rhoInf = *o.rhoInf;
+  opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep, opt.intervals = o.intervals;
+  opt.accuracyCheck = o.accuracyCheck;
+  request.basis = o.basis;
+  request.fullKinematics = o.fullKinematics;
+  request.damping.ratios = o.dampingRatio, request.damping.alpha = o.alpha, request.damping.beta = o.beta;
+  if (o.basisFile) {
+    request.basis.reset();
+    request.basisFile = *o.basisFile;
+  } else if (!o.reduced.is_none()) {
+    const auto& reduced = o.reduced.cast<const ReduceResult&>();
+    if (reduced.full) throw py::value_error("basis: the reduce result has no basis (" + reduced.note + ")");
+    request.basis = reduced.basis.V;
+    request.operators = reduced.operators.operators;
+  }
+  // The file's stages, with the Python user functions installed in a copy of them.
+  std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
+  if (o.usersig || o.userinp) {
+    auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
+    for (auto& st : *copy) {
+      if (o.usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*o.usersig, st.model);
+      if (o.userinp) installInputs(*o.userinp, st.model);
+    }
+    stages = copy;
+  }
+  InterruptScope scope;
+  opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
+  const bool errorEstimate = o.errorEstimate;
+  const double accuracy = o.accuracy, maxSeconds = o.maxSeconds;
+  const analysis::ModelSource source{handle->sourceFile, {}, stages, nullptr};
+  LadderKept kept;  // accuracy= / error_estimate= (analysis/AccuracyTarget.hpp)
+  const auto owned =
+      jobOrLadder<analysis::SimulateJob>(accuracyAsked(errorEstimate, accuracy, maxSeconds),
+                                         &analysis::simulateToAccuracy, source, std::move(request), kept);
+  analysis::SimulateJob& job = *owned;
+  if (job.status() == analysis::JobStatus::InputError) {
+    const std::string why = analysis::firstError(job.diagnostics(), keyword);
+    throw py::value_error(job.driven() ? "basis: " + why : why);
+  }
+  {
+    py::gil_scoped_release release;
+    job.run();
+  }
+  if (job.status() == analysis::JobStatus::Failed) throw std::runtime_error(analysis::firstError(job.diagnostics()));
+  const ModelPtr last(job.allStages(), &job.model());
+  const std::string reason = job.trajectory().stopReason;
+  const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
+  SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
+  r.diagnostics = job.diagnostics();
+  kept.into(r);
+  r.fxtRows = job.fxt();
+  r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
+  if (job.interrupted())
+    raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
+                    py::cast(std::move(r)));
+  if (userFailed)
+    raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason, py::cast(std::move(r)));
+  return r;
+}
+
 void bindSimulate(py::module_& m) {
   // ---- simulate ----
   py::class_<SimulationResult>(m, "SimulationResult")
@@ -1248,91 +1307,7 @@ void bindSimulate(py::module_& m) {
       .def_readwrite("error_estimate", &SimulateOptionsPy::errorEstimate, "the discretization error of the mesh")
       .def_readwrite("accuracy", &SimulateOptionsPy::accuracy, "the total error target EPS (0: none)")
       .def_readwrite("max_seconds", &SimulateOptionsPy::maxSeconds, "accuracy=: the time allowed in all");
-  m.def(
-      "simulate",
-      [](const ModelHandle& handle, const SimulateOptionsPy& o) {
-        analysis::SimulateRequest request;
-        analysis::SimulationOptions& opt = request.run;
-        const auto chosen = analysis::parseIntegrator(o.integrator.value_or("auto"));
-        if (!chosen)
-          throw py::value_error("integrator: 'ode45', 'bdf', 'auto' or 'galpha', not '" + *o.integrator + "'");
-        opt.integrator = *chosen;
-        request.defaultIntegrator = !o.integrator;
-        if (o.rhoInf) opt.rhoInf = *o.rhoInf;
-        opt.tEnd = o.tEnd, opt.relTol = o.relTol, opt.absTol = o.absTol, opt.maxStep = o.maxStep,
-        opt.intervals = o.intervals;
-        opt.accuracyCheck = o.accuracyCheck;
-        request.basis = o.basis;
-        request.fullKinematics = o.fullKinematics;
-        request.damping.ratios = o.dampingRatio, request.damping.alpha = o.alpha, request.damping.beta = o.beta;
-        if (o.basisFile) {
-          request.basis.reset();
-          request.basisFile = *o.basisFile;
-        } else if (!o.reduced.is_none()) {
-          const auto& reduced = o.reduced.cast<const ReduceResult&>();
-          if (reduced.full) throw py::value_error("basis: the reduce result has no basis (" + reduced.note + ")");
-          request.basis = reduced.basis.V;
-          request.operators = reduced.operators.operators;
-        }
-        // The file's stages, with the Python user functions installed in a copy of them.
-        std::shared_ptr<const std::vector<io::AnalysisStage>> stages = handle.stages;
-        if (o.usersig || o.userinp) {
-          auto copy = std::make_shared<std::vector<io::AnalysisStage>>(*handle.stages);
-          for (auto& st : *copy) {
-            if (o.usersig) st.model.userFunctions = std::make_shared<PythonStresses>(*o.usersig, st.model);
-            if (o.userinp) installInputs(*o.userinp, st.model);
-          }
-          stages = copy;
-        }
-        InterruptScope scope;
-        opt.interrupt = scope.flag(), opt.interruptSignal = scope.signal();
-        const bool errorEstimate = o.errorEstimate;
-        const double accuracy = o.accuracy, maxSeconds = o.maxSeconds;
-        const analysis::ModelSource source{handle->sourceFile, {}, stages, nullptr};
-        std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate= (AccuracyTarget.hpp)
-        int refine = 1;
-        double order = std::nan("");
-        analysis::Diagnostics ladderSaid;
-        std::unique_ptr<analysis::SimulateJob> owned;
-        if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
-          analysis::AccurateRun<analysis::SimulateJob> run;
-          {
-            py::gil_scoped_release release;
-            run = analysis::simulateToAccuracy(source, std::move(request), *ask);
-          }
-          owned = fromLadder(std::move(run), budget, refine, order, ladderSaid);
-        } else {
-          owned = std::make_unique<analysis::SimulateJob>(source, std::move(request));
-        }
-        analysis::SimulateJob& job = *owned;
-        if (job.status() == analysis::JobStatus::InputError) {
-          const std::string why = analysis::firstError(job.diagnostics(), keyword);
-          throw py::value_error(job.driven() ? "basis: " + why : why);
-        }
-        {
-          py::gil_scoped_release release;
-          job.run();
-        }
-        if (job.status() == analysis::JobStatus::Failed)
-          throw std::runtime_error(analysis::firstError(job.diagnostics()));
-        const ModelPtr last(job.allStages(), &job.model());
-        const std::string reason = job.trajectory().stopReason;
-        const bool userFailed = !job.trajectory().completed && reason.find("the Python USER") != std::string::npos;
-        SimulationResult r = makeSimulation(last, job.options(), std::move(job.trajectory()), job.interrupted());
-        r.diagnostics = job.diagnostics();
-        r.diagnostics.insert(r.diagnostics.end(), ladderSaid.begin(), ladderSaid.end());
-        r.budget = budget, r.refine = refine, r.order = order;
-        r.fxtRows = job.fxt();
-        r.fxt = rowsOf(r.fxtRows, r.fxtRows.empty() ? 0 : last->nx, [](const auto& v) { return v; });
-        if (job.interrupted())
-          raiseWithResult(PyExc_KeyboardInterrupt, "flexmb.simulate: " + reason + "; the results so far are in .result",
-                          py::cast(std::move(r)));
-        if (userFailed)
-          raiseWithResult(package().attr("UserFunctionError"), "flexmb.simulate stopped: " + reason,
-                          py::cast(std::move(r)));
-        return r;
-      },
-      py::arg("model"), py::arg("options"));
+  m.def("simulate", &simulatePy, py::arg("model"), py::arg("options"));
 }
 
 }  // namespace
