@@ -98,6 +98,11 @@ TEST_F(RefineCli, StaticWritesTheOriginalNodes) {
   EXPECT_NE(std::find(hc.begin(), hc.end(), "node117.x"), hc.end());  // the first new node's label
   const std::vector<std::string> ha = headerOf(ta);
   EXPECT_EQ(std::find(ha.begin(), ha.end(), "node117.x"), ha.end());
+  // The .ltv (matrices over the refined degrees of freedom) only with the refined model's own files.
+  const Result ltv = flexmb("static " + model + " --nev 1 --refine 4 --ltv --format mat --out d.csv");
+  EXPECT_EQ(ltv.code, 2);
+  EXPECT_TRUE(has(ltv.err, "--refined-results")) << ltv.err;
+  EXPECT_EQ(flexmb("static " + model + " --nev 1 --refine 4 --refined-results --ltv --format mat --out e.csv").code, 0);
   // node6.x: the body's sideways position, the same within the discretisation error (1e-3).
   size_t x6 = 0;
   while (ha[x6] != "node6.x") ++x6;
