@@ -26,6 +26,7 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/AccuracyTarget.hpp"
 #include "analysis/SimulateJob.hpp"
 #include "analysis/Simulation.hpp"
 #include "analysis/SpacarOutput.hpp"
@@ -83,6 +84,10 @@ void toVariables(io::SpacarFileContents& file, Variables& vars) {
 //               (io/formats/MeshRefinement.hpp); the results at the original nodes and elements
 //   refinedresults  true: with refine, the refined model's own results, every node and element
 //               (io::ReadOptions::refinedResults)
+//   accuracy    modes 1, 3, 4 and 10: the total error target against the converged model (0 < EPS < 1):
+//               the mesh refined (and a time run's tolerance tightened) until the estimate meets it
+//               (analysis/AccuracyTarget.hpp); the finest mesh's results
+//   errorestimate  true: also the discretization error of the model's own mesh (its results)
 // Returns an error message (empty: fine).
 std::string parseDamping(const std::string& name, const mxArray* v, analysis::DampingOptions& damping) {
   const bool real = v && mxIsDouble(v) && !mxIsComplex(v) && mxGetNumberOfElements(v) >= 1;
@@ -101,7 +106,8 @@ std::string parseDamping(const std::string& name, const mxArray* v, analysis::Da
 }
 
 std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, double& target,
-                         analysis::DampingOptions& damping, io::ReadOptions& read, bool& integration) {
+                         analysis::DampingOptions& damping, io::ReadOptions& read, bool& integration,
+                         std::optional<analysis::AccuracyRequest>& accuracy) {
   if (!mxIsStruct(o) || mxGetNumberOfElements(o) != 1)
     return "spacar: the third argument must be a struct of options (integrator, reltol, abstol, maxstep, tend, "
            "intervals, bdforder)";
@@ -119,6 +125,19 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
       if (!(x >= 1 && x == std::floor(x) && x <= 1000))
         return "spacar: opts.refine must be a whole number from 1 to 1000 (elements per flexible beam)";
       read.refine = static_cast<int>(x);
+      continue;
+    }
+    if (name == "accuracy" || name == "errorestimate") {  // modes 1, 3, 4, 10 (analysis/AccuracyTarget.hpp)
+      const bool scalar = v && (mxIsNumeric(v) || mxIsLogical(v)) && !mxIsComplex(v) && mxGetNumberOfElements(v) == 1;
+      const double x = scalar ? mxGetScalar(v) : std::nan("");
+      if (name == "accuracy" && !(x > 0 && x < 1))
+        return "spacar: opts.accuracy must be a number between 0 and 1 (the total error against the converged model)";
+      if (name == "errorestimate" && !(x == 0 || x == 1)) return "spacar: opts.errorestimate must be true or false";
+      if (x == 0) continue;
+      if (accuracy)
+        return "spacar: opts.accuracy estimates the error itself: give opts.accuracy or opts.errorestimate, not both";
+      accuracy.emplace();
+      if (name == "accuracy") accuracy->eps = x;
       continue;
     }
     if (name == "refinedresults") {
@@ -157,7 +176,7 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
     } else {
       return "spacar: unknown option '" + name +
              "' (opts may hold integrator, reltol, abstol, maxstep, tend, intervals, bdforder, rhoinf, target, "
-             "dampingratio, rayleigh, refine, refinedresults)";
+             "dampingratio, rayleigh, refine, refinedresults, accuracy, errorestimate)";
     }
   }
   return "";
@@ -243,6 +262,16 @@ void show(const analysis::ModelJob& job, std::size_t& said, bool silent, std::os
   }
 }
 
+// The ladder's own lines (analysis/AccuracyTarget.hpp): results and notes on the console, warnings as
+// MATLAB warnings.
+void showLadder(const analysis::Diagnostics& d, const std::string& file, bool silent, std::ostringstream& out) {
+  for (const analysis::Diagnostic& x : d)
+    if (x.kind == analysis::Diagnostic::Kind::Warning && !silent)
+      mexWarnMsgIdAndTxt("flexmb:spacar:accuracy", "%s: %s", file.c_str(), analysis::withOptions(x, optsField).c_str());
+    else if (x.kind != analysis::Diagnostic::Kind::Warning)
+      out << "spacar: " << analysis::withOptions(x, optsField) << "\n";
+}
+
 // A job's first error, named by its file.
 std::string errorOf(const analysis::ModelJob& job) {
   const std::string e = analysis::firstError(job.diagnostics(), optsField);
@@ -262,7 +291,8 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
                  const octave_gateway::MatlabUserFunctions& user, const analysis::SimulationOptions& simOptions,
                  double target, const analysis::DampingOptions& damping, std::ostringstream& out,
                  io::SpacarResults& results, bool& interrupted, std::string& afterRun, Run& run,
-                 const core::Model*& resultModel, std::shared_ptr<const std::vector<io::AnalysisStage>>& kept) {
+                 const core::Model*& resultModel, std::shared_ptr<const std::vector<io::AnalysisStage>>& kept,
+                 const std::optional<analysis::AccuracyRequest>& accuracy) {
   analysis::SimulateRequest request;
   request.run = simOptions;
   request.damping = damping;
@@ -270,7 +300,19 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   if (!std::isnan(target)) request.basisFile = "auto";  // opts.target: the smallest modal basis meeting it
   octave_gateway::InterruptWatch watch;                 // Ctrl-C stops the run; the steps so far are written below
   request.run.interrupt = watch.flag();
-  analysis::SimulateJob job(analysis::ModelSource{datFile, {}, std::move(stages), nullptr}, std::move(request));
+  const analysis::ModelSource source{datFile, {}, std::move(stages), nullptr};
+  std::unique_ptr<analysis::SimulateJob> owned;
+  analysis::Diagnostics ladder;  // opts.accuracy / opts.errorestimate: the meshes' lines, the estimate
+  if (accuracy) {
+    analysis::AccurateRun<analysis::SimulateJob> a =
+        analysis::simulateToAccuracy(source, std::move(request), *accuracy);
+    ladder = std::move(a.diagnostics);
+    if (!a.job) return usageError(run, "spacar: " + analysis::firstError(ladder, optsField)), false;
+    owned = std::move(a.job);
+  } else {
+    owned = std::make_unique<analysis::SimulateJob>(source, std::move(request));
+  }
+  analysis::SimulateJob& job = *owned;
   // What the command line says before and after a run, with spacar()'s own voice: notes and results
   // on the console, warnings as MATLAB warnings, an error as the run's error.
   std::size_t said = 0;
@@ -279,6 +321,7 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
   job.run();
   interrupted = watch.interrupted();
   show(job, said, silent, out);
+  showLadder(ladder, datFile, silent, out);
   if (job.status() == analysis::JobStatus::Failed) {
     run.error = errorOf(job);
     return false;
@@ -326,22 +369,34 @@ bool runDynamics(int mode, bool silent, const std::string& name, const std::stri
 
 // The static job of modes 10 and 3 (a static file): six eigenfrequencies per load step, as SPACAR.
 // Nothing when the job refused the model (run.error says why).
+// opts.accuracy / opts.errorestimate: the ladder's answer, whose model (refined) resultModel then names
+// (kept holds it).
 std::optional<analysis::StaticRun> runStatic(const std::string& datFile,
                                              std::shared_ptr<const std::vector<io::AnalysisStage>> stages, bool silent,
-                                             std::ostringstream& out, Run& run) {
+                                             std::ostringstream& out, Run& run,
+                                             const std::optional<analysis::AccuracyRequest>& accuracy = std::nullopt,
+                                             const core::Model** resultModel = nullptr,
+                                             std::shared_ptr<const std::vector<io::AnalysisStage>>* kept = nullptr) {
   analysis::StaticOptions so;
   so.nev = 6;
-  analysis::StaticJob job(analysis::ModelSource{datFile, {}, std::move(stages), nullptr}, so);
+  const analysis::ModelSource source{datFile, {}, std::move(stages), nullptr};
+  analysis::AccurateRun<analysis::StaticJob> a;
+  auto owned = accuracy ? (a = analysis::staticToAccuracy(source, so, *accuracy), std::move(a.job))
+                        : std::make_unique<analysis::StaticJob>(source, so);
+  analysis::StaticJob& job = *owned;
   std::size_t said = 0;
   show(job, said, silent, out);
   if (refused(job, run)) return std::nullopt;
   job.run();
   show(job, said, silent, out);
+  showLadder(a.diagnostics, datFile, silent, out);
+  if (resultModel && kept) *kept = job.allStages(), *resultModel = &job.model();
   return job.result();
 }
 
 void runSpacar(int mode, bool silent, std::string name, const analysis::SimulationOptions& simOptions, double target,
-               const analysis::DampingOptions& damping, const io::ReadOptions& read, Run& run) {
+               const analysis::DampingOptions& damping, const io::ReadOptions& read, Run& run,
+               const std::optional<analysis::AccuracyRequest>& accuracy) {
   if (name.size() > 4 && name.compare(name.size() - 4, 4, ".dat") == 0) name.resize(name.size() - 4);
   const std::string datFile = name + ".dat";
   // The file is read once; the dynamics modes run its SPACAR95 stages (analysis/SimulateJob.hpp).
@@ -400,32 +455,32 @@ void runSpacar(int mode, bool silent, std::string name, const analysis::Simulati
                               "spacar: opts.dampingratio / opts.rayleigh: mode 3 on a static file (no "
                               "TIMESTEP) stores the load steps' matrices, which the damping a designer "
                               "states does not enter; mode 9 takes it");
-          const auto st = runStatic(datFile, stages, silent, out, run);
+          const auto st = runStatic(datFile, stages, silent, out, run, accuracy, &resultModel, &kept);
           if (!st) return;
           out << "spacar: static analysis with linearised matrices, " << st->steps.size() << " load steps\n";
           analysis::SpacarOutputOptions so;
           so.transferFunctions = true;
           so.jacobian = true;
-          results = analysis::spacarFromStaticPerturbation(model, *st, so);
+          results = analysis::spacarFromStaticPerturbation(*resultModel, *st, so);
           break;
         }
         [[fallthrough]];
       case 1:
       case 4:
         if (!runDynamics(mode, silent, name, datFile, stages, *user, simOptions, target, damping, out, results,
-                         interrupted, afterRun, run, resultModel, kept))
+                         interrupted, afterRun, run, resultModel, kept, accuracy))
           return;
         break;
       case 10: {
-        const auto st = runStatic(datFile, stages, silent, out, run);
+        const auto st = runStatic(datFile, stages, silent, out, run, accuracy, &resultModel, &kept);
         if (!st) return;
         out << "spacar: static analysis, " << st->steps.size() << " load steps\n";
         analysis::SpacarOutputOptions so;
         so.transferFunctions = true;  // as the command line: few steps, compliance scripts read dx
         so.jacobian = true;
-        results = analysis::spacarFromStatics(model, *st, so);
+        results = analysis::spacarFromStatics(*resultModel, *st, so);
         // SPACAR Light's stressmax, Freac and Mreac beside SPACAR's variables (analysis/StaticDesign.hpp).
-        results.extraSbd = analysis::spacarDesignVariables(model, *st, {});
+        results.extraSbd = analysis::spacarDesignVariables(*resultModel, *st, {});
         break;
       }
       case 9: {
@@ -502,16 +557,18 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   const std::string name = nameC ? nameC : "";
   mxFree(nameC);
   Run run;
-  double target = std::nan("");      // opts.target
-  analysis::DampingOptions damping;  // opts.dampingratio, opts.rayleigh
-  bool integration = false;          // opts has a field of the time integration
-  io::ReadOptions read;              // opts.refine, opts.refinedresults
+  double target = std::nan("");                       // opts.target
+  analysis::DampingOptions damping;                   // opts.dampingratio, opts.rayleigh
+  bool integration = false;                           // opts has a field of the time integration
+  io::ReadOptions read;                               // opts.refine, opts.refinedresults
+  std::optional<analysis::AccuracyRequest> accuracy;  // opts.accuracy, opts.errorestimate
   analysis::SimulationOptions options;
   options.integrator = analysis::Integrator::Auto;  // the default of modes 1, 3, 4 (opts.integrator: another)
   if (m != std::floor(m)) {
     run.error = "spacar: the mode must be an integer";
     run.errorId = "flexmb:spacar:mode";
-  } else if (nrhs == 3 && !(run.error = parseOptions(prhs[2], options, target, damping, read, integration)).empty()) {
+  } else if (nrhs == 3 &&
+             !(run.error = parseOptions(prhs[2], options, target, damping, read, integration, accuracy)).empty()) {
     run.errorId = "flexmb:spacar:usage";
   } else if (nrhs == 3 && std::abs(m) != 1 && std::abs(m) != 3 && std::abs(m) != 4 &&
              (integration || (damping.any() && std::abs(m) != 9))) {
@@ -519,8 +576,11 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
         "spacar: options (the third argument) apply to modes 1, 3 and 4 (time integration); mode 9 takes "
         "opts.dampingratio and opts.rayleigh alone; opts.refine applies to every mode";
     run.errorId = "flexmb:spacar:usage";
+  } else if (accuracy && (std::abs(m) == 0 || std::abs(m) == 9)) {
+    run.error = "spacar: opts.accuracy and opts.errorestimate apply to modes 1, 3, 4 and 10";
+    run.errorId = "flexmb:spacar:usage";
   } else {
-    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, damping, read, run);
+    runSpacar(static_cast<int>(std::abs(m)), m < 0, name, options, target, damping, read, run, accuracy);
   }
   // Results so far go to the workspace even when the run stopped.
   // `mode` stays in the struct and the file only: in the workspace it would hide Octave's mode().
