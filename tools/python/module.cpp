@@ -384,6 +384,9 @@ struct ModesResult {
 };
 
 struct SweepResultPy {
+  std::optional<analysis::ErrorBudget> budget;  // accuracy= / error_estimate=
+  int refine = 1;
+  double order = std::nan("");
   ModelPtr model;
   analysis::Diagnostics diagnostics;
   analysis::SweepResult sweep;
@@ -949,6 +952,8 @@ void bindSweep(py::module_& m) {
   // ---- sweep ----
   py::class_<SweepResultPy>(m, "SweepResult")
       .def_property_readonly("messages", [](const SweepResultPy& r) { return messagesOf(r.diagnostics); })
+      .def_property_readonly("error_estimate",
+                             [](const SweepResultPy& r) { return budgetOf(r.budget, r.refine, r.order); })
       .def_readonly("values", &SweepResultPy::values)
       .def_readonly("loads", &SweepResultPy::loads)
       .def_readonly("freq", &SweepResultPy::freq)
@@ -975,13 +980,19 @@ void bindSweep(py::module_& m) {
   m.def(
       "sweep",
       [](const ModelHandle& handle, int node, int component, double from, double to, int steps, int nev,
-         const std::optional<Eigen::MatrixXd>& basis, double t) {
-        const ModelPtr model = handle.last();
+         const std::optional<Eigen::MatrixXd>& basis, double t, bool errorEstimate, double accuracy,
+         double maxSeconds) {
         InterruptScope scope;
         analysis::SweepOptions o;
         o.node = node, o.component = component, o.from = from, o.to = to, o.steps = steps, o.nev = nev, o.t = t;
-        analysis::SweepJob job(sourceOf(handle), o, {"", basis});
+        LadderKept kept;  // accuracy= / error_estimate= (analysis/AccuracyTarget.hpp)
+        const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds);
+        const auto owned =
+            ask ? jobOrLadder<analysis::SweepJob>(ask, &analysis::sweepToAccuracy, sourceOf(handle), o, kept)
+                : std::make_unique<analysis::SweepJob>(sourceOf(handle), o, analysis::BasisInput{"", basis});
+        analysis::SweepJob& job = *owned;
         raiseIfRefused(job);
+        const ModelPtr model(job.allStages(), &job.model());
         SweepResultPy r;
         {
           py::gil_scoped_release release;
@@ -990,6 +1001,7 @@ void bindSweep(py::module_& m) {
         raiseIfRefused(job);
         r.sweep = job.result();
         r.diagnostics = job.diagnostics();
+        kept.into(r);
         nev = job.options().nev;
         const auto& p = r.sweep.points;
         r.values.resize(static_cast<Eigen::Index>(p.size()));
@@ -1005,7 +1017,8 @@ void bindSweep(py::module_& m) {
         return r;
       },
       py::arg("model"), py::arg("node"), py::arg("component"), py::arg("start"), py::arg("stop"), py::arg("steps"),
-      py::arg("nev"), py::arg("basis"), py::arg("t"));
+      py::arg("nev"), py::arg("basis"), py::arg("t"), py::arg("error_estimate"), py::arg("accuracy"),
+      py::arg("max_seconds"));
 }
 
 void bindTransfer(py::module_& m) {

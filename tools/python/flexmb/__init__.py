@@ -131,14 +131,19 @@ def modes(model, *, nev=6, basis=None, reference=None, reference_node=None, damp
     return _core.modes(model, _count(nev, "nev", 1), _basis(basis, model), point, node, ratios, alpha, beta, *asked)
 
 
-def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0, refine=1):
+def sweep(model, *, node, component=1, start, stop, steps=10, nev=4, basis=None, t=0.0, refine=1,
+          error_estimate=False, accuracy=None, max_seconds=300.0):
     """Eigenfrequencies over a range of motion (`flexmb sweep`): coordinate `component` of `node`
-    prescribed from `start` to `stop` in `steps` configurations."""
+    prescribed from `start` to `stop` in `steps` configurations.
+    error_estimate / accuracy / max_seconds: as static's, on the frequencies of every configuration."""
     _model(model)
     model = _refined(model, refine)
+    asked = _accuracy(error_estimate, accuracy, max_seconds)
+    if basis is not None and (asked[0] or asked[1] > 0):
+        raise ValueError("basis: a basis belongs to one mesh; error_estimate and accuracy run the full model")
     return _core.sweep(model, _count(node, "node", 1), _count(component, "component", 1), _real(start, "start"),
                        _real(stop, "stop"), _count(steps, "steps", 2), _count(nev, "nev", 1), _basis(basis, model),
-                       _real(t, "t"))
+                       _real(t, "t"), *asked)
 
 
 def transfer(model, *, nev=6, load_steps=0, damping_ratio=None, rayleigh=None, refine=1):
@@ -344,6 +349,20 @@ def _refined(model, refine, refined_results=False):
     if not isinstance(refined_results, bool):
         raise TypeError(f"refined_results: expected True or False, got {type(refined_results).__name__}")
     return model if parts == 1 else model.refined(parts, refined_results=refined_results)
+
+
+def _accuracy(error_estimate, accuracy, max_seconds):
+    # error_estimate= / accuracy= / max_seconds= as the native part takes them (accuracy 0: not asked).
+    if not isinstance(error_estimate, bool):
+        raise TypeError(f"error_estimate: expected True or False, got {type(error_estimate).__name__}")
+    eps = 0.0
+    if accuracy is not None:
+        eps = _real(accuracy, "accuracy")
+        if not 0 < eps < 1:
+            raise ValueError(f"accuracy: expected a number between 0 and 1, got {eps}")
+        if error_estimate:
+            raise ValueError("accuracy estimates the error itself: give accuracy or error_estimate, not both")
+    return error_estimate, eps, _positive(max_seconds, "max_seconds")
 
 
 def _real(value, name):

@@ -56,3 +56,16 @@ def test_bad_values_are_refused():
         flexmb.modes(m, basis=np.eye(m.ndof)[:, :3], accuracy=1e-2)
     with pytest.raises(ValueError, match="intervals"):
         flexmb.simulate(m, intervals=0, error_estimate=True)
+
+
+def test_sweep_accuracy_meets_its_target_on_every_configuration():
+    m = flexmb.read(GUIDANCE)
+    r = flexmb.sweep(m, node=6, component=1, start=-0.0833, stop=0.0833, steps=3, nev=2, accuracy=1e-2)
+    e = r.error_estimate
+    assert e["met"] and e["discretization"] <= 0.7e-2 and e["refine"] >= 2
+    assert r.freq.shape == (3, 2)
+    # The same sweep on a far finer mesh: the frequencies written are within the target of it.
+    fine = flexmb.sweep(m, node=6, component=1, start=-0.0833, stop=0.0833, steps=3, nev=2, refine=16)
+    true = np.max(np.abs(np.log(r.freq / fine.freq)))
+    assert true <= 1e-2
+    assert 1 <= e["discretization"] / true <= 10, (e["discretization"], true)
