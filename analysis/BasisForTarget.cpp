@@ -129,6 +129,7 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
     if (stopped || interruptAsked()) res.interrupted = true;
     c.estimate = estimateReductionError(model, *so.basis, run, kCandidateSamples, &last, kTransportSteps, o.target);
     c.fevals = run.nfevals;
+    c.integrationSeconds = run.seconds.integration;
     c.completed = run.completed;
     c.stopReason = run.stopReason;
     c.seconds = since(t0);

@@ -40,7 +40,8 @@ struct TargetCandidate {
   int vectors = 0;  // reduced columns (besides the identity columns of Eq. 20)
   core::ReductionEstimate estimate;
   long fevals = 0;
-  double seconds = 0.0;  // the candidate's run and estimate
+  double seconds = 0.0;             // the candidate's run and estimate
+  double integrationSeconds = 0.0;  // its integration alone (what an evaluation costs, issue 49 item 3)
   bool completed = false;
   std::string stopReason;
 };

@@ -1,5 +1,6 @@
 #include "analysis/SimulateJob.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -91,7 +92,8 @@ void SimulateJob::prepareBasis() {
   const core::Model& last = model();
   SimulationOptions& opt = request_.run;
   if (request_.basisFile == "auto") {
-    operatorNote_ = "Eq. 19 (a basis chosen for a target builds no reduced operators)";
+    operatorNote_ = "Eq. 19";
+    useSharedReduction();
     return;
   }
   if (!request_.basisFile.empty()) {
@@ -166,8 +168,11 @@ void SimulateJob::chooseBasisForTarget() {
                                      : std::string("not estimated"));
   const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; tried " +
                           tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
-  settings_.emplace_back("basis", tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
-                                          : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")");
+  if (!tr.full && !tr.interrupted) chooseTargetOperators(tr);
+  const std::string dynamics = tr.full || tr.interrupted ? "" : "; reduced dynamics: " + operatorNote_;
+  settings_.emplace_back("basis",
+                         tr.full ? "auto: the full model (" + tr.note + "; " + how + ")"
+                                 : "auto: " + std::to_string(tr.basis.V.cols()) + " columns (" + how + ")" + dynamics);
   if (tr.interrupted) {  // Ctrl-C while choosing: what was found is said; there is no run
     std::string best = "no candidate completed";
     if (tr.bestTried >= 0) {
@@ -183,13 +188,14 @@ void SimulateJob::chooseBasisForTarget() {
     wall_ = secondsSoFar();
     return;
   }
-  say(Diagnostic::Kind::Result,
-      "basis auto: " + (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") + " (" + how + ")");
+  say(Diagnostic::Kind::Result, "basis auto: " + (tr.full ? tr.note : std::to_string(tr.basis.V.cols()) + " columns") +
+                                    " (" + how + ")" + dynamics);
   if (tr.full) {
     targetNote_ = tr.note;
     return;
   }
   request_.run.basis = tr.basis.V;
+  if (!request_.fullKinematics && !tr.run) request_.run.operators = operators_;
   if (!tr.run) return;
   // The chosen candidate ran exactly the run asked for: it is the run, with the checks every run gets.
   trajectory_ = std::move(*tr.run);
@@ -207,6 +213,65 @@ void SimulateJob::chooseBasisForTarget() {
   // The candidate's run is the run: its integration and checks are said as the run's, not as choosing.
   choosing_ -=
       trajectory_.seconds.integration + trajectory_.seconds.accuracyCheck + trajectory_.seconds.reductionEstimate;
+}
+
+// Reduced operators for the chosen basis (analysis/TargetOperators.hpp): trained where they pay for
+// what is still to be integrated on it, by this run (nothing where the chosen candidate's run is the
+// run) and the runs that share it; the shared reduction then holds basis and operators for them.
+void SimulateJob::chooseTargetOperators(const TargetResult& tr) {
+  const int k = static_cast<int>(tr.basis.V.cols() - static_cast<Eigen::Index>(tr.basis.large.size()));
+  const TargetCandidate* chosen = nullptr;
+  for (const TargetCandidate& c : tr.tried)
+    if (c.vectors == k && c.completed) chosen = &c;
+  // The runs still to integrate on the basis: this one unless the candidate's run is it, and those
+  // that share it.
+  const bool shared = static_cast<bool>(request_.shared);
+  const int runs = shared ? std::max(1, request_.shared->runs) : 1;
+  const long evaluations = chosen ? chosen->fevals * (runs - (tr.run ? 1 : 0)) : 0;
+  const double perEvaluation =
+      chosen && chosen->fevals > 0 ? chosen->integrationSeconds / static_cast<double>(chosen->fevals) : 0.0;
+  const TargetOperators t = operatorsForTarget(model(), tr.basis.V, evaluations, perEvaluation, runs);
+  operators_ = t.operators;
+  operatorNote_ = t.note;
+  trainingSeconds_ = t.seconds;
+  if (tr.run && t.operators)  // trained for the runs that share the basis; this one is the candidate's (Eq. 19)
+    operatorNote_ = "Eq. 19 (the chosen candidate's run is this run); " + t.note;
+  if (shared) *request_.shared = {reductionKey(model(), request_.target), tr.basis.V, t.operators, t.note, runs};
+}
+
+bool SimulateJob::useSharedReduction() {
+  const std::shared_ptr<SharedReduction>& s = request_.shared;
+  if (!s || s->key.empty() || s->V.rows() != model().numDofs() || s->key != reductionKey(model(), request_.target))
+    return false;
+  request_.run.basis = s->V;
+  if (!request_.fullKinematics) request_.run.operators = s->operators;
+  operatorNote_ = s->operators ? s->note : s->note.substr(0, s->note.find(" ("));
+  sharedUsed_ = true;
+  const std::string text = std::to_string(s->V.cols()) +
+                           " columns, shared: chosen for the target on a model with the same operator checksum and "
+                           "target (" +
+                           s->key + "), kept where this run's estimate meets the target";
+  settings_.emplace_back("basis", "auto: " + text);
+  say(Diagnostic::Kind::Result, "basis auto: " + text);
+  return true;
+}
+
+bool SimulateJob::sharedReductionMissed() {
+  const core::ReductionEstimate& e = trajectory_.reduction;
+  if (trajectory_.completed && e.estimated && e.estimate <= request_.target) return false;
+  say(Diagnostic::Kind::Note, "basis auto: the shared basis " +
+                                  (!trajectory_.completed ? "run stopped (" + trajectory_.stopReason + ")"
+                                   : e.estimated          ? "estimates " + text::significant(e.estimate, 2)
+                                                          : std::string("has no estimate")) +
+                                  ", target " + text::shortest(request_.target) + ": a basis is chosen for this model");
+  request_.run.basis.reset();
+  request_.run.operators.reset();
+  std::erase_if(settings_, [](const auto& s) { return s.first == "basis"; });  // the scan's replaces it
+  operatorNote_ = "Eq. 19";
+  sharedUsed_ = false;
+  trajectory_ = core::Trajectory();
+  interrupted_ = false;
+  return true;
 }
 
 namespace {
@@ -241,7 +306,7 @@ JobStatus SimulateJob::run() {
     runDriven();
     wall_ = secondsSoFar();
   } else {
-    if (request_.basisFile == "auto") {
+    if (request_.basisFile == "auto" && !sharedUsed_) {
       LapClock choosing;
       chooseBasisForTarget();
       choosing_ += choosing.total();
@@ -250,6 +315,13 @@ JobStatus SimulateJob::run() {
     const SimulationOptions& opt = request_.run;
     try {
       if (!reused_) trajectory_ = simulateStages(runs_, opt, &interrupted_);
+      if (sharedUsed_ && !interrupted_ && sharedReductionMissed()) {  // the shared basis misses here: choose anew
+        LapClock choosing;
+        chooseBasisForTarget();
+        choosing_ += choosing.total();
+        if (status_ != JobStatus::Ready) return status_;
+        if (!reused_) trajectory_ = simulateStages(runs_, opt, &interrupted_);
+      }
     } catch (const std::exception& e) {
       say(Diagnostic::Kind::Error, std::string("simulation could not start: ") + e.what());
       status_ = JobStatus::Failed;
@@ -259,7 +331,8 @@ JobStatus SimulateJob::run() {
     wall_ = secondsSoFar();
     const core::Trajectory::Seconds& sec = trajectory_.seconds;
     timeParts_ = describeParts({{"reading and checks", before},
-                                {"choosing the basis", choosing_},
+                                {"choosing the basis", choosing_ - trainingSeconds_},
+                                {"training reduced operators", trainingSeconds_},
                                 {"integration", sec.integration},
                                 {"accuracy check", sec.accuracyCheck},
                                 {"reduction estimate", sec.reductionEstimate}});

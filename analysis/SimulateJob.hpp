@@ -15,10 +15,12 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/BasisForTarget.hpp"
 #include "analysis/DesignDamping.hpp"
 #include "analysis/ModelJob.hpp"
 #include "analysis/Reduction.hpp"
 #include "analysis/Simulation.hpp"
+#include "analysis/TargetOperators.hpp"
 #include "core/dynamics/Trajectory.hpp"
 #include "core/model/Model.hpp"
 
@@ -35,8 +37,12 @@ struct SimulateRequest {
   std::shared_ptr<const core::ReducedOperators> operators;   // and its operators (a reduce result)
   double target = std::numeric_limits<double>::quiet_NaN();  // the reduction error target
   std::optional<ReductionOptions> autoBasis;                 // auto: the kind of basis (default modal)
-  bool fullKinematics = false;                               // Eq. 19 even where the operators hold
-  bool trackedOutputs = false;                               // the operators' output fields at the output times
+  // auto: a basis and operators shared with other runs (a study's variants, issue 49 item 3): used
+  // where its key is this model's (reductionKey) and kept when a later run's estimate meets the
+  // target; otherwise this run chooses (and trains) anew and leaves its own here. Null: not shared.
+  std::shared_ptr<SharedReduction> shared;
+  bool fullKinematics = false;  // Eq. 19 even where the operators hold
+  bool trackedOutputs = false;  // the operators' output fields at the output times
   // The integrator was not asked for: run.integrator is the front end's default (auto). The manifest
   // says which integrator ran and that it was the default.
   bool defaultIntegrator = false;
@@ -82,6 +88,9 @@ class SimulateJob : public ModelJob {
   void prepareBasis();
   void chooseDefaultIntegrator();
   void chooseBasisForTarget();
+  void chooseTargetOperators(const TargetResult& tr);  // auto: Eq. 19 or operators for the chosen basis
+  bool useSharedReduction();                           // auto: the shared basis and operators fit this model
+  bool sharedReductionMissed();                        // after a run on them: its estimate misses the target (said)
   void runDriven();
 
   SimulateRequest request_;
@@ -89,7 +98,10 @@ class SimulateJob : public ModelJob {
   bool driven_ = false;
   std::string operatorNote_;  // the reduced dynamics used (operators, or Eq. 19 and why)
   std::string targetNote_;
-  bool reused_ = false;  // the run is the chosen candidate's (basis auto)
+  bool reused_ = false;                                      // the run is the chosen candidate's (basis auto)
+  bool sharedUsed_ = false;                                  // the run is on request_.shared's basis (basis auto)
+  std::shared_ptr<const core::ReducedOperators> operators_;  // basis auto: trained for the chosen basis
+  double trainingSeconds_ = 0.0;
   std::vector<std::pair<std::string, std::string>> settings_;
   core::Trajectory trajectory_;
   std::vector<Eigen::VectorXd> fxt_;

@@ -5,6 +5,7 @@
 #include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/SweepJob.hpp"
+#include "analysis/TargetOperators.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -231,6 +233,21 @@ std::vector<std::pair<std::string, double>> nodeStiffness(const core::Model& mod
 }
 
 namespace {
+// A worker process's bases chosen for a target with their reduced operators, by reductionKey: the
+// variants whose models share what the operators depend on (operatorModelChecksum) and the target
+// share them (issue 49 item 3); a variant on which the shared basis misses the target chooses its
+// own, which then replaces it. The most recent kMaxShared keys are kept.
+std::shared_ptr<SharedReduction> sharedReductionFor(const core::Model& model, double target, int runs) {
+  constexpr std::size_t kMaxShared = 16;
+  static std::map<std::string, std::shared_ptr<SharedReduction>> kept;
+  const std::string key = reductionKey(model, target);
+  if (kept.size() >= kMaxShared && !kept.count(key)) kept.clear();
+  std::shared_ptr<SharedReduction>& s = kept[key];
+  if (!s) s = std::make_shared<SharedReduction>();
+  s->runs = std::max(1, runs);
+  return s;
+}
+
 // The simulate job every front end runs (analysis/SimulateJob.hpp), on a variant's model, and its
 // summary quantities. A variant that cannot finish or fit fails with the reason instead of holding
 // its worker.
@@ -243,6 +260,7 @@ void simulateVariant(const core::Model& model, const StudyAnalyses& a, VariantRe
   if (a.reductionTarget) {  // the variant's own basis for the target (none: the full model)
     request.basisFile = "auto";
     request.target = *a.reductionTarget;
+    request.shared = sharedReductionFor(model, request.target, a.sharingVariants);
   }
   SimulateJob job(sourceOfModel(model), std::move(request));
   if (job.status() == JobStatus::InputError) throw std::runtime_error(firstError(job.diagnostics()));
@@ -254,8 +272,11 @@ void simulateVariant(const core::Model& model, const StudyAnalyses& a, VariantRe
   }
   r.trajectory = std::move(job.trajectory());
   const core::Trajectory& tr = *r.trajectory;
-  if (a.reductionTarget)
+  if (a.reductionTarget) {
     q.emplace_back("sim_reduction_estimate", tr.reduction.estimated ? tr.reduction.estimate : kNaN);
+    // Right-hand sides evaluated by reduced operators (0: Eq. 19 throughout, or the full model).
+    q.emplace_back("sim_operator_evaluations", static_cast<double>(tr.operators.evaluations));
+  }
   q.emplace_back("sim_t_end", tr.time.empty() ? kNaN : tr.time.back());
   q.emplace_back("sim_steps", static_cast<double>(tr.nsteps));
   q.emplace_back("sim_fevals", static_cast<double>(tr.nfevals));

@@ -61,6 +61,10 @@ struct StudyAnalyses {
   // estimate meets this (analysis/BasisForTarget.hpp); quantities sim_basis_vectors and
   // sim_reduction_estimate.
   std::optional<double> reductionTarget;
+  // With reductionTarget: the variants that may share a basis and its reduced operators (those one
+  // worker process runs; analysis/TargetOperators.hpp weighs their training against them). Not in
+  // describe(): a variant's results meet the same target whichever basis it ran.
+  int sharingVariants = 1;
   // Node labels whose tangent stiffness the static step reports (at the last equilibrium); empty:
   // every node that carries a load (XF, DELXF).
   std::vector<int> stiffnessNodes;

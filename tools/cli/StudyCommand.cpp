@@ -194,8 +194,11 @@ int runPendingVariants(const StudyArgs& sa, Study& s) {
     if (stale > 0)
       std::cout << "  " << stale << " run before with another template, parameters or analyses: they run again\n";
   }
+  const int workers = std::min<int>(jobs, std::max<size_t>(1, pending.size()));
+  // simulate --target: the variants a worker runs, which may share a basis and its reduced operators.
+  s.analyses.sharingVariants = static_cast<int>((pending.size() + workers - 1) / workers);
   const auto start = std::chrono::steady_clock::now();
-  const PoolReport rep = runPool(s, pending, std::min<int>(jobs, std::max<size_t>(1, pending.size())));
+  const PoolReport rep = runPool(s, pending, workers);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!sa.m.quiet && rep.finished > 0) {
     std::cout << "  ran " << rep.finished << " variants in " << std::setprecision(3) << wall << " s with "
