@@ -120,6 +120,13 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   const int chosen = est.levels.empty() ? lo.start : est.levels[static_cast<size_t>(out.ladder.chosen)].refine;
   out.job = std::move(jobs[chosen]);
   if (!out.job) out.job = make(source);  // never reached: the first level always runs
+  // The value the last pair differs most on: for positions, the coordinate (values are stacked per
+  // output time or load step, the original positions in order).
+  if (out.job && est.estimated && !positions.empty() && analysis != "modes" && analysis != "sweep") {
+    const MeshLevel& pair = est.levels[static_cast<size_t>(std::max(est.of, 1))];
+    if (pair.largestAt >= 0)
+      est.where = out.job->model().coordName(positions[static_cast<size_t>(pair.largestAt) % positions.size()]);
+  }
   for (size_t k = 1; k < est.levels.size(); ++k)
     if (!std::isnan(est.levels[k].differenceToPrevious))
       tell(Diagnostic::Kind::Note, "refine " + std::to_string(est.levels[k].refine) + " differs from refine " +

@@ -58,7 +58,7 @@ DiscretizationEstimate richardsonEstimate(std::vector<MeshLevel> levels, int of,
     MeshLevel& b = levels[static_cast<size_t>(k)];
     const MeshLevel& a = levels[static_cast<size_t>(k - 1)];
     if (!a.ok || !b.ok || a.values.size() != b.values.size() || b.values.size() == 0) continue;
-    b.differenceToPrevious = (b.values - a.values).cwiseAbs().maxCoeff() / (b.scale > 0.0 ? b.scale : 1.0);
+    b.differenceToPrevious = (b.values - a.values).cwiseAbs().maxCoeff(&b.largestAt) / (b.scale > 0.0 ? b.scale : 1.0);
   }
   e.levels = levels;
   if (of < 0 || of >= n) return e.note = "no such level", e;
@@ -101,7 +101,8 @@ DiscretizationEstimate richardsonEstimate(std::vector<MeshLevel> levels, int of,
 
 std::string describeDiscretization(const DiscretizationEstimate& e) {
   if (!e.estimated) return "not estimated: " + e.note;
-  std::string s = text::significant(e.estimate, 2) + " " + e.measure + " at refine " + std::to_string(e.ofRefine) +
+  std::string s = text::significant(e.estimate, 2) + " " + e.measure +
+                  (e.where.empty() ? "" : ", largest at " + e.where) + " at refine " + std::to_string(e.ofRefine) +
                   " (Richardson from refine " + refineList(e.levels, 0) + ", differences";
   for (size_t k = 1; k < e.levels.size(); ++k)
     if (!std::isnan(e.levels[k].differenceToPrevious)) {

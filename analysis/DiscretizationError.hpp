@@ -39,6 +39,7 @@ struct MeshLevel {
   // 0: none): a difference between meshes below a few times it does not resolve the discretization.
   double otherError = 0.0;
   double differenceToPrevious = std::numeric_limits<double>::quiet_NaN();  // max |Q - Q_prev| / scale
+  Eigen::Index largestAt = -1;                                             // the value where that difference is largest
 };
 
 struct DiscretizationEstimate {
@@ -54,6 +55,7 @@ struct DiscretizationEstimate {
   std::vector<MeshLevel> levels;
   std::string measure;  // "of the motion (0.0833 m)", "relative (frequencies)"
   std::string note;     // why it was not estimated, or what limits it
+  std::string where;    // what the estimate is largest on ("node 45 z"; empty: not named)
 };
 
 // An observed order between the element's / kOrderBand and the element's * kOrderBand is asymptotic.
