@@ -168,6 +168,9 @@ void fillBudget(AccurateRun<Job>& run, const AccuracyRequest& a, const std::stri
       ") " + est.measure + " at refine " + std::to_string(est.ofRefine);
   setting("total error estimate", b.line.substr(std::string("total error estimate: ").size()));
   setting("refinement chosen", std::to_string(est.ofRefine) + " parts per flexible beam");
+  if (!std::isnan(a.eps))
+    setting("accuracy target met",
+            b.met ? "yes" : "no" + (run.ladder.stopNote.empty() ? std::string() : ": " + run.ladder.stopNote));
   run.diagnostics.emplace_back(Diagnostic::Kind::Result, "",
                                "discretization error estimate: " + describeDiscretization(est));
   run.diagnostics.emplace_back(Diagnostic::Kind::Result, "", b.line);

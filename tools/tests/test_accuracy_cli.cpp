@@ -17,7 +17,8 @@ TEST_F(AccuracyCli, SimulateAccuracyMeetsItsTargetAndSaysHow) {
   EXPECT_FALSE(has(r.err, "is not met")) << r.err;
   const std::string manifest = slurp(dir_ / "g_run.txt");
   for (const char* key : {"\naccuracy target: 0.01", "\ntotal error estimate: ", "\ndiscretization error estimate: ",
-                          "\nrefinement chosen: ", "\nmeshes run: refine 1 ", "\nintegrator tolerance: RelTol 0.0005"})
+                          "\nrefinement chosen: ", "\naccuracy target met: yes", "\nmeshes run: refine 1 ",
+                          "\nintegrator tolerance: RelTol 0.0005"})
     EXPECT_TRUE(has(manifest, key)) << key << "\n" << manifest;
   // The finest mesh ran, its files hold the unrefined model's columns.
   const Result own = flexmb("simulate " + model + " --t-end 0.001 --format csv --out a --quiet");
