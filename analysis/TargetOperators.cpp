@@ -1,5 +1,6 @@
 #include "analysis/TargetOperators.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -20,14 +21,18 @@ OperatorPayoff operatorsPay(long evaluations, double equation19Seconds, double o
   OperatorPayoff p;
   const bool predicted = std::isnan(trainingSeconds);
   p.training = predicted ? kTrainingInEquation19 * equation19Seconds : trainingSeconds;
-  p.saving = static_cast<double>(evaluations) * std::max(0.0, equation19Seconds - operatorSeconds);
+  const double saved = operatorSeconds > 0.0 ? equation19Seconds - operatorSeconds : kSavedShare * equation19Seconds;
+  p.saving = static_cast<double>(evaluations) * std::max(0.0, saved);
   p.pays = p.saving > p.training;
   std::ostringstream s;
-  s << (p.pays ? "they pay" : "they would not pay") << ": " << evaluations << " evaluations still to integrate x ("
-    << micro2(equation19Seconds) << " for Eq. 19 - " << (operatorSeconds > 0.0 ? micro2(operatorSeconds) : "0")
-    << " for the operators) = " << seconds2(p.saving) << (p.pays ? " saved against " : " to save against ")
-    << seconds2(p.training) << " of training";
-  if (predicted) s << " (predicted: at least " << text::shortest(kTrainingInEquation19) << " Eq. 19 evaluations)";
+  s << (p.pays ? "they pay" : "they would not pay") << ": " << evaluations << " evaluations still to integrate x ";
+  if (operatorSeconds > 0.0)
+    s << "(" << micro2(equation19Seconds) << " for Eq. 19 - " << micro2(operatorSeconds) << " for the operators)";
+  else
+    s << text::shortest(kSavedShare) << " of " << micro2(equation19Seconds) << " for Eq. 19";
+  s << " = " << seconds2(p.saving) << (p.pays ? " saved against " : " to save against ") << seconds2(p.training)
+    << " of training";
+  if (predicted) s << " (predicted: " << text::shortest(kTrainingInEquation19) << " Eq. 19 evaluations)";
   p.why = s.str();
   return p;
 }
@@ -53,12 +58,12 @@ TargetOperators operatorsForTarget(const core::Model& model, const Eigen::Matrix
       sharedRuns > 1 ? " (this run and the " + std::to_string(sharedRuns - 1) + " more that may share the basis)" : "";
   const OperatorPayoff before = operatorsPay(evaluations, equation19Seconds);
   if (!before.pays) {
-    t.note = evaluations == 0
-                 ? none +
-                       "the chosen candidate's run is this run, nothing is left for them to save; "
-                       "they could pay from " +
-                       text::shortest(kTrainingInEquation19) + " evaluations still to integrate on the basis)"
-                 : none + before.why + runs + ")";
+    t.note = evaluations == 0 ? none +
+                                    "the chosen candidate's run is this run, nothing is left for them to save; "
+                                    "they could pay from " +
+                                    std::to_string(static_cast<long>(kTrainingInEquation19 / kSavedShare)) +
+                                    " evaluations still to integrate on the basis)"
+                              : none + before.why + runs + ")";
     return t;
   }
   const std::string reason = before.why + runs;
