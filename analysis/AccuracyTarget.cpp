@@ -34,10 +34,11 @@ Scale motionOrSize(double motion, double size) {
   return {L, "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)"};
 }
 
-// Positions at each of `states` (x vectors), stacked, and their scale.
+// Positions at each of `states` (x vectors), stacked, and their scale: the first level's on every
+// level (fixed: 0 until it is set), so that the levels' values compare as they are.
 template <class XOf>
 MeshLevel positionsLevel(const core::Model& model, const std::vector<int>& positions, size_t count, XOf xOf,
-                         const Eigen::VectorXd& initial, std::string& measure) {
+                         const Eigen::VectorXd& initial, std::string& measure, double& fixed) {
   MeshLevel l;
   l.values.resize(static_cast<Eigen::Index>(count * positions.size()));
   double motion = 0.0;
@@ -49,9 +50,13 @@ MeshLevel positionsLevel(const core::Model& model, const std::vector<int>& posit
       motion = std::max(motion, std::abs(x[i] - initial[i]));
     }
   }
-  const Scale scale = motionOrSize(motion, model.lengthScale());
-  l.scale = scale.value;
-  measure = scale.text;
+  if (!(fixed > 0.0)) {
+    const Scale scale = motionOrSize(motion, model.lengthScale());
+    fixed = scale.value;
+    measure = scale.text;
+  }
+  l.scale = fixed;
+  l.positionValues = l.values.size();
   l.ok = count > 0;
   if (!l.ok) l.reason = "no result to compare";
   return l;
@@ -85,6 +90,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   }
   std::map<int, std::unique_ptr<Job>> jobs;
   std::string measureText;
+  double scale = 0.0;  // the first level's, for every level (measure sets it)
   auto tell = [&](Diagnostic::Kind kind, const std::string& text) {
     Diagnostic d(kind, "", text);
     if (a.progress) a.progress(d);
@@ -106,7 +112,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
         std::unique_ptr<Job> job = make(s);
         MeshLevel l;
         if (job->status() == JobStatus::Completed) {
-          l = measure(*job, positions, measureText);
+          l = measure(*job, positions, measureText, scale);
         } else {
           l.reason = refusalOf(*job);
         }
@@ -122,10 +128,12 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   if (!out.job) out.job = make(source);  // never reached: the first level always runs
   // The value the last pair differs most on: for positions, the coordinate (values are stacked per
   // output time or load step, the original positions in order).
-  if (out.job && est.estimated && !positions.empty() && analysis != "modes" && analysis != "sweep") {
+  if (out.job && est.estimated && !positions.empty()) {
     const MeshLevel& pair = est.levels[static_cast<size_t>(std::max(est.of, 1))];
-    if (pair.largestAt >= 0)
+    if (pair.largestAt >= 0 && pair.largestAt < pair.positionValues)
       est.where = out.job->model().coordName(positions[static_cast<size_t>(pair.largestAt) % positions.size()]);
+    else if (pair.largestAt >= 0 && pair.positionValues >= 0)
+      est.where = "buckling load factor " + std::to_string(pair.largestAt - pair.positionValues + 1);
   }
   for (size_t k = 1; k < est.levels.size(); ++k)
     if (!std::isnan(est.levels[k].differenceToPrevious))
@@ -204,12 +212,12 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
                                  "estimated on the full model (run without the basis)");
     return out;
   }
-  auto measure = [](const SimulateJob& job, const std::vector<int>& positions, std::string& text) {
+  auto measure = [](const SimulateJob& job, const std::vector<int>& positions, std::string& text, double& scale) {
     const core::Trajectory& t = job.trajectory();
     const core::Model& m = job.model();
     MeshLevel l = positionsLevel(
         m, positions, t.completed ? t.states.size() : 0,
-        [&](size_t s) -> const Eigen::VectorXd& { return t.states[s].x; }, m.x0, text);
+        [&](size_t s) -> const Eigen::VectorXd& { return t.states[s].x; }, m.x0, text, scale);
     if (!t.completed) l.reason = "stopped: " + t.stopReason;
     // The accuracy check's position estimate is relative to the model size: on the motion's scale.
     if (t.accuracy.checked) l.otherError = t.accuracy.positionEstimate * m.lengthScale() / l.scale;
@@ -231,13 +239,25 @@ AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions&
     if (job->status() == JobStatus::Ready) job->run();
     return job;
   };
-  auto measure = [](const StaticJob& job, const std::vector<int>& positions, std::string& text) {
+  // Positions; with buckling factors asked, also their logarithms (relative differences) at the last
+  // load step, the positions then divided by their scale.
+  auto measure = [](const StaticJob& job, const std::vector<int>& positions, std::string& text, double& scale) {
     std::vector<const Eigen::VectorXd*> xs;
     for (const StaticStep& s : job.result().steps)
       if (s.loadStep >= 0) xs.push_back(&s.x);
     const core::Model& m = job.model();
-    return positionsLevel(
-        m, positions, xs.size(), [&](size_t s) -> const Eigen::VectorXd& { return *xs[s]; }, m.x0, text);
+    MeshLevel l = positionsLevel(
+        m, positions, xs.size(), [&](size_t s) -> const Eigen::VectorXd& { return *xs[s]; }, m.x0, text, scale);
+    const Eigen::VectorXd lambda = job.result().steps.empty() ? Eigen::VectorXd() : job.result().steps.back().buckling;
+    if (l.ok && job.options().buckling > 0) {
+      if (lambda.size() == 0 || !(lambda.array() > 0.0).all()) return l;  // none found: positions alone
+      Eigen::VectorXd v(l.values.size() + lambda.size());
+      v << l.values / l.scale, lambda.array().log().matrix();
+      l.values = std::move(v);
+      l.scale = 1.0;
+      if (text.find("buckling") == std::string::npos) text += " and relative (the buckling load factors)";
+    }
+    return l;
   };
   AccurateRun<StaticJob> out = climb<StaticJob>(std::move(source), a, "static", make, measure);
   if (out.job && !out.ladder.estimate.levels.empty()) fillBudget(out, a, "");
@@ -251,7 +271,7 @@ AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& op
     return job;
   };
   // ln f of the lowest modes: their differences are relative.
-  auto measure = [](const ModesJob& job, const std::vector<int>&, std::string& text) {
+  auto measure = [](const ModesJob& job, const std::vector<int>&, std::string& text, double&) {
     MeshLevel l;
     const Eigen::VectorXd& w = job.result().frequencies.omega;
     l.values = w.array().max(1e-300).log().matrix();
@@ -272,7 +292,7 @@ AccurateRun<SweepJob> sweepToAccuracy(ModelSource source, const SweepOptions& op
     return job;
   };
   // ln f of every configuration's frequencies (ascending): their differences are relative.
-  auto measure = [](const SweepJob& job, const std::vector<int>&, std::string& text) {
+  auto measure = [](const SweepJob& job, const std::vector<int>&, std::string& text, double&) {
     MeshLevel l;
     const std::vector<SweepPoint>& points = job.result().points;
     Eigen::Index n = 0;

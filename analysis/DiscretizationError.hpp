@@ -40,6 +40,9 @@ struct MeshLevel {
   double otherError = 0.0;
   double differenceToPrevious = std::numeric_limits<double>::quiet_NaN();  // max |Q - Q_prev| / scale
   Eigen::Index largestAt = -1;                                             // the value where that difference is largest
+  // The leading values that are positions, stacked per time or load step (the caller names them);
+  // the rest are other quantities (-1: none are positions).
+  Eigen::Index positionValues = -1;
 };
 
 struct DiscretizationEstimate {

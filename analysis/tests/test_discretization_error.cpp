@@ -211,6 +211,34 @@ TEST(DiscretizationError, ElasticaTipAgainstMattiasson) {
   }
 }
 
+// Lateral-torsional buckling of a narrow cantilever under a tip load at the centroid: Prandtl's
+// P_cr = 4.013 sqrt(EIz GIt) / L^2 = 34.2366 N for the file's stiffnesses (a 1 N load: the factor).
+TEST(DiscretizationError, LateralBucklingAgainstPrandtl) {
+  const double prandtl = 4.013 * std::sqrt(7.0 * 10.3978666667);
+  StaticOptions so;
+  so.nev = 0;
+  so.buckling = 1;
+  for (double eps : {std::nan(""), 1e-3}) {
+    AccuracyRequest a;
+    a.eps = eps;
+    const AccurateRun<StaticJob> run =
+        staticToAccuracy({datfile("tests/lateral_buckling.dat"), {}, nullptr, nullptr}, so, a);
+    ASSERT_TRUE(run.job && run.job->status() == JobStatus::Completed);
+    const Eigen::VectorXd& lambda = run.job->result().steps.back().buckling;
+    ASSERT_EQ(lambda.size(), 1);
+    const double truth = std::abs(std::log(lambda[0] / prandtl));
+    ASSERT_TRUE(run.budget.estimated);
+    EXPECT_EQ(run.ladder.estimate.where, "buckling load factor 1");
+    EXPECT_GE(run.budget.discretization / truth, 1.0) << run.budget.discretization << " " << truth;
+    EXPECT_LE(run.budget.discretization / truth, 10.0) << run.budget.discretization << " " << truth;
+    if (!std::isnan(eps)) {
+      EXPECT_LE(truth, eps);
+    } else {
+      EXPECT_GT(truth, 0.03);  // 4 BEAMs: 4.6 % off
+    }
+  }
+}
+
 // The element matters as much as the mesh (issue 50 item 5): the stage's parasitic drop at a 5 mm
 // stroke converges far faster with BEAMNL (second-order elongation) than with BEAM. The estimate holds
 // both, and names the drop (a z coordinate) as BEAM's largest error.
