@@ -133,7 +133,6 @@ def main():
             estimate = m.group(1) if m else "-"
             goal = "yes" if err <= GOAL_ERROR and seconds <= GOAL_SECONDS else "no"
             lines.append(f"| {label} | {5 * refine} | {seconds:.2f} | {err:.2g} | {estimate} | {goal} |")
-            print(lines[-1], file=sys.stderr, flush=True)
     table = "\n".join(lines) + "\n"
     print(table, end="")
     if a.out:
