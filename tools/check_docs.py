@@ -45,8 +45,9 @@ SOURCE_SUFFIXES = {".cpp", ".hpp", ".h", ".py", ".m", ".sh"}
 # A path ending in .md, not inside a longer word, a printf pattern (%s/bench.md), a shell variable
 # ($page.md, $dir/x.md) or a path assembled at run time ("/report.md").
 CITATION = re.compile(r"(?<![\w./%$}-])((?:\.\.?/)*[\w-][\w.-]*(?:/[\w.-]+)*\.md)(?![\w])")
-# Written by programs, never in the source tree: flexmb validate's report, flexmb_bench's fragment.
-GENERATED = {"report.md", "bench.md"}
+# Written by programs, never in the source tree: flexmb validate's report, flexmb_bench's fragment,
+# the main job's table of tools/bench/guidance_continuum.py.
+GENERATED = {"report.md", "bench.md", "guidance_continuum.md"}
 
 
 def repo_files(root):
