@@ -1,8 +1,10 @@
 #include "analysis/AccuracyTarget.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
+#include <thread>
 
 #include "text/NumberText.hpp"
 
@@ -62,6 +64,43 @@ MeshLevel positionsLevel(const core::Model& model, const std::vector<int>& posit
   return l;
 }
 
+// The time a level may take: a watch sets the run's own stop flag when the user's is set (Ctrl-C)
+// or when `seconds` have passed, so that a level the prediction underrated stops at the time
+// allowed instead of overrunning it.
+class Deadline {
+ public:
+  Deadline(const std::atomic<bool>* user, double seconds)
+      : user_(user),
+        end_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                    std::chrono::duration<double>(std::max(seconds, 0.0)))) {
+    watch_ = std::thread([this] {
+      while (!done_.load()) {
+        const bool byUser = user_ && user_->load();
+        if (byUser || std::chrono::steady_clock::now() >= end_) {
+          expired_.store(!byUser);
+          flag_.store(true);
+          return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+    });
+  }
+  ~Deadline() {
+    done_.store(true);
+    watch_.join();
+  }
+  Deadline(const Deadline&) = delete;
+  Deadline& operator=(const Deadline&) = delete;
+  const std::atomic<bool>* flag() const { return &flag_; }
+  bool expired() const { return flag_.load() && expired_.load(); }  // the time, not the user, stopped it
+
+ private:
+  const std::atomic<bool>* user_;
+  std::chrono::steady_clock::time_point end_;
+  std::atomic<bool> flag_{false}, done_{false}, expired_{false};
+  std::thread watch_;
+};
+
 std::string refusalOf(const ModelJob& job) {
   const std::string e = firstError(job.diagnostics());
   return e.empty() ? "it did not complete" : e;
@@ -77,7 +116,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
     try {
       source.text = std::make_shared<const std::string>(io::readDatText(source.file));
     } catch (const std::exception&) {  // the job says what is wrong with the file
-      out.job = make(source);
+      out.job = make(source, a.interrupt);
       return out;
     }
   }
@@ -85,10 +124,11 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   try {
     positions = originalPositions(source);
   } catch (const std::exception&) {
-    out.job = make(source);
+    out.job = make(source, a.interrupt);
     return out;
   }
   std::map<int, std::unique_ptr<Job>> jobs;
+  double spent = 0.0;  // the levels' seconds so far: what remains of a.maxSeconds bounds the next
   std::string measureText;
   double scale = 0.0;  // the first level's, for every level (measure sets it)
   auto tell = [&](Diagnostic::Kind kind, const std::string& text) {
@@ -109,14 +149,17 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
       [&](int refine) {
         ModelSource s = source;
         s.read.refine = refine;
-        std::unique_ptr<Job> job = make(s);
+        const Deadline deadline(a.interrupt, a.maxSeconds - spent);
+        std::unique_ptr<Job> job = make(s, deadline.flag());
         MeshLevel l;
         if (job->status() == JobStatus::Completed) {
           l = measure(*job, positions, measureText, scale);
         } else {
-          l.reason = refusalOf(*job);
+          l.reason = deadline.expired() ? "stopped at the time allowed (" + text::shortest(a.maxSeconds) + " s in all)"
+                                        : refusalOf(*job);
         }
         l.seconds = job->secondsSoFar();
+        spent += l.seconds;
         jobs[refine] = std::move(job);
         return l;
       },
@@ -125,7 +168,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   est.measure = measureText;
   const int chosen = est.levels.empty() ? lo.start : est.levels[static_cast<size_t>(out.ladder.chosen)].refine;
   out.job = std::move(jobs[chosen]);
-  if (!out.job) out.job = make(source);  // never reached: the first level always runs
+  if (!out.job) out.job = make(source, a.interrupt);  // never reached: the first level always runs
   // The value the last pair differs most on: for positions, the coordinate (values are stacked per
   // output time or load step, the original positions in order).
   if (out.job && est.estimated && !positions.empty()) {
@@ -168,12 +211,14 @@ void fillBudget(AccurateRun<Job>& run, const AccuracyRequest& a, const std::stri
   b.integration = chosen.otherError;
   b.total = b.discretization + b.reduction + b.integration;
   b.estimated = true;
-  b.met = !std::isnan(a.eps) && b.total <= a.eps;
-  b.line =
-      "total error estimate: " + text::significant(b.total, 2) + " (discretization " +
-      text::significant(b.discretization, 2) + ", reduction 0: the full model ran" +
-      (integrationWords.empty() ? std::string() : ", " + integrationWords + " " + text::significant(b.integration, 2)) +
-      ") " + est.measure + " at refine " + std::to_string(est.ofRefine);
+  const bool unknown = !integrationWords.empty() && !chosen.otherUnknown.empty();
+  b.met = !std::isnan(a.eps) && b.total <= a.eps && !unknown;
+  b.line = "total error estimate: " + text::significant(b.total, 2) + " (discretization " +
+           text::significant(b.discretization, 2) + ", reduction 0: the full model ran" +
+           (integrationWords.empty() ? std::string()
+            : unknown                ? ", " + integrationWords + " not estimated (" + chosen.otherUnknown + ")"
+                                     : ", " + integrationWords + " " + text::significant(b.integration, 2)) +
+           ") " + est.measure + " at refine " + std::to_string(est.ofRefine);
   setting("total error estimate", b.line.substr(std::string("total error estimate: ").size()));
   setting("refinement chosen", std::to_string(est.ofRefine) + " parts per flexible beam");
   if (!std::isnan(a.eps))
@@ -199,9 +244,13 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
   if (eps && !request.run.relTol) request.run.relTol = a.eps / kToleranceDivisor;
   if (eps && !request.run.absTol) request.run.absTol = *request.run.relTol * 1e-2;
   request.run.accuracyCheck = true;
+  AccuracyRequest watched = a;  // the user's stop flag (Ctrl-C) ends the ladder too
+  if (!watched.interrupt) watched.interrupt = request.run.interrupt;
   const bool basis = !request.basisFile.empty() || request.basis;
-  auto make = [&](const ModelSource& s) {
-    auto job = std::make_unique<SimulateJob>(s, request);
+  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
+    SimulateRequest r = request;
+    r.run.interrupt = stop;
+    auto job = std::make_unique<SimulateJob>(s, std::move(r));
     if (job->status() == JobStatus::Ready) job->run();
     return job;
   };
@@ -220,10 +269,14 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
         [&](size_t s) -> const Eigen::VectorXd& { return t.states[s].x; }, m.x0, text, scale);
     if (!t.completed) l.reason = "stopped: " + t.stopReason;
     // The accuracy check's position estimate is relative to the model size: on the motion's scale.
-    if (t.accuracy.checked) l.otherError = t.accuracy.positionEstimate * m.lengthScale() / l.scale;
+    if (t.accuracy.checked)
+      l.otherError = t.accuracy.positionEstimate * m.lengthScale() / l.scale;
+    else
+      l.otherUnknown =
+          "the accuracy check did not run: " + (t.accuracy.note.empty() ? "no reason given" : t.accuracy.note);
     return l;
   };
-  AccurateRun<SimulateJob> out = climb<SimulateJob>(std::move(source), a, "simulate", make, measure);
+  AccurateRun<SimulateJob> out = climb<SimulateJob>(std::move(source), watched, "simulate", make, measure);
   if (!out.job || out.ladder.estimate.levels.empty()) return out;
   fillBudget(out, a, "integration");
   if (out.job->options().relTol)
@@ -234,9 +287,9 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
 }
 
 AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s) {
+  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
     auto job = std::make_unique<StaticJob>(s, options);
-    if (job->status() == JobStatus::Ready) job->run();
+    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
     return job;
   };
   // Positions; with buckling factors asked, also their logarithms (relative differences) at the last
@@ -265,7 +318,7 @@ AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions&
 }
 
 AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s) {
+  auto make = [&](const ModelSource& s, const std::atomic<bool>*) {  // one eigenproblem: not stopped
     auto job = std::make_unique<ModesJob>(s, options);
     if (job->status() == JobStatus::Ready) job->run();
     return job;
@@ -286,9 +339,9 @@ AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& op
 }
 
 AccurateRun<SweepJob> sweepToAccuracy(ModelSource source, const SweepOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s) {
+  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
     auto job = std::make_unique<SweepJob>(s, options);
-    if (job->status() == JobStatus::Ready) job->run();
+    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
     return job;
   };
   // ln f of every configuration's frequencies (ascending): their differences are relative.

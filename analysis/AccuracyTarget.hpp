@@ -11,6 +11,7 @@
 // the rest (RelTol = EPS / kToleranceDivisor: the accuracy check puts a converged run's error at
 // 1-4 RelTol); the reduction none: the full model runs (issue 49 measured no single run that a
 // reduced basis makes cheaper at these sizes).
+#include <atomic>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -33,6 +34,9 @@ struct AccuracyRequest {
   double eps = std::numeric_limits<double>::quiet_NaN();  // --accuracy EPS; NaN: --error-estimate
   double maxSeconds = 300.0;  // no level is started that is predicted to end after this in all
   int maxRefine = 64;
+  // The user's stop (Ctrl-C): the level running stops and the ladder with it (null: none; simulate
+  // takes its request's flag).
+  const std::atomic<bool>* interrupt = nullptr;
   // Each level as it starts and ends ("refine 4: 0.21 s, differs from refine 2 by 3.1e-03"), for a
   // front end to show at once.
   std::function<void(const Diagnostic&)> progress;

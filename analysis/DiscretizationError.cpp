@@ -80,7 +80,7 @@ DiscretizationEstimate richardsonEstimate(std::vector<MeshLevel> levels, int of,
   const MeshLevel &a = levels[static_cast<size_t>(pair - 1)], &b = levels[static_cast<size_t>(pair)];
   e.resolved =
       b.differenceToPrevious > kResolvedFactor * std::max(a.otherError, b.otherError) || b.differenceToPrevious == 0.0;
-  e.estimate = errorOfLevel(levels, of, pair, e.order);
+  e.estimate = kRichardsonSafety * errorOfLevel(levels, of, pair, e.order);
   e.estimated = true;
   if (!e.resolved)
     e.note = "refine " + std::to_string(a.refine) + " and " + std::to_string(b.refine) + " differ by " +
@@ -119,6 +119,19 @@ std::string describeDiscretization(const DiscretizationEstimate& e) {
 }
 
 namespace {
+// The time of a run at `refine` from the last two levels' (seconds ~ refine^a, a in [1, 3]; 1.5
+// from one level).
+double predictSeconds(const std::vector<MeshLevel>& levels, int refine) {
+  const MeshLevel& last = levels.back();
+  double a = 1.5;
+  if (levels.size() >= 2) {
+    const MeshLevel& prev = levels[levels.size() - 2];
+    if (prev.seconds > 0.0 && last.seconds > 0.0 && prev.refine != last.refine)
+      a = std::clamp(std::log(last.seconds / prev.seconds) / std::log(double(last.refine) / prev.refine), 1.0, 3.0);
+  }
+  return last.seconds * std::pow(double(refine) / last.refine, a);
+}
+
 // The refinement the order predicts to meet the target from the finest level's estimate, and its
 // time from the growth of the last two levels' (seconds ~ refine^a, a in [1, 3]).
 struct NextLevel {
@@ -131,13 +144,7 @@ NextLevel predictNext(const DiscretizationEstimate& e, double target) {
   const double want = last.refine * std::pow(e.estimate / target, 1.0 / p) * kRefineMargin;
   NextLevel next;
   next.refine = static_cast<int>(std::ceil(std::max(want, kSmallestStep * last.refine)));
-  double a = 1.5;
-  if (e.levels.size() >= 2) {
-    const MeshLevel& prev = e.levels[e.levels.size() - 2];
-    if (prev.seconds > 0.0 && last.seconds > 0.0)
-      a = std::clamp(std::log(last.seconds / prev.seconds) / std::log(double(last.refine) / prev.refine), 1.0, 3.0);
-  }
-  next.seconds = last.seconds * std::pow(double(next.refine) / last.refine, a);
+  next.seconds = predictSeconds(e.levels, next.refine);
   return next;
 }
 }  // namespace
@@ -163,11 +170,19 @@ LadderResult climbMeshLadder(const std::function<MeshLevel(int refine)>& run, co
   if (estimateOnly) {
     for (int f : {2, 4}) {
       const int r = options.start * f;
-      if (r > options.maxRefine || !runLevel(r, "for the estimate")) break;
+      const double predicted = predictSeconds(levels, r);
+      if (r > options.maxRefine) break;
+      if (spent + predicted > options.maxSeconds) {
+        out.stopNote = "refine " + std::to_string(r) + " is predicted to take " + text::significant(predicted, 2) +
+                       " s, beyond the time allowed (" + text::shortest(options.maxSeconds) + " s in all)";
+        break;
+      }
+      if (!runLevel(r, "for the estimate, predicted " + text::significant(predicted, 2) + " s")) break;
     }
     out.estimate = richardsonEstimate(levels, 0, "", options.elementOrder);
     if (levels.back().ok == false)
       out.estimate.note += "; refine " + std::to_string(levels.back().refine) + ": " + levels.back().reason;
+    if (!out.stopNote.empty()) out.estimate.note += (out.estimate.note.empty() ? "" : "; ") + out.stopNote;
     return out;
   }
   int next = options.start * 2;

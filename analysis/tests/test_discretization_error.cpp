@@ -43,7 +43,7 @@ TEST(DiscretizationError, RichardsonGivesTheExactErrorOfAPowerLaw) {
     ASSERT_TRUE(e.estimated);
     EXPECT_NEAR(e.observedOrder, 2.0, 1e-9);
     EXPECT_TRUE(e.asymptotic);
-    EXPECT_NEAR(e.estimate, c * std::pow(levels[static_cast<size_t>(of)].refine, -2.0), 1e-12);
+    EXPECT_NEAR(e.estimate, kRichardsonSafety * c * std::pow(levels[static_cast<size_t>(of)].refine, -2.0), 1e-12);
     EXPECT_TRUE(e.note.empty()) << e.note;
   }
 }
@@ -62,7 +62,7 @@ TEST(DiscretizationError, AFasterObservedOrderIsNotTrusted) {
   // With the frequencies' order the same levels are asymptotic and exact.
   const DiscretizationEstimate f = richardsonEstimate(levels, 2, "", kFrequencyOrder);
   EXPECT_TRUE(f.asymptotic);
-  EXPECT_NEAR(f.estimate, truth, 1e-12);
+  EXPECT_NEAR(f.estimate, kRichardsonSafety * truth, 1e-12);
 }
 
 TEST(DiscretizationError, DifferencesThatDoNotFallAreSaidAndEstimatedSlowly) {
@@ -101,7 +101,7 @@ TEST(DiscretizationError, LadderRefinesUntilTheTargetIsMetAndNoFurther) {
   EXPECT_EQ(chosen, ran.back());
   const double truth = c * std::pow(chosen, -2.0);
   EXPECT_LE(truth, 1e-3);
-  EXPECT_NEAR(r.estimate.estimate / truth, 1.0, 1e-9);
+  EXPECT_NEAR(r.estimate.estimate / truth, kRichardsonSafety, 1e-9);
   // The refinement predicted, not a doubling per step: c / r^2 <= 1e-3 needs r >= 7.1.
   EXPECT_LE(chosen, 10);
   EXPECT_LE(ran.size(), 4u);
@@ -128,6 +128,23 @@ TEST(DiscretizationError, LadderSaysBeforeALevelThatWouldTakeTooLong) {
   EXPECT_TRUE(r.estimate.estimated);
 }
 
+TEST(DiscretizationError, EstimateAloneSkipsARefinementThatWouldTakeTooLong) {
+  LadderOptions o;
+  o.maxSeconds = 3.0;
+  std::vector<int> ran;
+  const LadderResult r = climbMeshLadder(
+      [&](int refine) {
+        ran.push_back(refine);
+        MeshLevel l = powerLaw(refine, 0.02, 2);
+        l.seconds = 0.25 * refine * refine;  // 0.25, 1, then 4 s predicted
+        return l;
+      },
+      o);
+  EXPECT_EQ(ran, (std::vector<int>{1, 2}));
+  EXPECT_NE(r.estimate.note.find("refine 4 is predicted to take 4 s"), std::string::npos) << r.estimate.note;
+  EXPECT_NEAR(r.estimate.estimate, kRichardsonSafety * 0.02, 1e-12);  // two meshes, the element's order
+}
+
 TEST(DiscretizationError, EstimateAloneRunsTheModelsMeshAndTwoRefinements) {
   std::vector<int> ran;
   LadderOptions o;
@@ -140,7 +157,7 @@ TEST(DiscretizationError, EstimateAloneRunsTheModelsMeshAndTwoRefinements) {
       o);
   EXPECT_EQ(ran, (std::vector<int>{3, 6, 12}));
   EXPECT_EQ(r.chosen, 0);
-  EXPECT_NEAR(r.estimate.estimate, 0.02 / 9.0, 1e-12);
+  EXPECT_NEAR(r.estimate.estimate, kRichardsonSafety * 0.02 / 9.0, 1e-12);
 }
 
 // --- the shipped models against closed forms ---------------------------------------------------

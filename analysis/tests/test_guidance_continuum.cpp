@@ -125,9 +125,10 @@ TEST(GuidanceContinuum, ReferenceIsComplete) {
   EXPECT_NEAR(ref.motion, 0.0824, 5e-4);
 }
 
-// --accuracy EPS: the run written is within EPS of the continuum; no estimate is more than 10 times
-// its true error (--error-estimate: the discretization estimate of the 5-element mesh against its
-// discretization error, 3.3e-2 in issue 50).
+// --accuracy EPS: the run written is within EPS of the continuum; every estimate is 1 to 10 times its
+// true error (--error-estimate: the discretization estimate of the 5-element mesh against its
+// discretization error, 3.3e-2 in issue 50). Without kRichardsonSafety the bare extrapolation was
+// 0.965-1.02 of the truth here (2026-12-07).
 TEST(GuidanceContinuum, AccuracyTargetsAreMetAgainstTheContinuum) {
   const Reference ref = readReference();
   const std::vector<Effectivity> e = effectivities(ref);
@@ -138,19 +139,8 @@ TEST(GuidanceContinuum, AccuracyTargetsAreMetAgainstTheContinuum) {
       EXPECT_LE(f.truth, f.eps) << f.line;
     }
     EXPECT_LE(f.estimate / f.truth, 10.0) << "eps " << f.eps << " estimate " << f.estimate << " true " << f.truth;
-  }
-}
-
-// Issue 50 item 4 also asks estimate / true >= 1. Measured 2026-12-07 (Richardson with the observed
-// order, no safety factor; true errors on the reference's motion 0.0824 m, estimates on the run's,
-// 0.0829-0.083 m): --error-estimate 0.0325 / 0.0329 = 0.988; --accuracy 1e-2 (refine 3) 0.00536 /
-// 0.00556 = 0.965; --accuracy 1e-3 (refine 8) 0.00076 / 0.000745 = 1.02. Right to a few per cent
-// but not on the safe side: disabled until the estimator keeps itself above the truth (run with
-// --gtest_also_run_disabled_tests).
-TEST(GuidanceContinuum, DISABLED_EstimatesAreNotBelowTheTruth) {
-  const Reference ref = readReference();
-  for (const Effectivity& f : effectivities(ref))
     EXPECT_GE(f.estimate / f.truth, 1.0) << "eps " << f.eps << " estimate " << f.estimate << " true " << f.truth;
+  }
 }
 
 }  // namespace
