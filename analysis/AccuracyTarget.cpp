@@ -101,6 +101,17 @@ class Deadline {
   std::thread watch_;
 };
 
+// Builds and runs a job that takes RunHooks (static, sweep) on a mesh, its stop flag the level's
+// Deadline.
+template <class Job, class Options>
+auto stoppableJob(const Options& options) {
+  return [&options](const ModelSource& s, const std::atomic<bool>* stop) {
+    auto job = std::make_unique<Job>(s, options);
+    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
+    return job;
+  };
+}
+
 std::string refusalOf(const ModelJob& job) {
   const std::string e = firstError(job.diagnostics());
   return e.empty() ? "it did not complete" : e;
@@ -287,11 +298,7 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
 }
 
 AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
-    auto job = std::make_unique<StaticJob>(s, options);
-    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
-    return job;
-  };
+  const auto make = stoppableJob<StaticJob>(options);
   // Positions; with buckling factors asked, also their logarithms (relative differences) at the last
   // load step, the positions then divided by their scale.
   auto measure = [](const StaticJob& job, const std::vector<int>& positions, std::string& text, double& scale) {
@@ -339,11 +346,7 @@ AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& op
 }
 
 AccurateRun<SweepJob> sweepToAccuracy(ModelSource source, const SweepOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
-    auto job = std::make_unique<SweepJob>(s, options);
-    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
-    return job;
-  };
+  const auto make = stoppableJob<SweepJob>(options);
   // ln f of every configuration's frequencies (ascending): their differences are relative.
   auto measure = [](const SweepJob& job, const std::vector<int>&, std::string& text, double&) {
     MeshLevel l;

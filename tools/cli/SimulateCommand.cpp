@@ -365,6 +365,9 @@ int runSimulate(const std::vector<std::string>& args) {
                 "error: they go with no --basis, --intervals 0 or --no-accuracy-check"
               : "");
     if (!ask) return kUsageError;
+    // The output location before the meshes run (the job's own check comes after them).
+    io::OutputSet probe(io::OutputSet::resolvePrefix(a.out, a.m.file));
+    if (!outputsWritable(probe, {a.echo})) return kInputError;
     accurate = analysis::simulateToAccuracy(modelSource(a.m), std::move(request), *ask);
     if (!accurate.job) {
       printDiagnostics(accurate.diagnostics, a.m.quiet);
@@ -420,7 +423,9 @@ int runSimulate(const std::vector<std::string>& args) {
               << (a.accuracy.asked() ? ", " + std::to_string(accurate.ladder.estimate.levels.size()) + " meshes" : "")
               << ")\n";
   sayRemovedStale(files.removedStale());
-  if (job.interrupted()) return interruptedExitCode();
+  // Ctrl-C during --accuracy's meshes stops the ladder: the finest completed mesh is written, and
+  // the exit says it was interrupted.
+  if (job.interrupted() || (a.accuracy.asked() && interruptFlag()->load())) return interruptedExitCode();
   if (written.incomplete) return kWriteFailed;
   return exitCodeOf(job.status());
 }

@@ -46,5 +46,10 @@ TEST_F(AccuracyCli, ClashesAreUsageErrors) {
   EXPECT_EQ(b.code, 2);
   EXPECT_TRUE(has(b.err, "--intervals 0")) << b.err;
   EXPECT_EQ(flexmb("static " + model + " --accuracy 1e-2 --max-seconds 0").code, 2);
+  // A folder that does not exist is said before any mesh runs.
+  const Result w = flexmb("simulate " + model + " --accuracy 1e-2 --out missing/g");
+  EXPECT_EQ(w.code, 1);
+  EXPECT_TRUE(has(w.err, "does not exist")) << w.err;
+  EXPECT_FALSE(has(w.err, "simulate at refine")) << w.err;
 }
 }  // namespace

@@ -18,18 +18,7 @@ function test_spacar_accuracy(src, flexmb)
   out = evalc('spacar(1, ''g'', struct(''tend'', 0.05, ''errorestimate'', true));');
   assert(~isempty(strfind(out, 'total error estimate:')), out);
   assert(~isempty(strfind(out, 'at refine 1 (Richardson from refine 1, 2, 4')), out);
-  refused(@() spacar(-1, 'g', struct('accuracy', 2)), 'flexmb:spacar:usage', 'opts.accuracy');
-  refused(@() spacar(-1, 'g', struct('accuracy', 1e-2, 'errorestimate', true)), 'flexmb:spacar:usage', 'not both');
-  refused(@() spacar(-9, 'g', struct('accuracy', 1e-2)), 'flexmb:spacar:usage', 'modes 1, 3, 4 and 10');
-end
-
-function refused(run, id, words)
-  try
-    run();
-  catch err
-    assert(strcmp(err.identifier, id), '%s (%s)', err.identifier, err.message);
-    assert(~isempty(strfind(err.message, words)), err.message);
-    return;
-  end
-  error('not refused: %s', words);
+  flexmb_test_refused(@() spacar(-1, 'g', struct('accuracy', 2)), 'flexmb:spacar:usage', 'opts.accuracy');
+  flexmb_test_refused(@() spacar(-1, 'g', struct('accuracy', 1e-2, 'errorestimate', true)), 'flexmb:spacar:usage', 'not both');
+  flexmb_test_refused(@() spacar(-9, 'g', struct('accuracy', 1e-2)), 'flexmb:spacar:usage', 'modes 1, 3, 4 and 10');
 end

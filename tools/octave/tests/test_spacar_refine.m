@@ -25,19 +25,8 @@ function test_spacar_refine(src, flexmb)
           a.x(end, ca), b.x(end, ca), d / motion, motion);
   assert(d > 0 && d < 5e-3 * motion, 'refine 2 against 1: %.3g of the motion', d / motion);
   spacar(0, 'g', struct('refine', 2));  % a mode without time integration takes it too
-  refused(@() spacar(-1, 'g', struct('refine', 0)), 'flexmb:spacar:usage', 'opts.refine');
-  refused(@() spacar(-1, 'g', struct('refine', 1.5)), 'flexmb:spacar:usage', 'opts.refine');
-  refused(@() spacar(-1, 'g', struct('refine', 2, 'refinedresults', 'yes')), 'flexmb:spacar:usage', ...
+  flexmb_test_refused(@() spacar(-1, 'g', struct('refine', 0)), 'flexmb:spacar:usage', 'opts.refine');
+  flexmb_test_refused(@() spacar(-1, 'g', struct('refine', 1.5)), 'flexmb:spacar:usage', 'opts.refine');
+  flexmb_test_refused(@() spacar(-1, 'g', struct('refine', 2, 'refinedresults', 'yes')), 'flexmb:spacar:usage', ...
           'opts.refinedresults');
-end
-
-function refused(run, id, words)
-  try
-    run();
-  catch err
-    assert(strcmp(err.identifier, id), '%s (%s)', err.identifier, err.message);
-    assert(~isempty(strfind(err.message, words)), err.message);
-    return;
-  end
-  error('accepted: expected %s', words);
 end
