@@ -149,7 +149,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   };
   LadderOptions lo;
   lo.start = source.read.refine;
-  lo.target = std::isnan(a.eps) ? a.eps : kDiscretizationShare * a.eps;
+  lo.target = std::isnan(a.eps) ? a.eps : a.discretizationShare * a.eps;
   lo.maxRefine = a.maxRefine;
   lo.maxSeconds = a.maxSeconds;
   lo.elementOrder = elementOrder;

@@ -34,6 +34,8 @@ struct AccuracyRequest {
   double eps = std::numeric_limits<double>::quiet_NaN();  // --accuracy EPS; NaN: --error-estimate
   double maxSeconds = 300.0;  // no level is started that is predicted to end after this in all
   int maxRefine = 64;
+  // The part of EPS the mesh gets (a study that also reduces gives it less: analysis/StudyAccuracy.hpp).
+  double discretizationShare = kDiscretizationShare;
   // The user's stop (Ctrl-C): the level running stops and the ladder with it (null: none; simulate
   // takes its request's flag).
   const std::atomic<bool>* interrupt = nullptr;

@@ -4,6 +4,7 @@
 #include "analysis/SimulateJob.hpp"
 #include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
+#include "analysis/StudyAccuracy.hpp"
 #include "analysis/SweepJob.hpp"
 #include "analysis/TargetOperators.hpp"
 
@@ -173,6 +174,15 @@ std::string StudyAnalyses::describe() const {
     s << ", dynamics " << static_cast<int>(o.dynamics);
     if (reductionTarget) s << ", reduction target " << *reductionTarget;
     s << "\n";
+  }
+  if (accuracy) {  // the mesh and the measured D: a changed target, or a new measurement, reruns every variant
+    s << "accuracy: ";
+    if (std::isnan(accuracy->eps))
+      s << "error estimate";
+    else
+      s << "target " << accuracy->eps;
+    s << ", refine " << accuracy->refine << ", discretization " << accuracy->discretization << " measured by "
+      << accuracy->analysis << (accuracy->reachable ? "" : ", not reachable") << "\n";
   }
   if (!stiffnessNodes.empty()) {
     s << "stiffness nodes:";
@@ -402,6 +412,7 @@ VariantResults runVariant(const core::Model& model, const StudyAnalyses& a, cons
   if (a.simulation) {
     stage("simulate", [&] { simulateVariant(model, a, r); });
   }
+  if (a.accuracy) addAccuracyQuantities(model, a, r);
   if (r.failure.empty())
     for (const auto& [name, expression] : a.derived) {
       io::ParameterValues vars = parameters;

@@ -10,6 +10,7 @@
 // StudyAnalyses (and its line in describe()), its call in runVariant with its result in
 // VariantResults, and its quantities in summarize(); the front end adds its option and its file.
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -50,6 +51,19 @@ std::vector<int> taskShare(int count, int task, int of);
 
 // ---- analyses ----------------------------------------------------------------------------------
 
+// --accuracy EPS / --error-estimate of a study (analysis/StudyAccuracy.hpp): the mesh every variant
+// runs and the discretization error measured at the two ends of the parameter range; each variant
+// adds its own integration and reduction errors (quantities discretization_error, integration_error,
+// reduction_error, total_error_estimate, accuracy_met).
+struct StudyAccuracy {
+  double eps = std::numeric_limits<double>::quiet_NaN();  // NaN: --error-estimate (no target)
+  int refine = 1;                                         // the mesh of every variant (the read options')
+  // D at `refine`, the larger of the two ends' (NaN: not estimated); relative to `measure`.
+  double discretization = std::numeric_limits<double>::quiet_NaN();
+  bool reachable = true;  // the ladders met their share of EPS (false: the variants miss it, said before)
+  std::string analysis;   // the analysis the ladders ran (simulate, static, sweep or modes)
+};
+
 struct StudyAnalyses {
   bool check = false;                 // the kinematic rank check (flexmb check); a variant that is not well posed fails
   int modes = 0;                      // eigenfrequencies in the initial configuration (flexmb modes); 0: not run
@@ -68,6 +82,7 @@ struct StudyAnalyses {
   // Node labels whose tangent stiffness the static step reports (at the last equilibrium); empty:
   // every node that carries a load (XF, DELXF).
   std::vector<int> stiffnessNodes;
+  std::optional<StudyAccuracy> accuracy;  // --accuracy / --error-estimate (analysis/StudyAccuracy.hpp)
   // Quantities computed from the parameters and the other quantities (muParser), in order.
   std::vector<std::pair<std::string, std::string>> derived;
 

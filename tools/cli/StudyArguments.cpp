@@ -62,6 +62,11 @@ std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArg
       "derive", po::value(&sa.derive)->composing(),
       "a derived quantity name=expression in the parameters and quantities, e.g. "
       "stress=6*max_bending/(w*t^2) (repeatable)");
+  po::options_description ed("the error against the converged model (measured at the first and last variant)");
+  addAccuracyOptions(ed, sa.accuracy);
+  ed.add_options()("reduce", po::bool_switch(&sa.reduce),
+                   "with --accuracy and --simulate: reduce each variant with basis auto, its target a quarter of "
+                   "EPS (the mesh gets half)");
   po::options_description rd("running");
   rd.add_options()("out", po::value(&sa.out), "the study folder (default: <template>_study)")(
       "jobs,j", po::value(&sa.jobs)->notifier(atLeast("jobs", 1)), "variants at once (default: every core)")(
@@ -72,7 +77,7 @@ std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArg
       "quantities to plot in the report, comma-separated (default: every quantity)");
   po::options_description sd("Slurm");
   addSlurmOptions(sd, sa.slurm);
-  d.add(pd).add(ad).add(rd).add(sd);
+  d.add(pd).add(ad).add(ed).add(rd).add(sd);
   if (auto rc = parseCommand(args, d, sa.m, kUsage)) return *rc;
   if ((sa.task >= 0) != (sa.of > 0)) {
     std::cerr << "flexmb: --task and --of go together (task i of n, 0 <= i < n)\n";
@@ -85,6 +90,25 @@ std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArg
   }
   if (sa.slurm.submit && sa.task >= 0) {
     std::cerr << "flexmb: --slurm writes the tasks itself; leave out --task and --of\n";
+    return kUsageError;
+  }
+  if (sa.accuracy.asked() && sa.slurm.submit) {
+    std::cerr << "flexmb: --accuracy and --error-estimate run their meshes before the variants, which --slurm "
+                 "would do on the login node: submit the tasks yourself (--task i --of n; each measures the "
+                 "same meshes)\n";
+    return kUsageError;
+  }
+  if (sa.accuracy.estimate && sa.accuracy.eps > 0.0) {
+    std::cerr << "flexmb: --accuracy estimates the error itself: give --accuracy or --error-estimate, not both\n";
+    return kUsageError;
+  }
+  if (sa.reduce && !(sa.accuracy.eps > 0.0)) {
+    std::cerr << "flexmb: --reduce goes with --accuracy (it splits EPS); without it, give --target\n";
+    return kUsageError;
+  }
+  if (sa.accuracy.eps > 0.0 && !std::isnan(sa.target)) {
+    std::cerr << "flexmb: --accuracy sets the reduction target itself (a quarter of EPS): give --reduce instead "
+                 "of --target\n";
     return kUsageError;
   }
   if (sa.slurm.dryRun && !sa.slurm.submit) {
@@ -140,8 +164,8 @@ std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, Stu
       }
       a.reductionTarget = sa.target;
     }
-  } else if (!std::isnan(sa.target)) {
-    std::cerr << "flexmb: --target applies to --simulate\n";
+  } else if (!std::isnan(sa.target) || sa.reduce) {
+    std::cerr << "flexmb: " << (sa.reduce ? "--reduce" : "--target") << " applies to --simulate\n";
     return kUsageError;
   }
   a.stiffnessNodes = sa.stiffness;

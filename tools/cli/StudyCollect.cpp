@@ -95,6 +95,9 @@ int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
   report.lines.push_back("template: " + setup.at("template"));
   if (setup.count("analysis"))
     for (const auto& l : splitList(setup.at("analysis"), '\n')) report.lines.push_back("analysis: " + l);
+  for (const std::string& key : accuracyKeys())  // --accuracy / --error-estimate: the study's mesh and its error
+    if (setup.count(key))
+      for (const std::string& line : splitList(setup.at(key), '\n')) report.lines.push_back(key + ": " + line);
   if (setup.count("command")) report.lines.push_back("command: " + setup.at("command"));
   report.quantities = plot;
   const auto quantities = plot.empty() ? io::plottableQuantities(records) : plot;
@@ -118,6 +121,9 @@ int collect(const std::string& dir, std::vector<std::string> plot, bool quiet) {
         io::writeSvg(files.temporaryFor(suffix), io::studyPlot(records, q, p));
       }
     files.setting("command", "study collect");
+    for (const std::string& key : accuracyKeys())
+      if (setup.count(key))
+        for (const std::string& line : splitList(setup.at(key), '\n')) files.setting(key, line);
     files.setting("variants", std::to_string(records.size()));
     files.setting("missing", std::to_string(missing));
     files.commit(missing ? "incomplete: " + std::to_string(missing) + " variants not run yet" : "complete");

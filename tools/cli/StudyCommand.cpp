@@ -96,6 +96,7 @@ std::string studyDescription(const Study& s, const std::vector<std::string>& arg
     for (const auto& p : s.plot) o << " " << p;
     o << "\n";
   }
+  for (const auto& [key, value] : s.accuracySettings) o << key << ": " << value << "\n";
   o << "command: flexmb study";  // as every task of a split has it (the same file from each)
   for (const auto& x : taskArguments(args)) o << " " << shellQuote(x);
   o << "\n";
@@ -142,6 +143,7 @@ std::optional<int> prepareStudy(const std::vector<std::string>& args, const Stud
     std::cerr << (dynamic_cast<const io::TemplateError*>(&e) ? "" : "flexmb: ") << e.what() << "\n";
     return kInputError;
   }
+  if (auto rc = planStudyMesh(sa, s)) return *rc;
   for (const auto& v : s.variants)
     s.fingerprints.push_back(analysis::variantFingerprint(s.model->text(), v.values, s.analyses, FLEXMB_VERSION));
   // The study folder.

@@ -29,6 +29,8 @@ struct Study {
   std::vector<analysis::Variant> variants;
   std::vector<std::string> fingerprints;  // per variant
   std::vector<std::string> plot;          // quantities to plot (empty: all)
+  // --accuracy / --error-estimate: the study's record of the ladders (study.txt's lines)
+  std::vector<std::pair<std::string, std::string>> accuracySettings;
   bool quiet = false;
   std::string prefix(int k) const;  // <dir>/variants/<name>/<stem>
 };
@@ -57,6 +59,8 @@ struct StudyArgs {
   int intervals = -1;
   std::string integrator = "auto";  // simulate's default (flexmb simulate's)
   double target = NAN;              // --target (NaN: not given)
+  AccuracyArgs accuracy;            // --accuracy, --error-estimate, --max-seconds (StudyLadder.cpp)
+  bool reduce = false;              // --reduce: with --accuracy, each variant reduced (basis auto)
   SlurmOptions slurm;
   StudyArgs() { sw.node = 0; }
 };
@@ -65,6 +69,15 @@ struct StudyArgs {
 std::optional<int> parseStudyArgs(const std::vector<std::string>& args, StudyArgs& sa);
 // The analyses every variant runs, from the command line (a usage error: its exit code).
 std::optional<int> chooseStudyAnalyses(const std::vector<std::string>& args, StudyArgs& sa, analysis::StudyAnalyses& a);
+
+// ---- StudyLadder.cpp --------------------------------------------------------------------------
+
+// --accuracy / --error-estimate: the mesh ladders on the first and the last variant
+// (analysis/StudyAccuracy.hpp), before the fingerprints; sets s.readOptions.refine, s.analyses and
+// s.accuracySettings (an error: its exit code). Nothing to do when neither is asked.
+std::optional<int> planStudyMesh(const StudyArgs& sa, Study& s);
+// The keys of study.txt that planStudyMesh adds (collect repeats them in the study's manifest).
+const std::vector<std::string>& accuracyKeys();
 
 // ---- StudyWorkers.cpp ------------------------------------------------------------------------
 
