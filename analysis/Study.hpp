@@ -61,7 +61,7 @@ struct StudyAccuracy {
   // D at `refine`, the larger of the two ends' (NaN: not estimated); relative to `measure`.
   double discretization = std::numeric_limits<double>::quiet_NaN();
   bool reachable = true;  // the ladders met their share of EPS (false: the variants miss it, said before)
-  std::string analysis;   // the analysis the ladders ran (simulate, static, sweep or modes)
+  std::string analysis;   // the analyses the ladders ran ("simulate", "static and modes")
 };
 
 struct StudyAnalyses {

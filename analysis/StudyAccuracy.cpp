@@ -89,65 +89,86 @@ double quantity(const VariantResults& r, const std::string& name) {
 
 }  // namespace
 
-std::string ladderAnalysis(const StudyAnalyses& s) {
-  if (s.simulation) return "simulate";
-  if (s.statics) return "static";
-  if (s.sweep) return "sweep";
-  if (s.modes > 0) return "modes";
-  return "";
+std::vector<std::string> ladderAnalyses(const StudyAnalyses& s) {
+  std::vector<std::string> out;
+  if (s.simulation) out.emplace_back("simulate");
+  if (s.statics) out.emplace_back("static");
+  if (s.sweep) out.emplace_back("sweep");
+  if (s.modes > 0) out.emplace_back("modes");
+  return out;
 }
+
+namespace {
+
+// Every ladder asked: each analysis on each end, the time allowed shared by all.
+std::vector<EndLadder> climbAll(const std::vector<StudyEnd>& ends, const StudyAnalyses& s,
+                                const std::vector<std::string>& analyses, const AccuracyRequest& ask, double& spent) {
+  std::vector<EndLadder> done;
+  for (const std::string& analysis : analyses)
+    for (const StudyEnd& end : ends) {
+      const std::string label = analyses.size() > 1 ? end.name + " " + analysis : end.name;
+      AccuracyRequest one = ask;
+      one.maxSeconds = std::max(ask.maxSeconds - spent, 1e-3);
+      if (ask.progress)
+        one.progress = [&ask, label](const Diagnostic& d) {
+          Diagnostic named = d;
+          named.text = label + ": " + d.text;
+          ask.progress(named);
+        };
+      const auto start = std::chrono::steady_clock::now();
+      done.push_back(climbEnd(end, s, analysis, one));
+      done.back().name = label;
+      spent += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  return done;
+}
+
+std::string joined(const std::vector<std::string>& v, const std::string& last) {
+  std::string out;
+  for (size_t i = 0; i < v.size(); ++i) out += (i == 0 ? "" : i + 1 == v.size() ? last : ", ") + v[i];
+  return out;
+}
+
+}  // namespace
 
 StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnalyses& s, const AccuracyRequest& a,
                                     bool reduce) {
   StudyAccuracyPlan plan;
-  const std::string analysis = ladderAnalysis(s);
-  if (analysis.empty())
+  const std::vector<std::string> analyses = ladderAnalyses(s);
+  if (analyses.empty())
     throw std::invalid_argument("the accuracy of a study is measured on simulate, static, sweep or modes: ask one");
   if (reduce && !s.simulation) throw std::invalid_argument("a reduction goes with simulate");
+  const std::string analysis = joined(analyses, " and ");
   const bool eps = !std::isnan(a.eps);
-  auto setting = [&](const std::string& k, const std::string& v) { plan.settings.emplace_back(k, v); };
   if (s.simulation && eps) {
     if (!s.simulation->relTol) s.simulation->relTol = a.eps / kToleranceDivisor;
     if (!s.simulation->absTol) s.simulation->absTol = *s.simulation->relTol * 1e-2;
   }
   if (s.simulation) s.simulation->accuracyCheck = true;  // it measures each variant's integration error
   if (reduce && eps) s.reductionTarget = kReductionShare * a.eps;
-  // The ladders: the mesh's share of EPS, the time allowed shared by the two ends.
-  AccuracyRequest ask = a;
+  AccuracyRequest ask = a;  // the mesh's share of EPS
   ask.discretizationShare = s.reductionTarget && eps ? kReducedDiscretizationShare : kDiscretizationShare;
-  std::vector<EndLadder> done;
-  double spent = 0.0;
-  for (const StudyEnd& end : ends) {
-    AccuracyRequest one = ask;
-    one.maxSeconds = std::max(a.maxSeconds - spent, 1e-3);
-    if (a.progress)
-      one.progress = [&a, name = end.name](const Diagnostic& d) {
-        Diagnostic named = d;
-        named.text = name + ": " + d.text;
-        a.progress(named);
-      };
-    const auto start = std::chrono::steady_clock::now();
-    done.push_back(climbEnd(end, s, analysis, one));
-    spent += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-  plan.seconds = spent;
-  // The mesh: the larger of the ends' choices (an end that did not run is said and left out).
+  const std::vector<EndLadder> done = climbAll(ends, s, analyses, ask, plan.seconds);
+  // The mesh: the largest of the ladders' choices (a ladder that did not run is said and left out).
   int refine = 0;
-  std::string ran, choices;
+  std::vector<std::string> ran, choices, measures;
   bool reachable = eps;
   for (const EndLadder& e : done) {
     if (!e.ran) {
       plan.diagnostics.emplace_back(Diagnostic::Kind::Warning, "",
-                                    "the " + analysis + " ladder of " + e.name + " did not run: " + e.why);
+                                    "the ladder of " + e.name + " did not run: " + e.why);
       reachable = false;
       continue;
     }
-    ++plan.ladderAnalyses;
+    ++plan.ladders;
     refine = std::max(refine, e.refine);
-    ran += (ran.empty() ? "" : " and ") + e.name;
-    choices += (choices.empty() ? "" : ", ") + e.name + " " + std::to_string(e.refine);
+    choices.push_back(e.name + " " + std::to_string(e.refine));
     if (eps && !e.ladder.met) reachable = false;
+    // Each estimate is relative to its own scale (an end's motion, a frequency): the words alone.
+    const std::string m = e.ladder.estimate.measure.substr(0, e.ladder.estimate.measure.find(" ("));
+    if (std::find(measures.begin(), measures.end(), m) == measures.end()) measures.push_back(m);
   }
+  for (const StudyEnd& end : ends) ran.push_back(end.name);
   if (refine == 0) {
     plan.diagnostics.emplace_back(Diagnostic::Kind::Error, "",
                                   "the discretization error could not be measured: " + done.front().why);
@@ -155,14 +176,11 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
   }
   plan.ok = true;
   double D = 0.0;
-  std::string measure;
   for (const EndLadder& e : done) {
-    if (!e.ran) continue;
-    const double d = estimateAt(e, refine);
+    const double d = e.ran ? estimateAt(e, refine) : 0.0;
     D = std::isnan(d) || std::isnan(D) ? kNaN : std::max(D, d);
-    // Each end's estimate is relative to its own scale (its motion): the words without the value.
-    if (measure.empty()) measure = e.ladder.estimate.measure.substr(0, e.ladder.estimate.measure.find(" ("));
   }
+  const std::string measure = joined(measures, " or ");
   StudyAccuracy acc;
   acc.eps = a.eps;
   acc.refine = refine;
@@ -171,6 +189,10 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
   acc.analysis = analysis;
   s.accuracy = acc;
   // The record.
+  auto setting = [&](const std::string& k, const std::string& v) { plan.settings.emplace_back(k, v); };
+  const std::string dText = std::isnan(D) ? std::string("not estimated") : text::significant(D, 2) + " " + measure;
+  const std::string larger =
+      done.size() > 1 ? (done.size() > 2 ? " (the largest of " : " (the larger of ") + joined(choices, ", ") + ")" : "";
   setting("accuracy target", eps ? text::significant(a.eps, 3) + " " + measure + " (each variant's own)"
                                  : "none (--error-estimate: the model's own mesh, estimated)");
   for (const EndLadder& e : done)
@@ -178,13 +200,10 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
       setting("discretization ladder", e.name + ": " + describeDiscretization(e.ladder.estimate) + "; " +
                                            std::to_string(e.ladder.estimate.levels.size()) + " meshes, " +
                                            text::significant(e.seconds, 2) + " s");
-  setting("discretization measured",
-          "by " + analysis + " at the parameter range's ends (" + ran +
-              "), not per variant: every variant's D is the larger estimate, " +
-              (std::isnan(D) ? std::string("not estimated") : text::significant(D, 2) + " " + measure) + " at refine " +
-              std::to_string(refine));
-  setting("refinement chosen", std::to_string(refine) + " parts per flexible beam for every variant" +
-                                   (done.size() > 1 ? " (the larger of " + choices + ")" : ""));
+  setting("discretization measured", "by " + analysis + " at the parameter range's ends (" + joined(ran, " and ") +
+                                         "), not per variant: every variant's D is the larger estimate, " + dText +
+                                         " at refine " + std::to_string(refine));
+  setting("refinement chosen", std::to_string(refine) + " parts per flexible beam for every variant" + larger);
   if (s.simulation && s.simulation->relTol)
     setting("integrator tolerance",
             "RelTol " + text::significant(*s.simulation->relTol, 3) + (eps ? " (the accuracy target / 20)" : ""));
@@ -195,12 +214,10 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
     setting("accuracy reachable",
             acc.reachable ? "yes" : "no: the variants run on refine " + std::to_string(refine) + ", accuracy_met 0");
   // The screen.
-  plan.diagnostics.emplace_back(
-      Diagnostic::Kind::Result, "",
-      "study mesh: refine " + std::to_string(refine) + " for every variant" +
-          (done.size() > 1 ? " (the larger of " + choices + ")" : "") + "; discretization error " +
-          (std::isnan(D) ? std::string("not estimated") : text::significant(D, 2) + " " + measure) + ", measured by " +
-          analysis + " at " + ran + " (the range's ends, not per variant)");
+  plan.diagnostics.emplace_back(Diagnostic::Kind::Result, "",
+                                "study mesh: refine " + std::to_string(refine) + " for every variant" + larger +
+                                    "; discretization error " + dText + ", measured by " + analysis + " at " +
+                                    joined(ran, " and ") + " (the range's ends, not per variant)");
   if (eps && !acc.reachable) {
     std::string why;
     for (const EndLadder& e : done)

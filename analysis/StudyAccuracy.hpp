@@ -2,11 +2,12 @@
 // `study --accuracy EPS` and `study --error-estimate` (issue 50 item 3): the discretization error of a
 // design study, measured once for all variants instead of per variant. The mesh ladder of the single
 // jobs (analysis/AccuracyTarget.hpp) runs on the first variant (the nominal design) and, when there
-// are more, on the last (the other end of the parameter range), with the first of the study's
-// analyses it supports in the order simulate, static, sweep, modes. Every variant then runs on the
-// larger of the two refinements chosen; its discretization error is the larger of the two ends'
-// estimates scaled to that refinement (stated as measured at the two ends, not per variant), and it
-// adds its own integration error (the accuracy check) and reduction error (its basis' estimate).
+// are more, on the last (the other end of the parameter range), for each of the study's analyses it
+// supports (simulate, static, sweep, modes; each ladder is the single job's). Every variant then
+// runs on the largest of the refinements chosen; its discretization error is the largest of the
+// ladders' estimates scaled to that refinement (each relative to its own scale: an end's motion, a
+// frequency; stated as measured at the two ends, not per variant), and it adds its own integration
+// error (the accuracy check) and reduction error (its basis' estimate).
 //
 // The budget: without a reduction as the single jobs (the mesh kDiscretizationShare of EPS, RelTol =
 // EPS / kToleranceDivisor); with one (`--reduce`), the mesh kReducedDiscretizationShare, the basis
@@ -32,7 +33,7 @@ struct StudyEnd {
 
 struct StudyAccuracyPlan {
   bool ok = false;          // false: neither end's ladder ran (diagnostics say why); no variant should run
-  int ladderAnalyses = 0;   // the ends laddered (1 or 2)
+  int ladders = 0;          // the ladders that ran (analyses x ends)
   Diagnostics diagnostics;  // the choice, and the warnings (the ladders' level notes went to progress)
   // The study's record (study.txt): accuracy target, refinement chosen, integrator tolerance,
   // reduction target, where the discretization error was measured, whether EPS is reachable.
@@ -49,9 +50,8 @@ struct StudyAccuracyPlan {
 StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnalyses& analyses,
                                     const AccuracyRequest& a, bool reduce);
 
-// The name of the analysis the ladders run for these analyses ("simulate", "static", "sweep",
-// "modes"; empty: none supported).
-std::string ladderAnalysis(const StudyAnalyses& analyses);
+// The analyses the ladders run, in the order simulate, static, sweep, modes (empty: none supported).
+std::vector<std::string> ladderAnalyses(const StudyAnalyses& analyses);
 
 // A variant's error columns after its analyses (runVariant): discretization_error (the study's),
 // integration_error (its accuracy check, relative to its own motion; 0 without simulate),

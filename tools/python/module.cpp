@@ -36,6 +36,7 @@
 #include "analysis/StaticDesign.hpp"
 #include "analysis/StaticJob.hpp"
 #include "analysis/Statics.hpp"
+#include "analysis/StudyAccuracy.hpp"
 #include "analysis/Sweep.hpp"
 #include "analysis/SweepJob.hpp"
 #include "analysis/Transfer.hpp"
@@ -1323,6 +1324,87 @@ void bindSimulate(py::module_& m) {
   m.def("simulate", &simulatePy, py::arg("model"), py::arg("options"));
 }
 
+// flexmb.study: the variants of a template run one after another in this process (`flexmb study`'s
+// recipe, analysis/Study.hpp, without its folder and workers); accuracy= / error_estimate= measure the
+// mesh on the first and the last variant first (analysis/StudyAccuracy.hpp).
+py::dict studyPy(const std::string& text, const std::string& name, const std::vector<io::ParameterValues>& variants,
+                 int modes, bool statics, int nev, bool simulate, std::optional<double> tEnd,
+                 std::optional<double> relTol, int refine, bool errorEstimate, double accuracy, double maxSeconds,
+                 bool reduce) {
+  if (variants.empty()) throw py::value_error("variants: give at least one");
+  analysis::StudyAnalyses a;
+  a.modes = modes;
+  if (statics) a.statics.emplace(), a.statics->nev = nev;
+  if (simulate) {
+    analysis::SimulationOptions o;
+    o.tEnd = tEnd, o.relTol = relTol, o.keepStates = true;
+    o.integrator = analysis::Integrator::Auto;  // `flexmb study`'s default, as flexmb.simulate's
+    a.simulation = o;
+  }
+  const io::ModelTemplate t = asInputError([&] {
+    io::ModelTemplate m(text, name);
+    std::vector<std::string> names;
+    for (const auto& [k, v] : variants.front()) names.push_back(k);
+    m.check(names);
+    return m;
+  });
+  io::ReadOptions read;
+  read.refine = refine;
+  py::dict out;
+  out["accuracy"] = py::none();
+  if (const auto ask = accuracyAsked(errorEstimate, accuracy, maxSeconds)) {
+    std::vector<analysis::StudyEnd> ends;
+    for (const io::ParameterValues* v : {&variants.front(), &variants.back()}) {
+      if (!ends.empty() && variants.size() == 1) break;
+      analysis::StudyEnd e;
+      e.name = "variant " + std::to_string(ends.empty() ? 1 : variants.size());
+      e.source.file = name, e.source.read = read;
+      e.source.text = std::make_shared<const std::string>(asInputError([&] { return t.instantiate(*v); }));
+      ends.push_back(std::move(e));
+    }
+    analysis::StudyAccuracyPlan plan;
+    try {
+      py::gil_scoped_release release;
+      plan = analysis::planStudyAccuracy(ends, a, *ask, reduce);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+    if (!plan.ok) throw py::value_error(analysis::firstError(plan.diagnostics));
+    read.refine = a.accuracy->refine;
+    py::dict settings;
+    for (const auto& [k, v] : plan.settings)
+      settings[py::str(k)] =
+          settings.contains(k) ? py::str(settings[py::str(k)].cast<std::string>() + "; " + v) : py::str(v);
+    out["accuracy"] = settings;
+    out["messages"] = messagesOf(plan.diagnostics);
+  }
+  py::list rows;
+  for (size_t k = 0; k < variants.size(); ++k) {
+    io::ParameterValues names = variants[k];
+    const std::string instantiated = asInputError([&] { return t.instantiate(variants[k], &names); });
+    const core::Model model = asInputError([&] { return io::readDatString(instantiated, name, read); });
+    analysis::VariantResults r;
+    {
+      py::gil_scoped_release release;
+      r = analysis::runVariant(model, a, names);
+    }
+    py::dict row;
+    for (const auto& [n, v] : variants[k]) row[py::str(n)] = v;
+    for (const auto& [n, v] : r.quantities) row[py::str(n)] = std::isnan(v) ? py::object(py::none()) : py::float_(v);
+    row["status"] = r.failure.empty() ? "ok" : "failed";
+    row["reason"] = analysis::summaryRecord(analysis::Variant{static_cast<int>(k) + 1, "", variants[k]}, r).reason;
+    rows.append(row);
+  }
+  out["variants"] = rows;
+  return out;
+}
+
+void bindStudy(py::module_& m) {
+  m.def("study", &studyPy, py::arg("text"), py::arg("name"), py::arg("variants"), py::arg("modes"), py::arg("static"),
+        py::arg("nev"), py::arg("simulate"), py::arg("t_end"), py::arg("reltol"), py::arg("refine"),
+        py::arg("error_estimate"), py::arg("accuracy"), py::arg("max_seconds"), py::arg("reduce"));
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -1336,4 +1418,5 @@ PYBIND11_MODULE(_core, m) {
   bindTransfer(m);
   bindReduce(m);
   bindSimulate(m);
+  bindStudy(m);
 }

@@ -170,6 +170,23 @@ TEST_F(StudyAccuracyCli, ModesStudyIsWithinEpsOfEulerBernoulli) {
   EXPECT_GT(numberAfter(slurp(dir_ / "s" / "study.txt"), "\nrefinement chosen: "), 1);
 }
 
+// A study of several analyses ladders each: the mesh is the largest any of them chose, and the
+// frequencies meet EPS though the static ladder alone would choose a coarser mesh.
+TEST_F(StudyAccuracyCli, EveryAnalysisIsLadderedAndTheFinestMeshWins) {
+  variant("cantilever.dat", "8.4e6  2.8", "8.4e6  {EI}", "cantilever.dat");
+  const Result r = flexmb("study cantilever.dat --param EI=2.8,5.6 --static --modes --nev 4 --accuracy 1e-3 --out s");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string study = slurp(dir_ / "s" / "study.txt");
+  EXPECT_TRUE(has(study, "by static and modes at the parameter range's ends (v0001 and v0002)")) << study;
+  const int chosen = numberAfter(study, "\nrefinement chosen: ");
+  for (const char* ladder : {"v0001 static ", "v0002 static ", "v0001 modes ", "v0002 modes "}) {
+    const int n = numberAfter(study, ladder);
+    EXPECT_GT(n, 0) << ladder;
+    EXPECT_LE(n, chosen) << ladder;
+  }
+  expectMet(summary("s"), 1e-3);
+}
+
 // --error-estimate: the model's own mesh runs, its estimate from the two ends; no target to meet.
 TEST_F(StudyAccuracyCli, ErrorEstimateKeepsTheModelsMesh) {
   variant("cantilever.dat", "DELXF 5  0.0  -0.1", "DELXF 5  0.0  {-P}", "cantilever.dat");

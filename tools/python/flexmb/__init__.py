@@ -67,6 +67,42 @@ def variant(template, name="<template>", **parameters):
     return _core.parse(text, name)
 
 
+def study(template, variants, *, name="<template>", modes=0, static=False, nev=6, simulate=False, t_end=None,
+          reltol=None, refine=1, error_estimate=False, accuracy=None, max_seconds=300.0, reduce=False):
+    """A design study in this process (`flexmb study`'s recipe without its folder and workers): the
+    template (`{expression}` placeholders) with each dict of parameter values in `variants`, the same
+    analyses on each (modes=N frequencies, static=True, simulate=True with t_end, reltol). Returns a
+    dict: `variants`, one dict per variant (its parameters, the summary's quantities, `status`,
+    `reason`; None where a quantity is not available), and `accuracy`.
+    accuracy=EPS / error_estimate=True (`study --accuracy`): the mesh ladder runs on the first variant
+    (the nominal design) and the last (the other end of the range), every variant on the larger
+    refinement; each gets discretization_error (measured at the two ends, not per variant),
+    integration_error, reduction_error, total_error_estimate and accuracy_met (1 or 0); `accuracy`
+    holds the study's record (target, refinement chosen, tolerance, where D was measured).
+    reduce=True (with accuracy and simulate): each variant reduced with basis auto, target EPS / 4.
+    max_seconds bounds the ladders together."""
+    _need(template, str, "template")
+    _need(name, str, "name")
+    rows = []
+    for k, values in enumerate(variants):
+        if not isinstance(values, dict) or not values:
+            raise TypeError(f"variants[{k}]: expected a dict of parameter values")
+        rows.append([(key, _real(v, key)) for key, v in values.items()])
+    if not rows:
+        raise ValueError("variants: give at least one")
+    if any([n for n, _ in r] != [n for n, _ in rows[0]] for r in rows):
+        raise ValueError("variants: every variant gives the same parameters, in the same order")
+    estimate, eps, seconds = _accuracy(error_estimate, accuracy, max_seconds)
+    if not isinstance(reduce, bool):
+        raise TypeError(f"reduce: expected True or False, got {type(reduce).__name__}")
+    if reduce and not (eps > 0 and simulate):
+        raise ValueError("reduce: goes with accuracy= and simulate=True (it splits EPS)")
+    return _core.study(template, name, rows, _count(modes, "modes", 0), bool(static), _count(nev, "nev", 1),
+                       bool(simulate), None if t_end is None else _positive(t_end, "t_end"),
+                       None if reltol is None else _positive(reltol, "reltol"), _count(refine, "refine", 1),
+                       estimate, eps, seconds, reduce)
+
+
 def check(model, *, refine=1):
     """Mode 0 (`flexmb check`): a dict with `well_posed`, the kinematic report (`kinematics`: rank,
     degrees of freedom, redundant or missing equations), deformations that move without stiffness,
