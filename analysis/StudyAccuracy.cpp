@@ -203,7 +203,8 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
   setting("discretization measured", "by " + analysis + " at the parameter range's ends (" + joined(ran, " and ") +
                                          "), not per variant: every variant's D is the larger estimate, " + dText +
                                          " at refine " + std::to_string(refine));
-  setting("refinement chosen", std::to_string(refine) + " parts per flexible beam for every variant" + larger);
+  setting("refinement chosen", std::to_string(refine) + (refine == 1 ? " part" : " parts") +
+                                   " per flexible beam for every variant" + larger);
   if (s.simulation && s.simulation->relTol)
     setting("integrator tolerance",
             "RelTol " + text::significant(*s.simulation->relTol, 3) + (eps ? " (the accuracy target / 20)" : ""));

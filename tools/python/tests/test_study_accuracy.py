@@ -57,7 +57,7 @@ def test_simulate_study_error_columns():
 def test_error_estimate_keeps_the_mesh_and_sets_no_target():
     template = cantilever_template("DELXF 5  0.0  -0.1", "DELXF 5  0.0  {-P}")
     r = flexmb.study(template, [{"P": 0.1}, {"P": 2.0}], static=True, error_estimate=True)
-    assert r["accuracy"]["refinement chosen"].startswith("1 parts")
+    assert r["accuracy"]["refinement chosen"].startswith("1 part per flexible beam")
     for row in r["variants"]:
         assert row["discretization_error"] > 1e-4 and row["accuracy_met"] is None
     plain = flexmb.study(template, [{"P": 2.0}], static=True)
