@@ -93,6 +93,21 @@ void SimulateJob::prepareBasis() {
   SimulationOptions& opt = request_.run;
   if (request_.basisFile == "auto") {
     operatorNote_ = "Eq. 19";
+    // The run (reduced or full) answers to the target with its integration error too: without
+    // --reltol its tolerance is chosen with the target (issue 49 item 4).
+    if (!opt.relTol && std::isfinite(request_.target)) {
+      opt.relTol = relTolForTarget(request_.target, last.settings.relTol);
+      // AbsTol by the same factor (unless given): where the motion is small against the model size
+      // (the coarse pivot's 2 mm), the file's 1e-6 held the error at 0.018 of the motion at any RelTol.
+      if (!opt.absTol) opt.absTol = last.settings.absTol * (*opt.relTol / last.settings.relTol);
+      if (*opt.relTol < last.settings.relTol)
+        settings_.emplace_back("tolerance for the target",
+                               "RelTol " + text::shortest(*opt.relTol) + " = target / 20, AbsTol " +
+                                   text::shortest(*opt.absTol) + " (no --reltol; the file's " +
+                                   text::shortest(last.settings.relTol) + ", " + text::shortest(last.settings.absTol) +
+                                   "): the integration error leaves the target to the "
+                                   "reduction");
+    }
     useSharedReduction();
     return;
   }
@@ -151,10 +166,18 @@ void SimulateJob::chooseBasisForTarget() {
   to.run = request_.run;
   to.keepChosenRun = runs_.size() == 1;  // a candidate runs the last stage alone
   to.sayCandidates = request_.run.progress;
+  to.withIntegration = request_.run.accuracyCheck;
   if (request_.autoBasis) to.basis = *request_.autoBasis;
   TargetResult tr;
   try {
-    tr = basisForTarget(model(), to);
+    // One run (not shared): where no basis can pay, the full model at once (issue 49 item 4).
+    const std::string cannotPay = request_.shared ? std::string() : reductionCannotPay(model(), request_.run);
+    if (!cannotPay.empty()) {
+      tr.full = true;
+      tr.note = cannotPay;
+    } else {
+      tr = basisForTarget(model(), to);
+    }
   } catch (const std::exception& e) {
     say(Diagnostic::Kind::Error, std::string("no basis could be chosen: ") + e.what());
     status_ = JobStatus::Failed;
@@ -163,11 +186,23 @@ void SimulateJob::chooseBasisForTarget() {
   std::ostringstream tried;
   for (const auto& c : tr.tried)
     tried << (tried.tellp() > 0 ? ", " : "") << c.vectors << " vectors: "
-          << (!c.completed           ? std::string("stopped")
-              : c.estimate.estimated ? text::significant(c.estimate.estimate, 2)
-                                     : std::string("not estimated"));
-  const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; tried " +
-                          tried.str() + "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
+          << (!c.completed ? std::string("stopped")
+              : c.estimate.estimated
+                  ? text::significant(c.estimate.estimate, 2) +
+                        (std::isnan(c.integration) ? std::string()
+                                                   : " + integration " + text::significant(c.integration, 2))
+                  : std::string("not estimated"));
+  if (tr.relTol) {  // a candidate's integration error asked for a tighter tolerance: the run's
+    request_.run.relTol = tr.relTol;
+    request_.run.absTol = tr.absTol;
+    std::erase_if(settings_, [](const auto& s) { return s.first == "tolerance for the target"; });
+    settings_.emplace_back("tolerance for the target",
+                           "RelTol " + text::shortest(*tr.relTol) +
+                               " (a candidate's integration error left too little of the target at the first)");
+  }
+  const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; " +
+                          (tr.tried.empty() ? std::string("no candidate run") : "tried " + tried.str()) +
+                          "; choosing took " + text::shortest(std::round(tr.seconds * 1e4) / 1e4) + " s";
   if (!tr.full && !tr.interrupted) chooseTargetOperators(tr);
   const std::string dynamics = tr.full || tr.interrupted ? "" : "; reduced dynamics: " + operatorNote_;
   settings_.emplace_back("basis",
@@ -203,11 +238,17 @@ void SimulateJob::chooseBasisForTarget() {
   settings_.emplace_back("basis auto run", "the chosen candidate's run, integrated once");
   const SimulationOptions& opt = request_.run;
   LapClock clock;
-  if (opt.accuracyCheck && tr.runAccuracy.recorded)
+  // The scan's checks of this run are the run's (the estimate it decided on is the one printed).
+  const TargetCandidate* chosen = tr.chosenTried >= 0 ? &tr.tried[static_cast<size_t>(tr.chosenTried)] : nullptr;
+  if (opt.accuracyCheck && chosen && chosen->accuracy.checked)
+    trajectory_.accuracy = chosen->accuracy;
+  else if (opt.accuracyCheck && tr.runAccuracy.recorded)
     trajectory_.accuracy = checkAccuracy(model(), opt, tr.runAccuracy.t0, tr.runAccuracy.tEnd, tr.runAccuracy.windows,
                                          tr.runAccuracy.galphaFrom);
   trajectory_.seconds.accuracyCheck = clock.lap();
-  if (opt.reductionEstimate && !trajectory_.states.empty())
+  if (opt.reductionEstimate && chosen && chosen->estimate.estimated)
+    trajectory_.reduction = chosen->estimate;
+  else if (opt.reductionEstimate && !trajectory_.states.empty())
     trajectory_.reduction = estimateReductionError(model(), *opt.basis, trajectory_);
   trajectory_.seconds.reductionEstimate = clock.lap();
   // The candidate's run is the run: its integration and checks are said as the run's, not as choosing.
@@ -272,6 +313,37 @@ bool SimulateJob::sharedReductionMissed() {
   trajectory_ = core::Trajectory();
   interrupted_ = false;
   return true;
+}
+
+// What the target is measured against (issue 49 item 4): the reduction estimate plus the accuracy
+// check's position estimate, both relative to the motion (the model size where the motion is small).
+void SimulateJob::sayTargetEstimate() {
+  const core::Trajectory& t = trajectory_;
+  const bool reduced = request_.run.basis.has_value();
+  double scale = t.reduction.scale;
+  std::string scaleText = t.reduction.scaleText;
+  if (!reduced || !t.reduction.estimated) {
+    const double L = model().lengthScale() > 0.0 ? model().lengthScale() : 1.0;
+    const double motion = motionScale(model(), t);
+    scale = motion >= 1e-3 * L ? motion : L;
+    scaleText = motion >= 1e-3 * L ? "of the motion (" + text::significant(motion, 3) + " m)"
+                                   : "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)";
+  }
+  if (reduced && !t.reduction.estimated) return;  // the run says why it has no estimate
+  const double integration = integrationOnScale(model(), t.accuracy, scale);
+  const double reduction = reduced ? t.reduction.estimate : 0.0;
+  const double total = reduction + (std::isnan(integration) ? 0.0 : integration);
+  std::string text = text::significant(total, 2) + " " + scaleText + " (";
+  if (reduced) text += "reduction " + text::significant(reduction, 2) + " + ";
+  text += std::isnan(integration) ? std::string("integration not checked")
+                                  : "integration " + text::significant(integration, 2) +
+                                        ", the accuracy check's positions on the same scale";
+  text += "); target " + text::shortest(request_.target) + ": " +
+          (std::isnan(integration)    ? "not known"
+           : total <= request_.target ? "met"
+                                      : "NOT met");
+  settings_.emplace_back("basis auto estimate", text);
+  say(Diagnostic::Kind::Result, "basis auto estimate: " + text);
 }
 
 namespace {
@@ -367,6 +439,7 @@ JobStatus SimulateJob::run() {
     w << "wall time " << wall_ << " s, " << trajectory_.time.size() << " output times (" << timeParts_ << ")";
     say(Diagnostic::Kind::Result, w.str());
     diagnostics_.back().topic = "wall time";
+    if (request_.basisFile == "auto" && trajectory_.completed) sayTargetEstimate();
     for (const RunNote& n : runNotes(model(), opt, trajectory_, request_.target)) {
       if (!n.setting.empty()) settings_.emplace_back(n.setting, n.value);
       switch (n.kind) {

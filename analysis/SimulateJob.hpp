@@ -91,6 +91,7 @@ class SimulateJob : public ModelJob {
   void chooseTargetOperators(const TargetResult& tr);  // auto: Eq. 19 or operators for the chosen basis
   bool useSharedReduction();                           // auto: the shared basis and operators fit this model
   bool sharedReductionMissed();                        // after a run on them: its estimate misses the target (said)
+  void sayTargetEstimate();                            // auto: reduction + integration against the target
   void runDriven();
 
   SimulateRequest request_;

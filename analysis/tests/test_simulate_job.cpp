@@ -87,12 +87,13 @@ TEST(SimulateJob, BasisAutoIntegratesTheChosenBasisOnce) {
   request.run.accuracyCheck = true;
   request.basisFile = "auto";
   request.target = 1e-2;
-  analysis::SimulateJob job(fileSource("manipulator.dat"), request);
+  // The guidance (4 modal vectors): the manipulator, stiff at rest, now runs its full model at once.
+  analysis::SimulateJob job(fileSource("straight_guidance.dat"), request);
   ASSERT_EQ(job.status(), analysis::JobStatus::Ready) << analysis::firstError(job.diagnostics());
   ASSERT_EQ(job.run(), analysis::JobStatus::Completed) << analysis::firstError(job.diagnostics());
   ASSERT_TRUE(job.options().basis.has_value());
   EXPECT_TRUE(job.reusedCandidateRun());
-  const core::Model m = io::readDatFile(dat("manipulator.dat"));
+  const core::Model m = io::readDatFile(dat("straight_guidance.dat"));
   const core::Trajectory fresh = analysis::simulate(m, job.options());
   const core::Trajectory& reused = job.trajectory();
   EXPECT_EQ(reused.nfevals, fresh.nfevals);

@@ -440,9 +440,15 @@ TEST_F(UserPath, AReducedRunSaysItsReductionErrorAndABasisMeetsATarget) {
   r = flexmb("reduce " + kData + "manipulator.dat -q --target 1e-3 --out t.csv");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(has(slurp(dir_ / "t_run.txt"), "target: 0.001")) << slurp(dir_ / "t_run.txt");
+  // simulate --basis auto: the manipulator, stiff at rest, runs its full model at once (no basis pays
+  // for one run: issue 49 item 4); the flexible four-bar takes its crank hinge and one mode.
   r = flexmb("simulate " + kData + "manipulator.dat --basis auto --target 1e-3 --format none -q --out a");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(has(r.out, "basis auto: 4 columns")) << r.out;
+  EXPECT_TRUE(has(r.out, "no basis can pay for one run")) << r.out;
+  r = flexmb("simulate " + kData + "tests/fourbar_flexible.dat --basis auto --target 1e-3 --format none -q --out a");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "basis auto: 2 columns")) << r.out;
+  EXPECT_TRUE(has(r.out, "basis auto estimate: ")) << r.out;
   // Bad targets and --basis auto without one are usage errors.
   for (const char* bad : {"0", "-1e-3", "1", "2", "nan", "abc"}) {
     r = flexmb("simulate " + kData + "manipulator.dat --basis auto --format none -q --target " + bad);
