@@ -3,6 +3,7 @@
 // error columns are there and meet EPS, and the true error of each variant against a closed form
 // (Euler-Bernoulli) or a much finer mesh (--refine 16) is within EPS.
 #include <cmath>
+#include <map>
 #include <regex>
 
 #include "io/templates/StudySummary.hpp"
@@ -78,6 +79,28 @@ Positions staticPositions(const std::string& csv) {
   return p;
 }
 
+// The node<n>.x/.y columns of a time table (`#` lines skipped), by name: one vector per column.
+std::map<std::string, std::vector<double>> timePositions(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::vector<std::string> header;
+  std::map<std::string, std::vector<double>> out;
+  const std::regex position("node[0-9]+\\.[xy]");
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream cs(line);
+    for (std::string c; std::getline(cs, c, ',');) cells.push_back(c);
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    for (size_t i = 0; i < header.size() && i < cells.size(); ++i)
+      if (std::regex_match(header[i], position)) out[header[i]].push_back(std::stod(cells[i]));
+  }
+  return out;
+}
+
 // The guidance pushed by F (the shipped file has F = 100): the study's mesh is at least the one
 // `simulate --accuracy` chooses for the nominal design, and the nominal's own ladder chose exactly
 // that.
@@ -103,6 +126,22 @@ TEST_F(StudyAccuracyCli, GuidanceSimulateChoosesTheSingleRunsMeshForTheNominal) 
   EXPECT_TRUE(has(slurp(dir_ / "s" / "study_run.txt"), "\nrefinement chosen: ")) << "collect repeats it";
   const auto rows = summary("s");
   expectMet(rows, 1e-2);
+  // The nominal (F = 100 N, the shipped file's load) against the guidance's converged answer
+  // computed independently (validation/references: 40 and 80 elements a leaf, extrapolated).
+  const auto truth = timePositions(slurp(kSource + "/validation/references/straight_guidance_converged.csv"));
+  const auto run = timePositions(slurp(dir_ / "s" / "variants" / "v0001" / "guidance_x.csv"));
+  ASSERT_FALSE(truth.empty());
+  double motion = 0.0, error = 0.0;
+  for (const auto& [name, values] : truth) {
+    ASSERT_TRUE(run.count(name)) << name;
+    ASSERT_EQ(run.at(name).size(), values.size()) << name;
+    for (size_t k = 0; k < values.size(); ++k) {
+      motion = std::max(motion, std::abs(values[k] - values[0]));
+      error = std::max(error, std::abs(run.at(name)[k] - values[k]));
+    }
+  }
+  EXPECT_LE(error / motion, 1e-2);                                              // measured 3.9e-3
+  EXPECT_GE(quantityOf(rows.front(), "total_error_estimate"), error / motion);  // the estimate is above it
   for (const auto& row : rows) {
     EXPECT_GT(quantityOf(row, "integration_error"), 0.0) << row.name;      // the accuracy check ran
     EXPECT_EQ(quantityOf(row, "reduction_error"), 0.0) << row.name;        // the full model
