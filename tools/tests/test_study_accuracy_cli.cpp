@@ -238,6 +238,10 @@ TEST_F(StudyAccuracyCli, ErrorEstimateKeepsTheModelsMesh) {
     EXPECT_GT(quantityOf(row, "discretization_error"), 1e-4) << row.name;  // 4 elements: not converged
     EXPECT_TRUE(std::isnan(quantityOf(row, "accuracy_met"))) << row.name;  // an empty cell
   }
+  // Resumed: the ladders measure the same, so the finished variants are skipped.
+  const Result again = flexmb("study cantilever.dat --param P=0.1,2 --static --error-estimate --out s");
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_TRUE(has(again.out, "2 finished before (skipped), 0 to run")) << again.out;
 }
 
 // A target the time allowed cannot reach is said before the variants run; they run on the finest
