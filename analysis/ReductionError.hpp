@@ -49,7 +49,9 @@ std::vector<int> reductionSamples(int n, int maxSamples = kReductionSamples);
 
 // The error carried along the run steps over at most transportSteps output times (each one
 // linearisation: the estimate's main cost); it is left out (carried = 0) where the quasi-static part
-// alone puts the estimate above decidedAbove (a candidate basis that fails its target anyway).
+// alone puts the estimate above decidedAbove (a candidate basis that fails its target anyway), found
+// on 16 of the samples first (their quasi-static part is at most all samples'); an estimate at or
+// below decidedAbove is the same as without it.
 constexpr int kTransportSteps = kReductionSamples;  // the same outputs: one linearisation each
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
                                               const core::Trajectory& run, int maxSamples = kReductionSamples,
