@@ -209,6 +209,28 @@ TEST_F(StudyAccuracyCli, ModesStudyIsWithinEpsOfEulerBernoulli) {
   EXPECT_GT(numberAfter(slurp(dir_ / "s" / "study.txt"), "\nrefinement chosen: "), 1);
 }
 
+// --reduce: the mesh gets half of EPS, each variant's basis a quarter; a reduced variant's
+// reduction error is its basis' estimate, a variant no basis served ran the full model (0).
+TEST_F(StudyAccuracyCli, ReduceSplitsTheTarget) {
+  variant("straight_guidance.dat", "\\? 50\\*\\(1-cos", "? {F/2}*(1-cos", "guidance.dat");
+  const Result r = flexmb("study guidance.dat --param F=60,140 --simulate --accuracy 1e-2 --reduce --jobs 2 --out s");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string study = slurp(dir_ / "s" / "study.txt");
+  EXPECT_TRUE(has(study, "\nreduction target: 0.0025 (a quarter of the accuracy target)")) << study;
+  EXPECT_TRUE(has(study, "\nintegrator tolerance: RelTol 0.0005")) << study;
+  const auto rows = summary("s");
+  expectMet(rows, 1e-2);
+  for (const auto& row : rows) {
+    const double vectors = quantityOf(row, "sim_basis_vectors"), reduction = quantityOf(row, "reduction_error");
+    if (std::isnan(vectors))
+      EXPECT_EQ(reduction, 0.0) << row.name;
+    else
+      EXPECT_EQ(reduction, quantityOf(row, "sim_reduction_estimate")) << row.name;
+    EXPECT_LE(reduction, 0.25 * 1e-2) << row.name;
+    EXPECT_LE(quantityOf(row, "discretization_error"), 0.5 * 1e-2) << row.name;
+  }
+}
+
 // A study of several analyses ladders each: the mesh is the largest any of them chose, and the
 // frequencies meet EPS though the static ladder alone would choose a coarser mesh.
 TEST_F(StudyAccuracyCli, EveryAnalysisIsLadderedAndTheFinestMeshWins) {
