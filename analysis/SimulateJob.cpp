@@ -193,12 +193,14 @@ void SimulateJob::chooseBasisForTarget() {
                                                    : " + integration " + text::significant(c.integration, 2))
                   : std::string("not estimated"));
   if (tr.relTol) {  // a candidate's integration error asked for a tighter tolerance: the run's
+    const double before = request_.run.relTol.value_or(model().settings.relTol);
     request_.run.relTol = tr.relTol;
     request_.run.absTol = tr.absTol;
     std::erase_if(settings_, [](const auto& s) { return s.first == "tolerance for the target"; });
     settings_.emplace_back("tolerance for the target",
-                           "RelTol " + text::shortest(*tr.relTol) +
-                               " (a candidate's integration error left too little of the target at the first)");
+                           "RelTol " + text::significant(*tr.relTol, 3) + ", AbsTol " +
+                               text::significant(tr.absTol.value_or(0.0), 3) + " (a candidate's integration error at " +
+                               text::significant(before, 3) + " left too little of the target to its reduction error)");
   }
   const std::string how = "target " + text::shortest(request_.target) + ", " + to.basis.method + "; " +
                           (tr.tried.empty() ? std::string("no candidate run") : "tried " + tried.str()) +
