@@ -238,7 +238,14 @@ void fillBudget(AccurateRun<Job>& run, const AccuracyRequest& a, const std::stri
   run.diagnostics.emplace_back(Diagnostic::Kind::Result, "",
                                "discretization error estimate: " + describeDiscretization(est));
   run.diagnostics.emplace_back(Diagnostic::Kind::Result, "", b.line);
-  if (!std::isnan(a.eps) && !b.met)
+  if (!std::isnan(a.eps) && !b.met && unknown)  // not a matter of time: the integration error is not known
+    run.diagnostics.emplace_back(Diagnostic::Kind::Warning, "",
+                                 "the accuracy target " + text::significant(a.eps, 2) +
+                                     " is not known to be met: the " + integrationWords + " error is not estimated (" +
+                                     chosen.otherUnknown +
+                                     "); a tighter --reltol or --dynamics projected may let it be checked",
+                                 "", "", "reltol");
+  else if (!std::isnan(a.eps) && !b.met)
     run.diagnostics.emplace_back(Diagnostic::Kind::Warning, "",
                                  "the accuracy target " + text::significant(a.eps, 2) +
                                      " is not met: the total error estimate is " + text::significant(b.total, 2) +
