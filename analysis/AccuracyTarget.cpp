@@ -6,6 +6,7 @@
 #include <map>
 #include <thread>
 
+#include "analysis/ReductionError.hpp"
 #include "text/NumberText.hpp"
 
 namespace flexmb::analysis {
@@ -22,18 +23,6 @@ std::vector<int> originalPositions(const ModelSource& source) {
   for (int i = 0; i < model.nx; ++i)
     if (core::isTranslational(model.nodes[model.xOwnerNode[i]].kind)) out.push_back(i);
   return out;
-}
-
-// The motion (largest displacement of an original position from its initial value), or the model
-// size where the motion is below a thousandth of it: the scale of the reduction error estimate.
-struct Scale {
-  double value = 1.0;
-  std::string text;
-};
-Scale motionOrSize(double motion, double size) {
-  const double L = size > 0.0 ? size : 1.0;
-  if (motion >= 1e-3 * L) return {motion, "of the motion (" + text::significant(motion, 3) + " m)"};
-  return {L, "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)"};
 }
 
 // Positions at each of `states` (x vectors), stacked, and their scale: the first level's on every
@@ -53,7 +42,7 @@ MeshLevel positionsLevel(const core::Model& model, const std::vector<int>& posit
     }
   }
   if (!(fixed > 0.0)) {
-    const Scale scale = motionOrSize(motion, model.lengthScale());
+    const ErrorScale scale = errorScaleOf(model, motion);  // the reduction estimate's scale
     fixed = scale.value;
     measure = scale.text;
   }

@@ -59,25 +59,9 @@ std::vector<bool> heldByBasis(const Eigen::MatrixXd& V) {
   return held;
 }
 
-struct ErrorScale {
-  double value = 1.0;
-  std::string text;
-};
 // The samples of a first pass that may decide an estimate above decidedAbove without the rest.
 constexpr int kDecidingSamples = 16;
 
-ErrorScale errorScaleOf(const core::Model& model, double motion) {
-  const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
-  ErrorScale s;
-  if (motion >= 1e-3 * L) {
-    s.value = motion;
-    s.text = "of the motion (" + text::significant(motion, 3) + " m)";
-  } else {
-    s.value = L;
-    s.text = "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)";
-  }
-  return s;
-}
 }  // namespace
 
 std::vector<int> reductionSamples(int n, int maxSamples) {
@@ -311,6 +295,12 @@ std::string describeReductionError(const ReductionErrorEstimate& e) {
          text::significant(e.quasiStatic, 2) + ", and the error the linearised full model carries along the run, " +
          text::significant(e.carried, 2) + "; linearised at " + std::to_string(e.samples) + " output times, " +
          text::shortest(std::round(e.seconds * 1e4) / 1e4) + " s)";
+}
+
+ErrorScale errorScaleOf(const core::Model& model, double motion) {
+  const double L = model.lengthScale() > 0.0 ? model.lengthScale() : 1.0;
+  if (motion >= 1e-3 * L) return {motion, "of the motion (" + text::significant(motion, 3) + ")"};
+  return {L, "of the model size (" + text::significant(L, 3) + "; the motion is smaller)"};
 }
 
 }  // namespace flexmb::analysis

@@ -29,6 +29,15 @@ using ReductionErrorEstimate = core::ReductionEstimate;
 // The largest displacement of any position coordinate from its initial value over the run.
 double motionScale(const core::Model& model, const core::Trajectory& run);
 
+// The scale every error estimate of a run is relative to: the motion, or the model size where the
+// motion is below a thousandth of it; with its words ("of the motion (0.0833)"). No unit is named:
+// a .dat file's length unit is the user's (the 45-degree bend's are inches).
+struct ErrorScale {
+  double value = 1.0;
+  std::string text;
+};
+ErrorScale errorScaleOf(const core::Model& model, double motion);
+
 // The estimate for a run of `model` with basis V (nq x m), from its stored output states
 // (x, xd, xdd, e, ed, edd: q, qd, qdd are read there), at most `maxSamples` output times spread over
 // the run (and always its last). Never throws for a numerical failure: estimated = false with the

@@ -325,11 +325,9 @@ void SimulateJob::sayTargetEstimate() {
   double scale = t.reduction.scale;
   std::string scaleText = t.reduction.scaleText;
   if (!reduced || !t.reduction.estimated) {
-    const double L = model().lengthScale() > 0.0 ? model().lengthScale() : 1.0;
-    const double motion = motionScale(model(), t);
-    scale = motion >= 1e-3 * L ? motion : L;
-    scaleText = motion >= 1e-3 * L ? "of the motion (" + text::significant(motion, 3) + " m)"
-                                   : "of the model size (" + text::significant(L, 3) + " m; the motion is smaller)";
+    const ErrorScale s = errorScaleOf(model(), motionScale(model(), t));
+    scale = s.value;
+    scaleText = s.text;
   }
   if (reduced && !t.reduction.estimated) return;  // the run says why it has no estimate
   const double integration = integrationOnScale(model(), t.accuracy, scale);
