@@ -158,11 +158,20 @@ std::vector<std::string> plottableQuantities(const std::vector<StudyRecord>& rec
   std::vector<std::string> out;
   for (const auto& q : quantityColumns(records)) {
     if (bookkeeping.count(q)) continue;
-    for (const auto& r : records)
-      if (std::isfinite(valueIn(r.quantities, q))) {
-        out.push_back(q);
-        break;
-      }
+    // A quantity the same in every variant that has it (sim_t_end, a reduction error of 0 where the
+    // full model ran) draws a flat line that says nothing the table does not: not plotted.
+    int finite = 0;
+    bool varies = false;
+    double first = 0.0;
+    for (const auto& r : records) {
+      const double v = valueIn(r.quantities, q);
+      if (!std::isfinite(v)) continue;
+      if (finite++ == 0)
+        first = v;
+      else
+        varies = varies || v != first;
+    }
+    if (finite == 1 || varies) out.push_back(q);
   }
   return out;
 }

@@ -56,7 +56,8 @@ struct StudyReport {
 // the table.
 std::string renderStudyReport(const StudyReport& report, const std::vector<StudyRecord>& records);
 // The quantities plotted by default: every quantity column with a finite value in some record,
-// except the counts (dofs, rank, static_steps, sim_steps, sim_fevals).
+// except the counts (dofs, rank, static_steps, sim_steps, sim_fevals) and those equal in every
+// record that has them (two or more).
 std::vector<std::string> plottableQuantities(const std::vector<StudyRecord>& records);
 
 }  // namespace flexmb::io

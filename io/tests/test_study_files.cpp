@@ -119,6 +119,11 @@ TEST(StudySummary, CollectedTableTakesTheUnionOfColumns) {
             "2,v0002,2,failed,,,,,no mass\n"
             "3,v0003,3,ok,,30,,5,\n");
   EXPECT_EQ(plottableQuantities({a, b, c}), (std::vector<std::string>{"f1_Hz", "buckling1", "k_node3_x"}));
+  // The same value in every variant that has it: a flat line, not plotted; one variant's value is.
+  a.quantities.emplace_back("reduction_error", 0.0);
+  c.quantities.emplace_back("reduction_error", 0.0);
+  b.quantities.emplace_back("sim_t_end", 0.2);
+  EXPECT_EQ(plottableQuantities({a, b, c}), (std::vector<std::string>{"f1_Hz", "buckling1", "k_node3_x", "sim_t_end"}));
 }
 
 TEST(StudySummary, PlotsOneLinePerCombinationOfTheOtherParameters) {
