@@ -6,6 +6,7 @@
 #include <map>
 #include <thread>
 
+#include "analysis/Interrupt.hpp"
 #include "analysis/ReductionError.hpp"
 #include "text/NumberText.hpp"
 
@@ -67,6 +68,7 @@ class Deadline {
         const bool byUser = user_ && user_->load();
         if (byUser || std::chrono::steady_clock::now() >= end_) {
           expired_.store(!byUser);
+          cause_.store(byUser ? SIGINT : kTimeAllowedCause);
           flag_.store(true);
           return;
         }
@@ -81,12 +83,14 @@ class Deadline {
   Deadline(const Deadline&) = delete;
   Deadline& operator=(const Deadline&) = delete;
   const std::atomic<bool>* flag() const { return &flag_; }
+  const std::atomic<int>* cause() const { return &cause_; }         // what set flag(), for the run's stop reason
   bool expired() const { return flag_.load() && expired_.load(); }  // the time, not the user, stopped it
 
  private:
   const std::atomic<bool>* user_;
   std::chrono::steady_clock::time_point end_;
   std::atomic<bool> flag_{false}, done_{false}, expired_{false};
+  std::atomic<int> cause_{0};
   std::thread watch_;
 };
 
@@ -94,9 +98,9 @@ class Deadline {
 // Deadline.
 template <class Job, class Options>
 auto stoppableJob(const Options& options) {
-  return [&options](const ModelSource& s, const std::atomic<bool>* stop) {
+  return [&options](const ModelSource& s, const std::atomic<bool>* stop, const std::atomic<int>* cause) {
     auto job = std::make_unique<Job>(s, options);
-    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, nullptr});
+    if (job->status() == JobStatus::Ready) job->run({nullptr, stop, cause});
     return job;
   };
 }
@@ -116,7 +120,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
     try {
       source.text = std::make_shared<const std::string>(io::readDatText(source.file));
     } catch (const std::exception&) {  // the job says what is wrong with the file
-      out.job = make(source, a.interrupt);
+      out.job = make(source, a.interrupt, nullptr);
       return out;
     }
   }
@@ -124,7 +128,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   try {
     positions = originalPositions(source);
   } catch (const std::exception&) {
-    out.job = make(source, a.interrupt);
+    out.job = make(source, a.interrupt, nullptr);
     return out;
   }
   std::map<int, std::unique_ptr<Job>> jobs;
@@ -150,7 +154,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
         ModelSource s = source;
         s.read.refine = refine;
         const Deadline deadline(a.interrupt, a.maxSeconds - spent);
-        std::unique_ptr<Job> job = make(s, deadline.flag());
+        std::unique_ptr<Job> job = make(s, deadline.flag(), deadline.cause());
         MeshLevel l;
         if (job->status() == JobStatus::Completed) {
           l = measure(*job, positions, measureText, scale);
@@ -168,7 +172,7 @@ AccurateRun<Job> climb(ModelSource source, const AccuracyRequest& a, const std::
   est.measure = measureText;
   const int chosen = est.levels.empty() ? lo.start : est.levels[static_cast<size_t>(out.ladder.chosen)].refine;
   out.job = std::move(jobs[chosen]);
-  if (!out.job) out.job = make(source, a.interrupt);  // never reached: the first level always runs
+  if (!out.job) out.job = make(source, a.interrupt, nullptr);  // never reached: the first level always runs
   // The value the last pair differs most on: for positions, the coordinate (values are stacked per
   // output time or load step, the original positions in order).
   if (out.job && est.estimated && !positions.empty()) {
@@ -254,9 +258,10 @@ AccurateRun<SimulateJob> simulateToAccuracy(ModelSource source, SimulateRequest 
   AccuracyRequest watched = a;  // the user's stop flag (Ctrl-C) ends the ladder too
   if (!watched.interrupt) watched.interrupt = request.run.interrupt;
   const bool basis = !request.basisFile.empty() || request.basis;
-  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop) {
+  auto make = [&](const ModelSource& s, const std::atomic<bool>* stop, const std::atomic<int>* cause) {
     SimulateRequest r = request;
     r.run.interrupt = stop;
+    if (cause) r.run.interruptSignal = cause;
     auto job = std::make_unique<SimulateJob>(s, std::move(r));
     if (job->status() == JobStatus::Ready) job->run();
     return job;
@@ -321,7 +326,7 @@ AccurateRun<StaticJob> staticToAccuracy(ModelSource source, const StaticOptions&
 }
 
 AccurateRun<ModesJob> modesToAccuracy(ModelSource source, const ModesOptions& options, const AccuracyRequest& a) {
-  auto make = [&](const ModelSource& s, const std::atomic<bool>*) {  // one eigenproblem: not stopped
+  auto make = [&](const ModelSource& s, const std::atomic<bool>*, const std::atomic<int>*) {  // not stopped
     auto job = std::make_unique<ModesJob>(s, options);
     if (job->status() == JobStatus::Ready) job->run();
     return job;

@@ -29,6 +29,9 @@ namespace flexmb::analysis {
 
 constexpr double kDiscretizationShare = 0.7;
 constexpr double kToleranceDivisor = 20.0;
+// The smallest EPS taken: below it RelTol = EPS / 20 is under a thousand round-offs of a double
+// (an --accuracy 1e-20 ran its first mesh until the time limit and had nothing to show).
+constexpr double kSmallestAccuracy = 1e-10;
 
 struct AccuracyRequest {
   double eps = std::numeric_limits<double>::quiet_NaN();  // --accuracy EPS; NaN: --error-estimate

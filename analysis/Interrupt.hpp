@@ -10,10 +10,15 @@ namespace flexmb::analysis {
 
 inline bool stopRequested(const std::atomic<bool>* flag) { return flag && flag->load(std::memory_order_relaxed); }
 
+// The cause a time limit (--max-seconds of --accuracy) sets where a stop is not the user's.
+constexpr int kTimeAllowedCause = SIGALRM;
+
 // What stopped the run, for stop reasons and manifests: "terminated (SIGTERM)" when that signal set
-// the flag, else "interrupted (Ctrl-C)".
+// the flag, "stopped at the time allowed" when a time limit did, else "interrupted (Ctrl-C)".
 inline std::string interruptCause(const std::atomic<int>* signal) {
-  return signal && signal->load() == SIGTERM ? "terminated (SIGTERM)" : "interrupted (Ctrl-C)";
+  if (signal && signal->load() == SIGTERM) return "terminated (SIGTERM)";
+  if (signal && signal->load() == kTimeAllowedCause) return "stopped at the time allowed (--max-seconds)";
+  return "interrupted (Ctrl-C)";
 }
 
 }  // namespace flexmb::analysis

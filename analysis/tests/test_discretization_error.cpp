@@ -256,6 +256,21 @@ TEST(DiscretizationError, LateralBucklingAgainstPrandtl) {
   }
 }
 
+// A level stopped by --max-seconds says so, not "interrupted (Ctrl-C)" (the user pressed nothing).
+TEST(DiscretizationError, ALevelStoppedByTheTimeAllowedSaysSo) {
+  SimulateRequest request;
+  AccuracyRequest a;
+  a.eps = 1e-3;
+  a.maxSeconds = 0.02;  // the 40-element guidance's first mesh takes 0.3 s and more
+  const AccurateRun<SimulateJob> run =
+      simulateToAccuracy({datfile("tests/straight_guidance_40.dat"), {}, nullptr, nullptr}, request, a);
+  ASSERT_TRUE(run.job);
+  EXPECT_FALSE(run.job->trajectory().completed);
+  EXPECT_NE(run.job->trajectory().stopReason.find("stopped at the time allowed"), std::string::npos)
+      << run.job->trajectory().stopReason;
+  EXPECT_FALSE(run.budget.met);
+}
+
 // Bathe and Bolourchi's 45-degree bend (datfiles/tests/bent_cantilever_45.dat, 8 BEAMs on the arc):
 // a spatial large deflection against the literature. The file's nodes lie on the arc and `--refine`
 // splits its chords, so the estimate measures the error against the 8-sided polygon refined without

@@ -119,10 +119,12 @@ void addDampingOptions(po::options_description& d, analysis::DampingOptions& dam
 }
 
 namespace {
-std::function<void(const double&)> betweenZeroAndOne(const char* option) {
-  return [option](const double& v) {
-    if (!(v > 0.0 && v < 1.0))
-      throw po::error(std::string("--") + option + " must be between 0 and 1, not " + text::shortest(v));
+// A std::function, not a lambda, for the notifier (GCC 12 warns on Boost's copy of a lambda on double).
+std::function<void(const double&)> accuracyInRange() {
+  return [](const double& v) {
+    if (!(v >= analysis::kSmallestAccuracy && v < 1.0))
+      throw po::error("--accuracy must be at least " + text::shortest(analysis::kSmallestAccuracy) +
+                      " (finer than double precision integrates) and below 1, not " + text::shortest(v));
   };
 }
 }  // namespace
@@ -132,7 +134,7 @@ void addAccuracyOptions(po::options_description& d, AccuracyArgs& a) {
                   "also estimate the discretization error against the converged model: the analysis runs again "
                   "with every flexible beam split in 2 and 4 (Richardson's extrapolation with the observed order; "
                   "the results written are the model's own mesh)")(
-      "accuracy", po::value(&a.eps)->notifier(betweenZeroAndOne("accuracy")),
+      "accuracy", po::value(&a.eps)->notifier(accuracyInRange()),
       "EPS: refine the mesh (and, for simulate, tighten the integrator's tolerance to EPS / 20) until the total "
       "error estimate against the converged model is at most EPS (positions relative to the motion; frequencies "
       "relative); the results written are the finest mesh's, at the original nodes")(

@@ -130,8 +130,9 @@ std::string parseOptions(const mxArray* o, analysis::SimulationOptions& opt, dou
     if (name == "accuracy" || name == "errorestimate") {  // modes 1, 3, 4, 10 (analysis/AccuracyTarget.hpp)
       const bool scalar = v && (mxIsNumeric(v) || mxIsLogical(v)) && !mxIsComplex(v) && mxGetNumberOfElements(v) == 1;
       const double x = scalar ? mxGetScalar(v) : std::nan("");
-      if (name == "accuracy" && !(x > 0 && x < 1))
-        return "spacar: opts.accuracy must be a number between 0 and 1 (the total error against the converged model)";
+      if (name == "accuracy" && !(x >= analysis::kSmallestAccuracy && x < 1))
+        return "spacar: opts.accuracy must be a number from 1e-10 (finer than double precision integrates) to below 1 "
+               "(the total error against the converged model)";
       if (name == "errorestimate" && !(x == 0 || x == 1)) return "spacar: opts.errorestimate must be true or false";
       if (x == 0) continue;
       if (accuracy)

@@ -41,6 +41,10 @@ TEST_F(AccuracyCli, StaticAndModesErrorEstimateWriteTheModelsOwnMesh) {
 TEST_F(AccuracyCli, ClashesAreUsageErrors) {
   const std::string model = std::string(kData) + "straight_guidance.dat";
   EXPECT_EQ(flexmb("simulate " + model + " --accuracy 2").code, 2);
+  // Finer than double precision integrates: refused at once (it ran a mesh until the time limit).
+  const Result fine = flexmb("simulate " + model + " --accuracy 1e-20");
+  EXPECT_EQ(fine.code, 2);
+  EXPECT_TRUE(has(fine.err, "at least 1e-10")) << fine.err;
   EXPECT_EQ(flexmb("simulate " + model + " --accuracy 1e-2 --error-estimate").code, 2);
   const Result b = flexmb("simulate " + model + " --accuracy 1e-2 --intervals 0");
   EXPECT_EQ(b.code, 2);

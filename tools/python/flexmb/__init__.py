@@ -394,8 +394,9 @@ def _accuracy(error_estimate, accuracy, max_seconds):
     eps = 0.0
     if accuracy is not None:
         eps = _real(accuracy, "accuracy")
-        if not 0 < eps < 1:
-            raise ValueError(f"accuracy: expected a number between 0 and 1, got {eps}")
+        if not 1e-10 <= eps < 1:  # analysis/AccuracyTarget.hpp kSmallestAccuracy
+            raise ValueError(f"accuracy: expected a number from 1e-10 (finer than double precision integrates) "
+                             f"to below 1, got {eps}")
         if error_estimate:
             raise ValueError("accuracy estimates the error itself: give accuracy or error_estimate, not both")
     return error_estimate, eps, _positive(max_seconds, "max_seconds")
