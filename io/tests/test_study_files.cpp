@@ -123,7 +123,7 @@ TEST(StudySummary, CollectedTableTakesTheUnionOfColumns) {
   a.quantities.emplace_back("reduction_error", 0.0);
   c.quantities.emplace_back("reduction_error", 0.0);
   b.quantities.emplace_back("sim_t_end", 0.2);
-  EXPECT_EQ(plottableQuantities({a, b, c}), (std::vector<std::string>{"f1_Hz", "buckling1", "k_node3_x", "sim_t_end"}));
+  EXPECT_EQ(plottableQuantities({a, b, c}), (std::vector<std::string>{"f1_Hz", "buckling1", "sim_t_end", "k_node3_x"}));
 }
 
 TEST(StudySummary, PlotsOneLinePerCombinationOfTheOtherParameters) {
