@@ -12,7 +12,7 @@ namespace flexmb::analysis {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 // What one end's ladder found.
 struct EndLadder {
@@ -47,7 +47,7 @@ EndLadder endOf(const std::string& name, AccurateRun<Job> run) {
 // The end's estimate carried to refine r along its order (NaN: not estimated).
 double estimateAt(const EndLadder& e, int r) {
   const DiscretizationEstimate& est = e.ladder.estimate;
-  if (!e.ran || !est.estimated) return kNaN;
+  if (!e.ran || !est.estimated) return kNoValue;
   return est.estimate * std::pow(static_cast<double>(est.ofRefine) / r, est.order);
 }
 
@@ -84,7 +84,7 @@ double motionScale(const core::Model& model, const core::Trajectory& t) {
 double quantity(const VariantResults& r, const std::string& name) {
   for (const auto& [n, v] : r.quantities)
     if (n == name) return v;
-  return kNaN;
+  return kNoValue;
 }
 
 }  // namespace
@@ -178,7 +178,7 @@ StudyAccuracyPlan planStudyAccuracy(const std::vector<StudyEnd>& ends, StudyAnal
   double D = 0.0;
   for (const EndLadder& e : done) {
     const double d = e.ran ? estimateAt(e, refine) : 0.0;
-    D = std::isnan(d) || std::isnan(D) ? kNaN : std::max(D, d);
+    D = std::isnan(d) || std::isnan(D) ? kNoValue : std::max(D, d);
   }
   const std::string measure = joined(measures, " or ");
   StudyAccuracy acc;
@@ -237,7 +237,7 @@ void addAccuracyQuantities(const core::Model& model, const StudyAnalyses& a, Var
   const StudyAccuracy& acc = *a.accuracy;
   double integration = 0.0, reduction = 0.0;
   if (a.simulation) {
-    integration = kNaN;
+    integration = kNoValue;
     if (r.trajectory && r.trajectory->accuracy.checked)
       integration = r.trajectory->accuracy.positionEstimate * model.lengthScale() / motionScale(model, *r.trajectory);
     // A reduced run adds its estimate; where no basis met the target the full model ran (0).
@@ -250,7 +250,7 @@ void addAccuracyQuantities(const core::Model& model, const StudyAnalyses& a, Var
   q.emplace_back("integration_error", integration);
   q.emplace_back("reduction_error", reduction);
   q.emplace_back("total_error_estimate", total);
-  q.emplace_back("accuracy_met", std::isnan(acc.eps) ? kNaN
+  q.emplace_back("accuracy_met", std::isnan(acc.eps) ? kNoValue
                                  : (acc.reachable && r.failure.empty() && total <= acc.eps)
                                      ? 1.0
                                      : 0.0);  // NaN total: not met
