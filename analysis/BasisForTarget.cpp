@@ -18,8 +18,8 @@ namespace {
 // Output times a candidate's estimate samples: the run's own (kReductionSamples, 40), so that the
 // scan decides on the estimate the chosen run prints (issue 49 item 4: the elbow was accepted on a
 // 16-sample 0.0085 that the run's 40 samples put at 0.1). A candidate is rejected on 16 of them
-// where their quasi-static part alone misses (decidedAbove: as before); one that passes is
-// estimated on all 40 exactly as the run is.
+// where their estimate is a clear miss (decidedAbove); one that is not is estimated on all 40
+// exactly as the run is.
 constexpr int kCandidateSamples = kReductionSamples;
 // The share of the target the runs' tolerance gets (relTolForTarget). Measured against full
 // references at RelTol 1e-8 (tools/bench/README.md, "Effectivity on untuned models (issue 49 item

@@ -5,15 +5,16 @@
 // V^T Q = 0 by Eq. 19), loads two measures of the error, both mapped to the nodal positions
 // (dx = F_q dq) and relative to the run's motion (the largest displacement of any position
 // coordinate from its initial value; the model size where the motion is smaller than 1e-3 of it):
+// - the error the full model linearised about the reduced trajectory carries along the run,
+//   M e'' + (C + D) e' + (K + G + N) e = Q(t) from e = e' = 0 (every coordinate): the omitted
+//   coordinates' response, dynamics included, and a poor basis' own motion going wrong (a phase
+//   error of the kept modes). The estimate is twice it (calibrated in ReductionError.cpp against
+//   full references: effectivity = estimate / true error, same measure).
 // - the quasi-static deflection of the coordinates V does not hold exactly, (K + G + N) dq = Q (its
 //   identity columns, the large-rotation coordinates of Eq. 20, held: dq = 0 there): the residual
-//   flexibility of the modes the basis leaves out, doubled;
-// - the error the full model linearised about the reduced trajectory carries along the run,
-//   M e'' + (C + D) e' + (K + G + N) e = Q(t) from e = e' = 0 (every coordinate), times 1.5: it also
-//   sees the dynamics of the omitted coordinates and a poor basis' own motion going wrong (a phase
-//   error of the kept modes), which the first does not.
-// The estimate is the larger (the factors calibrated in ReductionError.cpp against full references
-// in the validation report: effectivity = estimate / true error, same measure).
+//   flexibility of the modes the basis leaves out. Reported, and what predicts a larger basis'
+//   estimate, but not counted: without inertia it reads far too high where the stiffness in motion
+//   nearly vanishes.
 #include <Eigen/Core>
 #include <limits>
 #include <string>
@@ -48,19 +49,19 @@ struct ResidualDeflections {
   std::vector<int> free;                 // the q indices not held by the basis (rows of dq, T)
   std::vector<Eigen::VectorXd> dq;       // the deflection on them, per sample
   std::vector<Eigen::MatrixXd> T, Fpos;  // K + G + N on them; F_q's position rows on them
-  double scale = 1.0;
+  double scale = 1.0;                    // the run's scale, times quasi-static / carried where that is above 1
 };
 
-// The output times (indices among n) the estimate samples: all when n <= maxSamples, else
-// maxSamples spread evenly, the first and the last among them.
+// The output times (indices among n) the estimate samples: all when n <= maxSamples, else every
+// stride-th (evenly in time: the carried error steps over them) and the last, at most maxSamples.
 constexpr int kReductionSamples = 40;
 std::vector<int> reductionSamples(int n, int maxSamples = kReductionSamples);
 
 // The error carried along the run steps over at most transportSteps output times (each one
-// linearisation: the estimate's main cost); it is left out (carried = 0) where the quasi-static part
-// alone puts the estimate above decidedAbove (a candidate basis that fails its target anyway), found
-// on 16 of the samples first (their quasi-static part is at most all samples'); an estimate at or
-// below decidedAbove is the same as without it.
+// linearisation: the estimate's main cost). Where decidedAbove is finite, a first pass over 16 of
+// the samples may decide alone that the estimate is clearly above it (a candidate basis that fails
+// its target anyway: its estimate is that pass's); an estimate not decided so is the same as
+// without it.
 constexpr int kTransportSteps = kReductionSamples;  // the same outputs: one linearisation each
 ReductionErrorEstimate estimateReductionError(const core::Model& model, const Eigen::MatrixXd& V,
                                               const core::Trajectory& run, int maxSamples = kReductionSamples,
@@ -70,7 +71,8 @@ ReductionErrorEstimate estimateReductionError(const core::Model& model, const Ei
 // The estimate a basis W (with the same held coordinates, e.g. more columns of the same kind)
 // would give, predicted from the deflections of another basis' run: what of each deflection W does
 // not take up statically (dq - W (W^T T W)^-1 W^T T dq on the free coordinates), doubled, relative
-// to the same scale. It assumes the run with W moves as the run behind `found` did.
+// to the same scale (which brings it to the carried error's level where the deflections read higher). It assumes the
+// run with W moves as the run behind `found` did.
 double predictReductionError(const ResidualDeflections& found, const Eigen::MatrixXd& W);
 
 // The same measure between two runs of the model (a reduced run against a full reference on the

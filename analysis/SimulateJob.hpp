@@ -92,6 +92,7 @@ class SimulateJob : public ModelJob {
   bool useSharedReduction();                           // auto: the shared basis and operators fit this model
   bool sharedReductionMissed();                        // after a run on them: its estimate misses the target (said)
   void sayTargetEstimate();                            // auto: reduction + integration against the target
+  bool rerunFullAtTighterTolerance();                  // auto, the full model: its integration error missed
   void runDriven();
 
   SimulateRequest request_;
@@ -101,6 +102,7 @@ class SimulateJob : public ModelJob {
   std::string targetNote_;
   bool reused_ = false;                                      // the run is the chosen candidate's (basis auto)
   bool sharedUsed_ = false;                                  // the run is on request_.shared's basis (basis auto)
+  bool toleranceFromTarget_ = false;                         // basis auto chose RelTol (no --reltol)
   std::shared_ptr<const core::ReducedOperators> operators_;  // basis auto: trained for the chosen basis
   double trainingSeconds_ = 0.0;
   std::vector<std::pair<std::string, std::string>> settings_;

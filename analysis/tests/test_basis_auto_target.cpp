@@ -20,11 +20,11 @@ std::string dat(const std::string& name) { return std::string(FLEXMB_SOURCE_DIR)
 struct AutoRun {
   double trueError = NAN, estimate = NAN;
   bool reduced = false;
-  std::string basis;
+  std::string basis, tolerance;
 };
 
 // The job's run against a full run at RelTol 1e-8 (AbsTol 1e-10), the same measure as the estimate.
-AutoRun runAgainstReference(const std::string& file, double target) {
+AutoRun runAgainstReference(const std::string& file, double target, double referenceRelTol = 1e-8) {
   analysis::SimulateRequest request;
   request.run.accuracyCheck = true;
   request.basisFile = "auto";
@@ -36,13 +36,14 @@ AutoRun runAgainstReference(const std::string& file, double target) {
   for (const auto& [name, value] : job.settings()) {
     if (name == "basis") r.basis = value;
     if (name == "basis auto estimate") r.estimate = std::stod(value);
+    if (name == "tolerance for the target") r.tolerance = value;
   }
   r.reduced = job.options().basis.has_value();
   const core::Model m = io::readDatFile(dat(file));
   analysis::SimulationOptions tight;
   tight.integrator = analysis::Integrator::Auto;
-  tight.relTol = 1e-8;
-  tight.absTol = 1e-10;
+  tight.relTol = referenceRelTol;
+  tight.absTol = referenceRelTol * 1e-2;
   tight.keepStates = true;
   const core::Trajectory reference = analysis::simulate(m, tight);
   r.trueError = analysis::positionErrorAgainst(m, job.trajectory(), reference);
@@ -129,4 +130,19 @@ TEST(BasisAutoTarget, AnIntegrationErrorThatMissesTightensTheToleranceNotTheBasi
 TEST(BasisAutoTarget, ToleranceIsATwentiethOfTheTargetAtMostTheFiles) {
   EXPECT_DOUBLE_EQ(analysis::relTolForTarget(1e-3, 1e-3), 5e-5);
   EXPECT_DOUBLE_EQ(analysis::relTolForTarget(1e-1, 1e-3), 1e-3);
+}
+
+// The full model's integration error that misses at the tolerance chosen in advance (RelTol target /
+// 20) is rerun once at the tolerance its accuracy check asks for: the coarse pivot's 2.1 mm motion in
+// a 0.14 m model was 0.018 of the motion off at 1e-2 (the check read 0.027, "NOT met"); at RelTol
+// 4.6e-5 it is 1.8e-4 off a reference at 1e-8, and the check reads 0.0039. The reference here is at
+// RelTol 1e-5 (seconds, not minutes).
+TEST(BasisAutoTarget, TheFullModelThatMissesOnIntegrationRunsAgainTighter) {
+  const AutoRun r = runAgainstReference("tests/pivot_coarse_pulse.dat", 1e-2, 1e-5);
+  EXPECT_FALSE(r.reduced) << r.basis;
+  EXPECT_NE(r.tolerance.find("off by its accuracy check"), std::string::npos) << r.tolerance;
+  ASSERT_FALSE(std::isnan(r.estimate)) << "no basis auto estimate in the manifest";
+  EXPECT_LE(r.estimate, 1e-2);
+  EXPECT_LE(r.trueError, 1e-2);
+  EXPECT_GE(r.estimate, r.trueError);
 }

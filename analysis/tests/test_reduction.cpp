@@ -332,10 +332,42 @@ TEST(ReductionTarget, ABasisThatKeepsMostOfTheModelIsNotTried) {
   EXPECT_EQ(r.tried[0].vectors, 3);
   EXPECT_NE(r.note.find("up to 53 vectors"), std::string::npos) << r.note;
   EXPECT_NE(r.note.find("cannot pay for a run"), std::string::npos) << r.note;
-  // A limit of the caller's lifts the cap: the scan may then try the larger bases.
+  // A limit of the caller's lifts the cap: the scan may then try the larger bases. On the auto
+  // integrator, as the command line runs them: ode45 took 64 s and 82 s for 56 and 60 vectors, which
+  // galpha runs in 0.6 s.
   t.maxVectors = 60;
+  t.run.integrator = analysis::Integrator::Auto;
   t.target = 1e-2;
   const analysis::TargetResult lifted = analysis::basisForTarget(m, t);
   EXPECT_GT(lifted.tried.size(), 1u) << lifted.note;
   EXPECT_EQ(lifted.note.find("cannot pay"), std::string::npos) << lifted.note;
+}
+
+// Issue 49 item 4: on the elbow (6 s of its free vibration after the load) the stiffness in motion
+// nearly vanishes near t = 4.6 s, where the quasi-static deflection reads 20-380 times the true error
+// of a modal basis; the carried error (inertia kept) follows it, so the estimate is twice that: for
+// 19 modes 0.0020 against a true 0.00105 (before: 0.12, effectivity 115, which drove the scan to 73
+// vectors where 12 meet 1e-2).
+TEST(ReductionErrorEstimate, TheCarriedErrorHoldsWhereTheQuasiStaticDeflectionDoesNot) {
+  const core::Model m = io::readDatFile(dat("spatial/elbow.dat"));
+  analysis::SimulationOptions o;
+  o.tEnd = 6.0;
+  o.intervals = 60;
+  o.relTol = 1e-6;
+  o.absTol = 1e-8;
+  o.integrator = analysis::Integrator::Auto;
+  o.accuracyCheck = false;
+  const core::Trajectory full = analysis::simulate(m, o);
+  ASSERT_TRUE(full.completed) << full.stopReason;
+  analysis::ReductionOptions modal;
+  modal.modes = 19;
+  o.basis = analysis::buildBasis(m, modal).V;
+  const core::Trajectory r = analysis::simulate(m, o);
+  ASSERT_TRUE(r.completed && r.reduction.estimated) << r.stopReason << r.reduction.note;
+  const double truth = analysis::positionErrorAgainst(m, r, full);
+  std::printf("elbow, 19 modes: true error %.3g, quasi-static %.3g, carried %.3g, estimate %.3g\n", truth,
+              r.reduction.quasiStatic, r.reduction.carried, r.reduction.estimate);
+  EXPECT_GT(r.reduction.quasiStatic, 10.0 * truth);
+  EXPECT_GE(r.reduction.estimate / truth, 1.0);
+  EXPECT_LE(r.reduction.estimate / truth, 10.0);
 }

@@ -32,11 +32,11 @@ struct AccuracyEstimate {
 };
 
 // The reduction error of a reduced run (the analysis floor estimates it): the full model's residual
-// at the reduced states, its quasi-static deflection outside the basis, relative to the motion.
+// at the reduced states, the error it carries along the run, relative to the motion.
 struct ReductionEstimate {
   bool estimated = false;
-  double estimate = 0.0;     // kSafety x the larger of quasiStatic and carried
-  double quasiStatic = 0.0;  // the largest quasi-static deflection outside the basis / scale
+  double estimate = 0.0;     // twice carried
+  double quasiStatic = 0.0;  // the largest quasi-static deflection outside the basis / scale (not counted)
   double carried = 0.0;      // the largest error the linearised full model carries along the run / scale
   double scale = 0.0;        // the motion (or model size) it is relative to, in m
   std::string scaleText;     // "of the motion (0.0833 m)" or "of the model size (...)"
