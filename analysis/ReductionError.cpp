@@ -17,9 +17,10 @@ namespace flexmb::analysis {
 namespace {
 // The estimate is this times the error carried along the run (ErrorTransport). Against full
 // references at RelTol 1e-7 (tools/bench/README.md, "The reduction estimate on the carried error"),
-// the carried error is 0.76-1.06 of the true error on the guidance's MODAL-3/5 and SVDm-3/4/5, the
-// manipulator's 1-3 modes, the flexible four-bar's and the wire guidance's bases; 0.59 on the coarse
-// pivot's (78 % off); 1.1-1.7 on the elbow's 5-50 modes; 2.7 on the leaf stage's step.
+// the carried error is 0.79-1.13 of the true error on the guidance's MODAL-3/5 and SVDm-3/4/5, the
+// manipulator's 1-3 modes, the flexible four-bar's 1-3, the wire guidance's 3-12 and the elbow's
+// 5-50; 1.34 on the wire guidance's 16, 2.1 on the leaf stage's step, 2.3 on the coarse pivot's 3
+// modes (78 % off).
 constexpr double kCarriedSafety = 2.0;
 // The quasi-static deflection (K + G + N) dq = Q is reported and predicts larger bases, but is not
 // the estimate: where the stiffness in motion nearly vanishes (the elbow near t = 4.6 s) it reads
