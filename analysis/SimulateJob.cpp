@@ -98,14 +98,20 @@ void SimulateJob::prepareBasis() {
     if (!opt.relTol && std::isfinite(request_.target)) {
       toleranceFromTarget_ = true;
       opt.relTol = relTolForTarget(request_.target, last.settings.relTol);
-      // AbsTol by the same factor (unless given): where the motion is small against the model size
-      // (the coarse pivot's 2 mm), the file's 1e-6 held the error at 0.018 of the motion at any RelTol.
-      if (!opt.absTol) opt.absTol = last.settings.absTol * (*opt.relTol / last.settings.relTol);
+      // AbsTol at most a tenth of RelTol on the model's size: the file's 1e-6 bounded the
+      // 20-element guidance at 1e-4 to 1.0e-4 of its motion at RelTol 5e-6. Scaled with RelTol
+      // from the file's, as it was, it cost the larger targets: that guidance at 1e-3 took 0.19 s
+      // at AbsTol 5e-8 where 1e-6 takes 0.12 s, both within 1e-3 (3.2e-4). Where the motion is small against the model
+      // size (the coarse pivot's 2 mm) the accuracy check measures what AbsTol leaves and a rerun
+      // tightens both (a candidate's, or rerunFullAtTighterTolerance).
+      if (!opt.absTol && last.lengthScale() > 0.0)
+        opt.absTol = std::min(last.settings.absTol, 0.1 * *opt.relTol * last.lengthScale());
       if (*opt.relTol < last.settings.relTol)
         settings_.emplace_back("tolerance for the target",
                                "RelTol " + text::shortest(*opt.relTol) + " = target / 20, AbsTol " +
-                                   text::shortest(*opt.absTol) + " (no --reltol; the file's " +
-                                   text::shortest(last.settings.relTol) + ", " + text::shortest(last.settings.absTol) +
+                                   text::significant(opt.absTol.value_or(last.settings.absTol), 3) +
+                                   " (no --reltol; the file's " + text::shortest(last.settings.relTol) + ", " +
+                                   text::shortest(last.settings.absTol) +
                                    "): the integration error leaves the target to the "
                                    "reduction");
     }
@@ -355,7 +361,7 @@ void SimulateJob::sayTargetEstimate() {
 bool SimulateJob::rerunFullAtTighterTolerance() {
   SimulationOptions& opt = request_.run;
   if (request_.basisFile != "auto" || opt.basis || !toleranceFromTarget_ || interrupted_ || !trajectory_.completed ||
-      !std::isfinite(request_.target) || !opt.relTol || !opt.absTol)
+      !std::isfinite(request_.target) || !opt.relTol)
     return false;
   const ErrorScale scale = errorScaleOf(model(), motionScale(model(), trajectory_));
   const double integration = integrationOnScale(model(), trajectory_.accuracy, scale.value);
@@ -363,7 +369,7 @@ bool SimulateJob::rerunFullAtTighterTolerance() {
   const double factor = std::clamp(0.25 * request_.target / integration, 0.02, 0.5);
   const double before = *opt.relTol, first = trajectory_.seconds.integration + trajectory_.seconds.accuracyCheck;
   opt.relTol = before * factor;
-  opt.absTol = *opt.absTol * factor;
+  opt.absTol = opt.absTol.value_or(model().settings.absTol) * factor;
   choosing_ += first;  // said apart from this run's integration and check
   std::erase_if(settings_, [](const auto& s) { return s.first == "tolerance for the target"; });
   const std::string text = "RelTol " + text::significant(*opt.relTol, 3) + ", AbsTol " +

@@ -46,8 +46,8 @@ SOURCE_SUFFIXES = {".cpp", ".hpp", ".h", ".py", ".m", ".sh"}
 # ($page.md, $dir/x.md) or a path assembled at run time ("/report.md").
 CITATION = re.compile(r"(?<![\w./%$}-])((?:\.\.?/)*[\w-][\w.-]*(?:/[\w.-]+)*\.md)(?![\w])")
 # Written by programs, never in the source tree: flexmb validate's report, flexmb_bench's fragment,
-# the main job's table of tools/bench/guidance_continuum.py.
-GENERATED = {"report.md", "bench.md", "guidance_continuum.md"}
+# the main job's tables of tools/bench/guidance_continuum.py and single_run_economics.py.
+GENERATED = {"report.md", "bench.md", "guidance_continuum.md", "single_run_economics.md"}
 
 
 def repo_files(root):

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: set-up (packages; a Release build of flexmb and the benchmark only), then a quick
 # run-time-against-error benchmark (validation/report/bench/, with the guidance's process time
-# against its error to the converged continuum: guidance_continuum.md) and the paper validation into
+# against its error to the converged continuum: guidance_continuum.md; the full model against basis
+# auto in one run: single_run_economics.md) and the paper validation into
 # validation/report/ (report.md with figures and CSV). About 7 minutes on 2 cores from a fresh
 # clone on a quiet machine, most of it the build; it prints its plan with estimates at the start
 # and what remains after each phase.
@@ -41,6 +42,7 @@ else
   est_stress=0; est_bench=115
 fi
 est_bench=$((est_bench + 6))  # the guidance against its converged answer: 5.7 s (2026-12-07)
+est_bench=$((est_bench + 19))  # single-run economics, issue 49 item 6: 18.9 s (2026-12-07)
 est_report=30  # flexmb validate: 29 s measured with the reduction error tables (2026-11-28)
 
 duration() {  # seconds -> "4 min 10 s", "45 s"
@@ -96,6 +98,9 @@ fi
 echo "== the guidance against its converged continuum answer (issue 50: process time against true error)"
 python3 tools/bench/guidance_continuum.py --flexmb "$BUILD_DIR/flexmb" \
   --out validation/report/bench/guidance_continuum.md || echo "guidance against its converged answer: failed (above)"
+echo "== single-run economics: the full model against basis auto (issue 49: process time against the error to the full model)"
+python3 tools/bench/single_run_economics.py --flexmb "$BUILD_DIR/flexmb" \
+  --out validation/report/bench/single_run_economics.md || echo "single-run economics: failed (above)"
 done_phase "benchmark" 3
 
 echo "== paper validation"

@@ -746,10 +746,17 @@ class PaperValidation {
          << fmt(f7s[ri].f2lo, 4) << " .. " << fmt(f7s[ri].f2hi, 4) << " | " << fmt(f7s[ri].frozenDiff, 3) << " | "
          << fmt(f7s[ri].seconds, 3) << " |\n";
     md << "\n";
-    if (fs::exists(finalDir + "bench/bench.md"))
+    if (fs::exists(finalDir + "bench/bench.md")) {
       md << "## Run time against error\n\nSee [bench/bench.md](bench/bench.md) (work-precision diagrams, CVODE, RHS "
-            "cost "
-            "scaling).\n\n";
+            "cost scaling).";
+      if (fs::exists(finalDir + "bench/guidance_continuum.md"))
+        md << " The guidance's process time against its error to the converged continuum: "
+              "[bench/guidance_continuum.md](bench/guidance_continuum.md).";
+      if (fs::exists(finalDir + "bench/single_run_economics.md"))
+        md << " The full model against `--basis auto --target` in one run, process time against the error to the "
+              "full model: [bench/single_run_economics.md](bench/single_run_economics.md).";
+      md << "\n\n";
+    }
     if (fs::exists(finalDir + "stress.csv"))
       md << "## Numerical stress tests\n\nSee [stress.csv](stress.csv) and validation/stress/README.md for the "
             "catalogue.\n\n";
