@@ -23,7 +23,7 @@ namespace {
 constexpr int kCandidateSamples = kReductionSamples;
 // The share of the target the runs' tolerance gets (relTolForTarget). Measured against full
 // references at RelTol 1e-8 (tools/bench/README.md, "Effectivity on untuned models (issue 49 item
-// 4)"): at RelTol EPS/20 (AbsTol scaled alike) the accuracy check's position estimate on the
+// 4)"): at RelTol EPS/20 (AbsTol then scaled alike) the accuracy check's position estimate on the
 // motion's scale is 0.004-0.1 of EPS on the guidance, manipulator, flexible four-bar and elbow; at
 // the file's 1e-3 the guidance's full run was 3x off a 1e-3 target. Where the motion is small
 // against the model size (the pivot's 2.1 mm in 0.14 m) it is 2.7-3x EPS (true 1.8x at 1e-2): a
