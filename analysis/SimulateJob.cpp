@@ -101,9 +101,9 @@ void SimulateJob::prepareBasis() {
       // AbsTol at most a tenth of RelTol on the model's size: the file's 1e-6 bounded the
       // 20-element guidance at 1e-4 to 1.0e-4 of its motion at RelTol 5e-6. Scaled with RelTol
       // from the file's, as it was, it cost the larger targets: that guidance at 1e-3 took 0.19 s
-      // at AbsTol 5e-8 where 1e-6 takes 0.12 s, both within 1e-3 (3.2e-4). Where the motion is small against the model
-      // size (the coarse pivot's 2 mm) the accuracy check measures what AbsTol leaves and a rerun
-      // tightens both (a candidate's, or rerunFullAtTighterTolerance).
+      // at AbsTol 5e-8 where 1e-6 takes 0.12 s, both within 1e-3 (3.2e-4). Where the motion is
+      // small against the model size (the coarse pivot's 2 mm) the accuracy check measures what
+      // AbsTol leaves and a rerun tightens both (a candidate's, or rerunFullAtTighterTolerance).
       if (!opt.absTol && last.lengthScale() > 0.0)
         opt.absTol = std::min(last.settings.absTol, 0.1 * *opt.relTol * last.lengthScale());
       if (*opt.relTol < last.settings.relTol)
@@ -357,29 +357,43 @@ void SimulateJob::sayTargetEstimate() {
 // check puts the integration error above the target at the tolerance chosen for it (RelTol target /
 // 20: the coarse pivot's 2.1 mm motion in a 0.14 m model was 0.018 of the motion off at 1e-2), it runs
 // once more at the tolerance the measured error asks for (a quarter of the target, the error taken as
-// proportional to RelTol, as a candidate's in BasisForTarget), said, and that run is the answer.
-bool SimulateJob::rerunFullAtTighterTolerance() {
+// proportional to RelTol, as a candidate's in BasisForTarget), said, and that run is the answer. A
+// rerun that does not complete (Ctrl-C, a failed step) leaves the first run's results, said.
+void SimulateJob::rerunFullAtTighterTolerance() {
   SimulationOptions& opt = request_.run;
   if (request_.basisFile != "auto" || opt.basis || !toleranceFromTarget_ || interrupted_ || !trajectory_.completed ||
       !std::isfinite(request_.target) || !opt.relTol)
-    return false;
+    return;
   const ErrorScale scale = errorScaleOf(model(), motionScale(model(), trajectory_));
   const double integration = integrationOnScale(model(), trajectory_.accuracy, scale.value);
-  if (!(integration > request_.target) || !std::isfinite(integration)) return false;
+  if (!(integration > request_.target) || !std::isfinite(integration)) return;
   const double factor = std::clamp(0.25 * request_.target / integration, 0.02, 0.5);
-  const double before = *opt.relTol, first = trajectory_.seconds.integration + trajectory_.seconds.accuracyCheck;
-  opt.relTol = before * factor;
-  opt.absTol = opt.absTol.value_or(model().settings.absTol) * factor;
-  choosing_ += first;  // said apart from this run's integration and check
-  std::erase_if(settings_, [](const auto& s) { return s.first == "tolerance for the target"; });
+  const std::optional<double> relTol = opt.relTol, absTol = opt.absTol;
+  const double first = trajectory_.seconds.integration + trajectory_.seconds.accuracyCheck;
+  opt.relTol = *relTol * factor;
+  opt.absTol = absTol.value_or(model().settings.absTol) * factor;
   const std::string text = "RelTol " + text::significant(*opt.relTol, 3) + ", AbsTol " +
                            text::significant(*opt.absTol, 3) + " (the full model at RelTol " +
-                           text::significant(before, 3) + " was " + text::significant(integration, 2) + " " +
+                           text::significant(*relTol, 3) + " was " + text::significant(integration, 2) + " " +
                            scale.text + " off by its accuracy check, target " + text::shortest(request_.target) +
                            "; that run took " + text::significant(first, 2) + " s and is replaced)";
-  settings_.emplace_back("tolerance for the target", text);
   say(Diagnostic::Kind::Note, "basis auto: " + text);
-  return true;
+  core::Trajectory firstRun = std::move(trajectory_);
+  trajectory_ = simulateStages(runs_, opt, &interrupted_);
+  if (!trajectory_.completed) {
+    const std::string stopped = "the rerun at RelTol " + text::significant(*opt.relTol, 3) + " stopped (" +
+                                trajectory_.stopReason + "): the results are the first run's, at RelTol " +
+                                text::significant(*relTol, 3);
+    say(Diagnostic::Kind::Note, "basis auto: " + stopped);
+    settings_.emplace_back("rerun for the target", stopped);
+    trajectory_ = std::move(firstRun);
+    opt.relTol = relTol;
+    opt.absTol = absTol;
+    return;
+  }
+  choosing_ += first;  // said apart from this run's integration and check
+  std::erase_if(settings_, [](const auto& s) { return s.first == "tolerance for the target"; });
+  settings_.emplace_back("tolerance for the target", text);
 }
 
 namespace {
@@ -430,7 +444,7 @@ JobStatus SimulateJob::run() {
         if (status_ != JobStatus::Ready) return status_;
         if (!reused_) trajectory_ = simulateStages(runs_, opt, &interrupted_);
       }
-      if (rerunFullAtTighterTolerance()) trajectory_ = simulateStages(runs_, opt, &interrupted_);
+      rerunFullAtTighterTolerance();
     } catch (const std::exception& e) {
       say(Diagnostic::Kind::Error, std::string("simulation could not start: ") + e.what());
       status_ = JobStatus::Failed;

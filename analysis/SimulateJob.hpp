@@ -92,7 +92,7 @@ class SimulateJob : public ModelJob {
   bool useSharedReduction();                           // auto: the shared basis and operators fit this model
   bool sharedReductionMissed();                        // after a run on them: its estimate misses the target (said)
   void sayTargetEstimate();                            // auto: reduction + integration against the target
-  bool rerunFullAtTighterTolerance();                  // auto, the full model: its integration error missed
+  void rerunFullAtTighterTolerance();                  // auto, the full model: its integration error missed
   void runDriven();
 
   SimulateRequest request_;
