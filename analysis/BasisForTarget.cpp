@@ -99,6 +99,12 @@ std::string fullModelNote(int available, double target, double predictedAtCap, b
 
 double relTolForTarget(double target, double fileRelTol) { return std::min(fileRelTol, kTolShare * target); }
 
+// A quarter: on the four-bar at 5e-5 from RelTol 1e-2, half of what was left gave 4.3e-3, where the
+// check read 2.9e-5 and the run was 6.0e-5 off a reference at 1e-8.
+double tighterToleranceFactor(double target, double reduction, double integration) {
+  return std::clamp(0.25 * (target - reduction) / integration, 0.02, 0.5);
+}
+
 std::string reductionCannotPay(const core::Model& model, const SimulationOptions& run) {
   // The auto integrator's threshold (Simulation.cpp, kImplicitStartSteps): span omega_max / 3.3 steps.
   // Measured (tools/bench/README.md, "Effectivity on untuned models (issue 49 item 4)"): past it
@@ -206,15 +212,13 @@ TargetResult basisForTarget(const core::Model& model, const TargetOptions& o) {
   first = std::clamp(first, 1, std::max(available, 1));
   // A candidate whose reduction error meets the target and whose integration error does not: a
   // larger basis would not help; the same one runs once more at the tolerance the rest of the target
-  // asks for (a quarter of it, the integration error taken as proportional to RelTol: on the
-  // four-bar at 5e-5 from RelTol 1e-2, half of it gave 4.3e-3, where the check read 2.9e-5 and the
-  // run was 6.0e-5 off a reference at 1e-8).
+  // asks for (tighterToleranceFactor).
   auto retryTighter = [&](int k) {
     const TargetCandidate& c = res.tried.back();
     if (meets(c) || res.interrupted || !c.completed || !c.estimate.estimated || c.estimate.estimate > o.target ||
         std::isnan(c.integration) || !(c.integration > 0.0))
       return false;
-    const double factor = std::clamp(0.25 * (o.target - c.estimate.estimate) / c.integration, 0.02, 0.5);
+    const double factor = tighterToleranceFactor(o.target, c.estimate.estimate, c.integration);
     runOptions.relTol = runOptions.relTol.value_or(model.settings.relTol) * factor;
     runOptions.absTol = runOptions.absTol.value_or(model.settings.absTol) * factor;
     res.relTol = runOptions.relTol;

@@ -47,6 +47,11 @@ struct TargetOptions {
 // target to the reduction (measured: analysis/BasisForTarget.cpp).
 double relTolForTarget(double target, double fileRelTol);
 
+// The factor on RelTol and AbsTol for a rerun whose integration error (on the target's scale) left
+// too little of the target beside its reduction error: a quarter of what is left over the measured
+// integration error, the error taken as proportional to the tolerance, within 0.02 ... 0.5.
+double tighterToleranceFactor(double target, double reduction, double integration);
+
 // Why no basis can pay for a single run of the full model with the auto integrator (empty: one
 // may): where the model's highest eigenfrequency at rest puts auto on galpha from the start (over
 // 10,000 ode45 steps over the span), the full run is bound by accuracy, not stability, and a reduced

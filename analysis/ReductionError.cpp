@@ -24,7 +24,7 @@ namespace {
 constexpr double kCarriedSafety = 2.0;
 // The quasi-static deflection (K + G + N) dq = Q is reported and predicts larger bases, but is not
 // the estimate: where the stiffness in motion nearly vanishes (the elbow near t = 4.6 s) it reads
-// 20-380 times the true error, which the dynamics the carried error keeps (inertia) do not show; on
+// 20-440 times the true error, which the dynamics the carried error keeps (inertia) do not show; on
 // the manipulator with one mode it is 0.39 of it. Elsewhere it is within 0.8-1.4 of the carried one.
 constexpr double kQuasiStaticSafety = 2.0;  // for predictReductionError, as the estimate's factor
 // A candidate is rejected on a first pass over kDecidingSamples of its samples where that coarser

@@ -356,8 +356,8 @@ void SimulateJob::sayTargetEstimate() {
 // The full model under basis auto answers to the target alone (no reduction error). Where its accuracy
 // check puts the integration error above the target at the tolerance chosen for it (RelTol target /
 // 20: the coarse pivot's 2.1 mm motion in a 0.14 m model was 0.018 of the motion off at 1e-2), it runs
-// once more at the tolerance the measured error asks for (a quarter of the target, the error taken as
-// proportional to RelTol, as a candidate's in BasisForTarget), said, and that run is the answer. A
+// once more at the tolerance the measured error asks for (tighterToleranceFactor, as a candidate's in
+// BasisForTarget), said, and that run is the answer. A
 // rerun that does not complete (Ctrl-C, a failed step) leaves the first run's results, said.
 void SimulateJob::rerunFullAtTighterTolerance() {
   SimulationOptions& opt = request_.run;
@@ -367,7 +367,7 @@ void SimulateJob::rerunFullAtTighterTolerance() {
   const ErrorScale scale = errorScaleOf(model(), motionScale(model(), trajectory_));
   const double integration = integrationOnScale(model(), trajectory_.accuracy, scale.value);
   if (!(integration > request_.target) || !std::isfinite(integration)) return;
-  const double factor = std::clamp(0.25 * request_.target / integration, 0.02, 0.5);
+  const double factor = tighterToleranceFactor(request_.target, 0.0, integration);
   const std::optional<double> relTol = opt.relTol, absTol = opt.absTol;
   const double first = trajectory_.seconds.integration + trajectory_.seconds.accuracyCheck;
   opt.relTol = *relTol * factor;

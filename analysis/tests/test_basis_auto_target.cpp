@@ -132,6 +132,17 @@ TEST(BasisAutoTarget, ToleranceIsATwentiethOfTheTargetAtMostTheFiles) {
   EXPECT_DOUBLE_EQ(analysis::relTolForTarget(1e-1, 1e-3), 1e-3);
 }
 
+// A rerun's tolerance: a quarter of what the reduction leaves of the target over the integration
+// error measured (the pivot: 0.25 x 0.01 / 0.027 = 0.093), never looser than half, never tighter
+// than a fiftieth.
+TEST(BasisAutoTarget, ARerunTightensByAQuarterOfWhatIsLeftOverTheMeasuredError) {
+  EXPECT_NEAR(analysis::tighterToleranceFactor(0.01, 0.0, 0.027), 0.0926, 1e-4);
+  EXPECT_DOUBLE_EQ(analysis::tighterToleranceFactor(1e-3, 5e-4, 2.5e-4), 0.5);  // 0.5 exactly
+  EXPECT_DOUBLE_EQ(analysis::tighterToleranceFactor(1e-3, 0.0, 1e-3), 0.25);
+  EXPECT_DOUBLE_EQ(analysis::tighterToleranceFactor(1e-3, 0.0, 1.0), 0.02);  // clamped
+  EXPECT_DOUBLE_EQ(analysis::tighterToleranceFactor(1e-3, 0.0, 1e-5), 0.5);  // clamped
+}
+
 // The full model's integration error that misses at the tolerance chosen in advance (RelTol target /
 // 20) is rerun once at the tolerance its accuracy check asks for: the coarse pivot's 2.1 mm motion in
 // a 0.14 m model was 0.018 of the motion off at 1e-2 (the check read 0.027, "NOT met"); at RelTol
